@@ -1,0 +1,72 @@
+// varsym/integrate.hpp: the driver that runs a stepper for n steps, calls an observer after
+// each, keeps Newton statistics, and turns a failed step into an error that says where.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include "varsym/solvers/newton.hpp"
+#include "varsym/types.hpp"
+
+namespace varsym {
+
+/// Thrown when a step's Newton iteration does not converge. The state passed to integrate()
+/// is left at the last good step (index step − 1, time t_from).
+class step_failure : public std::runtime_error {
+public:
+    step_failure(std::size_t step, double t_from, double t_to, const newton_report& rep)
+        : std::runtime_error(describe(step, t_from, t_to, rep)), step_(step), time_(t_from),
+          report_(rep) {}
+    [[nodiscard]] std::size_t step() const { return step_; }
+    [[nodiscard]] double time() const { return time_; }
+    [[nodiscard]] const newton_report& report() const { return report_; }
+
+private:
+    static std::string describe(std::size_t step, double t0, double t1, const newton_report& r) {
+        char buf[320];
+        std::snprintf(buf, sizeof buf,
+                      "Newton's method did not converge in step %zu (t = %.9g -> %.9g): residual "
+                      "%.3e after %d iterations%s; use a smaller time step",
+                      step, t0, t1, r.residual, r.iterations,
+                      std::isfinite(r.residual) ? "" : " (NaN or infinity)");
+        return buf;
+    }
+    std::size_t step_;
+    double time_;
+    newton_report report_;
+};
+
+/// Newton statistics of a run.
+struct run_summary {
+    std::size_t steps = 0;
+    long long newton_iterations = 0;
+    int newton_iterations_max = 0;
+    [[nodiscard]] double mean_newton_iterations() const {
+        return steps == 0 ? 0.0 : static_cast<double>(newton_iterations) / static_cast<double>(steps);
+    }
+};
+
+/// Runs n steps from x at time t0 with t_j = t0 + j h. Calls observe(j, t_j, x) for j = 0 … n
+/// (j = 0 is the initial state). Throws step_failure if a step does not converge.
+template <class Stepper, class Observer>
+run_summary integrate(Stepper& stepper, phase_state<Stepper::dim>& x, double t0, std::size_t n,
+                      Observer&& observe) {
+    const double h = stepper.step_size();
+    run_summary sum;
+    observe(std::size_t{0}, t0, static_cast<const phase_state<Stepper::dim>&>(x));
+    for (std::size_t j = 1; j <= n; ++j) {
+        const newton_report rep = stepper.step(x);
+        const double t = t0 + static_cast<double>(j) * h;
+        if (!rep.converged) throw step_failure(j, t - h, t, rep);
+        sum.steps = j;
+        sum.newton_iterations += rep.iterations;
+        sum.newton_iterations_max = std::max(sum.newton_iterations_max, rep.iterations);
+        observe(j, t, static_cast<const phase_state<Stepper::dim>&>(x));
+    }
+    return sum;
+}
+
+} // namespace varsym

@@ -1,0 +1,57 @@
+// varsym/schemes/newmark.hpp: the paper's "Newmark" scheme, P1 interpolation + midpoint rule.
+#pragma once
+
+#include <string_view>
+
+#include "varsym/solvers/stage_equation.hpp"
+#include "varsym/systems/separable.hpp"
+
+namespace varsym::newmark {
+
+inline constexpr std::string_view name = "newmark";
+inline constexpr int order = 2;
+
+/// L_N(q_l, q_r) = (h/2) ġᵀ M ġ − h V((q_l + q_r)/2), ġ = (q_r − q_l)/h
+/// (paper eq. lagrangien-discret, with m → M).
+template <class System>
+double discrete_lagrangian(const System& sys, double h, const vec<System::dim>& ql,
+                           const vec<System::dim>& qr) {
+    const vec<System::dim> g = (qr - ql) / h;
+    return 0.5 * h * g.dot(sys.mass() * g) - h * sys.potential().value(0.5 * (ql + qr));
+}
+
+/// One step (q_j, p_j) ↦ (q_{j+1}, p_{j+1}) of eq. systeme-dynamique-discret-ordre-2 in its
+/// reduced form (DESIGN.md §2): one D×D Newton solve for the midpoint q̄ = (q_j + q_{j+1})/2.
+template <class System>
+class stepper {
+public:
+    static constexpr int dim = System::dim;
+    static constexpr std::string_view scheme_name = name;
+
+    stepper(System sys, double h, newton_options opt = {})
+        : sys_(std::move(sys)), h_(h), opt_(opt) {}
+
+    [[nodiscard]] double step_size() const { return h_; }
+    [[nodiscard]] const System& system() const { return sys_; }
+
+    newton_report step(phase_state<dim>& x) {
+        const auto& m = sys_.mass();
+        const auto& minv = sys_.inverse_mass();
+        // Predictor: Taylor to second order, q(h/2) ≈ q + (h/2) M⁻¹p − (h²/8) M⁻¹∇V(q).
+        vec<dim> qbar = x.q + minv * (0.5 * h_ * x.p - 0.125 * h_ * h_ * sys_.potential().gradient(x.q));
+        // M q̄ + (h²/4) ∇V(q̄) = M q_j + (h/2) p_j   (eq. systeme-dynamique-discret-ordre-2, reduced)
+        const vec<dim> b = m * x.q + 0.5 * h_ * x.p;
+        const newton_report rep = solve_stage_equation(sys_, 0.25 * h_ * h_, b, qbar, opt_);
+        if (!rep.converged) return rep;
+        x.p -= h_ * sys_.potential().gradient(qbar); // p_{j+1} = p_j − h ∇V(q̄)
+        x.q = 2.0 * qbar - x.q;                      // q_{j+1} = 2 q̄ − q_j
+        return rep;
+    }
+
+private:
+    System sys_;
+    double h_;
+    newton_options opt_;
+};
+
+} // namespace varsym::newmark

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs the Debian packages varsym needs to build, test and plot. Idempotent: silent when
+# everything is present; otherwise one apt-get run (as root, or through sudo when available).
+set -euo pipefail
+
+packages=(
+  cmake make g++            # toolchain
+  libeigen3-dev             # linear algebra
+  libboost-dev              # Boost.Math (elliptic functions, quadrature), Boost.Odeint
+  libcli11-dev              # command line
+  libgtest-dev              # tests
+  libbenchmark-dev          # benchmarks
+  gnuplot-nox               # figures (pngcairo and svg terminals)
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
+    missing+=("$p")
+  fi
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+echo "varsym: installing missing Debian packages: ${missing[*]}" >&2
+sudo=()
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null 2>&1; then sudo=(sudo); else
+    echo "varsym: need root to install ${missing[*]}; run: apt-get install ${missing[*]}" >&2
+    exit 1
+  fi
+fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo[@]}" apt-get update -qq >/dev/null
+"${sudo[@]}" apt-get install -y -qq "${missing[@]}" >/dev/null
