@@ -1,0 +1,14 @@
+// apps/varsym/commands.hpp: the subcommands of the varsym tool, one source file each.
+#pragma once
+
+#include "cli_common.hpp"
+
+namespace varsym::cli {
+
+/// `varsym run`: integrate a pendulum, stream CSV (cmd_run.cpp).
+void add_run_command(CLI::App& app, action& todo);
+
+/// `varsym paper table1|figure1|figure2`: reproduce the paper (cmd_paper.cpp).
+void add_paper_command(CLI::App& app, action& todo);
+
+} // namespace varsym::cli

@@ -1,0 +1,22 @@
+// apps/varsym/plot.hpp: figures drawn by gnuplot from a CSV and a script kept beside them.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace varsym::cli {
+
+/// A figure: its data files (suffix after the picture's stem, and content) and the body of a
+/// gnuplot script that reads them as stem.SUFFIX (variable `stem`) and draws to `out` in the
+/// format `fmt` ("png" or "svg"), both set by the script's header.
+struct figure {
+    std::vector<std::pair<std::string, std::string>> data;
+    std::string script;
+};
+
+/// Writes the data files and STEM.gp beside the pictures, then renders each picture (.png or
+/// .svg, same folder and stem) by running gnuplot there. Every file is written as NAME.part and
+/// renamed once complete, so a failure never leaves a file that looks finished.
+void render_figure(const figure& fig, const std::vector<std::string>& outputs);
+
+} // namespace varsym::cli
