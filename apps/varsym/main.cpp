@@ -34,6 +34,20 @@ int main(int argc, char** argv) {
     add_run_command(app, todo);
     add_paper_command(app, todo);
 
+    // Name an unknown (sub)command plainly; CLI11 would only say that one is required.
+    const CLI::App* level = &app;
+    for (int i = 1; i < argc && argv[i][0] != '-' && !level->get_subcommands({}).empty(); ++i) {
+        const CLI::App* next = nullptr;
+        std::string names;
+        for (const auto* sub : level->get_subcommands({})) {
+            if (sub->check_name(argv[i])) next = sub;
+            names += (names.empty() ? "" : ", ") + sub->get_name();
+        }
+        if (next == nullptr)
+            return fail(exit_usage, std::string("unknown command '") + argv[i] + "'; expected one of " +
+                                        names + " (see 'varsym --help')");
+        level = next;
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
