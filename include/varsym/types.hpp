@@ -24,6 +24,24 @@ struct phase_state {
     vec<D> p;
 };
 
+/// The k-th block of D entries of a stacked vector (compile-time sized when D is fixed).
+template <int D, class V>
+auto block_of(V& v, int k, int d) {
+    if constexpr (D == dynamic)
+        return v.segment(k * d, d);
+    else
+        return v.template segment<D>(k * D);
+}
+
+/// The (i, j) block of D×D entries of a block matrix (compile-time sized when D is fixed).
+template <int D, class M>
+auto block_of(M& m, int i, int j, int d) {
+    if constexpr (D == dynamic)
+        return m.block(i * d, j * d, d, d);
+    else
+        return m.template block<D, D>(i * D, j * D);
+}
+
 /// Solves A x = b for a small dense A: a division when D == 1, LU with partial pivoting else.
 template <int N>
 vec<N> solve_dense(const mat<N>& a, const vec<N>& b) {

@@ -16,14 +16,16 @@ mat<blocks(2, D)> tangent_map(StepMap&& step, const phase_state<D>& x, double de
     constexpr int Z = blocks(2, D);
     const int d = static_cast<int>(x.q.size());
     auto flow = [&](const vec<Z>& z) {
-        phase_state<D> y{z.head(d), z.tail(d)};
+        phase_state<D> y{block_of<D>(z, 0, d), block_of<D>(z, 1, d)};
         step(y);
         vec<Z> out(2 * d);
-        out << y.q, y.p;
+        block_of<D>(out, 0, d) = y.q;
+        block_of<D>(out, 1, d) = y.p;
         return out;
     };
     vec<Z> z(2 * d);
-    z << x.q, x.p;
+    block_of<D>(z, 0, d) = x.q;
+    block_of<D>(z, 1, d) = x.p;
     mat<Z> jac(2 * d, 2 * d);
     for (int i = 0; i < 2 * d; ++i) {
         auto central = [&](double dl) {

@@ -3,6 +3,7 @@
 
 #include <string_view>
 
+#include "varsym/solvers/compensated.hpp"
 #include "varsym/solvers/stage_equation.hpp"
 #include "varsym/systems/separable.hpp"
 
@@ -22,10 +23,12 @@ double discrete_lagrangian(const System& sys, double h, const vec<System::dim>& 
 
 /// One step (q_j, p_j) ↦ (q_{j+1}, p_{j+1}) of eq. systeme-dynamique-discret-ordre-2 in its
 /// reduced form (DESIGN.md §2): one D×D Newton solve for the midpoint q̄ = (q_j + q_{j+1})/2.
+/// The increments are accumulated with compensated summation (solvers/compensated.hpp).
 template <class System>
 class stepper {
 public:
     static constexpr int dim = System::dim;
+    using system_type = System;
     static constexpr std::string_view scheme_name = name;
 
     stepper(System sys, double h, newton_options opt = {})
@@ -35,16 +38,19 @@ public:
     [[nodiscard]] const System& system() const { return sys_; }
 
     newton_report step(phase_state<dim>& x) {
-        const auto& m = sys_.mass();
         const auto& minv = sys_.inverse_mass();
-        // Predictor: Taylor to second order, q(h/2) ≈ q + (h/2) M⁻¹p − (h²/8) M⁻¹∇V(q).
-        vec<dim> qbar = x.q + minv * (0.5 * h_ * x.p - 0.125 * h_ * h_ * sys_.potential().gradient(x.q));
-        // M q̄ + (h²/4) ∇V(q̄) = M q_j + (h/2) p_j   (eq. systeme-dynamique-discret-ordre-2, reduced)
-        const vec<dim> b = m * x.q + 0.5 * h_ * x.p;
-        const newton_report rep = solve_stage_equation(sys_, 0.25 * h_ * h_, b, qbar, opt_);
+        const double h = h_;
+        // Predictor: Taylor to second order, q̄ − q_j ≈ (h/2) M⁻¹p − (h²/8) M⁻¹∇V(q).
+        vec<dim> delta = minv * (0.5 * h * x.p - 0.125 * h * h * sys_.potential().gradient(x.q));
+        // M q̄ + (h²/4) ∇V(q̄) = M q_j + (h/2) p_j  (eq. systeme-dynamique-discret-ordre-2, reduced),
+        // solved for δ = q̄ − q_j:  M δ + (h²/4) ∇V(q_j + δ) = (h/2) p_j
+        const newton_report rep =
+            solve_stage_increment(sys_, 0.25 * h * h, x.q, vec<dim>(0.5 * h * x.p), delta, opt_);
         if (!rep.converged) return rep;
-        x.p -= h_ * sys_.potential().gradient(qbar); // p_{j+1} = p_j − h ∇V(q̄)
-        x.q = 2.0 * qbar - x.q;                      // q_{j+1} = 2 q̄ − q_j
+        // q_{j+1} = 2 q̄ − q_j, p_{j+1} = p_j − h ∇V(q̄)  (eq. systeme-dynamique-discret-ordre-2)
+        const vec<dim> dp = -h * sys_.potential().gradient(x.q + delta);
+        sum_.add_q(x, 2.0 * delta);
+        sum_.add_p(x, dp);
         return rep;
     }
 
@@ -52,6 +58,7 @@ private:
     System sys_;
     double h_;
     newton_options opt_;
+    compensated_update<dim> sum_;
 };
 
 } // namespace varsym::newmark

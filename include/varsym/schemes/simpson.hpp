@@ -4,6 +4,7 @@
 
 #include <string_view>
 
+#include "varsym/solvers/compensated.hpp"
 #include "varsym/solvers/stage_equation.hpp"
 #include "varsym/systems/separable.hpp"
 
@@ -29,11 +30,13 @@ double discrete_lagrangian(const System& sys, double h, const vec<System::dim>& 
 
 /// One step of eqs. equation-milieu-intervalle and simpson-hamilton in their reduced form
 /// (DESIGN.md §2): one D×D Newton solve for the midpoint q_m = q_{j+½}, then explicit updates.
+/// Increments are accumulated with compensated summation (solvers/compensated.hpp).
 /// ∇V(q_{j+1}) of a step is kept as ∇V(q_j) of the next (recomputed if the state was changed).
 template <class System>
 class stepper {
 public:
     static constexpr int dim = System::dim;
+    using system_type = System;
     static constexpr std::string_view scheme_name = name;
 
     stepper(System sys, double h, newton_options opt = {})
@@ -41,26 +44,28 @@ public:
 
     [[nodiscard]] double step_size() const { return h_; }
     [[nodiscard]] const System& system() const { return sys_; }
+    /// The internal value q_{j+½} of the last successful step.
+    [[nodiscard]] const vec<dim>& last_stage() const { return stage_; }
 
     newton_report step(phase_state<dim>& x) {
-        const auto& m = sys_.mass();
         const auto& minv = sys_.inverse_mass();
         const auto& v = sys_.potential();
         if (!cache_valid_ || cached_q_ != x.q) grad_ = v.gradient(x.q);
         const double h = h_;
-        // Predictor: q(h/2) ≈ q + (h/2) M⁻¹p − (h²/8) M⁻¹∇V(q).
-        vec<dim> qm = x.q + minv * (0.5 * h * x.p - 0.125 * h * h * grad_);
+        // Predictor: q_m − q_j ≈ (h/2) M⁻¹p − (h²/8) M⁻¹∇V(q).
+        vec<dim> delta = minv * (0.5 * h * x.p - 0.125 * h * h * grad_);
         // M q_m + (h²/24) ∇V(q_m) = M q_j + (h/2) p_j − (h²/12) ∇V(q_j)
-        // (eqs. equation-milieu-intervalle + simpson-hamilton, reduced)
-        const vec<dim> b = m * x.q + 0.5 * h * x.p - (h * h / 12.0) * grad_;
-        const newton_report rep = solve_stage_equation(sys_, h * h / 24.0, b, qm, opt_);
+        // (eqs. equation-milieu-intervalle + simpson-hamilton, reduced), solved for δ = q_m − q_j
+        const vec<dim> r = 0.5 * h * x.p - (h * h / 12.0) * grad_;
+        const newton_report rep = solve_stage_increment(sys_, h * h / 24.0, x.q, r, delta, opt_);
         if (!rep.converged) return rep;
-        const vec<dim> grad_m = v.gradient(qm);
+        stage_ = x.q + delta;
+        const vec<dim> grad_m = v.gradient(stage_);
         // q_{j+1} = q_j + h M⁻¹ p_j − (h²/6) M⁻¹ (∇V_j + 2 ∇V_m)   (eq. simpson-hamilton, 2nd line)
-        x.q += minv * (h * x.p - (h * h / 6.0) * (grad_ + 2.0 * grad_m));
+        sum_.add_q(x, minv * (h * x.p - (h * h / 6.0) * (grad_ + 2.0 * grad_m)));
         const vec<dim> grad_r = v.gradient(x.q);
         // p_{j+1} = p_j − (h/6) (∇V_j + 4 ∇V_m + ∇V_{j+1})   (eq. simpson-hamilton, 1st line)
-        x.p -= (h / 6.0) * (grad_ + 4.0 * grad_m + grad_r);
+        sum_.add_p(x, -(h / 6.0) * (grad_ + 4.0 * grad_m + grad_r));
         grad_ = grad_r;
         cached_q_ = x.q;
         cache_valid_ = true;
@@ -72,6 +77,8 @@ private:
     double h_;
     newton_options opt_;
     vec<dim> grad_{};
+    vec<dim> stage_{};
+    compensated_update<dim> sum_;
     vec<dim> cached_q_{};
     bool cache_valid_ = false;
 };

@@ -1,0 +1,43 @@
+// varsym/solvers/compensated.hpp: compensated (Kahan) summation of the per-step increments of
+// q and p, so that long runs accumulate round-off relative to the increments, not to |q|, |p|.
+#pragma once
+
+#include "varsym/types.hpp"
+
+namespace varsym {
+
+/// Applies x.q += Δq, x.p += Δp keeping the low-order bits lost by each addition and adding
+/// them back at the next step (Kahan's compensated summation, as in Hairer's GNI codes).
+/// Call add_q, then add_p, once per step. The carried bits are dropped when x was changed
+/// between steps by someone else.
+template <int D>
+class compensated_update {
+public:
+    void add_q(phase_state<D>& x, const vec<D>& dq) {
+        if (!valid_ || x.q != q_ || x.p != p_) {
+            cq_.setZero(x.q.size());
+            cp_.setZero(x.p.size());
+        }
+        add(x.q, dq, cq_);
+    }
+    void add_p(phase_state<D>& x, const vec<D>& dp) {
+        add(x.p, dp, cp_);
+        q_ = x.q;
+        p_ = x.p;
+        valid_ = true;
+    }
+
+private:
+    static void add(vec<D>& sum, const vec<D>& increment, vec<D>& carry) {
+        for (Eigen::Index i = 0; i < sum.size(); ++i) {
+            const double y = increment(i) + carry(i);
+            const double t = sum(i) + y;
+            carry(i) = (sum(i) - t) + y;
+            sum(i) = t;
+        }
+    }
+    vec<D> cq_{}, cp_{}, q_{}, p_{};
+    bool valid_ = false;
+};
+
+} // namespace varsym
