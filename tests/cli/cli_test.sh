@@ -1,0 +1,127 @@
+#!/usr/bin/env bash
+# tests/cli/cli_test.sh VARSYM: the varsym tool end to end: successful runs produce what the
+# README says, and every bad input gives one line on standard error, the documented exit code,
+# no output file that looks complete, and leaves a file the user already had untouched.
+set -u
+VARSYM=${1:?usage: cli_test.sh PATH_TO_VARSYM}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work" || exit 1
+failures=0
+passed=0
+
+ok() { passed=$((passed + 1)); }
+bad() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+# expect_error CODE NAME ARGS...: exit status CODE, exactly one line on stderr starting with
+# "varsym: error:", nothing named out.csv created, and a pre-existing keep.csv unchanged.
+expect_error() {
+  local code=$1 name=$2
+  shift 2
+  rm -f out.csv out.csv.part
+  echo "precious" > keep.csv
+  "$VARSYM" "$@" > stdout.txt 2> stderr.txt
+  local rc=$?
+  local lines
+  lines=$(wc -l < stderr.txt)
+  if [ "$rc" -ne "$code" ]; then bad "$name: exit $rc, expected $code ($(cat stderr.txt))"; return; fi
+  if [ "$lines" -ne 1 ]; then bad "$name: $lines lines on stderr: $(cat stderr.txt)"; return; fi
+  if ! grep -q '^varsym: error: ' stderr.txt; then bad "$name: message: $(cat stderr.txt)"; return; fi
+  if [ -e out.csv ]; then bad "$name: left out.csv behind"; return; fi
+  if [ "$(cat keep.csv)" != "precious" ]; then bad "$name: changed keep.csv"; return; fi
+  ok
+}
+
+# --- bad input: exit 2 ---------------------------------------------------------------------
+expect_error 2 "zero steps" run --steps-per-period 0 -o out.csv
+expect_error 2 "negative steps" run --steps-per-period -5 -o out.csv
+expect_error 2 "fractional steps" run --steps-per-period 2.5 -o out.csv
+expect_error 2 "zero periods" run --periods 0 -o out.csv
+expect_error 2 "negative periods" run --periods -1 -o out.csv
+expect_error 2 "zero mass" run --mass 0 -o out.csv
+expect_error 2 "negative mass" run --mass -2 -o out.csv
+expect_error 2 "zero omega" run --omega 0 -o out.csv
+expect_error 2 "negative omega" run --omega -6.28 -o out.csv
+expect_error 2 "NaN mass" run --mass nan -o out.csv
+expect_error 2 "inf omega" run --omega inf -o out.csv
+expect_error 2 "NaN q0" run --q0 NaN -o out.csv
+expect_error 2 "inf p0" run --p0 -inf -o out.csv
+expect_error 2 "text for a number" run --mass heavy -o out.csv
+expect_error 2 "text for steps" run --steps-per-period many -o out.csv
+expect_error 2 "negative every" run --every -1 -o out.csv
+expect_error 2 "zero time" run --time 0 --steps 10 -o out.csv
+expect_error 2 "zero steps with time" run --time 1 --steps 0 -o out.csv
+expect_error 2 "time without steps" run --time 1 -o out.csv
+expect_error 2 "time with periods" run --time 1 --steps 10 --periods 2 -o out.csv
+expect_error 2 "unknown scheme" run --scheme euler -o out.csv
+expect_error 2 "unknown option" run --bogus 1 -o out.csv
+expect_error 2 "unknown command" frobnicate
+expect_error 2 "unknown paper command" paper table2
+expect_error 2 "missing command" paper
+expect_error 2 "separatrix" run --q0 3.141592653589793 -o out.csv
+expect_error 2 "periods not giving whole steps" run --steps-per-period 3 --periods 0.5 -o out.csv
+expect_error 2 "table1 unknown format" paper table1 --format xml -o out.csv
+expect_error 2 "figure bad extension" paper figure1 -o out.jpg
+expect_error 2 "figure without output" paper figure1
+
+# --- unwritable paths: exit 1 --------------------------------------------------------------
+expect_error 1 "missing folder" run -o "$work/no/such/dir/out.csv"
+mkdir -p adir
+expect_error 1 "path is a folder" run -o adir
+expect_error 1 "figure in missing folder" paper figure1 -o "$work/no/such/fig.png"
+expect_error 1 "table1 missing folder" paper table1 -o "$work/no/such/t.txt"
+
+# --- Newton divergence: exit 3, rows kept in out.csv.part ----------------------------------
+# One Simpson step per period diverges at step 2 (tests/schemes/test_integrate.cpp).
+expect_error 3 "newton diverges" run --steps-per-period 1 --periods 3 -o out.csv
+if grep -q 'step 2' stderr.txt && grep -q 'residual' stderr.txt && grep -q 'out.csv.part' stderr.txt; then ok; else
+  bad "divergence message: $(cat stderr.txt)"; fi
+if [ -f out.csv.part ] && [ "$(head -1 out.csv.part)" = "step,t,q,p,energy,q_exact,p_exact" ] &&
+   [ "$(wc -l < out.csv.part)" -eq 3 ]; then ok; else bad "out.csv.part should hold header + steps 0, 1"; fi
+rm -f out.csv.part
+
+# --- successful runs -----------------------------------------------------------------------
+echo "precious" > out.csv
+if "$VARSYM" run -o out.csv 2> stderr.txt; then ok; else bad "default run failed: $(cat stderr.txt)"; fi
+[ "$(head -1 out.csv)" = "step,t,q,p,energy,q_exact,p_exact" ] && ok || bad "header: $(head -1 out.csv)"
+[ "$(wc -l < out.csv)" -eq 52 ] && ok || bad "default run: $(wc -l < out.csv) lines, expected 52"
+[ "$(tail -1 out.csv | cut -d, -f1)" = "50" ] && ok || bad "last row: $(tail -1 out.csv)"
+[ ! -e out.csv.part ] && ok || bad "out.csv.part left after success"
+[ ! -s stderr.txt ] && ok || bad "stderr not empty on success: $(cat stderr.txt)"
+# 17 significant digits: the initial q is pi/2 printed exactly.
+[ "$(sed -n 2p out.csv | cut -d, -f3)" = "1.5707963267948966" ] && ok || bad "q0 row: $(sed -n 2p out.csv)"
+# After one period Simpson's q is within 2e-6 of the exact value (Table 1: 1.05e-6 at N = 50).
+awk -F, 'END { d = $3 - $6; if (d < 0) d = -d; exit !(d < 2e-6) }' out.csv && ok || bad "final error: $(tail -1 out.csv)"
+
+"$VARSYM" run --every 0 --periods 2 > every0.csv && [ "$(wc -l < every0.csv)" -eq 2 ] &&
+  [ "$(tail -1 every0.csv | cut -d, -f1)" = "100" ] && ok || bad "--every 0: $(cat every0.csv)"
+"$VARSYM" run --every 7 > every7.csv &&
+  [ "$(cut -d, -f1 every7.csv | tail -n +2 | tr '\n' ' ')" = "0 7 14 21 28 35 42 49 50 " ] && ok ||
+  bad "--every 7: $(cut -d, -f1 every7.csv | tr '\n' ' ')"
+"$VARSYM" run --scheme newmark --time 2 --steps 40 --q0 0.5 --p0 4 --mass 2 --omega 3 > t.csv &&
+  [ "$(tail -1 t.csv | cut -d, -f1,2)" = "40,2" ] && ok || bad "--time/--steps: $(tail -1 t.csv)"
+"$VARSYM" run --q0 1 --p0 20 --periods 2 > rot.csv && ok || bad "rotation run failed"
+"$VARSYM" run --stats > /dev/null 2> stats.txt && grep -q 'Newton iterations per step mean' stats.txt && ok ||
+  bad "--stats: $(cat stats.txt)"
+
+"$VARSYM" paper table1 --format csv > t1.csv && [ "$(head -1 t1.csv)" = "scheme,quantity,steps,error" ] &&
+  [ "$(wc -l < t1.csv)" -eq 19 ] && grep -q '^simpson,state,200,4.06' t1.csv && ok || bad "table1 csv: $(cat t1.csv)"
+"$VARSYM" paper table1 | grep -q 'Symplectic Simpson   relative energy' && ok || bad "table1 text"
+
+if command -v gnuplot > /dev/null; then
+  "$VARSYM" paper figure2 -o fig.svg -o fig.png 2> stderr.txt && ok || bad "figure2: $(cat stderr.txt)"
+  for f in fig.png fig.svg fig.csv fig-exact.csv fig.gp; do [ -s "$f" ] && ok || bad "figure2 did not write $f"; done
+  [ "$(head -c 8 fig.png | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] && ok || bad "fig.png is not a PNG"
+  grep -q '<svg' fig.svg && ok || bad "fig.svg is not SVG"
+  [ "$(wc -l < fig.csv)" -eq 52 ] && ok || bad "fig.csv: $(wc -l < fig.csv) lines"
+  (gnuplot fig.gp) 2> gp.txt && ok || bad "fig.gp does not redraw: $(cat gp.txt)"
+  ls ./*.part > /dev/null 2>&1 && bad "figure left .part files" || ok
+else
+  echo "SKIP: gnuplot not installed (make test installs it)"
+fi
+
+"$VARSYM" --help | grep -q 'Exit codes' && ok || bad "--help"
+"$VARSYM" run --help | grep -q 'step,t,q,p,energy,q_exact,p_exact' && ok || bad "run --help"
+
+echo "$passed passed, $failures failed"
+[ "$failures" -eq 0 ]

@@ -1,0 +1,60 @@
+// tests/solvers/test_newton.cpp: Newton's method converges to machine precision, and reports
+// failure (iteration cap, NaN) instead of returning a wrong answer.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "varsym/solvers/newton.hpp"
+
+using namespace varsym;
+
+TEST(Newton, ScalarRootToMachinePrecision) {
+    // x² − 2 = 0 from x = 1: the root is √2 (std::sqrt is correctly rounded).
+    vec<1> x{1.0};
+    const auto rep = newton_solve<1>(x, [](const vec<1>& y, vec<1>& r, mat<1>& j) {
+        r(0) = y(0) * y(0) - 2.0;
+        j(0, 0) = 2.0 * y(0);
+    });
+    EXPECT_TRUE(rep.converged);
+    EXPECT_LE(rep.iterations, 7);
+    EXPECT_NEAR(x(0), std::sqrt(2.0), 2 * std::numeric_limits<double>::epsilon());
+}
+
+TEST(Newton, SystemRootToMachinePrecision) {
+    // x² + y² = 4, x = y: root (√2, √2).
+    vec<2> x{1.0, 0.5};
+    const auto rep = newton_solve<2>(x, [](const vec<2>& y, vec<2>& r, mat<2>& j) {
+        r << y(0) * y(0) + y(1) * y(1) - 4.0, y(0) - y(1);
+        j << 2 * y(0), 2 * y(1), 1.0, -1.0;
+    });
+    EXPECT_TRUE(rep.converged);
+    EXPECT_NEAR(x(0), std::sqrt(2.0), 4e-16);
+    EXPECT_NEAR(x(1), std::sqrt(2.0), 4e-16);
+}
+
+TEST(Newton, IterationCapIsReportedWithResidual) {
+    // atan(x) = 0 from x = 3: Newton diverges (|x| grows), so the cap is hit.
+    vec<1> x{3.0};
+    newton_options opt;
+    opt.max_iterations = 5;
+    const auto rep = newton_solve<1>(
+        x,
+        [](const vec<1>& y, vec<1>& r, mat<1>& j) {
+            r(0) = std::atan(y(0));
+            j(0, 0) = 1.0 / (1.0 + y(0) * y(0));
+        },
+        opt);
+    EXPECT_FALSE(rep.converged);
+    EXPECT_GT(rep.residual, 1.0); // |atan x| → π/2 as x diverges
+}
+
+TEST(Newton, NaNStopsAtOnce) {
+    vec<1> x{1.0};
+    const auto rep = newton_solve<1>(x, [](const vec<1>&, vec<1>& r, mat<1>& j) {
+        r(0) = std::numeric_limits<double>::quiet_NaN();
+        j(0, 0) = 1.0;
+    });
+    EXPECT_FALSE(rep.converged);
+    EXPECT_EQ(rep.iterations, 1);
+}

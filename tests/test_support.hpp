@@ -1,0 +1,44 @@
+// tests/test_support.hpp: small systems and helpers shared by the tests.
+#pragma once
+
+#include <cmath>
+#include <numbers>
+
+#include "varsym/systems/separable.hpp"
+
+namespace varsym::test {
+
+/// Two pendulums coupled by a spring, V = a(1 − cos q₁) + b(1 − cos q₂) + (c/2)(q₁ − q₂)²,
+/// with a non-diagonal mass matrix: a d = 2 system for the generic-dimension code paths.
+struct coupled_pendulums {
+    double a = 4.0, b = 9.0, c = 1.5;
+    [[nodiscard]] double value(const vec<2>& q) const {
+        const double d = q(0) - q(1);
+        return a * (1 - std::cos(q(0))) + b * (1 - std::cos(q(1))) + 0.5 * c * d * d;
+    }
+    [[nodiscard]] vec<2> gradient(const vec<2>& q) const {
+        const double d = q(0) - q(1);
+        return {a * std::sin(q(0)) + c * d, b * std::sin(q(1)) - c * d};
+    }
+    [[nodiscard]] mat<2> hessian(const vec<2>& q) const {
+        mat<2> h;
+        h << a * std::cos(q(0)) + c, -c, -c, b * std::cos(q(1)) + c;
+        return h;
+    }
+};
+
+inline separable_system<2, coupled_pendulums> coupled_system() {
+    mat<2> m;
+    m << 2.0, 0.5, 0.5, 1.0;
+    return {m, coupled_pendulums{}};
+}
+
+/// V = (k/2) q²: the linear oscillator, for which Newmark conserves the energy exactly.
+struct harmonic {
+    double k = 3.0;
+    [[nodiscard]] double value(const vec<1>& q) const { return 0.5 * k * q(0) * q(0); }
+    [[nodiscard]] vec<1> gradient(const vec<1>& q) const { return vec<1>{k * q(0)}; }
+    [[nodiscard]] mat<1> hessian(const vec<1>&) const { return mat<1>{k}; }
+};
+
+} // namespace varsym::test
