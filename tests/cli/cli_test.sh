@@ -3,7 +3,7 @@
 # README says, and every bad input gives one line on standard error, the documented exit code,
 # no output file that looks complete, and leaves a file the user already had untouched.
 set -u
-VARSYM=${1:?usage: cli_test.sh PATH_TO_VARSYM}
+VARSYM=$(realpath "${1:?usage: cli_test.sh PATH_TO_VARSYM}")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work" || exit 1
