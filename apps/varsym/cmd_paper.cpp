@@ -18,7 +18,7 @@ constexpr std::string_view scheme_title(scheme_kind k) {
 }
 
 // Rows in the paper's order: quantity-major (momentum, state, energy), Newmark before Simpson.
-std::vector<paper::table1_row> paper_order(std::vector<paper::table1_row> rows) {
+std::vector<paper::table1_row> paper_order(const std::vector<paper::table1_row>& rows) {
     std::vector<paper::table1_row> out;
     for (auto q : paper::all_quantities)
         for (const auto& r : rows)

@@ -31,7 +31,7 @@ public:
     using system_type = System;
     static constexpr std::string_view scheme_name = name;
 
-    stepper(System sys, double h, newton_options opt = {})
+    stepper(System sys, double h, const newton_options& opt = {})
         : sys_(std::move(sys)), h_(h), opt_(opt) {}
 
     [[nodiscard]] double step_size() const { return h_; }

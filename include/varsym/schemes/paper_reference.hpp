@@ -37,7 +37,7 @@ public:
     using system_type = System;
     static constexpr std::string_view scheme_name = "newmark-paper";
 
-    newmark_stepper(System sys, double h, newton_options opt = {})
+    newmark_stepper(System sys, double h, const newton_options& opt = {})
         : sys_(std::move(sys)), h_(h), opt_(opt) {}
     [[nodiscard]] double step_size() const { return h_; }
     [[nodiscard]] const System& system() const { return sys_; }
@@ -92,7 +92,7 @@ public:
     using system_type = System;
     static constexpr std::string_view scheme_name = "simpson-paper";
 
-    simpson_stepper(System sys, double h, newton_options opt = {})
+    simpson_stepper(System sys, double h, const newton_options& opt = {})
         : sys_(std::move(sys)), h_(h), opt_(opt) {}
     [[nodiscard]] double step_size() const { return h_; }
     [[nodiscard]] const System& system() const { return sys_; }
