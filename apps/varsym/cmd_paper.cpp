@@ -88,15 +88,22 @@ std::string csv_row(std::initializer_list<double> values) {
     return line + '\n';
 }
 
-figure figure1(const paper::pendulum_case& c, int periods, int samples_per_period) {
-    const pendulum::exact_solution exact(c.mass, c.omega, c.q0, c.p0);
+// The exact solution sampled `samples_per_period` times per period over `periods`, as t,q,p CSV.
+std::string exact_samples(const pendulum::exact_solution& exact, int periods, int samples_per_period) {
     std::string data = "t,q,p\n";
-    const int n = periods * samples_per_period;
-    for (int i = 0; i <= n; ++i) {
+    for (int i = 0; i <= periods * samples_per_period; ++i) {
         const double t = exact.period() * i / samples_per_period;
         const auto x = exact.at(t);
         data += csv_row({t, x.q(0), x.p(0)});
     }
+    return data;
+}
+
+constexpr int samples_per_period = 200; // smooth curves for the exact solution
+
+figure figure1(const paper::pendulum_case& c, int periods) {
+    const pendulum::exact_solution exact(c.mass, c.omega, c.q0, c.p0);
+    const std::string data = exact_samples(exact, periods, samples_per_period);
     std::string script = script_preamble;
     char title[300];
     std::snprintf(title, sizeof title,
@@ -134,13 +141,7 @@ figure figure2(const paper::pendulum_case& c, int periods, int steps_per_period)
                 csv_row({t, traj[0][j].q(0), traj[0][j].p(0), traj[1][j].q(0), traj[1][j].p(0),
                          e.q(0), e.p(0)});
     }
-    std::string fine = "t,q,p\n";
-    const int samples = 200 * periods;
-    for (int i = 0; i <= samples; ++i) {
-        const double t = exact.period() * periods * i / samples;
-        const auto e = exact.at(t);
-        fine += csv_row({t, e.q(0), e.p(0)});
-    }
+    const std::string fine = exact_samples(exact, periods, samples_per_period);
     std::string script = script_preamble;
     char title[300];
     std::snprintf(title, sizeof title,
@@ -209,7 +210,7 @@ void add_paper_command(CLI::App& app, action& todo) {
         f->callback([=, &todo] {
             todo = [=] {
                 const paper::pendulum_case c;
-                render_figure(has_steps ? figure2(c, o->periods, o->steps) : figure1(c, o->periods, 200),
+                render_figure(has_steps ? figure2(c, o->periods, o->steps) : figure1(c, o->periods),
                               o->outputs);
             };
         });
