@@ -126,10 +126,10 @@ void add_run_command(CLI::App& app, action& todo) {
     cmd->add_option("--mass", o->mass, "Moment of inertia m [kg m^2]")
         ->check(positive_number)
         ->capture_default_str();
-    cmd->add_option("--omega", o->omega, "Small-oscillation angular frequency omega [rad/s]")
+    cmd->add_option("--omega", o->omega, "Small-oscillation angular frequency omega [rad/s] (default 2 pi)")
         ->check(positive_number)
         ->capture_default_str();
-    cmd->add_option("--q0", o->q0, "Initial angle q(0) [rad]")->check(finite_number)->capture_default_str();
+    cmd->add_option("--q0", o->q0, "Initial angle q(0) [rad] (default pi/2)")->check(finite_number)->capture_default_str();
     cmd->add_option("--p0", o->p0, "Initial angular momentum p(0) [kg m^2/s]")
         ->check(finite_number)
         ->capture_default_str();
@@ -154,7 +154,7 @@ void add_run_command(CLI::App& app, action& todo) {
         ->capture_default_str();
     cmd->add_option("--output,-o", o->output, "CSV file to write (default: standard output)");
     cmd->add_option("--newton-tol", o->newton.tolerance,
-                    "Newton stops when its update is below this, relative to max(1, |x|)")
+                    "Newton stops when its update is below this times the size of the step's increment")
         ->check(positive_number)
         ->capture_default_str();
     cmd->add_option("--newton-max-iter", o->newton.max_iterations,
