@@ -1,6 +1,7 @@
 // varsym/solvers/newton.hpp: Newton's method for the small nonlinear systems of one time step.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -25,36 +26,57 @@ struct newton_report {
     double residual = 0.0; ///< max-norm residual at the last iterate that was evaluated
 };
 
+/// Newton's stopping rule, shared by every Newton loop in varsym. After each update of
+/// max-norm |δ_k| to an unknown of max-norm |x|, with scale = tol · max(|x|, typical), it
+/// reports convergence when
+///  - |δ_k| ≤ scale, or
+///  - the quadratic model predicts the next update below scale (|δ_k|³/|δ_{k−1}|² ≤ scale),
+///  - or the updates stop decreasing once already tiny: the round-off floor, |δ_k| ≥ |δ_{k−1}|/2
+///    with |δ_k| ≤ 64 ε max(|x|, typical), whatever the tolerance asked for.
+class newton_monitor {
+public:
+    explicit newton_monitor(const newton_options& opt) : opt_(opt) {}
+    bool converged(double step, double size) {
+        ++iterations_;
+        const double magnitude = std::max(opt_.typical, size);
+        const double scale = opt_.tolerance * magnitude;
+        const bool tiny = step <= scale;
+        const bool predicted = iterations_ > 1 && step * step * step <= scale * previous_ * previous_;
+        const bool floor = iterations_ > 1 && step >= 0.5 * previous_ &&
+                           step <= 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
+        previous_ = step;
+        return tiny || predicted || floor;
+    }
+    [[nodiscard]] int iterations() const { return iterations_; }
+    [[nodiscard]] bool exhausted() const { return iterations_ >= opt_.max_iterations; }
+
+private:
+    newton_options opt_;
+    int iterations_ = 0;
+    double previous_ = std::numeric_limits<double>::infinity();
+};
+
 /// Solves F(x) = 0 from the starting guess in `x`. `f(x, r, J)` writes F(x) into r and the
-/// Jacobian dF(x) into J. Stops when the update is at the round-off level:
-///  - |δ_k| ≤ tol·scale with scale = max(|x|, typical), or
-///  - the quadratic model predicts the next update below that (|δ_k|³/|δ_{k−1}|² ≤ tol·scale),
-///  - or the updates stop decreasing once already tiny (round-off floor, |δ_k| ≤ 1e3·tol·scale).
-/// Fails (converged = false) on NaN or infinity, or after `max_iterations` linear solves.
+/// Jacobian dF(x) into J. Stops by newton_monitor's rule; fails (converged = false) on NaN or
+/// infinity, or after `max_iterations` linear solves.
 template <int N, class Function>
 newton_report newton_solve(vec<N>& x, Function&& f, const newton_options& opt = {}) {
     vec<N> r(x.size());
     mat<N> jac(x.size(), x.size());
     newton_report rep;
-    double previous = std::numeric_limits<double>::infinity();
-    while (rep.iterations < opt.max_iterations) {
+    newton_monitor monitor(opt);
+    while (!monitor.exhausted()) {
         f(x, r, jac);
         rep.residual = r.template lpNorm<Eigen::Infinity>();
         const vec<N> delta = solve_dense<N>(jac, r);
-        ++rep.iterations;
         const double step = delta.template lpNorm<Eigen::Infinity>();
+        rep.iterations = monitor.iterations() + 1;
         if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
         x -= delta;
-        const double scale =
-            opt.tolerance * std::max(opt.typical, x.template lpNorm<Eigen::Infinity>());
-        const bool tiny = step <= scale;
-        const bool predicted = rep.iterations > 1 && step * step * step <= scale * previous * previous;
-        const bool floor = rep.iterations > 1 && step <= 1e3 * scale && step >= 0.5 * previous;
-        if (tiny || predicted || floor) {
+        if (monitor.converged(step, x.template lpNorm<Eigen::Infinity>())) {
             rep.converged = true;
             return rep;
         }
-        previous = step;
     }
     f(x, r, jac);
     rep.residual = r.template lpNorm<Eigen::Infinity>();
