@@ -65,84 +65,103 @@ enum class regime { rest, libration, rotation };
 /// dn is computed as sqrt(1 − k² sn²) (k < 1 in both regimes), not taken from Boost: Boost
 /// 1.74's jacobi_elliptic returns dn(K | 1/2) = 0.70772 instead of 1/√2 = 0.70711 exactly at
 /// the turning points u = K, 3K (tests/problems/test_pendulum_exact.cpp holds this).
-class exact_solution {
+/// The scalar type Real is double for the library; long double gives a reference with ~3 more
+/// digits for measuring high orders (tests/numeric/test_family_orders.cpp).
+template <class Real>
+class basic_exact_solution {
 public:
-    exact_solution(double m, double omega, double q0, double p0) : m_(m), omega_(omega) {
-        require_positive("mass", m);
-        require_positive("omega", omega);
-        if (!std::isfinite(q0) || !std::isfinite(p0))
+    struct point {
+        Real q, p;
+    };
+
+    basic_exact_solution(Real m, Real omega, Real q0, Real p0) : m_(m), omega_(omega) {
+        using std::abs, std::sqrt, std::sin, std::atan2, std::round, std::isfinite;
+        require_positive("mass", static_cast<double>(m));
+        require_positive("omega", static_cast<double>(omega));
+        if (!isfinite(q0) || !isfinite(p0))
             throw std::invalid_argument("initial q0 and p0 must be finite");
-        using std::numbers::pi;
-        shift_ = 2.0 * pi * std::round(q0 / (2.0 * pi)); // V is 2π-periodic: solve from q₀ ∈ [−π, π]
-        const double half = 0.5 * (q0 - shift_);
-        const double s = std::sin(half);
-        const double c = p0 / (2.0 * m * omega);
+        const Real pi = std::numbers::pi_v<Real>;
+        shift_ = 2 * pi * round(q0 / (2 * pi)); // V is 2π-periodic: solve from q₀ ∈ [−π, π]
+        const Real half = (q0 - shift_) / 2;
+        const Real s = sin(half);
+        const Real c = p0 / (2 * m * omega);
         k2_ = s * s + c * c; // E/(2mω²) = sin²(q/2) + (p/(2mω))²
-        k_ = std::sqrt(k2_);
-        if (std::abs(k2_ - 1.0) <= 1e-12)
+        k_ = sqrt(k2_);
+        if (abs(k2_ - 1) <= Real(1e-12))
             throw std::invalid_argument(
                 "initial state is on the separatrix (energy 2 m omega^2): the pendulum takes "
                 "infinite time to reach the top, so there is no period; change q0 or p0");
-        if (k2_ == 0.0) {
+        if (k2_ == 0) {
             kind_ = regime::rest;
-            period_ = 2.0 * pi / omega;
+            period_ = 2 * pi / omega;
             q_rest_ = q0;
-        } else if (k2_ < 1.0) {
+        } else if (k2_ < 1) {
             kind_ = regime::libration;
             quarter_ = boost::math::ellint_1(k_); // K(k²), modulus k
-            u0_ = boost::math::ellint_1(k_, std::atan2(s, c));
-            period_ = 4.0 * quarter_ / omega; // eq. periode
+            u0_ = boost::math::ellint_1(k_, atan2(s, c));
+            period_ = 4 * quarter_ / omega; // eq. periode
         } else {
             kind_ = regime::rotation;
-            sign_ = p0 >= 0.0 ? 1.0 : -1.0;
-            kappa_ = 1.0 / k_;
+            sign_ = p0 >= 0 ? 1 : -1;
+            kappa_ = 1 / k_;
             quarter_ = boost::math::ellint_1(kappa_); // K(κ²), modulus κ
             u0_ = boost::math::ellint_1(kappa_, sign_ * half);
-            period_ = 2.0 * quarter_ / (k_ * omega);
+            period_ = 2 * quarter_ / (k_ * omega);
         }
     }
 
     [[nodiscard]] regime kind() const { return kind_; }
     /// Period of the motion [s]: libration 4K(k²)/ω, rotation 2K(1/k²)/(kω), rest 2π/ω.
-    [[nodiscard]] double period() const { return period_; }
+    [[nodiscard]] Real period() const { return period_; }
     /// Energy H = p²/(2m) + m ω² (1 − cos q) = 2 m ω² k² [J].
-    [[nodiscard]] double energy() const { return 2.0 * m_ * omega_ * omega_ * k2_; }
+    [[nodiscard]] Real energy() const { return 2 * m_ * omega_ * omega_ * k2_; }
     /// k = sqrt(E/(2mω²)): the elliptic modulus in libration (k < 1).
-    [[nodiscard]] double modulus() const { return k_; }
+    [[nodiscard]] Real modulus() const { return k_; }
 
-    [[nodiscard]] phase_state<1> at(double t) const {
-        using std::numbers::pi;
-        double cn = 0.0;
+    [[nodiscard]] point state(Real t) const {
+        using std::asin, std::atan2, std::floor, std::fmod, std::sqrt;
+        const Real pi = std::numbers::pi_v<Real>;
+        Real cn = 0;
         switch (kind_) {
         case regime::rest:
-            return {vec<1>{q_rest_}, vec<1>{0.0}};
+            return {q_rest_, 0};
         case regime::libration: {
             // Reduce the argument modulo the period 4K of sn, cn to keep long times accurate.
-            const double u = std::fmod(omega_ * t + u0_, 4.0 * quarter_);
-            const double sn = boost::math::jacobi_elliptic(k_, u, &cn, static_cast<double*>(nullptr));
+            const Real u = fmod(omega_ * t + u0_, 4 * quarter_);
+            const Real sn = boost::math::jacobi_elliptic(k_, u, &cn, static_cast<Real*>(nullptr));
             // sin(q/2) = k sn (paper Annex), p = m dq/dt = 2 m ω k cn
-            return {vec<1>{shift_ + 2.0 * std::asin(k_ * sn)}, vec<1>{2.0 * m_ * omega_ * k_ * cn}};
+            return {shift_ + 2 * asin(k_ * sn), 2 * m_ * omega_ * k_ * cn};
         }
         case regime::rotation: {
             // am(u) = atan2(sn, cn) on [−K, K), plus π for each half-period 2K.
-            const double u = k_ * omega_ * t + u0_;
-            const double n = std::floor((u + quarter_) / (2.0 * quarter_));
-            const double ur = u - 2.0 * quarter_ * n;
-            const double sn = boost::math::jacobi_elliptic(kappa_, ur, &cn, static_cast<double*>(nullptr));
-            const double dn = std::sqrt(1.0 - kappa_ * kappa_ * sn * sn);
-            const double am = std::atan2(sn, cn) + n * pi;
-            return {vec<1>{shift_ + sign_ * 2.0 * am}, vec<1>{sign_ * 2.0 * m_ * omega_ * k_ * dn}};
+            const Real u = k_ * omega_ * t + u0_;
+            const Real n = floor((u + quarter_) / (2 * quarter_));
+            const Real ur = u - 2 * quarter_ * n;
+            const Real sn = boost::math::jacobi_elliptic(kappa_, ur, &cn, static_cast<Real*>(nullptr));
+            const Real dn = sqrt(1 - kappa_ * kappa_ * sn * sn);
+            const Real am = atan2(sn, cn) + n * pi;
+            return {shift_ + sign_ * 2 * am, sign_ * 2 * m_ * omega_ * k_ * dn};
         }
         }
         return {}; // unreachable
     }
 
 private:
-    double m_, omega_;
-    double k2_ = 0.0, k_ = 0.0, kappa_ = 0.0;
-    double quarter_ = 0.0, u0_ = 0.0, period_ = 0.0;
-    double shift_ = 0.0, sign_ = 1.0, q_rest_ = 0.0;
+    Real m_, omega_;
+    Real k2_ = 0, k_ = 0, kappa_ = 0;
+    Real quarter_ = 0, u0_ = 0, period_ = 0;
+    Real shift_ = 0, sign_ = 1, q_rest_ = 0;
     regime kind_ = regime::rest;
+};
+
+/// The exact solution in double precision, as phase-space states.
+class exact_solution : public basic_exact_solution<double> {
+public:
+    using basic_exact_solution<double>::basic_exact_solution;
+    [[nodiscard]] phase_state<1> at(double t) const {
+        const auto x = state(t);
+        return {vec<1>{x.q}, vec<1>{x.p}};
+    }
 };
 
 } // namespace varsym::pendulum
