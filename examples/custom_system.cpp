@@ -29,7 +29,7 @@ int main() {
     const double h0 = system.energy(x0);
 
     double worst[2] = {0, 0};
-    for (auto scheme : all_schemes) {
+    for (auto scheme : paper_schemes) {
         phase_state<2> x = x0;
         with_stepper(scheme, system, 0.1, {}, [&](auto& stepper) {
             integrate(stepper, x, 0.0, 100000, [&](std::size_t, double, const phase_state<2>& y) {

@@ -128,7 +128,7 @@ figure figure2(const paper::pendulum_case& c, int periods, int steps_per_period)
     std::vector<phase_state<1>> traj[2];
     for (int s = 0; s < 2; ++s) {
         phase_state<1> x{vec<1>{c.q0}, vec<1>{c.p0}};
-        with_stepper(all_schemes[s], sys, h, {}, [&](auto& stepper) {
+        with_stepper(paper_schemes[s], sys, h, {}, [&](auto& stepper) {
             integrate(stepper, x, 0.0, n,
                       [&](std::size_t, double, const phase_state<1>& y) { traj[s].push_back(y); });
         });

@@ -5,6 +5,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "shared_options.hpp"
 #include "varsym/integrate.hpp"
 #include "varsym/problems/pendulum.hpp"
 #include "varsym/schemes/scheme_kind.hpp"
@@ -14,11 +15,8 @@ namespace varsym::cli {
 namespace {
 
 struct run_options {
-    std::string scheme = "simpson";
-    double mass = 1.0;
-    double omega = 2.0 * std::numbers::pi;
-    double q0 = 0.5 * std::numbers::pi;
-    double p0 = 0.0;
+    scheme_options scheme;
+    pendulum_options pendulum;
     long long steps_per_period = 50;
     double periods = 1.0;
     double time = 0.0;
@@ -33,21 +31,9 @@ struct run_options {
 constexpr double max_steps = 1e15;
 
 void run(const run_options& o, const CLI::App& cmd) {
-    const auto kind = parse_scheme(o.scheme);
-    pendulum::system sys = [&] {
-        try {
-            return pendulum::make_system(o.mass, o.omega);
-        } catch (const std::invalid_argument& e) {
-            throw usage_error(e.what());
-        }
-    }();
-    const auto exact = [&] {
-        try {
-            return pendulum::exact_solution(o.mass, o.omega, o.q0, o.p0);
-        } catch (const std::invalid_argument& e) {
-            throw usage_error(e.what());
-        }
-    }();
+    const scheme_spec spec = make_spec(o.scheme);
+    const pendulum::system sys = make_system(o.pendulum);
+    const pendulum::exact_solution exact = make_exact(o.pendulum);
 
     double h = 0.0;
     std::size_t n = 0;
@@ -83,10 +69,10 @@ void run(const run_options& o, const CLI::App& cmd) {
         line += '\n';
         out.write(line);
     };
-    phase_state<1> x{vec<1>{o.q0}, vec<1>{o.p0}};
+    phase_state<1> x{vec<1>{o.pendulum.q0}, vec<1>{o.pendulum.p0}};
     run_summary summary;
     try {
-        summary = with_stepper(*kind, sys, h, o.newton,
+        summary = with_stepper(spec, sys, h, o.newton,
                                [&](auto& stepper) { return integrate(stepper, x, 0.0, n, observe); });
     } catch (const step_failure& e) {
         if (out.is_stdout()) throw numerical_error(e.what());
@@ -96,7 +82,7 @@ void run(const run_options& o, const CLI::App& cmd) {
     }
     out.commit();
     if (o.stats)
-        std::cerr << "varsym: " << o.scheme << ", " << summary.steps << " steps of h = " << h
+        std::cerr << "varsym: " << spec.label() << ", " << summary.steps << " steps of h = " << h
                   << ": Newton iterations per step mean " << summary.mean_newton_iterations()
                   << ", max " << summary.newton_iterations_max << '\n';
 }
@@ -107,11 +93,7 @@ void add_run_command(CLI::App& app, action& todo) {
     auto o = std::make_shared<run_options>();
     auto* cmd = app.add_subcommand(
         "run", "Integrate the nonlinear pendulum and stream its trajectory as CSV");
-    cmd->footer(
-        "\nThe pendulum: L = (m/2) (dq/dt)^2 - m omega^2 (1 - cos q). q [rad] is the angle from "
-        "the\ndownward vertical, t [s] the time, m the moment of inertia (m = M l^2 for a mass M "
-        "on a\nrod of length l; omega^2 = g/l), p = m dq/dt the angular momentum, energy = "
-        "p^2/(2m) + V(q).\n\n"
+    cmd->footer(std::string(pendulum_help) + "\n" +
         "Columns: step,t,q,p,energy,q_exact,p_exact (17 significant digits). The exact solution\n"
         "uses Jacobi elliptic functions (libration and rotation; the separatrix is refused).\n"
         "A file given by --output is written as FILE.part and renamed when the run completes;\n"
@@ -119,20 +101,10 @@ void add_run_command(CLI::App& app, action& todo) {
         "Examples:\n"
         "  varsym run                                   # Simpson, one period, 50 steps\n"
         "  varsym run --scheme newmark --steps-per-period 10 --periods 5 --output traj.csv\n"
-        "  varsym run --time 100 --steps 100000 --every 1000 --q0 3.0\n");
-    cmd->add_option("--scheme", o->scheme, "Integrator: simpson (4th order) or newmark (2nd order)")
-        ->check(CLI::IsMember({"simpson", "newmark"}))
-        ->capture_default_str();
-    cmd->add_option("--mass", o->mass, "Moment of inertia m [kg m^2]")
-        ->check(positive_number)
-        ->capture_default_str();
-    cmd->add_option("--omega", o->omega, "Small-oscillation angular frequency omega [rad/s] (default 2 pi)")
-        ->check(positive_number)
-        ->capture_default_str();
-    cmd->add_option("--q0", o->q0, "Initial angle q(0) [rad] (default pi/2)")->check(finite_number)->capture_default_str();
-    cmd->add_option("--p0", o->p0, "Initial angular momentum p(0) [kg m^2/s]")
-        ->check(finite_number)
-        ->capture_default_str();
+        "  varsym run --time 100 --steps 100000 --every 1000 --q0 3.0\n"
+        "  varsym run --scheme gauss --degree 4 --steps-per-period 20\n");
+    add_scheme_options(*cmd, o->scheme);
+    add_pendulum_options(*cmd, o->pendulum);
     auto* spp = cmd->add_option("--steps-per-period", o->steps_per_period,
                                 "Steps per nonlinear period T = 4K(k^2)/omega (one revolution in "
                                 "rotation)")

@@ -8,6 +8,9 @@ namespace varsym::cli {
 /// `varsym run`: integrate a pendulum, stream CSV (cmd_run.cpp).
 void add_run_command(CLI::App& app, action& todo);
 
+/// `varsym converge`: error table and observed orders of any scheme (cmd_converge.cpp).
+void add_converge_command(CLI::App& app, action& todo);
+
 /// `varsym paper table1|figure1|figure2`: reproduce the paper (cmd_paper.cpp).
 void add_paper_command(CLI::App& app, action& todo);
 

@@ -23,7 +23,8 @@ int main(int argc, char** argv) {
     using namespace varsym::cli;
     CLI::App app{"varsym: variational symplectic integrators for Lagrangian mechanics.\n"
                  "Newmark (2nd order) and nonlinear Simpson (4th order) schemes of Dubois & "
-                 "Rojas-Quintero (2023),\nsolved by Newton at each step.",
+                 "Rojas-Quintero (2023),\nand the Lobatto and Gauss variational family of any "
+                 "order 2s, solved by Newton at each step.",
                  "varsym"};
     app.set_version_flag("--version", "varsym 0.1.0");
     app.require_subcommand(1);
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
                "Run 'varsym COMMAND --help' for the options of a command.");
     action todo;
     add_run_command(app, todo);
+    add_converge_command(app, todo);
     add_paper_command(app, todo);
 
     // Name an unknown (sub)command plainly; CLI11 would only say that one is required.

@@ -45,7 +45,7 @@ TEST(Energy, BoundedWithoutDriftOverTenThousandPeriods) {
     // analysis); a drift would make the last window's maximum exceed the first's. Over 5·10⁵
     // steps round-off adds at most ~1e-13, far below either band; the windows' maxima must
     // agree within 2 %.
-    for (auto k : all_schemes) {
+    for (auto k : paper_schemes) {
         const auto w = energy_windows(k, 50, 10000);
         EXPECT_NEAR(w.last, w.first, 0.02 * w.first) << scheme_name(k);
         // Table 1's one-period values (9.06e-4, 1.30e-6) bound the band.

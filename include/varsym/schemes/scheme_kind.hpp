@@ -1,44 +1,95 @@
-// varsym/schemes/scheme_kind.hpp: choosing a scheme at run time (command line, config files).
+// varsym/schemes/scheme_kind.hpp: choosing a scheme at run time (command line, config files):
+// the paper's two schemes and the Lobatto and Gauss members of the variational family.
 #pragma once
 
 #include <array>
+#include <memory>
 #include <optional>
+#include <stdexcept>
+#include <string>
 #include <string_view>
 #include <utility>
 
+#include "varsym/schemes/galerkin.hpp"
 #include "varsym/schemes/newmark.hpp"
 #include "varsym/schemes/simpson.hpp"
 
 namespace varsym {
 
-enum class scheme_kind { newmark, simpson };
+enum class scheme_kind { newmark, simpson, lobatto, gauss };
 
-inline constexpr std::array all_schemes{scheme_kind::newmark, scheme_kind::simpson};
+/// The two schemes of the paper.
+inline constexpr std::array paper_schemes{scheme_kind::newmark, scheme_kind::simpson};
+inline constexpr std::array all_scheme_kinds{scheme_kind::newmark, scheme_kind::simpson,
+                                             scheme_kind::lobatto, scheme_kind::gauss};
 
 constexpr std::string_view scheme_name(scheme_kind k) {
-    return k == scheme_kind::newmark ? newmark::name : simpson::name;
+    switch (k) {
+    case scheme_kind::newmark: return newmark::name;
+    case scheme_kind::simpson: return simpson::name;
+    case scheme_kind::lobatto: return "lobatto";
+    case scheme_kind::gauss: return "gauss";
+    }
+    return {};
 }
 
-constexpr int scheme_order(scheme_kind k) {
-    return k == scheme_kind::newmark ? newmark::order : simpson::order;
+/// Polynomial degree s of q(t) on a step: fixed for the paper's schemes, chosen for the family.
+constexpr int natural_degree(scheme_kind k) { return k == scheme_kind::newmark ? 1 : 2; }
+constexpr bool has_degree_choice(scheme_kind k) {
+    return k == scheme_kind::lobatto || k == scheme_kind::gauss;
 }
 
 inline std::optional<scheme_kind> parse_scheme(std::string_view s) {
-    for (auto k : all_schemes)
+    for (auto k : all_scheme_kinds)
         if (s == scheme_name(k)) return k;
     return std::nullopt;
 }
 
-/// Calls f(stepper) with the fast stepper of scheme k for `sys` and time step h.
+/// A scheme and its degree s; every member has order 2s.
+struct scheme_spec {
+    scheme_kind kind = scheme_kind::simpson;
+    int degree = 2;
+
+    constexpr scheme_spec() = default;
+    constexpr scheme_spec(scheme_kind k) : kind(k), degree(natural_degree(k)) {} // NOLINT: implicit
+    scheme_spec(scheme_kind k, int s) : kind(k), degree(s) {
+        if (!has_degree_choice(k) && s != natural_degree(k))
+            throw std::invalid_argument(std::string(scheme_name(k)) + " has degree " +
+                                        std::to_string(natural_degree(k)) +
+                                        "; choose lobatto or gauss for another degree");
+        if (s < 1 || s > galerkin::max_degree)
+            throw std::invalid_argument("degree must be between 1 and " +
+                                        std::to_string(galerkin::max_degree) + ", got " +
+                                        std::to_string(s));
+    }
+    [[nodiscard]] constexpr int order() const { return 2 * degree; }
+    /// "newmark", "simpson", "lobatto-3", "gauss-2".
+    [[nodiscard]] std::string label() const {
+        std::string l(scheme_name(kind));
+        return has_degree_choice(kind) ? l + "-" + std::to_string(degree) : l;
+    }
+};
+
+/// Calls f(stepper) with a stepper of scheme `spec` for `sys` and time step h.
 template <class System, class F>
-decltype(auto) with_stepper(scheme_kind k, const System& sys, double h, const newton_options& opt,
-                            F&& f) {
-    if (k == scheme_kind::newmark) {
+decltype(auto) with_stepper(const scheme_spec& spec, const System& sys, double h,
+                            const newton_options& opt, F&& f) {
+    switch (spec.kind) {
+    case scheme_kind::newmark: {
         newmark::stepper<System> s(sys, h, opt);
         return std::forward<F>(f)(s);
     }
-    simpson::stepper<System> s(sys, h, opt);
-    return std::forward<F>(f)(s);
+    case scheme_kind::simpson: {
+        simpson::stepper<System> s(sys, h, opt);
+        return std::forward<F>(f)(s);
+    }
+    default: {
+        const auto rule = spec.kind == scheme_kind::lobatto ? galerkin::rule_kind::lobatto
+                                                            : galerkin::rule_kind::gauss;
+        galerkin::stepper<System> s(sys, h, rule, spec.degree, opt);
+        return std::forward<F>(f)(s);
+    }
+    }
 }
 
 } // namespace varsym
