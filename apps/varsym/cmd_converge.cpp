@@ -149,6 +149,7 @@ set ylabel 'error (max norm over all steps)'
 void converge(const converge_options& o) {
     const scheme_spec spec = make_spec(o.scheme);
     make_system(o.pendulum); // validates the parameters before any work
+    if (!o.plot.empty()) check_pictures(o.plot);
     const double period = make_exact(o.pendulum).period();
     std::vector<int> steps = o.steps;
     std::sort(steps.begin(), steps.end());

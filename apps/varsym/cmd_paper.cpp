@@ -209,6 +209,7 @@ void add_paper_command(CLI::App& app, action& todo) {
                 ->capture_default_str();
         f->callback([=, &todo] {
             todo = [=] {
+                check_pictures(o->outputs);
                 const paper::pendulum_case c;
                 render_figure(has_steps ? figure2(c, o->periods, o->steps) : figure1(c, o->periods),
                               o->outputs);

@@ -57,25 +57,30 @@ std::string first_line(const fs::path& file) {
 
 } // namespace
 
-void render_figure(const figure& fig, const std::vector<std::string>& outputs) {
+void check_pictures(const std::vector<std::string>& outputs) {
     if (outputs.empty()) throw usage_error("no --output picture given");
     const fs::path first = fs::absolute(outputs.front());
-    const fs::path dir = first.parent_path();
-    const std::string stem = first.stem().string();
     for (const auto& o : outputs) {
         const fs::path p = fs::absolute(o);
         const std::string ext = p.extension().string();
         if (ext != ".png" && ext != ".svg")
             throw usage_error("cannot draw '" + o + "': use a .png or .svg file name");
-        if (p.parent_path() != dir || p.stem().string() != stem)
-            throw usage_error("all --output pictures of one figure must share folder and name, "
+        if (p.parent_path() != first.parent_path() || p.stem() != first.stem())
+            throw usage_error("all pictures of one figure must share folder and name, "
                               "differing only in extension (got '" + o + "')");
         if (o.find_first_of("'\"") != std::string::npos)
             throw usage_error("cannot draw '" + o + "': quotes in file names are not supported");
     }
-    if (!fs::is_directory(dir))
-        throw std::runtime_error("cannot write '" + outputs.front() + "': folder '" + dir.string() +
-                                 "' does not exist");
+    if (!fs::is_directory(first.parent_path()))
+        throw std::runtime_error("cannot write '" + outputs.front() + "': folder '" +
+                                 first.parent_path().string() + "' does not exist");
+}
+
+void render_figure(const figure& fig, const std::vector<std::string>& outputs) {
+    check_pictures(outputs);
+    const fs::path first = fs::absolute(outputs.front());
+    const fs::path dir = first.parent_path();
+    const std::string stem = first.stem().string();
     for (const auto& [suffix, content] : fig.data) write_file(dir / (stem + suffix), content);
     const std::string script = stem + ".gp";
     const std::string picture = first.filename().string();

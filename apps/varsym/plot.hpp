@@ -14,6 +14,10 @@ struct figure {
     std::string script;
 };
 
+/// Checks picture names before any work: .png or .svg, one folder and name, folder exists.
+/// Throws usage_error (bad name) or std::runtime_error (missing folder).
+void check_pictures(const std::vector<std::string>& outputs);
+
 /// Writes the data files and STEM.gp beside the pictures, then renders each picture (.png or
 /// .svg, same folder and stem) by running gnuplot there. Every file is written as NAME.part and
 /// renamed once complete, so a failure never leaves a file that looks finished.
