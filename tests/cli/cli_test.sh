@@ -63,6 +63,18 @@ expect_error 2 "periods not giving whole steps" run --steps-per-period 3 --perio
 expect_error 2 "table1 unknown format" paper table1 --format xml -o out.csv
 expect_error 2 "figure bad extension" paper figure1 -o out.jpg
 expect_error 2 "figure without output" paper figure1
+expect_error 2 "degree with simpson" run --scheme simpson --degree 3 -o out.csv
+expect_error 2 "degree with newmark" run --scheme newmark --degree 2 -o out.csv
+expect_error 2 "degree too high" run --scheme gauss --degree 13 -o out.csv
+expect_error 2 "degree zero" run --scheme lobatto --degree 0 -o out.csv
+expect_error 2 "degree not a number" run --scheme lobatto --degree two -o out.csv
+expect_error 2 "converge one step count" converge --steps 50 -o out.csv
+expect_error 2 "converge repeated step count" converge --steps 50,50 -o out.csv
+expect_error 2 "converge zero steps" converge --steps 0,50 -o out.csv
+expect_error 2 "converge text in steps" converge --steps 25,abc -o out.csv
+expect_error 2 "converge unknown model" converge --model kepler -o out.csv
+expect_error 2 "converge zero periods" converge --periods 0 -o out.csv
+expect_error 2 "converge bad plot extension" converge --plot out.pdf -o out.csv
 
 # --- unwritable paths: exit 1 --------------------------------------------------------------
 expect_error 1 "missing folder" run -o "$work/no/such/dir/out.csv"
@@ -108,7 +120,24 @@ awk -F, 'END { d = $3 - $6; if (d < 0) d = -d; exit !(d < 2e-6) }' out.csv && ok
   [ "$(wc -l < t1.csv)" -eq 19 ] && grep -q '^simpson,state,200,4.06' t1.csv && ok || bad "table1 csv: $(cat t1.csv)"
 "$VARSYM" paper table1 | grep -q 'Symplectic Simpson   relative energy' && ok || bad "table1 text"
 
+# The family: lobatto degree 2 is the Simpson scheme, gauss degree 1 the Newmark scheme.
+"$VARSYM" run --every 0 > simpson.csv && "$VARSYM" run --scheme lobatto --degree 2 --every 0 > lob2.csv &&
+  paste -d, simpson.csv lob2.csv | awk -F, 'NR == 2 { d = $3 - $10; if (d < 0) d = -d; exit !(d < 1e-13) }' && ok ||
+  bad "lobatto 2 vs simpson: $(tail -1 simpson.csv) / $(tail -1 lob2.csv)"
+"$VARSYM" run --scheme newmark --every 0 > newmark.csv && "$VARSYM" run --scheme gauss --degree 1 --every 0 > gauss1.csv &&
+  paste -d, newmark.csv gauss1.csv | awk -F, 'NR == 2 { d = $3 - $10; if (d < 0) d = -d; exit !(d < 1e-13) }' && ok ||
+  bad "gauss 1 vs newmark: $(tail -1 newmark.csv) / $(tail -1 gauss1.csv)"
+"$VARSYM" converge --scheme gauss --degree 2 --format csv > conv.csv &&
+  [ "$(head -1 conv.csv)" = "scheme,degree,quantity,steps,error" ] && [ "$(wc -l < conv.csv)" -eq 13 ] &&
+  grep -q '^gauss,2,momentum,25,' conv.csv && ok || bad "converge csv: $(cat conv.csv)"
+# Simpson's rows at 50, 100, 200 steps are Table 1's (state error 1.05e-06 at N = 50).
+"$VARSYM" converge --scheme simpson --format csv | grep -q '^simpson,2,state,50,1.0496' && ok || bad "converge simpson state"
+"$VARSYM" converge --scheme lobatto --degree 3 --steps 32,64,128 > conv.txt &&
+  grep -Eq '^ +fitted +(5\.9|6\.0)' conv.txt && ok || bad "converge fitted order: $(cat conv.txt)"
+
 if command -v gnuplot > /dev/null; then
+  "$VARSYM" converge --steps 25,50 --plot conv.png -o conv.txt 2> stderr.txt && [ -s conv.png ] && [ -s conv.gp ] &&
+    ok || bad "converge --plot: $(cat stderr.txt)"
   "$VARSYM" paper figure2 -o fig.svg -o fig.png 2> stderr.txt && ok || bad "figure2: $(cat stderr.txt)"
   for f in fig.png fig.svg fig.csv fig-exact.csv fig.gp; do [ -s "$f" ] && ok || bad "figure2 did not write $f"; done
   [ "$(head -c 8 fig.png | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] && ok || bad "fig.png is not a PNG"
