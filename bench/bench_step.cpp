@@ -1,6 +1,7 @@
 // bench/bench_step.cpp: time of one step on the paper's pendulum (ω = 2π, q₀ = π/2, p₀ = 0,
-// N = 50 steps per period): varsym's fast and paper-reference steppers, and Boost.Odeint's
-// symplectic steppers of order 2 and 4 on the same problem, in one process.
+// N = 50 steps per period): varsym's fast and paper-reference steppers, the Lobatto and Gauss
+// family for s = 1 … 6, and Boost.Odeint's symplectic steppers of order 2 and 4 on the same
+// problem, in one process.
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -12,6 +13,7 @@
 #include <boost/numeric/odeint/stepper/symplectic_rkn_sb3a_m4_mclachlan.hpp>
 
 #include "varsym/problems/pendulum.hpp"
+#include "varsym/schemes/galerkin.hpp"
 #include "varsym/schemes/newmark.hpp"
 #include "varsym/schemes/paper_reference.hpp"
 #include "varsym/schemes/simpson.hpp"
@@ -24,8 +26,7 @@ const double period = pendulum::exact_solution(1.0, omega, std::numbers::pi / 2,
 const double h = period / 50;
 
 template <class Stepper>
-void run_steps(benchmark::State& state) {
-    Stepper stepper(pendulum::make_system(1.0, omega), h);
+void run_steps(benchmark::State& state, Stepper stepper) {
     phase_state<1> x{vec<1>{std::numbers::pi / 2}, vec<1>{0.0}};
     long iterations = 0;
     for (auto _ : state) {
@@ -38,10 +39,19 @@ void run_steps(benchmark::State& state) {
 
 using pendulum_system = pendulum::system;
 
-void simpson_step(benchmark::State& s) { run_steps<simpson::stepper<pendulum_system>>(s); }
-void newmark_step(benchmark::State& s) { run_steps<newmark::stepper<pendulum_system>>(s); }
-void simpson_paper_step(benchmark::State& s) { run_steps<paper_reference::simpson_stepper<pendulum_system>>(s); }
-void newmark_paper_step(benchmark::State& s) { run_steps<paper_reference::newmark_stepper<pendulum_system>>(s); }
+const pendulum_system sys = pendulum::make_system(1.0, omega);
+void simpson_step(benchmark::State& s) { run_steps(s, simpson::stepper(sys, h)); }
+void newmark_step(benchmark::State& s) { run_steps(s, newmark::stepper(sys, h)); }
+void simpson_paper_step(benchmark::State& s) { run_steps(s, paper_reference::simpson_stepper(sys, h)); }
+void newmark_paper_step(benchmark::State& s) { run_steps(s, paper_reference::newmark_stepper(sys, h)); }
+
+// The family, degree s = state.range(0), at the same h.
+void lobatto_step(benchmark::State& s) {
+    run_steps(s, galerkin::stepper(sys, h, galerkin::rule_kind::lobatto, static_cast<int>(s.range(0))));
+}
+void gauss_step(benchmark::State& s) {
+    run_steps(s, galerkin::stepper(sys, h, galerkin::rule_kind::gauss, static_cast<int>(s.range(0))));
+}
 
 // Boost.Odeint: q'' = −ω² sin q as (coordinate, momentum) with m = 1.
 using odeint_state = std::array<double, 1>;
@@ -98,6 +108,8 @@ BENCHMARK(simpson_step);
 BENCHMARK(newmark_step);
 BENCHMARK(simpson_paper_step);
 BENCHMARK(newmark_paper_step);
+BENCHMARK(lobatto_step)->DenseRange(1, 6);
+BENCHMARK(gauss_step)->DenseRange(1, 6);
 BENCHMARK(odeint_sb3a_mclachlan_step);
 BENCHMARK(odeint_sb3a_m4_mclachlan_step);
 BENCHMARK(odeint_velocity_verlet_step);

@@ -75,8 +75,11 @@ std::string text_table(const converge_options& o, const scheme_spec& spec, doubl
         std::snprintf(buf, sizeof buf, "%8d", rs[i].steps);
         s += buf;
         for (int q = 0; q < 3; ++q) {
-            const std::string local = i == 0 ? "" : "(" + format_order(order_between(rs[i - 1], rs[i], q)) + ")";
-            std::snprintf(buf, sizeof buf, "   %.3e %-9s", rs[i].err[q], local.c_str());
+            char local[24] = "";
+            if (i > 0)
+                std::snprintf(local, sizeof local, "(%s)",
+                              format_order(order_between(rs[i - 1], rs[i], q)).c_str());
+            std::snprintf(buf, sizeof buf, "   %.3e %-9s", rs[i].err[q], local);
             s += buf;
         }
         s += '\n';
@@ -135,9 +138,12 @@ set xlabel 'steps per period N'
 set ylabel 'error (max norm over all steps)'
 )";
     script += title;
-    std::string tics = "set xtics (";
-    for (std::size_t i = 0; i < rs.size(); ++i) tics += (i ? ", " : "") + std::to_string(rs[i].steps);
-    script += tics + ")\n";
+    script += "set xtics (";
+    for (std::size_t i = 0; i < rs.size(); ++i) {
+        if (i > 0) script += ", ";
+        script += std::to_string(rs[i].steps);
+    }
+    script += ")\n";
     script += "plot stem.'.csv' using 1:2 with linespoints lw 2 pt 7 title 'momentum', \\\n"
               "     stem.'.csv' using 1:3 with linespoints lw 2 pt 5 title 'state', \\\n"
               "     stem.'.csv' using 1:4 with linespoints lw 2 pt 9 title 'relative energy', \\\n"

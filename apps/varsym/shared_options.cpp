@@ -48,7 +48,7 @@ void add_scheme_options(CLI::App& cmd, scheme_options& o) {
         ->check(CLI::IsMember({"simpson", "newmark", "lobatto", "gauss"}))
         ->capture_default_str();
     cmd.add_option("--degree", o.degree,
-                   "Degree s of q(t) on a step, for lobatto and gauss (1 to 12; default 2)")
+                   "Degree s of q(t) on a step, for lobatto and gauss (1 to 8; default 2)")
         ->check(positive_integer);
 }
 

@@ -65,7 +65,7 @@ expect_error 2 "figure bad extension" paper figure1 -o out.jpg
 expect_error 2 "figure without output" paper figure1
 expect_error 2 "degree with simpson" run --scheme simpson --degree 3 -o out.csv
 expect_error 2 "degree with newmark" run --scheme newmark --degree 2 -o out.csv
-expect_error 2 "degree too high" run --scheme gauss --degree 13 -o out.csv
+expect_error 2 "degree too high" run --scheme gauss --degree 9 -o out.csv
 expect_error 2 "degree zero" run --scheme lobatto --degree 0 -o out.csv
 expect_error 2 "degree not a number" run --scheme lobatto --degree two -o out.csv
 expect_error 2 "converge one step count" converge --steps 50 -o out.csv

@@ -10,8 +10,11 @@
 // (the paper's eq. LLhh is the case lobatto, s = 2).
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <memory>
+#include <utility>
+#include <variant>
 #include <stdexcept>
 #include <string>
 
@@ -24,9 +27,9 @@ namespace varsym::galerkin {
 
 enum class rule_kind { lobatto, gauss };
 
-/// Largest degree offered: beyond it the basis on equispaced-in-cosine nodes is still well
-/// conditioned, but double precision stops the measurement of orders well before (order 24).
-inline constexpr int max_degree = 12;
+/// Largest degree offered (order 16). Each degree is compiled as its own fixed-size stepper, so
+/// this bounds build time; double precision already stops measuring orders at s = 5 or 6.
+inline constexpr int max_degree = 8;
 
 /// The tables of one member: control nodes d_i, quadrature (c_k, w_k), ℓ_i(c_k), ℓ_i'(c_k), A.
 struct tableau {
@@ -83,6 +86,9 @@ struct tableau {
     [[nodiscard]] int order() const { return 2 * degree; }
 };
 
+/// Number of quadrature points of a member: s + 1 for Lobatto, s for Gauss.
+constexpr int points(rule_kind kind, int s) { return kind == rule_kind::lobatto ? s + 1 : s; }
+
 /// One step solves, for the increments X_l = Q_l − q_j (l = 1 … s; X_0 = 0), the s·D equations
 ///   h p_j + Σ_l A_0l M X_l − h² Σ_k w_k ℓ_0(c_k) ∇V(q_k) = 0     (p_j = −∂L_d/∂Q_0)
 ///           Σ_l A_il M X_l − h² Σ_k w_k ℓ_i(c_k) ∇V(q_k) = 0     (∂L_d/∂Q_i = 0, 0 < i < s)
@@ -90,117 +96,195 @@ struct tableau {
 ///   A_il M − h² Σ_k w_k ℓ_i(c_k) ℓ_l(c_k) ∇²V(q_k).
 /// Then q_{j+1} = q_j + X_s and p_{j+1} = ∂L_d/∂Q_s, which (the equations summed over i, with
 /// Σ_i A_il = 0 and Σ_i ℓ_i = 1) is p_j − h Σ_k w_k ∇V(q_k).
-template <class System>
-class stepper {
+///
+/// The degree S and the rule are compile-time parameters, so every matrix has a fixed size and
+/// a step allocates nothing; galerkin::stepper below chooses among them at run time.
+template <class System, rule_kind Kind, int S>
+class fixed_stepper {
 public:
     static constexpr int dim = System::dim;
+    static constexpr int R = points(Kind, S);
+    static constexpr int N = blocks(S, dim);
     using system_type = System;
 
-    stepper(System sys, double h, std::shared_ptr<const tableau> tab, const newton_options& opt = {})
-        : sys_(std::move(sys)), h_(h), opt_(opt), tab_(std::move(tab)) {
-        const int s = tab_->degree;
+    fixed_stepper(System sys, double h, const tableau& t, const newton_options& opt = {})
+        : sys_(std::move(sys)), h_(h), opt_(opt) {
+        if (t.degree != S || t.kind != Kind) throw std::logic_error("galerkin tableau does not match");
+        // In matrix form, with X = [X_1 … X_s] (d × s) and G = [∇V(q_1) … ∇V(q_r)] (d × r):
+        //   residual R = M X Aᵀ − h² G Uᵀ + h p_j e_0ᵀ,   points Q = q_j 1ᵀ + X V,
+        //   Jacobian J = A ⊗ M − h² Σ_k (U_k V_kᵀ) ⊗ ∇²V(q_k),
+        // with A_il = A(i, l), U_ik = w_k ℓ_i(c_k) (i < s), V_lk = ℓ_l(c_k) (l ≥ 1).
+        a_ = t.stiffness.block(0, 1, S, S);
+        for (int k = 0; k < R; ++k) {
+            for (int i = 0; i < S; ++i) u_(i, k) = t.quad.weights[k] * t.phi(i, k);
+            for (int l = 0; l < S; ++l) v_(l, k) = t.phi(l + 1, k);
+            w_[k] = t.quad.weights[k];
+            // Newton evaluates ∇V and ∇²V only where a point enters the solved equations
+            // (U_k ≠ 0) and moves with the unknowns (V_k ≠ 0). For Lobatto, c_0 = 0 is q_j
+            // itself (its ∇V is cached) and c_s = 1 enters only p_{j+1}.
+            if (u_.col(k).cwiseAbs().maxCoeff() > 0.0 && v_.col(k).cwiseAbs().maxCoeff() > 0.0)
+                active_[n_active_++] = k;
+            at_start_[k] = t.quad.nodes[k] == 0.0;
+            at_end_[k] = t.quad.nodes[k] == 1.0;
+        }
+        for (int l = 0; l < S; ++l) control_[l] = t.control[l + 1];
         const int d = sys_.dimension();
-        const auto n = static_cast<Eigen::Index>(s) * d;
-        x_.resize(n);
-        r_.resize(n);
-        delta_.resize(n);
-        jac_.resize(n, n);
-        lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
-        grad_.assign(tab_->quad.size(), vec<dim>::Zero(d));
-        hess_.assign(tab_->quad.size(), mat<dim>::Zero(d, d));
-        qk_.assign(tab_->quad.size(), vec<dim>::Zero(d));
+        xm_.resize(d, S);
+        grads_.resize(d, R);
+        grad_j_ = vec<dim>::Zero(d);
+        hess_.fill(mat<dim>::Zero(d, d));
     }
-    stepper(System sys, double h, rule_kind kind, int degree, const newton_options& opt = {})
-        : stepper(std::move(sys), h, std::make_shared<const tableau>(tableau::make(kind, degree)), opt) {}
 
     [[nodiscard]] double step_size() const { return h_; }
     [[nodiscard]] const System& system() const { return sys_; }
-    [[nodiscard]] const tableau& table() const { return *tab_; }
 
     newton_report step(phase_state<dim>& x) {
-        const tableau& t = *tab_;
-        const int s = t.degree;
         const int d = static_cast<int>(x.q.size());
-        const auto r = static_cast<int>(t.quad.size());
+        const auto& m = sys_.mass();
         const auto& minv = sys_.inverse_mass();
         const auto& v = sys_.potential();
-        const double h = h_;
+        const double h = h_, h2 = h * h;
+        if (!cache_valid_ || cached_q_ != x.q) grad_j_ = v.gradient(x.q);
         // Predictor: Taylor to second order, X_l ≈ d_l h M⁻¹p − (d_l h)²/2 M⁻¹∇V(q_j).
-        const vec<dim> vel = minv * x.p, acc = -(minv * v.gradient(x.q));
-        for (int l = 1; l <= s; ++l) {
-            const double tl = t.control[l] * h;
-            x_.segment((l - 1) * d, d) = tl * vel + 0.5 * tl * tl * acc;
+        const vec<dim> vel = minv * x.p, acc = -(minv * grad_j_);
+        for (int l = 0; l < S; ++l) {
+            const double tl = control_[l] * h;
+            xm_.col(l) = tl * vel + 0.5 * tl * tl * acc;
         }
         newton_options opt = opt_;
-        opt.typical = x_.lpNorm<Eigen::Infinity>();
+        opt.typical = xm_.template lpNorm<Eigen::Infinity>();
         newton_monitor monitor(opt);
         newton_report rep;
+        vec<N> r(S * d), delta(S * d);
+        mat<N> jac(S * d, S * d);
         while (true) {
-            evaluate(x, d, true);
-            rep.residual = r_.lpNorm<Eigen::Infinity>();
+            // Residual R = M X Aᵀ − h² G Uᵀ + h p_j e_0ᵀ and its Jacobian at X.
+            for (int k = 0; k < R; ++k) grads_.col(k) = at_start_[k] ? grad_j_ : vec<dim>::Zero(d);
+            for (int a = 0; a < n_active_; ++a) {
+                const int k = active_[a];
+                const vec<dim> q = x.q + xm_ * v_.col(k);
+                grads_.col(k) = v.gradient(q);
+                hess_[k] = v.hessian(q);
+            }
+            Eigen::Map<typename stage_matrix::PlainObject> rm(r.data(), d, S);
+            rm.noalias() = m * xm_ * a_.transpose();
+            rm.noalias() -= h2 * grads_ * u_.transpose();
+            rm.col(0) += h * x.p;
+            for (int i = 0; i < S; ++i)
+                for (int l = 0; l < S; ++l) {
+                    mat<dim> block = a_(i, l) * m;
+                    for (int a = 0; a < n_active_; ++a) {
+                        const int k = active_[a];
+                        const double c = h2 * u_(i, k) * v_(l, k);
+                        if (c != 0.0) block -= c * hess_[k];
+                    }
+                    block_of<dim>(jac, i, l, d) = block;
+                }
+            rep.residual = r.template lpNorm<Eigen::Infinity>();
             if (monitor.exhausted()) return rep;
-            lu_.compute(jac_);
-            delta_.noalias() = lu_.solve(r_);
-            const double step = delta_.lpNorm<Eigen::Infinity>();
+            delta = solve_dense<N>(jac, r);
+            const double step = delta.template lpNorm<Eigen::Infinity>();
             rep.iterations = monitor.iterations() + 1;
             if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
-            x_ -= delta_;
-            if (monitor.converged(step, x_.lpNorm<Eigen::Infinity>())) break;
+            xm_ -= Eigen::Map<const typename stage_matrix::PlainObject>(delta.data(), d, S);
+            if (monitor.converged(step, xm_.template lpNorm<Eigen::Infinity>())) break;
         }
         rep.converged = true;
-        evaluate(x, d, false); // ∇V at the converged quadrature points
+        // p_{j+1} − p_j = −h Σ_k w_k ∇V(q_k) at the converged points. A point at c_k = 1 is the
+        // new x.q, whose ∇V is kept as the next step's ∇V(q_j); a point at c_k = 0 is q_j.
+        const vec<dim> q_j = x.q, grad_j = grad_j_;
+        sum_.add_q(x, xm_.col(S - 1));
         vec<dim> dp = vec<dim>::Zero(d);
-        for (int k = 0; k < r; ++k) dp -= (h * t.quad.weights[k]) * grad_[k];
-        sum_.add_q(x, x_.segment((s - 1) * d, d));
+        cache_valid_ = false;
+        for (int k = 0; k < R; ++k) {
+            vec<dim> g;
+            if (at_end_[k]) {
+                g = grad_j_ = v.gradient(x.q);
+                cache_valid_ = true;
+            } else if (at_start_[k]) {
+                g = grad_j;
+            } else {
+                g = v.gradient(vec<dim>(q_j + xm_ * v_.col(k)));
+            }
+            dp -= (h * w_[k]) * g;
+        }
         sum_.add_p(x, dp);
+        cached_q_ = x.q;
         return rep;
     }
 
 private:
-    // Fills q_k, ∇V(q_k) and, if `newton`, the residual r_ and Jacobian jac_ at the increments x_.
-    void evaluate(const phase_state<dim>& x, int d, bool newton) {
-        const tableau& t = *tab_;
-        const int s = t.degree;
-        const auto r = static_cast<int>(t.quad.size());
-        const auto& m = sys_.mass();
-        const auto& v = sys_.potential();
-        const double h2 = h_ * h_;
-        for (int k = 0; k < r; ++k) {
-            qk_[k] = x.q;
-            for (int l = 1; l <= s; ++l)
-                if (t.phi(l, k) != 0.0) qk_[k] += t.phi(l, k) * x_.segment((l - 1) * d, d);
-            grad_[k] = v.gradient(qk_[k]);
-            if (newton) hess_[k] = v.hessian(qk_[k]);
-        }
-        if (!newton) return;
-        for (int i = 0; i < s; ++i) {
-            auto ri = r_.segment(i * d, d);
-            ri.setZero();
-            if (i == 0) ri = h_ * x.p;
-            for (int l = 1; l <= s; ++l) {
-                ri += t.stiffness(i, l) * (m * x_.segment((l - 1) * d, d));
-                auto block = jac_.block(i * d, (l - 1) * d, d, d);
-                block = t.stiffness(i, l) * m;
-                for (int k = 0; k < r; ++k) {
-                    const double c = h2 * t.quad.weights[k] * t.phi(i, k) * t.phi(l, k);
-                    if (c != 0.0) block -= c * hess_[k];
-                }
-            }
-            for (int k = 0; k < r; ++k)
-                if (t.phi(i, k) != 0.0) ri -= (h2 * t.quad.weights[k] * t.phi(i, k)) * grad_[k];
-        }
-    }
-
+    using stage_matrix = Eigen::Matrix<double, dim, S>;
     System sys_;
     double h_;
     newton_options opt_;
-    std::shared_ptr<const tableau> tab_;
-    Eigen::VectorXd x_, r_, delta_;
-    Eigen::MatrixXd jac_;
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
-    std::vector<vec<dim>> grad_, qk_;
-    std::vector<mat<dim>> hess_;
+    Eigen::Matrix<double, S, S> a_;
+    Eigen::Matrix<double, S, R> u_, v_;
+    std::array<double, R> w_{};
+    std::array<double, S> control_{};
+    std::array<int, R> active_{};
+    int n_active_ = 0;
+    std::array<bool, R> at_start_{}, at_end_{};
+    stage_matrix xm_;
+    Eigen::Matrix<double, dim, R> grads_;
+    std::array<mat<dim>, R> hess_;
+    vec<dim> grad_j_{}, cached_q_{};
+    bool cache_valid_ = false;
     compensated_update<dim> sum_;
+};
+
+namespace detail {
+template <class System, class Seq>
+struct stepper_variant;
+template <class System, int... I>
+struct stepper_variant<System, std::integer_sequence<int, I...>> {
+    using type = std::variant<fixed_stepper<System, rule_kind::lobatto, I + 1>...,
+                              fixed_stepper<System, rule_kind::gauss, I + 1>...>;
+    // The alternative for (kind, s): index s − 1 for Lobatto, max_degree + s − 1 for Gauss.
+    template <std::size_t J>
+    static type make_one(const System& sys, double h, const tableau& t, const newton_options& opt) {
+        return type(std::in_place_index<J>, sys, h, t, opt);
+    }
+    template <std::size_t... J>
+    static type make_at(std::size_t index, const System& sys, double h, const tableau& t,
+                        const newton_options& opt, std::index_sequence<J...>) {
+        using factory = type (*)(const System&, double, const tableau&, const newton_options&);
+        static constexpr std::array<factory, sizeof...(J)> table{&make_one<J>...};
+        return table[index](sys, h, t, opt);
+    }
+    static type make(const System& sys, double h, const tableau& t, const newton_options& opt) {
+        const std::size_t index = (t.kind == rule_kind::lobatto ? 0 : max_degree) + t.degree - 1;
+        return make_at(index, sys, h, t, opt, std::make_index_sequence<2 * max_degree>{});
+    }
+};
+} // namespace detail
+
+/// A member of the family chosen at run time: (rule, degree s ≤ max_degree).
+template <class System>
+class stepper {
+    using variant_t = typename detail::stepper_variant<System, std::make_integer_sequence<int, max_degree>>::type;
+
+public:
+    static constexpr int dim = System::dim;
+    using system_type = System;
+
+    stepper(System sys, double h, rule_kind kind, int degree, const newton_options& opt = {})
+        : tab_(tableau::make(kind, degree)), sys_(std::move(sys)), h_(h),
+          impl_(detail::stepper_variant<System, std::make_integer_sequence<int, max_degree>>::make(
+              sys_, h, tab_, opt)) {}
+
+    [[nodiscard]] double step_size() const { return h_; }
+    [[nodiscard]] const System& system() const { return sys_; }
+    [[nodiscard]] const tableau& table() const { return tab_; }
+    newton_report step(phase_state<dim>& x) {
+        return std::visit([&](auto& s) { return s.step(x); }, impl_);
+    }
+
+private:
+    tableau tab_;
+    System sys_;
+    double h_;
+    variant_t impl_;
 };
 
 } // namespace varsym::galerkin
