@@ -4,10 +4,11 @@
 // Error: max over the steps of one period of |q_j − q(t_j)|, against the exact solution in
 // long double (so the reference adds nothing at the 1e-15 level), with t_j = j h exactly.
 // For each member the step counts are where the error has reached its asymptotic regime and is
-// still above the integrator's round-off floor (~2e-15: 10 ulps of |q| ≤ π/2). For Lobatto
-// s = 5 and both s = 6 no such window exists: the error falls from the pre-asymptotic regime
-// (local orders 8 to 19) straight onto the floor within one halving, so for them the test only
-// requires that they reach the floor.
+// still above the integrator's round-off floor (~2e-15: 10 ulps of |q| ≤ π/2). For s = 5 and 6
+// no such window exists: the error falls from the pre-asymptotic regime (local orders 8 to 19)
+// to the floor within one or two refinements. The last pair before the floor (N = 24 → 32, errors
+// 1e-13 → 1e-14) shows about 10 for s = 5, but moves by ±0.25 with the last bits of the
+// arithmetic, so it is not asserted; for s = 5, 6 the test requires that they reach the floor.
 #include <gtest/gtest.h>
 
 #include <numbers>
@@ -56,14 +57,15 @@ TEST(FamilyOrders, Lobatto) {
 
 TEST(FamilyOrders, Gauss) {
     const std::vector<std::vector<double>> windows = {
-        {64, 128, 256}, {64, 128, 256}, {32, 48, 64, 96, 128}, {24, 32, 48, 64}, {24, 32}};
-    for (int s = 1; s <= 5; ++s)
+        {64, 128, 256}, {64, 128, 256}, {32, 48, 64, 96, 128}, {24, 32, 48, 64}};
+    for (int s = 1; s <= 4; ++s)
         EXPECT_NEAR(measured_order(rule_kind::gauss, s, windows[s - 1]), 2 * s, 0.15) << "s = " << s;
 }
 
 TEST(FamilyOrders, HighestDegreesReachTheRoundOffFloor) {
-    // Measured: Lobatto 5 at N = 48: 1.4e-15; Lobatto 6 and Gauss 6 at N = 24: 2.6e-15, 1.8e-15.
+    // Measured: Lobatto 5, Gauss 5 at N = 48: ~1.4e-15; Lobatto 6, Gauss 6 at N = 24: ~2e-15.
     EXPECT_LT(state_error(rule_kind::lobatto, 5, 48), 1e-14);
+    EXPECT_LT(state_error(rule_kind::gauss, 5, 48), 1e-14);
     EXPECT_LT(state_error(rule_kind::lobatto, 6, 24), 1e-14);
     EXPECT_LT(state_error(rule_kind::gauss, 6, 24), 1e-14);
     // … and are not there by accident at a coarse step: order 12 from 6e-9-level errors at N = 8.
