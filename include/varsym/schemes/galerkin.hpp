@@ -170,16 +170,24 @@ public:
             rm.noalias() = m * xm_ * a_.transpose();
             rm.noalias() -= h2 * grads_ * u_.transpose();
             rm.col(0) += h * x.p;
-            for (int i = 0; i < S; ++i)
-                for (int l = 0; l < S; ++l) {
-                    mat<dim> block = a_(i, l) * m;
-                    for (int a = 0; a < n_active_; ++a) {
-                        const int k = active_[a];
-                        const double c = h2 * u_(i, k) * v_(l, k);
-                        if (c != 0.0) block -= c * hess_[k];
+            if constexpr (dim == 1) {
+                // d = 1: J = m A − h² U diag(∇²V(q_k)) Vᵀ as one fixed-size product.
+                Eigen::Matrix<double, R, 1> curvature = Eigen::Matrix<double, R, 1>::Zero();
+                for (int a = 0; a < n_active_; ++a) curvature(active_[a]) = hess_[active_[a]](0, 0);
+                jac.noalias() = m(0, 0) * a_;
+                jac.noalias() -= h2 * (u_ * curvature.asDiagonal() * v_.transpose());
+            } else {
+                for (int i = 0; i < S; ++i)
+                    for (int l = 0; l < S; ++l) {
+                        mat<dim> block = a_(i, l) * m;
+                        for (int a = 0; a < n_active_; ++a) {
+                            const int k = active_[a];
+                            const double c = h2 * u_(i, k) * v_(l, k);
+                            if (c != 0.0) block -= c * hess_[k];
+                        }
+                        block_of<dim>(jac, i, l, d) = block;
                     }
-                    block_of<dim>(jac, i, l, d) = block;
-                }
+            }
             rep.residual = r.template lpNorm<Eigen::Infinity>();
             if (monitor.exhausted()) return rep;
             delta = solve_dense<N>(jac, r);
