@@ -120,19 +120,10 @@ figure convergence_plot(const scheme_spec& spec, const std::vector<result>& rs) 
     std::snprintf(title, sizeof title,
                   "set title \"Convergence of %s (order %d) on the pendulum\" font ',15'\n",
                   spec.label().c_str(), spec.order());
-    std::string script = R"(set encoding utf8
-if (fmt eq 'svg') {
-  set terminal svg size 900,650 dynamic enhanced font 'DejaVu Sans,13' background rgb 'white'
-} else {
-  set terminal pngcairo size 1100,800 enhanced font 'DejaVu Sans,13' background rgb 'white'
-}
-set output out
-set datafile separator ','
-set logscale xy
+    std::string script = script_preamble(900, 650) + R"(set logscale xy
 set autoscale xfix
 set offsets graph 0.04, graph 0.04, graph 0.04, graph 0.04
 set format y '10^{%L}'
-set grid lc rgb '#dddddd'
 set key bottom left box opaque
 set xlabel 'steps per period N'
 set ylabel 'error (max norm over all steps)'
@@ -161,10 +152,9 @@ void converge(const converge_options& o) {
     std::sort(steps.begin(), steps.end());
     if (std::adjacent_find(steps.begin(), steps.end()) != steps.end() || steps.size() < 2)
         throw usage_error("--steps needs at least two different step counts, e.g. 25,50,100,200");
-    const paper::pendulum_case c{o.pendulum.mass, o.pendulum.omega, o.pendulum.q0, o.pendulum.p0};
     std::vector<result> rs;
     for (int n : steps) {
-        const error_norms e = paper::pendulum_errors(spec, n, o.periods, c, o.newton);
+        const error_norms e = paper::pendulum_errors(spec, n, o.periods, o.pendulum, o.newton);
         rs.push_back({n, {e.momentum, e.state, e.energy}});
     }
     output_file out(o.output);

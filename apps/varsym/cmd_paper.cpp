@@ -62,17 +62,8 @@ std::string table1_csv(const std::vector<paper::table1_row>& rows) {
     return s;
 }
 
-// Common gnuplot set-up: terminal from `fmt`, UTF-8, white background, grid.
-const char* const script_preamble = R"(set encoding utf8
-if (fmt eq 'svg') {
-  set terminal svg size 1100,820 dynamic enhanced font 'DejaVu Sans,13' background rgb 'white'
-} else {
-  set terminal pngcairo size 1400,1040 enhanced font 'DejaVu Sans,13' background rgb 'white'
-}
-set output out
-set datafile separator ','
-set grid lc rgb '#dddddd'
-set key outside right top box opaque Left reverse width 1
+// The two figures' gnuplot set-up: two stacked panels sharing t, key on the right.
+const std::string paper_preamble = script_preamble(1100, 820) + R"(set key outside right top box opaque Left reverse width 1
 set autoscale xfix
 set xlabel 't [s]'
 set lmargin 12
@@ -104,7 +95,7 @@ constexpr int samples_per_period = 200; // smooth curves for the exact solution
 figure figure1(const paper::pendulum_case& c, int periods) {
     const pendulum::exact_solution exact(c.mass, c.omega, c.q0, c.p0);
     const std::string data = exact_samples(exact, periods, samples_per_period);
-    std::string script = script_preamble;
+    std::string script = paper_preamble;
     char title[300];
     std::snprintf(title, sizeof title,
                   "set multiplot layout 2,1 title \"Figure 1. Exact nonlinear pendulum over %d "
@@ -142,7 +133,7 @@ figure figure2(const paper::pendulum_case& c, int periods, int steps_per_period)
                          e.q(0), e.p(0)});
     }
     const std::string fine = exact_samples(exact, periods, samples_per_period);
-    std::string script = script_preamble;
+    std::string script = paper_preamble;
     char title[300];
     std::snprintf(title, sizeof title,
                   "set multiplot layout 2,1 title \"Figure 2. Newmark and Simpson schemes, %d "

@@ -1,7 +1,6 @@
 // apps/varsym/cmd_run.cpp: `varsym run`, integrate a pendulum and stream the trajectory as CSV.
 #include <cmath>
 #include <iostream>
-#include <numbers>
 
 #include "cli_common.hpp"
 #include "commands.hpp"

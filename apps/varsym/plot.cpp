@@ -57,6 +57,21 @@ std::string first_line(const fs::path& file) {
 
 } // namespace
 
+std::string script_preamble(int svg_width, int svg_height) {
+    const int png_width = svg_width * 14 / 11, png_height = svg_height * 14 / 11;
+    return "set encoding utf8\n"
+           "if (fmt eq 'svg') {\n"
+           "  set terminal svg size " + std::to_string(svg_width) + "," + std::to_string(svg_height) +
+           " dynamic enhanced font 'DejaVu Sans,13' background rgb 'white'\n"
+           "} else {\n"
+           "  set terminal pngcairo size " + std::to_string(png_width) + "," + std::to_string(png_height) +
+           " enhanced font 'DejaVu Sans,13' background rgb 'white'\n"
+           "}\n"
+           "set output out\n"
+           "set datafile separator ','\n"
+           "set grid lc rgb '#dddddd'\n";
+}
+
 void check_pictures(const std::vector<std::string>& outputs) {
     if (outputs.empty()) throw usage_error("no --output picture given");
     const fs::path first = fs::absolute(outputs.front());

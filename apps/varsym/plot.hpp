@@ -14,6 +14,10 @@ struct figure {
     std::string script;
 };
 
+/// The start of every figure script: UTF-8, the terminal chosen by `fmt` (svg, or pngcairo at
+/// 1.27 × the size for the same look), output to `out`, CSV input, a light grid.
+std::string script_preamble(int svg_width, int svg_height);
+
 /// Checks picture names before any work: .png or .svg, one folder and name, folder exists.
 /// Throws usage_error (bad name) or std::runtime_error (missing folder).
 void check_pictures(const std::vector<std::string>& outputs);

@@ -2,21 +2,17 @@
 // parameters and the choice of scheme and degree.
 #pragma once
 
-#include <numbers>
 #include <string>
 
 #include "cli_common.hpp"
+#include "varsym/problems/paper.hpp"
 #include "varsym/problems/pendulum.hpp"
 #include "varsym/schemes/scheme_kind.hpp"
 
 namespace varsym::cli {
 
-struct pendulum_options {
-    double mass = 1.0;
-    double omega = 2.0 * std::numbers::pi;
-    double q0 = 0.5 * std::numbers::pi;
-    double p0 = 0.0;
-};
+/// The pendulum's parameters, defaulting to the paper's case.
+using pendulum_options = paper::pendulum_case;
 
 /// --mass, --omega, --q0, --p0 with their units and defaults (the paper's case).
 void add_pendulum_options(CLI::App& cmd, pendulum_options& o);
