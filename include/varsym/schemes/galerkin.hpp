@@ -276,13 +276,17 @@ public:
     static constexpr int dim = System::dim;
     using system_type = System;
 
-    stepper(System sys, double h, rule_kind kind, int degree, const newton_options& opt = {})
-        : tab_(tableau::make(kind, degree)), sys_(std::move(sys)), h_(h),
+    stepper(const System& sys, double h, rule_kind kind, int degree, const newton_options& opt = {})
+        : tab_(tableau::make(kind, degree)),
           impl_(detail::stepper_variant<System, std::make_integer_sequence<int, max_degree>>::make(
-              sys_, h, tab_, opt)) {}
+              sys, h, tab_, opt)) {}
 
-    [[nodiscard]] double step_size() const { return h_; }
-    [[nodiscard]] const System& system() const { return sys_; }
+    [[nodiscard]] double step_size() const {
+        return std::visit([](const auto& s) { return s.step_size(); }, impl_);
+    }
+    [[nodiscard]] const System& system() const {
+        return std::visit([](const auto& s) -> const System& { return s.system(); }, impl_);
+    }
     [[nodiscard]] const tableau& table() const { return tab_; }
     newton_report step(phase_state<dim>& x) {
         return std::visit([&](auto& s) { return s.step(x); }, impl_);
@@ -290,8 +294,6 @@ public:
 
 private:
     tableau tab_;
-    System sys_;
-    double h_;
     variant_t impl_;
 };
 
