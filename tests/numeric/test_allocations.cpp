@@ -1,0 +1,103 @@
+// tests/numeric/test_allocations.cpp: a step allocates nothing on the heap once its stepper is
+// built. Counts calls to operator new (standard containers, std::function, …) and turns Eigen's
+// run-time no-malloc check into an exception (Eigen allocates through its own aligned_malloc,
+// not operator new). Its own executable: it replaces the global operator new.
+#include <atomic>
+#include <cstdlib>
+#include <new>
+#include <numbers>
+#include <stdexcept>
+#include <vector>
+
+#define EIGEN_RUNTIME_NO_MALLOC
+#define eigen_assert(x)                                                                            \
+    do {                                                                                           \
+        if (!(x)) throw std::runtime_error("Eigen: " #x);                                          \
+    } while (false)
+
+#include <gtest/gtest.h>
+
+#include "test_support.hpp"
+#include "varsym/problems/pendulum.hpp"
+#include "varsym/schemes/galerkin.hpp"
+#include "varsym/schemes/newmark.hpp"
+#include "varsym/schemes/paper_reference.hpp"
+#include "varsym/schemes/simpson.hpp"
+
+namespace {
+std::atomic<long> allocations{0};
+}
+
+// The replacement operator new below takes memory from malloc, so its operator delete must give
+// it back with free; GCC 12, seeing library code call ::operator new, flags that as mismatched.
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+
+void* operator new(std::size_t n) {
+    ++allocations;
+    if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
+    throw std::bad_alloc();
+}
+void* operator new[](std::size_t n) { return operator new(n); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+
+using namespace varsym;
+
+namespace {
+
+// Steps `stepper` once to warm up, then 1000 times with allocation forbidden; returns the
+// number of operator new calls in those 1000 steps (an Eigen allocation throws).
+template <class Stepper, int D>
+long allocations_in_steps(Stepper& stepper, phase_state<D> x) {
+    EXPECT_TRUE(stepper.step(x).converged);
+    const long before = allocations.load();
+    Eigen::internal::set_is_malloc_allowed(false);
+    try {
+        for (int j = 0; j < 1000; ++j) EXPECT_TRUE(stepper.step(x).converged);
+    } catch (...) {
+        Eigen::internal::set_is_malloc_allowed(true);
+        throw;
+    }
+    Eigen::internal::set_is_malloc_allowed(true);
+    return allocations.load() - before;
+}
+
+const auto sys = pendulum::make_system(1.0, 2 * std::numbers::pi);
+const phase_state<1> x0{vec<1>{std::numbers::pi / 2}, vec<1>{0.0}};
+constexpr double h = 1.18 / 50;
+
+} // namespace
+
+TEST(Allocations, TheCounterSeesAllocations) {
+    // Negative control: the check can fail. (The vector's buffer comes from operator new; the
+    // new-expression itself may be elided by the compiler, as C++14 allows.)
+    const long before = allocations.load();
+    std::vector<double> v(100);
+    EXPECT_GE(allocations.load() - before, 1);
+    EXPECT_EQ(v.size(), 100u);
+    Eigen::internal::set_is_malloc_allowed(false);
+    EXPECT_THROW(Eigen::VectorXd(100).setZero(), std::runtime_error);
+    Eigen::internal::set_is_malloc_allowed(true);
+}
+
+TEST(Allocations, PaperSchemesStepWithoutAllocating) {
+    simpson::stepper s(sys, h);
+    newmark::stepper n(sys, h);
+    paper_reference::simpson_stepper sp(sys, h);
+    EXPECT_EQ(allocations_in_steps(s, x0), 0);
+    EXPECT_EQ(allocations_in_steps(n, x0), 0);
+    EXPECT_EQ(allocations_in_steps(sp, x0), 0);
+}
+
+TEST(Allocations, FamilyStepsWithoutAllocating) {
+    for (auto kind : {galerkin::rule_kind::lobatto, galerkin::rule_kind::gauss})
+        for (int s = 1; s <= 6; ++s) {
+            galerkin::stepper st(sys, h, kind, s);
+            EXPECT_EQ(allocations_in_steps(st, x0), 0) << "s = " << s;
+        }
+    const auto sys2 = test::coupled_system();
+    galerkin::stepper st2(sys2, 0.05, galerkin::rule_kind::gauss, 3);
+    EXPECT_EQ(allocations_in_steps(st2, phase_state<2>{vec<2>{1.0, -0.5}, vec<2>{0.3, 1.2}}), 0);
+}
