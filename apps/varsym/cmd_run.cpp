@@ -35,22 +35,21 @@ void run(const run_options& o, const CLI::App& cmd) {
     const pendulum::exact_solution exact = make_exact(o.pendulum);
 
     double h = 0.0;
-    std::size_t n = 0;
+    double count = 0.0; // number of steps, checked against max_steps before it becomes an integer
     if (cmd.count("--time") > 0) {
-        if (static_cast<double>(o.steps) > max_steps) throw usage_error("more than 1e15 steps requested");
-        n = static_cast<std::size_t>(o.steps);
-        h = o.time / static_cast<double>(o.steps);
+        count = static_cast<double>(o.steps);
+        h = o.time / count;
     } else {
         const double total = static_cast<double>(o.steps_per_period) * o.periods;
-        const double rounded = std::round(total);
-        if (std::abs(total - rounded) > 1e-9 * total || rounded < 1.0)
+        count = std::round(total);
+        if (std::abs(total - count) > 1e-9 * total || count < 1.0)
             throw usage_error("--periods " + std::to_string(o.periods) + " times --steps-per-period " +
                               std::to_string(o.steps_per_period) +
                               " is not a whole number of steps; choose periods so that it is");
-        if (rounded > max_steps) throw usage_error("more than 1e15 steps requested");
-        n = static_cast<std::size_t>(rounded);
         h = exact.period() / static_cast<double>(o.steps_per_period);
     }
+    if (count > max_steps) throw usage_error("more than 1e15 steps requested");
+    const auto n = static_cast<std::size_t>(count);
 
     output_file out(o.output);
     out.write("step,t,q,p,energy,q_exact,p_exact\n");

@@ -60,6 +60,8 @@ expect_error 2 "unknown paper command" paper table2
 expect_error 2 "missing command" paper
 expect_error 2 "separatrix" run --q0 3.141592653589793 -o out.csv
 expect_error 2 "periods not giving whole steps" run --steps-per-period 3 --periods 0.5 -o out.csv
+expect_error 2 "too many steps (periods)" run --periods 1e14 -o out.csv
+expect_error 2 "too many steps (time)" run --time 1 --steps 2000000000000000 -o out.csv
 expect_error 2 "table1 unknown format" paper table1 --format xml -o out.csv
 expect_error 2 "figure bad extension" paper figure1 -o out.jpg
 expect_error 2 "figure without output" paper figure1
