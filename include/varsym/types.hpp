@@ -52,4 +52,14 @@ vec<N> solve_dense(const mat<N>& a, const vec<N>& b) {
     }
 }
 
+/// Solves A x = b for a small symmetric A (a mass matrix): a division when N == 1, LDLᵀ else.
+template <int N>
+vec<N> solve_symmetric(const mat<N>& a, const vec<N>& b) {
+    if constexpr (N == 1) {
+        return vec<N>{b(0) / a(0, 0)};
+    } else {
+        return a.ldlt().solve(b);
+    }
+}
+
 } // namespace varsym

@@ -1,0 +1,165 @@
+// varsym/schemes/variational.hpp: the general engine. Any Lagrangian L(q, q̇), any member of the
+// family (Lobatto or Gauss quadrature, degree s; Simpson = Lobatto 2, Newmark = Gauss 1), one
+// Newton solve per step with the exact Jacobian from second derivatives of L.
+//
+// On a step, q(t_j + τh) = Σ_i ℓ_i(τ) Q_i with Q_0 = q_j, Q_s = q_{j+1} (DESIGN.md §1), and
+//   L_d(Q_0 … Q_s) = h Σ_k w_k L(q_k, v_k),  q_k = Σ_i ℓ_i(c_k) Q_i,  v_k = (1/h) Σ_i ℓ_i'(c_k) Q_i
+// (for s = 2 and Lobatto this is the paper's eq. LLhh applied to a general L). With φ_ik = ℓ_i(c_k)
+// and ψ_ik = ℓ_i'(c_k), the position–momentum form of the discrete Euler–Lagrange equations is
+//   F_0 = p_j + Σ_k w_k (h φ_0k L_q(k) + ψ_0k L_v(k)) = 0          (p_j = −∂L_d/∂Q_0)
+//   F_i =       Σ_k w_k (h φ_ik L_q(k) + ψ_ik L_v(k)) = 0, 0<i<s   (∂L_d/∂Q_i = 0)
+//   p_{j+1} = ∂L_d/∂Q_s = p_j + h Σ_k w_k L_q(k)     (the F_i summed: Σ_i φ_ik = 1, Σ_i ψ_ik = 0)
+// solved for the increments X_l = Q_l − q_j (l = 1 … s) by Newton with the Jacobian blocks
+//   ∂F_i/∂X_l = Σ_k w_k (h φ_ik φ_lk L_qq + φ_ik ψ_lk L_qv + ψ_ik φ_lk L_vq + ψ_ik ψ_lk L_vv / h).
+// For L = ½ q̇ᵀMq̇ − V(q) these are the separable path's equations (galerkin.hpp) divided by h.
+#pragma once
+
+#include <vector>
+
+#include "varsym/schemes/galerkin.hpp"
+#include "varsym/schemes/scheme_kind.hpp"
+#include "varsym/solvers/compensated.hpp"
+#include "varsym/solvers/newton.hpp"
+#include "varsym/systems/lagrangian.hpp"
+
+namespace varsym::general {
+
+/// The rule and degree that a scheme_spec names: Simpson is Lobatto 2, Newmark is Gauss 1.
+inline std::pair<galerkin::rule_kind, int> family_member(const scheme_spec& spec) {
+    switch (spec.kind) {
+    case scheme_kind::simpson: return {galerkin::rule_kind::lobatto, 2};
+    case scheme_kind::newmark: return {galerkin::rule_kind::gauss, 1};
+    case scheme_kind::lobatto: return {galerkin::rule_kind::lobatto, spec.degree};
+    case scheme_kind::gauss: break;
+    }
+    return {galerkin::rule_kind::gauss, spec.degree};
+}
+
+/// One step of the scheme for the system's Lagrangian. The state is (q, p); steps are
+/// independent of any history (the Newton start is a Taylor predictor from (q_j, p_j) alone),
+/// so a run restarted from a saved state continues exactly as it would have.
+/// All work arrays are sized in the constructor: a step allocates nothing.
+template <lagrangian L>
+class stepper {
+public:
+    static constexpr int dim = L::dim;
+    using system_type = lagrangian_system<L>;
+
+    stepper(system_type sys, double h, const scheme_spec& spec, const newton_options& opt = {})
+        : sys_(std::move(sys)), h_(h), opt_(opt),
+          tab_(galerkin::tableau::make(family_member(spec).first, family_member(spec).second)) {
+        s_ = tab_.degree;
+        r_ = static_cast<int>(tab_.quad.size());
+        x_.setZero(dim, s_);
+        terms_.resize(static_cast<std::size_t>(r_));
+        res_.setZero(s_ * dim);
+        delta_.setZero(s_ * dim);
+        jac_.setZero(s_ * dim, s_ * dim);
+        lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(s_ * dim);
+    }
+
+    [[nodiscard]] double step_size() const { return h_; }
+    [[nodiscard]] const system_type& system() const { return sys_; }
+    [[nodiscard]] const galerkin::tableau& table() const { return tab_; }
+
+    newton_report step(phase_state<dim>& x) {
+        const double h = h_;
+        predict(x);
+        newton_options opt = opt_;
+        opt.typical = x_.template lpNorm<Eigen::Infinity>();
+        newton_monitor monitor(opt);
+        newton_report rep;
+        while (true) {
+            evaluate_points(x.q);
+            assemble(x.p);
+            rep.residual = res_.template lpNorm<Eigen::Infinity>();
+            if (monitor.exhausted()) return rep;
+            lu_.compute(jac_);
+            delta_.noalias() = lu_.solve(res_);
+            const double step = delta_.template lpNorm<Eigen::Infinity>();
+            rep.iterations = monitor.iterations() + 1;
+            if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
+            for (int l = 0; l < s_; ++l) x_.col(l) -= delta_.template segment<dim>(l * dim);
+            if (monitor.converged(step, x_.template lpNorm<Eigen::Infinity>())) break;
+        }
+        // p_{j+1} − p_j = h Σ_k w_k L_q(k) at the converged increments. A coordinate that L does
+        // not depend on has L_q = 0 exactly, so its momentum is conserved to the last bit.
+        evaluate_points(x.q);
+        vec<dim> dp = vec<dim>::Zero();
+        for (int k = 0; k < r_; ++k) dp += (h * tab_.quad.weights[k]) * terms_[k].lq;
+        if (!dp.allFinite()) {
+            rep.converged = false;
+            rep.residual = std::numeric_limits<double>::quiet_NaN();
+            return rep;
+        }
+        sum_.add_q(x, x_.col(s_ - 1));
+        sum_.add_p(x, dp);
+        rep.converged = true;
+        return rep;
+    }
+
+private:
+    /// Taylor predictor X_l ≈ τ_l v + ½ τ_l² a, τ_l = d_l h, with v from ∂L/∂q̇(q, v) = p and
+    /// a from the Euler–Lagrange equations L_vv a = L_q − L_vq v at (q_j, v).
+    void predict(const phase_state<dim>& x) {
+        lagrangian_terms<dim>& t = terms_[0];
+        evaluate(sys_.lagrangian(), x.q, vec<dim>::Zero(), t);
+        vec<dim> v = solve_symmetric<dim>(t.lvv, x.p - t.lv);
+        evaluate(sys_.lagrangian(), x.q, v, t);
+        v += solve_symmetric<dim>(t.lvv, x.p - t.lv);
+        const vec<dim> a = solve_symmetric<dim>(t.lvv, t.lq - t.lqv.transpose() * v);
+        for (int l = 0; l < s_; ++l) {
+            const double tau = tab_.control[l + 1] * h_;
+            x_.col(l) = tau * v + (0.5 * tau * tau) * a;
+        }
+        if (!x_.allFinite()) x_.setZero();
+    }
+
+    /// L and its derivatives at every quadrature point (q_k, v_k) for the current increments.
+    void evaluate_points(const vec<dim>& q) {
+        for (int k = 0; k < r_; ++k) {
+            vec<dim> qk = q, vk = vec<dim>::Zero();
+            for (int l = 0; l < s_; ++l) {
+                qk += tab_.phi(l + 1, k) * x_.col(l);
+                vk += tab_.dphi(l + 1, k) * x_.col(l);
+            }
+            evaluate(sys_.lagrangian(), qk, vec<dim>(vk / h_), terms_[k]);
+        }
+    }
+
+    /// The residual F (rows i = 0 … s−1) and its Jacobian in the increments.
+    void assemble(const vec<dim>& p) {
+        const double h = h_;
+        res_.setZero();
+        jac_.setZero();
+        for (int k = 0; k < r_; ++k) {
+            const double w = tab_.quad.weights[k];
+            const lagrangian_terms<dim>& t = terms_[k];
+            for (int i = 0; i < s_; ++i) {
+                const double fi = tab_.phi(i, k), gi = tab_.dphi(i, k);
+                res_.template segment<dim>(i * dim) += w * (h * fi * t.lq + gi * t.lv);
+                for (int l = 0; l < s_; ++l) {
+                    const double fl = tab_.phi(l + 1, k), gl = tab_.dphi(l + 1, k);
+                    auto block = jac_.template block<dim, dim>(i * dim, l * dim);
+                    block += (w * h * fi * fl) * t.lqq + (w * fi * gl) * t.lqv;
+                    block += (w * gi * fl) * t.lqv.transpose() + (w * gi * gl / h) * t.lvv;
+                }
+            }
+        }
+        res_.template segment<dim>(0) += p;
+    }
+
+    system_type sys_;
+    double h_;
+    newton_options opt_;
+    galerkin::tableau tab_;
+    int s_ = 0, r_ = 0;
+    Eigen::Matrix<double, dim, Eigen::Dynamic> x_;
+    std::vector<lagrangian_terms<dim>> terms_;
+    Eigen::VectorXd res_, delta_;
+    Eigen::MatrixXd jac_;
+    Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+    compensated_update<dim> sum_;
+};
+
+} // namespace varsym::general

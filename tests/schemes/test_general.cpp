@@ -1,0 +1,100 @@
+// tests/schemes/test_general.cpp: the general engine (any L(q, q̇), derivatives by automatic
+// differentiation) against the separable fast paths on systems both can run: one engine.
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "test_support.hpp"
+#include "varsym/problems/pendulum.hpp"
+#include "varsym/schemes/galerkin.hpp"
+#include "varsym/schemes/newmark.hpp"
+#include "varsym/schemes/simpson.hpp"
+#include "varsym/schemes/variational.hpp"
+
+using namespace varsym;
+using std::numbers::pi;
+
+namespace {
+
+/// The pendulum written as a Lagrangian templated on the scalar (differentiated by jets).
+struct pendulum_lagrangian {
+    static constexpr int dim = 1;
+    double m = 1.0, omega = 2 * pi;
+    template <class T>
+    T operator()(const tvec<T, 1>& q, const tvec<T, 1>& v) const {
+        using std::cos;
+        return 0.5 * m * v(0) * v(0) - m * omega * omega * (1.0 - cos(q(0)));
+    }
+};
+
+/// test::coupled_system() written as a Lagrangian templated on the scalar.
+struct coupled_lagrangian {
+    static constexpr int dim = 2;
+    template <class T>
+    T operator()(const tvec<T, 2>& q, const tvec<T, 2>& v) const {
+        using std::cos;
+        const test::coupled_pendulums c;
+        const T kinetic = 0.5 * (2.0 * v(0) * v(0) + 2.0 * 0.5 * v(0) * v(1) + 1.0 * v(1) * v(1));
+        const T d = q(0) - q(1);
+        return kinetic - (c.a * (1.0 - cos(q(0))) + c.b * (1.0 - cos(q(1))) + 0.5 * c.c * d * d);
+    }
+};
+
+template <class A, class B, int D>
+double max_difference(A a, B b, phase_state<D> x0, int n) {
+    phase_state<D> x = x0, y = x0;
+    double worst = 0;
+    for (int j = 0; j < n; ++j) {
+        EXPECT_TRUE(a.step(x).converged);
+        EXPECT_TRUE(b.step(y).converged);
+        worst = std::max({worst, (x.q - y.q).template lpNorm<Eigen::Infinity>(),
+                          (x.p - y.p).template lpNorm<Eigen::Infinity>()});
+    }
+    return worst;
+}
+
+const auto pendulum_sys = pendulum::make_system(1.0, 2 * pi);
+const double paper_h = pendulum::exact_solution(1.0, 2 * pi, pi / 2, 0.0).period() / 50;
+const phase_state<1> paper_x0{vec<1>{pi / 2}, vec<1>{0.0}};
+
+} // namespace
+
+// For constant M the general engine solves the same discrete Euler–Lagrange equations as the
+// separable path (divided by h), so the steps agree to round-off. 500 steps = 10 periods of the
+// paper's pendulum; the separable paths agree among themselves to ~3e-14 there (test_family).
+TEST(GeneralEngine, PendulumSameStepsAsSeparablePath) {
+    const lagrangian_system<pendulum_lagrangian> sys{pendulum_lagrangian{}};
+    EXPECT_LE(max_difference(general::stepper(sys, paper_h, scheme_kind::simpson),
+                             simpson::stepper(pendulum_sys, paper_h), paper_x0, 500),
+              1e-13);
+    EXPECT_LE(max_difference(general::stepper(sys, paper_h, scheme_kind::newmark),
+                             newmark::stepper(pendulum_sys, paper_h), paper_x0, 500),
+              1e-13);
+    for (auto kind : {scheme_kind::lobatto, scheme_kind::gauss})
+        for (int s = 1; s <= 5; ++s) {
+            const auto rule = general::family_member({kind, s}).first;
+            EXPECT_LE(max_difference(general::stepper(sys, paper_h, {kind, s}),
+                                     galerkin::stepper(pendulum_sys, paper_h, rule, s), paper_x0, 500),
+                      1e-13)
+                << scheme_spec(kind, s).label();
+        }
+}
+
+TEST(GeneralEngine, CoupledSystemSameStepsAsSeparablePath) {
+    const auto sep = test::coupled_system();
+    const lagrangian_system<coupled_lagrangian> sys{coupled_lagrangian{}};
+    const lagrangian_system<separable_lagrangian<decltype(sep)>> by_hand{{sep}};
+    const phase_state<2> x0{vec<2>{1.0, -0.5}, vec<2>{0.3, 0.8}};
+    const double h = 0.05;
+    EXPECT_LE(max_difference(general::stepper(sys, h, scheme_kind::simpson),
+                             simpson::stepper(sep, h), x0, 400),
+              1e-13);
+    EXPECT_LE(max_difference(general::stepper(by_hand, h, scheme_kind::simpson),
+                             simpson::stepper(sep, h), x0, 400),
+              1e-13);
+    for (int s = 1; s <= 4; ++s)
+        EXPECT_LE(max_difference(general::stepper(sys, h, {scheme_kind::gauss, s}),
+                                 galerkin::stepper(sep, h, galerkin::rule_kind::gauss, s), x0, 400),
+                  1e-13)
+            << s;
+}
