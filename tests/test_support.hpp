@@ -2,7 +2,9 @@
 #pragma once
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
+#include <string>
 
 #include "varsym/systems/separable.hpp"
 
@@ -40,5 +42,12 @@ struct harmonic {
     [[nodiscard]] vec<1> gradient(const vec<1>& q) const { return vec<1>{k * q(0)}; }
     [[nodiscard]] mat<1> hessian(const vec<1>&) const { return mat<1>{k}; }
 };
+
+/// x in scientific notation with 4 significant digits, for RecordProperty.
+inline std::string sci(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3e", x);
+    return buf;
+}
 
 } // namespace varsym::test

@@ -71,7 +71,7 @@ struct jet {
 
     /// f(a) for a scalar function with f(a.v) = f0, f'(a.v) = f1, f''(a.v) = f2 (chain rule):
     /// value f0, gradient f1 a', Hessian f1 a'' + f2 a' a'ᵀ.
-    friend jet chain(const jet& a, double f0, double f1, double f2) {
+    friend jet compose(const jet& a, double f0, double f1, double f2) {
         jet r;
         r.v = f0;
         r.g = f1 * a.g;
@@ -81,7 +81,7 @@ struct jet {
     }
     friend jet reciprocal(const jet& a) {
         const double i = 1.0 / a.v;
-        return chain(a, i, -i * i, 2.0 * i * i * i);
+        return compose(a, i, -i * i, 2.0 * i * i * i);
     }
 
     // Comparisons look at values only (branches in a Lagrangian, e.g. piecewise potentials).
@@ -95,37 +95,37 @@ struct jet {
 template <int N>
 jet<N> sin(const jet<N>& a) {
     const double s = std::sin(a.v), c = std::cos(a.v);
-    return chain(a, s, c, -s);
+    return compose(a, s, c, -s);
 }
 template <int N>
 jet<N> cos(const jet<N>& a) {
     const double s = std::sin(a.v), c = std::cos(a.v);
-    return chain(a, c, -s, -c);
+    return compose(a, c, -s, -c);
 }
 template <int N>
 jet<N> tan(const jet<N>& a) {
     const double t = std::tan(a.v), s = 1.0 + t * t;
-    return chain(a, t, s, 2.0 * t * s);
+    return compose(a, t, s, 2.0 * t * s);
 }
 template <int N>
 jet<N> exp(const jet<N>& a) {
     const double e = std::exp(a.v);
-    return chain(a, e, e, e);
+    return compose(a, e, e, e);
 }
 template <int N>
 jet<N> log(const jet<N>& a) {
     const double i = 1.0 / a.v;
-    return chain(a, std::log(a.v), i, -i * i);
+    return compose(a, std::log(a.v), i, -i * i);
 }
 template <int N>
 jet<N> sqrt(const jet<N>& a) {
     const double s = std::sqrt(a.v);
-    return chain(a, s, 0.5 / s, -0.25 / (s * a.v));
+    return compose(a, s, 0.5 / s, -0.25 / (s * a.v));
 }
 template <int N>
 jet<N> pow(const jet<N>& a, double e) {
     const double p = std::pow(a.v, e - 2.0);
-    return chain(a, p * a.v * a.v, e * p * a.v, e * (e - 1.0) * p);
+    return compose(a, p * a.v * a.v, e * p * a.v, e * (e - 1.0) * p);
 }
 template <int N>
 jet<N> abs(const jet<N>& a) {
@@ -134,17 +134,17 @@ jet<N> abs(const jet<N>& a) {
 template <int N>
 jet<N> atan(const jet<N>& a) {
     const double s = 1.0 / (1.0 + a.v * a.v);
-    return chain(a, std::atan(a.v), s, -2.0 * a.v * s * s);
+    return compose(a, std::atan(a.v), s, -2.0 * a.v * s * s);
 }
 template <int N>
 jet<N> sinh(const jet<N>& a) {
     const double s = std::sinh(a.v), c = std::cosh(a.v);
-    return chain(a, s, c, s);
+    return compose(a, s, c, s);
 }
 template <int N>
 jet<N> cosh(const jet<N>& a) {
     const double s = std::sinh(a.v), c = std::cosh(a.v);
-    return chain(a, c, s, c);
+    return compose(a, c, s, c);
 }
 template <int N>
 bool isfinite(const jet<N>& a) {

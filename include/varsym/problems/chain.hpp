@@ -1,0 +1,144 @@
+// varsym/problems/chain.hpp: a chain of n coupled nonlinear oscillators (Fermi–Pasta–Ulam–
+// Tsingou β model) with fixed ends, whose Hessian is tridiagonal: Newton's linear solve is O(n).
+//
+// Units and conventions: q_i is the displacement of mass i (i = 1 … n) from equilibrium, all
+// masses m, unit linear springs, q_0 = q_{n+1} = 0 (fixed ends):
+//   L = ½ m Σ q̇_i² − Σ_{i=0}^{n} (½ r_i² + ¼ β r_i⁴),   r_i = q_{i+1} − q_i
+// p_i = m q̇_i; the energy is conserved (the fixed ends break translation invariance).
+#pragma once
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "varsym/solvers/newton.hpp"
+#include "varsym/solvers/tridiagonal.hpp"
+#include "varsym/types.hpp"
+
+namespace varsym::chain {
+
+/// V(q) = Σ_{i=0}^{n} (½ r_i² + ¼ β r_i⁴): value, gradient, and the Hessian either dense (small
+/// n, tests) or as its two diagonals.
+struct potential {
+    double beta = 1.0;
+
+    /// r_i = q_{i+1} − q_i with the fixed ends q_0 = q_{n+1} = 0, for i = 0 … n.
+    static double stretch(const vec<dynamic>& q, Eigen::Index i) {
+        const Eigen::Index n = q.size();
+        const double right = i < n ? q(i) : 0.0; // q_{i+1} is q(i) in 0-based storage
+        const double left = i > 0 ? q(i - 1) : 0.0;
+        return right - left;
+    }
+    [[nodiscard]] double value(const vec<dynamic>& q) const {
+        double v = 0.0;
+        for (Eigen::Index i = 0; i <= q.size(); ++i) {
+            const double r2 = stretch(q, i) * stretch(q, i);
+            v += 0.5 * r2 + 0.25 * beta * r2 * r2;
+        }
+        return v;
+    }
+    /// ∂V/∂q_i = V'(r_{i−1}) − V'(r_i), V'(r) = r + β r³.
+    [[nodiscard]] vec<dynamic> gradient(const vec<dynamic>& q) const {
+        const Eigen::Index n = q.size();
+        vec<dynamic> g(n);
+        double left = force(stretch(q, 0));
+        for (Eigen::Index i = 0; i < n; ++i) {
+            const double right = force(stretch(q, i + 1));
+            g(i) = left - right;
+            left = right;
+        }
+        return g;
+    }
+    /// ∂²V/∂q_i² = V''(r_{i−1}) + V''(r_i), ∂²V/∂q_i∂q_{i+1} = −V''(r_i), V''(r) = 1 + 3βr².
+    void hessian_diagonals(const vec<dynamic>& q, Eigen::Ref<Eigen::VectorXd> diag,
+                           Eigen::Ref<Eigen::VectorXd> off) const {
+        const Eigen::Index n = q.size();
+        double left = stiffness(stretch(q, 0));
+        for (Eigen::Index i = 0; i < n; ++i) {
+            const double right = stiffness(stretch(q, i + 1));
+            diag(i) = left + right;
+            if (i + 1 < n) off(i) = -right;
+            left = right;
+        }
+    }
+    [[nodiscard]] mat<dynamic> hessian(const vec<dynamic>& q) const {
+        const Eigen::Index n = q.size();
+        Eigen::VectorXd d(n), o(std::max<Eigen::Index>(n - 1, 0));
+        hessian_diagonals(q, d, o);
+        mat<dynamic> h = d.asDiagonal();
+        for (Eigen::Index i = 0; i + 1 < n; ++i) h(i, i + 1) = h(i + 1, i) = o(i);
+        return h;
+    }
+
+private:
+    [[nodiscard]] double force(double r) const { return r + beta * r * r * r; }
+    [[nodiscard]] double stiffness(double r) const { return 1.0 + 3.0 * beta * r * r; }
+};
+
+/// The chain as a system for the Simpson and Newmark steppers: scalar mass m, so M⁻¹ is a number
+/// and every step is O(n) (solve_stage_increment below replaces the dense Newton).
+class system {
+public:
+    static constexpr int dim = dynamic;
+
+    system(int n, double beta, double m = 1.0) : n_(n), m_(m), minv_(1.0 / m), v_{beta} {
+        if (n < 1) throw std::invalid_argument("chain length n must be >= 1, got " + std::to_string(n));
+        if (!(std::isfinite(m) && m > 0.0))
+            throw std::invalid_argument("mass must be a finite positive number, got " + std::to_string(m));
+        if (!(std::isfinite(beta) && beta >= 0.0))
+            throw std::invalid_argument("beta must be finite and >= 0, got " + std::to_string(beta));
+    }
+    [[nodiscard]] int dimension() const { return n_; }
+    [[nodiscard]] const double& mass() const { return m_; }
+    [[nodiscard]] const double& inverse_mass() const { return minv_; }
+    [[nodiscard]] const chain::potential& potential() const { return v_; }
+    [[nodiscard]] double energy(const phase_state<dynamic>& x) const {
+        return 0.5 * minv_ * x.p.squaredNorm() + v_.value(x.q);
+    }
+    /// The lowest linear mode with amplitude a: q_i = a sin(π i/(n+1)), p = 0.
+    [[nodiscard]] phase_state<dynamic> lowest_mode(double a) const {
+        phase_state<dynamic> x{vec<dynamic>(n_), vec<dynamic>::Zero(n_)};
+        for (int i = 0; i < n_; ++i) x.q(i) = a * std::sin(std::numbers::pi * (i + 1) / (n_ + 1));
+        return x;
+    }
+
+private:
+    int n_;
+    double m_, minv_;
+    chain::potential v_;
+};
+
+/// Newton on m δ + c ∇V(q + δ) = r (the stage equation of stage_equation.hpp) with the
+/// tridiagonal Jacobian m I + c ∇²V solved in O(n). Found by argument-dependent lookup from the
+/// Simpson and Newmark steppers.
+inline newton_report solve_stage_increment(const system& sys, double c, const vec<dynamic>& q,
+                                           const vec<dynamic>& r, vec<dynamic>& delta,
+                                           const newton_options& opt) {
+    const Eigen::Index n = q.size();
+    newton_options local = opt;
+    local.typical = delta.lpNorm<Eigen::Infinity>();
+    newton_monitor monitor(local);
+    newton_report rep;
+    Eigen::VectorXd x(n), res(n), diag(n), off(std::max<Eigen::Index>(n - 1, 0));
+    while (!monitor.exhausted()) {
+        x.noalias() = q + delta;
+        res.noalias() = sys.mass() * delta + c * sys.potential().gradient(x) - r;
+        rep.residual = res.lpNorm<Eigen::Infinity>();
+        sys.potential().hessian_diagonals(x, diag, off);
+        diag = (sys.mass() + c * diag.array()).matrix();
+        off *= c;
+        rep.iterations = monitor.iterations() + 1;
+        if (!solve_symmetric_tridiagonal(diag, off, res)) return rep;
+        const double step = res.lpNorm<Eigen::Infinity>();
+        if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
+        delta -= res;
+        if (monitor.converged(step, delta.lpNorm<Eigen::Infinity>())) {
+            rep.converged = true;
+            return rep;
+        }
+    }
+    return rep;
+}
+
+} // namespace varsym::chain

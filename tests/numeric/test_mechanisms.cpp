@@ -1,0 +1,165 @@
+// tests/numeric/test_mechanisms.cpp: systems with a configuration-dependent mass matrix (the
+// double pendulum, the heavy top) and the FPU chain: conservation, orders, and the chain's
+// O(n) Newton against the dense one.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include "test_support.hpp"
+#include "varsym/diagnostics/convergence.hpp"
+#include "varsym/integrate.hpp"
+#include "varsym/problems/chain.hpp"
+#include "varsym/problems/double_pendulum.hpp"
+#include "varsym/problems/heavy_top.hpp"
+#include "varsym/schemes/newmark.hpp"
+#include "varsym/schemes/simpson.hpp"
+#include "varsym/schemes/variational.hpp"
+#include "varsym/systems/separable.hpp"
+
+using namespace varsym;
+using std::numbers::pi;
+
+namespace {
+
+// Both links horizontal, at rest: E = 0, far above the energies of regular motion (the lowest
+// is −(2m₁+... )g); the motion is chaotic (nearby starts separate exponentially).
+const double_pendulum::lagrangian arm{};
+const phase_state<2> arm_start{vec<2>{pi / 2, pi / 2}, vec<2>::Zero()};
+
+phase_state<2> arm_at(double t_end, int n) {
+    phase_state<2> x = arm_start;
+    general::stepper s(double_pendulum::make_system(arm), t_end / n, scheme_kind::simpson);
+    integrate(s, x, 0.0, static_cast<std::size_t>(n), [](auto, auto, const auto&) {});
+    return x;
+}
+
+// A fast top (spin ψ̇ = 8 rad/s) tilted 1 rad and released with a slow precession.
+const heavy_top::lagrangian top{1.0, 0.5, 1.0};
+phase_state<3> top_start() {
+    const vec<3> q{1.0, 0.0, 0.0}, v{0.0, 0.5, 8.0};
+    return {q, lagrangian_system<heavy_top::lagrangian>(top).momentum(q, v)};
+}
+
+} // namespace
+
+// Symplectic: over 1e6 steps (t = 2000 s, h = 2 ms) the energy error stays bounded: the largest
+// error in the last tenth is no more than 1.5x the largest in the first tenth (chaotic motion
+// visits different regions, so the maxima differ somewhat; a drift would make it ~10x).
+TEST(DoublePendulum, EnergyBoundedOver1e6StepsAtChaoticEnergy) {
+    const auto sys = double_pendulum::make_system(arm);
+    general::stepper s(sys, 2e-3, scheme_kind::simpson);
+    const double e0 = sys.energy(arm_start), scale = 9.81 * 3.0; // E = 0: relative to m g ℓ scale
+    const std::size_t n = 1000000;
+    double first = 0, last = 0;
+    phase_state<2> x = arm_start;
+    integrate(s, x, 0.0, n, [&](std::size_t j, double, const phase_state<2>& y) {
+        if (j % 10 != 0 && j != n) return;
+        const double err = std::abs(sys.energy(y) - e0) / scale;
+        if (j <= n / 10) first = std::max(first, err);
+        if (j >= n - n / 10) last = std::max(last, err);
+    });
+    RecordProperty("max_energy_error_first_tenth", test::sci(first));
+    RecordProperty("max_energy_error_last_tenth", test::sci(last));
+    EXPECT_LT(first, 1e-4);
+    EXPECT_LE(last, 1.5 * first);
+}
+
+// No exact solution: order by step halving against a fine-step reference (6400 steps, whose
+// own error is (1/16)⁴ ≈ 1.5e-5 of the coarsest one's). Over t = 1 s, before chaos amplifies.
+TEST(DoublePendulum, SimpsonOrderFourByStepHalving) {
+    const auto ref = arm_at(1.0, 6400);
+    const std::array<double, 3> steps{100, 200, 400};
+    std::array<double, 3> err{};
+    for (std::size_t i = 0; i < steps.size(); ++i) {
+        const auto x = arm_at(1.0, static_cast<int>(steps[i]));
+        err[i] = std::max((x.q - ref.q).lpNorm<Eigen::Infinity>(), (x.p - ref.p).lpNorm<Eigen::Infinity>());
+    }
+    EXPECT_NEAR(fitted_order(steps, err), 4.0, 0.2);
+}
+
+// φ and ψ are cyclic: L_q has exactly zero entries for them, so the update p_{j+1} = p_j +
+// h Σ w_k L_q(k) leaves p_φ and p_ψ unchanged to the last bit (discrete Noether). The issue
+// asks ≤ 1e-12 relative over 1e5 steps.
+TEST(HeavyTop, CyclicMomentaConservedOver1e5Steps) {
+    const auto x0 = top_start();
+    const heavy_top::nutation nut(top, x0);
+    general::stepper s(heavy_top::make_system(top), nut.period() / 100, scheme_kind::simpson);
+    double worst_phi = 0, worst_psi = 0;
+    phase_state<3> x = x0;
+    integrate(s, x, 0.0, 100000, [&](auto, auto, const phase_state<3>& y) {
+        worst_phi = std::max(worst_phi, std::abs(y.p(1) - x0.p(1)) / std::abs(x0.p(1)));
+        worst_psi = std::max(worst_psi, std::abs(y.p(2) - x0.p(2)) / std::abs(x0.p(2)));
+    });
+    EXPECT_LE(worst_phi, 1e-12);
+    EXPECT_LE(worst_psi, 1e-12);
+}
+
+// θ(t) against the elliptic-function solution over two nutation periods, 50/100/200 steps per
+// period: Simpson's order 4.
+TEST(HeavyTop, NutationOrderFourAgainstClosedForm) {
+    const auto x0 = top_start();
+    const heavy_top::nutation nut(top, x0);
+    ASSERT_GT(nut.theta_max() - nut.theta_min(), 0.05); // a real nutation, not steady precession
+    const std::array<double, 3> steps{50, 100, 200};
+    std::array<double, 3> err{};
+    for (std::size_t i = 0; i < steps.size(); ++i) {
+        const double h = nut.period() / steps[i];
+        general::stepper s(heavy_top::make_system(top), h, scheme_kind::simpson);
+        phase_state<3> x = x0;
+        double worst = 0;
+        integrate(s, x, 0.0, 2 * static_cast<std::size_t>(steps[i]),
+                  [&](auto, double t, const phase_state<3>& y) {
+                      worst = std::max(worst, std::abs(y.q(0) - nut.theta(t)));
+                  });
+        err[i] = worst;
+    }
+    EXPECT_NEAR(fitted_order(steps, err), 4.0, 0.2);
+}
+
+TEST(HeavyTop, ClosedFormStartsAtInitialTilt) {
+    const auto x0 = top_start();
+    const heavy_top::nutation nut(top, x0);
+    EXPECT_NEAR(nut.theta(0.0), 1.0, 1e-10);
+    // Released with θ̇ = 0: θ₀ is a turning point of the nutation.
+    EXPECT_TRUE(std::abs(nut.theta_min() - 1.0) < 1e-10 || std::abs(nut.theta_max() - 1.0) < 1e-10);
+}
+
+// The chain's tridiagonal Newton and the dense Newton of the generic separable path solve the
+// same equation: the same steps to round-off (n = 12, 200 steps).
+TEST(Chain, TridiagonalNewtonMatchesDense) {
+    const int n = 12;
+    const chain::system fast(n, 1.0);
+    const separable_system<dynamic, chain::potential> dense(Eigen::MatrixXd::Identity(n, n), {1.0});
+    const auto x0 = fast.lowest_mode(1.0);
+    phase_state<dynamic> a = x0, b = x0, c = x0, d = x0;
+    simpson::stepper s1(fast, 0.1);
+    simpson::stepper s2(dense, 0.1);
+    newmark::stepper n1(fast, 0.1);
+    newmark::stepper n2(dense, 0.1);
+    double worst = 0;
+    for (int j = 0; j < 200; ++j) {
+        ASSERT_TRUE(s1.step(a).converged && s2.step(b).converged);
+        ASSERT_TRUE(n1.step(c).converged && n2.step(d).converged);
+        worst = std::max({worst, (a.q - b.q).lpNorm<Eigen::Infinity>(), (a.p - b.p).lpNorm<Eigen::Infinity>(),
+                          (c.q - d.q).lpNorm<Eigen::Infinity>(), (c.p - d.p).lpNorm<Eigen::Infinity>()});
+    }
+    EXPECT_LE(worst, 1e-13);
+}
+
+TEST(Chain, EnergyBounded) {
+    const chain::system sys(64, 1.0);
+    simpson::stepper s(sys, 0.1);
+    phase_state<dynamic> x = sys.lowest_mode(1.0);
+    const double e0 = sys.energy(x);
+    double first = 0, last = 0;
+    const std::size_t n = 20000;
+    integrate(s, x, 0.0, n, [&](std::size_t j, double, const phase_state<dynamic>& y) {
+        const double err = std::abs(sys.energy(y) - e0) / e0;
+        if (j <= n / 10) first = std::max(first, err);
+        if (j >= n - n / 10) last = std::max(last, err);
+    });
+    EXPECT_LT(first, 1e-5);
+    EXPECT_LE(last, 1.5 * first);
+}
