@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev             # linear algebra
   libboost-dev              # Boost.Math (elliptic functions, quadrature), Boost.Odeint
   libcli11-dev              # command line
+  libtomlplusplus-dev       # config files (varsym run --config)
   libgtest-dev              # tests
   libbenchmark-dev          # benchmarks
   gnuplot-nox               # figures (pngcairo and svg terminals)

@@ -1,88 +1,51 @@
-// apps/varsym/cmd_run.cpp: `varsym run`, integrate a pendulum and stream the trajectory as CSV.
-#include <cmath>
-#include <iostream>
+// apps/varsym/cmd_run.cpp: `varsym run`, integrate a built-in model and stream its trajectory
+// as CSV. The model-independent options live here; each model adds its own (models.hpp).
+#include <algorithm>
+#include <memory>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "models.hpp"
 #include "shared_options.hpp"
-#include "varsym/integrate.hpp"
-#include "varsym/problems/pendulum.hpp"
-#include "varsym/schemes/scheme_kind.hpp"
 
 namespace varsym::cli {
 
 namespace {
 
 struct run_options {
+    std::string model = "pendulum";
     scheme_options scheme;
-    pendulum_options pendulum;
-    long long steps_per_period = 50;
-    double periods = 1.0;
-    double time = 0.0;
-    long long steps = 0;
-    long long every = 1;
-    std::string output;
-    bool stats = false;
-    newton_options newton;
+    run_setup setup;
+    std::string config;
 };
 
-// At most this many steps in one run: about 2 years at 50 ns/step; beyond it something is off.
-constexpr double max_steps = 1e15;
-
-void run(const run_options& o, const CLI::App& cmd) {
-    const scheme_spec spec = make_spec(o.scheme);
-    const pendulum::system sys = make_system(o.pendulum);
-    const pendulum::exact_solution exact = make_exact(o.pendulum);
-
-    double h = 0.0;
-    double count = 0.0; // number of steps, checked against max_steps before it becomes an integer
-    if (cmd.count("--time") > 0) {
-        count = static_cast<double>(o.steps);
-        h = o.time / count;
-    } else {
-        const double total = static_cast<double>(o.steps_per_period) * o.periods;
-        count = std::round(total);
-        if (std::abs(total - count) > 1e-9 * total || count < 1.0)
-            throw usage_error("--periods " + std::to_string(o.periods) + " times --steps-per-period " +
-                              std::to_string(o.steps_per_period) +
-                              " is not a whole number of steps; choose periods so that it is");
-        h = exact.period() / static_cast<double>(o.steps_per_period);
-    }
-    if (count > max_steps) throw usage_error("more than 1e15 steps requested");
-    const auto n = static_cast<std::size_t>(count);
-
-    output_file out(o.output);
-    out.write("step,t,q,p,energy,q_exact,p_exact\n");
-    const auto every = static_cast<std::size_t>(o.every);
-    std::string line;
-    auto observe = [&](std::size_t j, double t, const phase_state<1>& x) {
-        const bool write = every == 0 ? j == n : (j % every == 0 || j == n);
-        if (!write) return;
-        const auto ref = exact.at(t);
-        line = std::to_string(j);
-        for (double v : {t, x.q(0), x.p(0), sys.energy(x), ref.q(0), ref.p(0)}) {
-            line += ',';
-            append_number(line, v);
+/// The model's own options may not be combined with another model.
+void check_model_options(const model& chosen, const CLI::App& cmd) {
+    for (const model& other : all_models()) {
+        if (other.name == chosen.name) continue;
+        for (const std::string& opt : other.options) {
+            const bool own = std::find(chosen.options.begin(), chosen.options.end(), opt) != chosen.options.end();
+            if (!own && cmd.count(opt) > 0)
+                throw usage_error(opt + " is a parameter of --model " + other.name + ", not of --model " +
+                                  chosen.name + " (see 'varsym models')");
         }
-        line += '\n';
-        out.write(line);
-    };
-    phase_state<1> x{vec<1>{o.pendulum.q0}, vec<1>{o.pendulum.p0}};
-    run_summary summary;
-    try {
-        summary = with_stepper(spec, sys, h, o.newton,
-                               [&](auto& stepper) { return integrate(stepper, x, 0.0, n, observe); });
-    } catch (const step_failure& e) {
-        if (out.is_stdout()) throw numerical_error(e.what());
-        out.keep_partial();
-        throw numerical_error(std::string(e.what()) + "; the rows before it are in " +
-                              out.partial_path());
     }
-    out.commit();
-    if (o.stats)
-        std::cerr << "varsym: " << spec.label() << ", " << summary.steps << " steps of h = " << h
-                  << ": Newton iterations per step mean " << summary.mean_newton_iterations()
-                  << ", max " << summary.newton_iterations_max << '\n';
+}
+
+void run(run_options& o, const CLI::App& cmd) {
+    const auto& models = all_models();
+    const auto it = std::find_if(models.begin(), models.end(), [&](const model& m) { return m.name == o.model; });
+    check_model_options(*it, cmd);
+    o.setup.spec = make_spec(o.scheme);
+    o.setup.by_time = cmd.count("--time") > 0;
+    o.setup.periods_given = cmd.count("--periods") > 0;
+    it->run(o.setup);
+}
+
+std::string model_names() {
+    std::string names;
+    for (const model& m : all_models()) names += (names.empty() ? "" : ", ") + m.name;
+    return names;
 }
 
 } // namespace
@@ -90,48 +53,74 @@ void run(const run_options& o, const CLI::App& cmd) {
 void add_run_command(CLI::App& app, action& todo) {
     auto o = std::make_shared<run_options>();
     auto* cmd = app.add_subcommand(
-        "run", "Integrate the nonlinear pendulum and stream its trajectory as CSV");
+        "run", "Integrate a model (default: the paper's pendulum) and stream its trajectory as CSV");
+    std::vector<std::string> names;
+    for (const model& m : all_models()) names.push_back(m.name);
     cmd->footer(std::string(pendulum_help) + "\n" +
-        "Columns: step,t,q,p,energy,q_exact,p_exact (17 significant digits). The exact solution\n"
-        "uses Jacobi elliptic functions (libration and rotation; the separatrix is refused).\n"
+        "Models (parameters and conserved quantities: 'varsym models'): " + model_names() + ".\n"
+        "Columns (pendulum: step,t,q,p,energy,q_exact,p_exact): step,t, then q,p for d = 1 or\n"
+        "q_1..q_d,p_1..p_d, then energy, the model's conserved quantities by name\n"
+        "(angular_momentum, p_phi, p_psi), then the exact solution where the model has one\n"
+        "(q_exact,p_exact or q_1_exact,...); 17 significant digits.\n"
         "A file given by --output is written as FILE.part and renamed when the run completes;\n"
-        "a run whose Newton iteration fails keeps FILE.part with the rows already computed.\n\n"
+        "a run whose Newton iteration fails keeps FILE.part with the rows already computed.\n"
+        "--config FILE reads options from a TOML file: each key is a long option of this\n"
+        "command without '--' (model = \"kepler\", eccentricity = 0.3, q0 = [1.0, 0.0], stats =\n"
+        "true); options on the command line take precedence over the file.\n\n"
         "Examples:\n"
-        "  varsym run                                   # Simpson, one period, 50 steps\n"
+        "  varsym run                                   # Simpson, pendulum, one period, 50 steps\n"
         "  varsym run --scheme newmark --steps-per-period 10 --periods 5 --output traj.csv\n"
         "  varsym run --time 100 --steps 100000 --every 1000 --q0 3.0\n"
-        "  varsym run --scheme gauss --degree 4 --steps-per-period 20\n");
+        "  varsym run --model kepler --eccentricity 0.9 --periods 10 --steps-per-period 400\n"
+        "  varsym run --model heavy-top --scheme gauss --degree 3 --periods 5\n"
+        "  varsym run --model double-pendulum --time 20 --steps 20000 --every 100 -o arm.csv\n"
+        "  varsym run --config kepler.toml\n");
+    cmd->add_option("--model", o->model, "The system to integrate: " + model_names())
+        ->check(CLI::IsMember(names))
+        ->capture_default_str();
     add_scheme_options(*cmd, o->scheme);
-    add_pendulum_options(*cmd, o->pendulum);
-    auto* spp = cmd->add_option("--steps-per-period", o->steps_per_period,
-                                "Steps per nonlinear period T = 4K(k^2)/omega (one revolution in "
-                                "rotation)")
-                    ->check(positive_integer)
-                    ->capture_default_str();
-    auto* periods = cmd->add_option("--periods", o->periods, "Number of periods to integrate")
+    run_setup& s = o->setup;
+    auto* spp = cmd->add_option("--steps-per-period", s.steps_per_period,
+                                "Steps per period of the model (pendulum: nonlinear period; kepler: "
+                                "orbit; default: the model's, see 'varsym models')")
+                    ->check(positive_integer);
+    auto* periods = cmd->add_option("--periods", s.periods, "Number of periods to integrate")
                         ->check(positive_number)
                         ->capture_default_str();
-    auto* time = cmd->add_option("--time", o->time, "Final time T [s] (with --steps; instead of "
-                                                    "--periods)")
+    auto* time = cmd->add_option("--time", s.time, "Final time T [s] (with --steps; instead of "
+                                                   "--periods)")
                      ->check(positive_number);
-    auto* steps = cmd->add_option("--steps", o->steps, "Number of steps over --time")
+    auto* steps = cmd->add_option("--steps", s.steps, "Number of steps over --time")
                       ->check(positive_integer);
     time->needs(steps)->excludes(spp)->excludes(periods);
     steps->needs(time);
-    cmd->add_option("--every", o->every,
+    cmd->add_option("--every", s.every,
                     "Write every E-th step and always the last; 0 writes only the final row")
         ->check(non_negative_integer)
         ->capture_default_str();
-    cmd->add_option("--output,-o", o->output, "CSV file to write (default: standard output)");
-    cmd->add_option("--newton-tol", o->newton.tolerance,
+    cmd->add_option("--output,-o", s.output, "CSV file to write (default: standard output)");
+    cmd->add_option("--q0", s.q0, "Initial configuration q(0), d values separated by commas "
+                                  "(default: the model's)")
+        ->check(finite_number)
+        ->delimiter(',');
+    auto* p0 = cmd->add_option("--p0", s.p0, "Initial momenta p(0) = dL/dqdot, d values")
+                   ->check(finite_number)
+                   ->delimiter(',');
+    cmd->add_option("--v0", s.v0, "Initial velocities dq/dt(0), d values (instead of --p0)")
+        ->check(finite_number)
+        ->delimiter(',')
+        ->excludes(p0);
+    cmd->add_option("--newton-tol", s.newton.tolerance,
                     "Newton stops when its update is below this times the size of the step's increment")
         ->check(positive_number)
         ->capture_default_str();
-    cmd->add_option("--newton-max-iter", o->newton.max_iterations,
+    cmd->add_option("--newton-max-iter", s.newton.max_iterations,
                     "Newton iterations allowed per step before the run stops with an error")
         ->check(positive_integer)
         ->capture_default_str();
-    cmd->add_flag("--stats", o->stats, "Print Newton iteration statistics to standard error");
+    cmd->add_flag("--stats", s.stats, "Print Newton iteration statistics to standard error");
+    cmd->add_option("--config", o->config, "TOML file of options (see below)");
+    for (const model& m : all_models()) m.add_options(*cmd);
     cmd->callback([o, cmd, &todo] { todo = [o, cmd] { run(*o, *cmd); }; });
 }
 

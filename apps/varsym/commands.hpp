@@ -5,8 +5,11 @@
 
 namespace varsym::cli {
 
-/// `varsym run`: integrate a pendulum, stream CSV (cmd_run.cpp).
+/// `varsym run`: integrate a model, stream CSV (cmd_run.cpp).
 void add_run_command(CLI::App& app, action& todo);
+
+/// `varsym models`: the built-in models (cmd_models.cpp).
+void add_models_command(CLI::App& app, action& todo);
 
 /// `varsym converge`: error table and observed orders of any scheme (cmd_converge.cpp).
 void add_converge_command(CLI::App& app, action& todo);

@@ -3,9 +3,11 @@
 #include <exception>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "config.hpp"
 #include "varsym/integrate.hpp"
 
 namespace {
@@ -33,6 +35,7 @@ int main(int argc, char** argv) {
                "Run 'varsym COMMAND --help' for the options of a command.");
     action todo;
     add_run_command(app, todo);
+    add_models_command(app, todo);
     add_converge_command(app, todo);
     add_paper_command(app, todo);
 
@@ -50,8 +53,18 @@ int main(int argc, char** argv) {
                                         names + " (see 'varsym --help')");
         level = next;
     }
+    // `run --config FILE`: the file's options become arguments (the command line wins).
+    config_origins origins;
+    std::vector<std::string> args(argv + 1, argv + argc);
     try {
-        app.parse(argc, argv);
+        args = expand_config(args, *app.get_subcommand("run"), origins);
+    } catch (const usage_error& e) {
+        return fail(exit_usage, e.what());
+    }
+    std::vector<char*> expanded{argv[0]};
+    for (std::string& a : args) expanded.push_back(a.data());
+    try {
+        app.parse(static_cast<int>(expanded.size()), expanded.data());
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
@@ -59,13 +72,13 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        return fail(exit_usage, std::string(e.what()) + " (see 'varsym --help')");
+        return fail(exit_usage, locate(e.what(), origins) + " (see 'varsym --help')");
     }
     try {
         if (todo) todo();
         return exit_ok;
     } catch (const usage_error& e) {
-        return fail(exit_usage, e.what());
+        return fail(exit_usage, locate(e.what(), origins));
     } catch (const numerical_error& e) {
         return fail(exit_numerical, e.what());
     } catch (const varsym::step_failure& e) {

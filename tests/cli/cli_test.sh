@@ -151,6 +151,92 @@ else
   echo "SKIP: gnuplot not installed (make test installs it)"
 fi
 
+# --- models (issue 3) ----------------------------------------------------------------------
+"$VARSYM" models > models.txt && for m in pendulum oscillator kepler double-pendulum heavy-top chain; do
+  grep -q "^$m: " models.txt || { bad "varsym models does not list $m"; continue; }; ok; done
+grep -q 'angular_momentum' models.txt && grep -q 'p_phi' models.txt && ok || bad "models: conserved quantities"
+
+# Each model runs with its defaults and writes the documented header.
+header_of() { "$VARSYM" run --model "$1" --every 0 "${@:2}" 2> stderr.txt | head -1; }
+[ "$(header_of kepler)" = "step,t,q_1,q_2,p_1,p_2,energy,angular_momentum,q_1_exact,q_2_exact,p_1_exact,p_2_exact" ] &&
+  ok || bad "kepler header: $(header_of kepler) $(cat stderr.txt)"
+[ "$(header_of oscillator)" = "step,t,q_1,q_2,p_1,p_2,energy,q_1_exact,q_2_exact,p_1_exact,p_2_exact" ] &&
+  ok || bad "oscillator header: $(header_of oscillator) $(cat stderr.txt)"
+[ "$(header_of heavy-top)" = "step,t,q_1,q_2,q_3,p_1,p_2,p_3,energy,p_phi,p_psi,q_1_exact" ] &&
+  ok || bad "heavy-top header: $(header_of heavy-top) $(cat stderr.txt)"
+[ "$(header_of double-pendulum)" = "step,t,q_1,q_2,p_1,p_2,energy" ] && ok || bad "double-pendulum header"
+[ "$(header_of chain --n 3)" = "step,t,q_1,q_2,q_3,p_1,p_2,p_3,energy" ] && ok || bad "chain header: $(header_of chain --n 3)"
+[ "$(header_of pendulum)" = "step,t,q,p,energy,q_exact,p_exact" ] && ok || bad "pendulum header"
+
+# Kepler, 10 orbits: angular momentum (column 8) constant to 1e-12 relative on every row, and
+# the final position within 1e-4 of the exact orbit (Simpson at 200 steps/orbit: ~5e-5).
+"$VARSYM" run --model kepler --periods 10 > kep.csv &&
+  awk -F, 'NR == 2 { l0 = $8 } NR > 2 { d = ($8 - l0) / l0; if (d < 0) d = -d; if (d > m) m = d }
+           END { e = $3 - $9; if (e < 0) e = -e; exit !(m <= 1e-12 && e < 1e-4) }' kep.csv && ok ||
+  bad "kepler conservation/accuracy: $(tail -1 kep.csv)"
+# Heavy top: p_phi and p_psi (columns 10, 11) identical on every row (cyclic coordinates).
+"$VARSYM" run --model heavy-top --periods 3 --scheme gauss --degree 2 > top.csv &&
+  [ "$(cut -d, -f10,11 top.csv | tail -n +2 | sort -u | wc -l)" -eq 1 ] && ok || bad "heavy-top momenta vary"
+"$VARSYM" run --model oscillator --dim 3 --mass-matrix 1,2,3 --stiffness-matrix 4 --q0 1,0,0 --v0 0,1,0 --every 0 > osc.csv &&
+  ok || bad "oscillator with matrices: $(cat stderr.txt)"
+"$VARSYM" run --model double-pendulum --masses 1,2 --lengths 1,0.5 --joint-stiffness 2 --time 1 --steps 500 --every 0 > dp.csv &&
+  ok || bad "double pendulum with parameters"
+
+expect_error 2 "another model's option" run --eccentricity 0.3 -o out.csv
+expect_error 2 "eccentricity 1" run --model kepler --eccentricity 1 -o out.csv
+expect_error 2 "kepler with q0" run --model kepler --q0 1,0 -o out.csv
+expect_error 2 "unknown model" run --model rocket -o out.csv
+expect_error 2 "q0 wrong length" run --model heavy-top --q0 1,0 -o out.csv
+expect_error 2 "period for double pendulum" run --model double-pendulum --periods 2 -o out.csv
+expect_error 2 "chain with lobatto" run --model chain --scheme lobatto --degree 3 -o out.csv
+expect_error 2 "chain n zero" run --model chain --n 0 -o out.csv
+expect_error 2 "oscillator bad matrix size" run --model oscillator --dim 3 --mass-matrix 1,2 -o out.csv
+expect_error 2 "oscillator indefinite K" run --model oscillator --stiffness-matrix 1,-1 -o out.csv
+expect_error 2 "double pendulum zero mass" run --model double-pendulum --masses 0,1 -o out.csv
+expect_error 2 "p0 and v0" run --model heavy-top --p0 0,1,1 --v0 0,1,1 -o out.csv
+# A top standing vertically: the Euler angles' mass matrix is singular at theta = 0.
+expect_error 2 "singular mass matrix" run --model heavy-top --q0 0,0,0 -o out.csv
+grep -q 'singular' stderr.txt && ok || bad "singular mass message: $(cat stderr.txt)"
+# Ten steps over 100 s of the chaotic double pendulum: Newton cannot converge.
+expect_error 3 "double pendulum step too large" run --model double-pendulum --time 100 --steps 10 -o out.csv
+grep -q 'step 1 (t = 0' stderr.txt && [ -f out.csv.part ] && [ "$(wc -l < out.csv.part)" -eq 2 ] && ok ||
+  bad "divergence message/rows: $(cat stderr.txt)"
+rm -f out.csv.part
+
+# --- config files --------------------------------------------------------------------------
+cat > kep.toml <<'TOML'
+# Kepler orbit, moderate eccentricity
+model = "kepler"
+eccentricity = 0.3
+steps-per-period = 100
+periods = 2
+every = 50
+TOML
+"$VARSYM" run --config kep.toml > cfg.csv 2> stderr.txt &&
+  "$VARSYM" run --model kepler --eccentricity 0.3 --steps-per-period 100 --periods 2 --every 50 > opt.csv &&
+  cmp -s cfg.csv opt.csv && ok || bad "config run differs from the same options: $(cat stderr.txt)"
+"$VARSYM" run --config kep.toml --periods 1 > cfg1.csv && [ "$(tail -1 cfg1.csv | cut -d, -f1)" = "100" ] && ok ||
+  bad "command line should override the config file"
+printf 'model = "kepler"\nq0 = [1.0, 0.0]\nstats = true\n' > list.toml
+expect_error 2 "config list for kepler" run --config list.toml -o out.csv
+printf 'model = "kepler"\n\neccentricty = 0.3\n' > typo.toml
+expect_error 2 "config unknown key" run --config typo.toml -o out.csv
+grep -q 'typo.toml:3: unknown key .eccentricty.' stderr.txt && ok || bad "unknown key message: $(cat stderr.txt)"
+printf 'model = "kepler"\neccentricity = "high"\n' > type.toml
+expect_error 2 "config wrong type" run --config type.toml -o out.csv
+grep -q "type.toml:2: key 'eccentricity' expects a number" stderr.txt && ok || bad "type message: $(cat stderr.txt)"
+printf 'model = "kepler"\nsteps = 2.5\n' > int.toml
+expect_error 2 "config float for integer" run --config int.toml -o out.csv
+printf 'model = "kepler"\n\n\neccentricity = 1.5\n' > range.toml
+expect_error 2 "config out of range" run --config range.toml -o out.csv
+grep -q "range.toml:4: key 'eccentricity'" stderr.txt && ok || bad "range message: $(cat stderr.txt)"
+printf 'model = "kepler"\nperiods = [1, 2]\n' > scalar.toml
+expect_error 2 "config list for a scalar" run --config scalar.toml -o out.csv
+printf 'model = \n' > syntax.toml
+expect_error 2 "config syntax error" run --config syntax.toml -o out.csv
+grep -q 'syntax.toml:1' stderr.txt && ok || bad "syntax message: $(cat stderr.txt)"
+expect_error 2 "config missing file" run --config nowhere.toml -o out.csv
+
 "$VARSYM" --help | grep -q 'Exit codes' && ok || bad "--help"
 "$VARSYM" run --help | grep -q 'step,t,q,p,energy,q_exact,p_exact' && ok || bad "run --help"
 

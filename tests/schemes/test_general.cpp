@@ -6,6 +6,7 @@
 
 #include "test_support.hpp"
 #include "varsym/problems/pendulum.hpp"
+#include "varsym/integrate.hpp"
 #include "varsym/schemes/galerkin.hpp"
 #include "varsym/schemes/newmark.hpp"
 #include "varsym/schemes/simpson.hpp"
@@ -97,4 +98,56 @@ TEST(GeneralEngine, CoupledSystemSameStepsAsSeparablePath) {
                                  galerkin::stepper(sep, h, galerkin::rule_kind::gauss, s), x0, 400),
                   1e-13)
             << s;
+}
+
+namespace {
+/// A Lagrangian that becomes NaN once q leaves (−1, 1): sqrt of a negative number.
+struct fragile_lagrangian {
+    static constexpr int dim = 1;
+    template <class T>
+    T operator()(const tvec<T, 1>& q, const tvec<T, 1>& v) const {
+        using std::sqrt;
+        return 0.5 * v(0) * v(0) + sqrt(1.0 - q(0) * q(0));
+    }
+};
+/// L = ½ q̇₁² − ½ q₂²: no kinetic term in q₂, a singular mass matrix.
+struct degenerate_lagrangian {
+    static constexpr int dim = 2;
+    template <class T>
+    T operator()(const tvec<T, 2>& q, const tvec<T, 2>& v) const {
+        return 0.5 * v(0) * v(0) - 0.5 * q(1) * q(1);
+    }
+};
+} // namespace
+
+// Failures of the user's model stop the run with the step, the time and the cause.
+TEST(GeneralEngine, NaNFromTheLagrangianStopsWithStepAndTime) {
+    const lagrangian_system<fragile_lagrangian> sys{fragile_lagrangian{}};
+    general::stepper s(sys, 0.1, scheme_kind::simpson);
+    phase_state<1> x{vec<1>{0.0}, vec<1>{3.0}}; // moves right at speed ~3: leaves (−1, 1) soon
+    try {
+        integrate(s, x, 0.0, 100, [](auto, auto, const auto&) {});
+        FAIL() << "expected step_failure";
+    } catch (const step_failure& e) {
+        EXPECT_GT(e.step(), 1u);
+        EXPECT_NE(std::string(e.what()).find("NaN"), std::string::npos) << e.what();
+        EXPECT_LT(std::abs(x.q(0)), 1.0); // the state is the last good one
+    }
+}
+
+TEST(GeneralEngine, SingularMassMatrixRefusedAtStart) {
+    const lagrangian_system<degenerate_lagrangian> sys{degenerate_lagrangian{}};
+    try {
+        sys.check_regular(vec<2>{0.0, 1.0}, vec<2>{1.0, 0.0});
+        FAIL() << "expected invalid_argument";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("singular"), std::string::npos) << e.what();
+    }
+}
+
+TEST(GeneralEngine, TooLargeStepFailsWithResidual) {
+    const lagrangian_system<pendulum_lagrangian> sys{pendulum_lagrangian{}};
+    general::stepper s(sys, 2.0, scheme_kind::simpson); // two linear periods in one step
+    phase_state<1> x{vec<1>{3.0}, vec<1>{0.0}};
+    EXPECT_THROW(integrate(s, x, 0.0, 50, [](auto, auto, const auto&) {}), step_failure);
 }

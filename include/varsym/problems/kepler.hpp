@@ -87,7 +87,7 @@ public:
         const double ecc = eccentric_anomaly(mean);
         const double c = std::cos(ecc), s = std::sin(ecc);
         const double rate = n_ / (1.0 - e_ * c);
-        return {vec<2>{a_ * (c - e_), b_ * s}, vec<2>{-a_ * s * rate, b_ * c * rate}};
+        return {vec<2>{a_ * (c - e_), b_ * s}, vec<2>{0.0 - a_ * s * rate, b_ * c * rate}}; // no −0
     }
 
 private:

@@ -5,9 +5,12 @@
 
 #include <cmath>
 #include <concepts>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <utility>
+
+#include <Eigen/Eigenvalues>
 
 #include "varsym/autodiff/jet.hpp"
 #include "varsym/types.hpp"
@@ -122,10 +125,15 @@ public:
         if (!t.lvv.allFinite() || !t.lv.allFinite() || !t.lq.allFinite() || !std::isfinite(t.value))
             throw std::invalid_argument("the Lagrangian or its derivatives are NaN or infinite at the "
                                         "initial state");
-        const Eigen::LLT<mat<dim>> llt(t.lvv);
-        if (llt.info() != Eigen::Success)
+        // Eigenvalues, not a Cholesky attempt: round-off can let a singular matrix pass LLᵀ.
+        const Eigen::SelfAdjointEigenSolver<mat<dim>> eig(t.lvv, Eigen::EigenvaluesOnly);
+        const double lo = eig.eigenvalues().minCoeff(), hi = eig.eigenvalues().maxCoeff();
+        if (!(lo > 1e-12 * hi)) {
+            char range[80];
+            std::snprintf(range, sizeof range, " (eigenvalues from %.3g to %.3g)", lo, hi);
             throw std::invalid_argument("the mass matrix d2L/dqdot2 is singular or not positive "
-                                        "definite at the initial state");
+                                        "definite at the initial state" + std::string(range));
+        }
     }
 
 private:

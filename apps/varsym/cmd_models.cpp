@@ -1,0 +1,25 @@
+// apps/varsym/cmd_models.cpp: `varsym models`, the built-in models with their parameters and
+// conserved quantities.
+#include <iostream>
+
+#include "commands.hpp"
+#include "models.hpp"
+
+namespace varsym::cli {
+
+void add_models_command(CLI::App& app, action& todo) {
+    auto* cmd = app.add_subcommand("models", "List the built-in models, their parameters and what "
+                                             "they conserve");
+    cmd->footer("\nEach model runs with 'varsym run --model NAME [its parameters]'.");
+    cmd->callback([&todo] {
+        todo = [] {
+            for (const model& m : all_models())
+                std::cout << m.name << ": " << m.summary << '\n' << m.description << "\n\n";
+            std::cout << "All models: --scheme simpson|newmark|lobatto|gauss (--degree s), "
+                         "--steps-per-period/--periods\nor --time/--steps, --every, --output; "
+                         "see 'varsym run --help'.\n";
+        };
+    });
+}
+
+} // namespace varsym::cli

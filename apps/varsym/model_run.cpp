@@ -1,0 +1,88 @@
+// apps/varsym/model_run.cpp: what the models of `varsym run` share: the registry, step plans,
+// initial vectors, CSV column names and option validators.
+#include <cmath>
+
+#include "models.hpp"
+
+namespace varsym::cli {
+
+const std::vector<model>& all_models() {
+    static const std::vector<model> models{make_pendulum_model(),        make_oscillator_model(),
+                                           make_kepler_model(),          make_double_pendulum_model(),
+                                           make_heavy_top_model(),       make_chain_model()};
+    return models;
+}
+
+namespace {
+// At most this many steps in one run: about 2 years at 50 ns/step; beyond it something is off.
+constexpr double max_steps = 1e15;
+} // namespace
+
+run_plan plan_steps(const run_setup& s, const std::string& model, double period,
+                    long long default_steps_per_period, double default_time, long long default_steps) {
+    double count = 0.0; // number of steps, checked against max_steps before it becomes an integer
+    double h = 0.0;
+    if (s.by_time) {
+        count = static_cast<double>(s.steps);
+        h = s.time / count;
+    } else if (period > 0.0) {
+        const long long spp = s.steps_per_period > 0 ? s.steps_per_period : default_steps_per_period;
+        const double total = static_cast<double>(spp) * s.periods;
+        count = std::round(total);
+        if (std::abs(total - count) > 1e-9 * total || count < 1.0)
+            throw usage_error("--periods " + std::to_string(s.periods) + " times --steps-per-period " +
+                              std::to_string(spp) +
+                              " is not a whole number of steps; choose periods so that it is");
+        h = period / static_cast<double>(spp);
+    } else {
+        if (s.steps_per_period > 0 || s.periods_given)
+            throw usage_error("--model " + model +
+                              " has no period: give the run's length with --time and --steps");
+        count = static_cast<double>(default_steps);
+        h = default_time / count;
+    }
+    if (count > max_steps) throw usage_error("more than 1e15 steps requested");
+    if (!(std::isfinite(h) && h > 0.0)) throw usage_error("the time step is not a positive number");
+    return {static_cast<std::size_t>(count), h};
+}
+
+vec<dynamic> initial_vector(const std::vector<double>& given, const char* option, int d,
+                            const std::string& names, const vec<dynamic>& fallback) {
+    if (given.empty()) return fallback;
+    if (static_cast<int>(given.size()) != d)
+        throw usage_error(std::string(option) + " needs " + std::to_string(d) + " value" +
+                          (d == 1 ? "" : "s") + " (" + names + "), got " +
+                          std::to_string(given.size()));
+    return Eigen::Map<const vec<dynamic>>(given.data(), d);
+}
+
+std::string state_columns(int d, const char* suffix) {
+    if (d == 1) return std::string("q") + suffix + ",p" + suffix;
+    std::string cols;
+    for (const char* name : {"q_", "p_"})
+        for (int i = 1; i <= d; ++i) {
+            if (!cols.empty()) cols += ',';
+            cols += name + std::to_string(i) + suffix;
+        }
+    return cols;
+}
+
+const CLI::Validator non_negative_number(
+    [](std::string& s) -> std::string {
+        const std::string err = finite_number(s);
+        if (!err.empty()) return err;
+        return std::stod(s) >= 0.0 ? std::string() : "must be >= 0, got " + s;
+    },
+    "REAL>=0");
+
+const CLI::Validator eccentricity_range(
+    [](std::string& s) -> std::string {
+        const std::string err = finite_number(s);
+        if (!err.empty()) return err;
+        const double e = std::stod(s);
+        return e >= 0.0 && e < 1.0 ? std::string()
+                                   : "must be in [0, 1) (a bound, elliptic orbit), got " + s;
+    },
+    "0<=E<1");
+
+} // namespace varsym::cli

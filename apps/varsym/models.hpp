@@ -1,0 +1,71 @@
+// apps/varsym/models.hpp: the built-in models of `varsym run --model NAME`: their options,
+// descriptions for `varsym models`, and how each runs.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "cli_common.hpp"
+#include "varsym/schemes/scheme_kind.hpp"
+
+namespace varsym::cli {
+
+/// What `varsym run` resolved from its model-independent options.
+struct run_setup {
+    scheme_spec spec;
+    newton_options newton;
+    bool by_time = false;          ///< --time and --steps given (else steps per period)
+    long long steps_per_period = 0; ///< 0: the model's default
+    double periods = 1.0;
+    double time = 0.0;
+    long long steps = 0;
+    long long every = 1;
+    std::string output;
+    bool stats = false;
+    std::vector<double> q0, p0, v0; ///< initial state; empty: the model's default
+    bool periods_given = false;
+};
+
+/// A built-in model. Its parameters are options of `varsym run` that only it accepts.
+struct model {
+    std::string name;
+    std::string summary;     ///< one line
+    std::string description; ///< Lagrangian, units, parameters' meaning, conserved quantities
+    std::vector<std::string> options; ///< its own options, e.g. "--eccentricity"
+    std::function<void(CLI::App&)> add_options;
+    std::function<void(const run_setup&)> run;
+};
+
+/// All models, in the order `varsym models` lists them.
+const std::vector<model>& all_models();
+
+model make_pendulum_model();
+model make_oscillator_model();
+model make_kepler_model();
+model make_double_pendulum_model();
+model make_heavy_top_model();
+model make_chain_model();
+
+/// How many steps of which size: from --steps-per-period/--periods when the model has a period
+/// (period > 0), else from --time/--steps (or the model's defaults). Refuses inconsistent input.
+struct run_plan {
+    std::size_t steps = 0;
+    double h = 0.0;
+};
+run_plan plan_steps(const run_setup& s, const std::string& model, double period,
+                    long long default_steps_per_period, double default_time, long long default_steps);
+
+/// The initial vector of `option` (--q0, --p0, --v0): the given values, which must be d of them
+/// (`names` says what they are in the message), or `fallback` when none were given.
+vec<dynamic> initial_vector(const std::vector<double>& given, const char* option, int d,
+                            const std::string& names, const vec<dynamic>& fallback);
+
+/// The CSV columns q and p of a d-dimensional state: "q,p" for d = 1, else "q_1,…,q_d,p_1,…,p_d".
+std::string state_columns(int d, const char* suffix = "");
+
+/// Validators shared by model options.
+extern const CLI::Validator non_negative_number;
+extern const CLI::Validator eccentricity_range;
+
+} // namespace varsym::cli
