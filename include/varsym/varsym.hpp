@@ -1,10 +1,16 @@
 // varsym/varsym.hpp: umbrella header for the varsym library.
 #pragma once
 
+#include "varsym/autodiff/second_order.hpp"
 #include "varsym/diagnostics/convergence.hpp"
 #include "varsym/diagnostics/error_norms.hpp"
 #include "varsym/diagnostics/symplecticity.hpp"
 #include "varsym/integrate.hpp"
+#include "varsym/problems/chain.hpp"
+#include "varsym/problems/double_pendulum.hpp"
+#include "varsym/problems/heavy_top.hpp"
+#include "varsym/problems/kepler.hpp"
+#include "varsym/problems/oscillator.hpp"
 #include "varsym/problems/paper.hpp"
 #include "varsym/problems/pendulum.hpp"
 #include "varsym/quadrature/rules.hpp"
@@ -14,8 +20,11 @@
 #include "varsym/schemes/paper_reference.hpp"
 #include "varsym/schemes/scheme_kind.hpp"
 #include "varsym/schemes/simpson.hpp"
+#include "varsym/schemes/variational.hpp"
 #include "varsym/solvers/compensated.hpp"
 #include "varsym/solvers/newton.hpp"
 #include "varsym/solvers/stage_equation.hpp"
+#include "varsym/solvers/tridiagonal.hpp"
+#include "varsym/systems/lagrangian.hpp"
 #include "varsym/systems/separable.hpp"
 #include "varsym/types.hpp"

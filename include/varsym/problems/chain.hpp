@@ -118,6 +118,7 @@ inline newton_report solve_stage_increment(const system& sys, double c, const ve
     const Eigen::Index n = q.size();
     newton_options local = opt;
     local.typical = delta.lpNorm<Eigen::Infinity>();
+    local.reference = q.lpNorm<Eigen::Infinity>();
     newton_monitor monitor(local);
     newton_report rep;
     Eigen::VectorXd x(n), res(n), diag(n), off(std::max<Eigen::Index>(n - 1, 0));

@@ -153,6 +153,7 @@ public:
         }
         newton_options opt = opt_;
         opt.typical = xm_.template lpNorm<Eigen::Infinity>();
+        opt.reference = x.q.template lpNorm<Eigen::Infinity>();
         newton_monitor monitor(opt);
         newton_report rep;
         vec<N> r(S * d), delta(S * d);

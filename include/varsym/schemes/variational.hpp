@@ -67,6 +67,7 @@ public:
         predict(x);
         newton_options opt = opt_;
         opt.typical = x_.template lpNorm<Eigen::Infinity>();
+        opt.reference = x.q.template lpNorm<Eigen::Infinity>();
         newton_monitor monitor(opt);
         newton_report rep;
         while (true) {

@@ -17,6 +17,9 @@ struct newton_options {
     double tolerance = 2.0 * std::numeric_limits<double>::epsilon();
     int max_iterations = 25;
     double typical = 1.0;
+    /// Size of the value the unknown is an increment of (|q_j| when solving for q − q_j), or 0.
+    /// Updates that stall below round-off of that value cannot matter once it is added.
+    double reference = 0.0;
 };
 
 /// What one Newton solve did. `iterations` counts linear solves (one per Jacobian).
@@ -32,7 +35,7 @@ struct newton_report {
 ///  - |δ_k| ≤ scale, or
 ///  - the quadratic model predicts the next update below scale (|δ_k|³/|δ_{k−1}|² ≤ scale),
 ///  - or the updates stop decreasing once already tiny: the round-off floor, |δ_k| ≥ |δ_{k−1}|/2
-///    with |δ_k| ≤ 64 ε max(|x|, typical), whatever the tolerance asked for.
+///    with |δ_k| ≤ 64 ε max(|x|, typical, reference), whatever the tolerance asked for.
 class newton_monitor {
 public:
     explicit newton_monitor(const newton_options& opt) : opt_(opt) {}
@@ -43,7 +46,8 @@ public:
         const bool tiny = step <= scale;
         const bool predicted = iterations_ > 1 && step * step * step <= scale * previous_ * previous_;
         const bool floor = iterations_ > 1 && step >= 0.5 * previous_ &&
-                           step <= 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
+                           step <= 64.0 * std::numeric_limits<double>::epsilon() *
+                                       std::max(magnitude, opt_.reference);
         previous_ = step;
         return tiny || predicted || floor;
     }

@@ -20,6 +20,7 @@ newton_report solve_stage_increment(const System& sys, double c, const vec<Syste
     const auto& v = sys.potential();
     newton_options local = opt;
     local.typical = delta.template lpNorm<Eigen::Infinity>();
+    local.reference = q.template lpNorm<Eigen::Infinity>();
     return newton_solve<D>(
         delta,
         [&](const vec<D>& y, vec<D>& res, mat<D>& jac) {

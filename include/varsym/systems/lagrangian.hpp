@@ -1,6 +1,6 @@
 // varsym/systems/lagrangian.hpp: general Lagrangians L(q, q̇) on R^D, written once as a function
 // templated on the scalar type; first and second derivatives come from forward-mode automatic
-// differentiation (autodiff/jet.hpp), or from the user's own derivatives(q, v, terms).
+// differentiation (autodiff/second_order.hpp), or from the user's own derivatives(q, v, terms).
 #pragma once
 
 #include <cmath>
@@ -12,12 +12,12 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "varsym/autodiff/jet.hpp"
+#include "varsym/autodiff/second_order.hpp"
 #include "varsym/types.hpp"
 
 namespace varsym {
 
-/// A D-vector of scalars T (double, or a jet when differentiating).
+/// A D-vector of scalars T (double, or an automatic-differentiation scalar).
 template <class T, int D>
 using tvec = Eigen::Matrix<T, D, 1>;
 
@@ -32,7 +32,8 @@ struct lagrangian_terms {
 
 /// What a Lagrangian must provide: `static constexpr int dim` (D ≥ 1) and
 /// `template <class T> T operator()(const tvec<T, D>& q, const tvec<T, D>& v) const`,
-/// callable with T = double and T = ad::jet<2D>.
+/// callable with T = double and T = ad::second_order<2D> (so: `using std::sin;` before calling
+/// sin, and double literals, 2.0 not 2, in arithmetic with T).
 template <class L>
 concept lagrangian = requires { L::dim; } && (L::dim >= 1) &&
     requires(const L& l, const tvec<double, L::dim>& q) {
@@ -47,26 +48,29 @@ concept lagrangian_with_derivatives =
     };
 
 /// Fills `t` with L(q, v) and its derivatives: by hand when L provides them, else with one
-/// pass of L over jets seeded with the 2D variables (q, v).
+/// pass of L over automatic-differentiation scalars seeded with the 2D variables (q, v).
 template <lagrangian L>
 void evaluate(const L& l, const vec<L::dim>& q, const vec<L::dim>& v, lagrangian_terms<L::dim>& t) {
     constexpr int D = L::dim;
     if constexpr (lagrangian_with_derivatives<L>) {
         l.derivatives(q, v, t);
     } else {
-        using J = ad::jet<2 * D>;
+        constexpr int N = 2 * D;
+        using J = ad::second_order<N>;
         tvec<J, D> qj, vj;
         for (int i = 0; i < D; ++i) {
-            qj(i) = J::variable(q(i), i);
-            vj(i) = J::variable(v(i), D + i);
+            qj(i) = ad::variable<N>(q(i), i);
+            vj(i) = ad::variable<N>(v(i), D + i);
         }
         const J r = l(qj, vj);
-        t.value = r.v;
-        t.lq = r.g.template head<D>();
-        t.lv = r.g.template tail<D>();
-        t.lqq = r.h.template topLeftCorner<D, D>();
-        t.lqv = r.h.template topRightCorner<D, D>();
-        t.lvv = r.h.template bottomRightCorner<D, D>();
+        Eigen::Matrix<double, N, 1> g;
+        Eigen::Matrix<double, N, N> h;
+        t.value = ad::unpack<N>(r, g, h);
+        t.lq = g.template head<D>();
+        t.lv = g.template tail<D>();
+        t.lqq = h.template topLeftCorner<D, D>();
+        t.lqv = h.template topRightCorner<D, D>();
+        t.lvv = h.template bottomRightCorner<D, D>();
     }
 }
 
