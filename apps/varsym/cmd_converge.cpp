@@ -179,7 +179,7 @@ void add_converge_command(CLI::App& app, action& todo) {
                 "  varsym converge --scheme gauss --degree 3 --steps 16,32,64,128 --plot conv.png\n"
                 "  varsym converge --scheme lobatto --degree 2 --format csv\n");
     cmd->add_option("--model", o->model,
-                    "Model: pendulum (more come with the general Lagrangian engine)")
+                    "Model: pendulum (the other models run with 'varsym run --model')")
         ->check(CLI::IsMember({"pendulum"}))
         ->capture_default_str();
     add_scheme_options(*cmd, o->scheme);

@@ -8,6 +8,9 @@ namespace varsym::cli {
 /// `varsym run`: integrate a model, stream CSV (cmd_run.cpp).
 void add_run_command(CLI::App& app, action& todo);
 
+/// `varsym bench`: varsym against Boost.Odeint, work-precision (cmd_bench.cpp).
+void add_bench_command(CLI::App& app, action& todo);
+
 /// `varsym models`: the built-in models (cmd_models.cpp).
 void add_models_command(CLI::App& app, action& todo);
 

@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
     action todo;
     add_run_command(app, todo);
     add_models_command(app, todo);
+    add_bench_command(app, todo);
     add_converge_command(app, todo);
     add_paper_command(app, todo);
 

@@ -47,7 +47,7 @@ model make_kepler_model() {
         const run_plan plan = plan_steps(s, "kepler", orbit.period(), 200, 0.0, 0);
         stream_trajectory<2>(
             s, plan, orbit.at(0.0), ",energy,angular_momentum," + state_columns(2, "_exact"),
-            [&](auto&& f) { return with_separable_stepper(s, sys, plan.h, f); },
+            [&](auto&& f) { return with_compact_stepper(s.spec, sys, plan.h, s.newton, f); },
             [&](double t, const phase_state<2>& x, std::string& line) {
                 const auto ref = orbit.at(t);
                 append_values(line, {sys.energy(x), kepler::angular_momentum(x), ref.q(0), ref.q(1),

@@ -8,9 +8,6 @@
 
 #include "models.hpp"
 #include "varsym/integrate.hpp"
-#include "varsym/schemes/newmark.hpp"
-#include "varsym/schemes/simpson.hpp"
-#include "varsym/schemes/variational.hpp"
 
 namespace varsym::cli {
 
@@ -58,24 +55,6 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
         std::cerr << "varsym: " << s.spec.label() << ", " << summary.steps << " steps of h = " << plan.h
                   << ": Newton iterations per step mean " << summary.mean_newton_iterations()
                   << ", max " << summary.newton_iterations_max << '\n';
-}
-
-/// Calls f(stepper) for a separable system of fixed dimension: the paper's schemes on their
-/// reduced fast path, the Lobatto and Gauss family through the general engine (with the
-/// system's derivatives by hand), which serves every degree with one compiled stepper.
-template <class System, class F>
-decltype(auto) with_separable_stepper(const run_setup& s, const System& sys, double h, F&& f) {
-    if (s.spec.kind == scheme_kind::simpson) {
-        simpson::stepper<System> st(sys, h, s.newton);
-        return f(st);
-    }
-    if (s.spec.kind == scheme_kind::newmark) {
-        newmark::stepper<System> st(sys, h, s.newton);
-        return f(st);
-    }
-    general::stepper<separable_lagrangian<System>> st(
-        lagrangian_system<separable_lagrangian<System>>({sys}), h, s.spec, s.newton);
-    return f(st);
 }
 
 /// Appends ",v" for each value.

@@ -14,6 +14,7 @@
 // For L = ½ q̇ᵀMq̇ − V(q) these are the separable path's equations (galerkin.hpp) divided by h.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "varsym/schemes/galerkin.hpp"
@@ -164,3 +165,27 @@ private:
 };
 
 } // namespace varsym::general
+
+namespace varsym {
+
+/// Calls f(stepper) with a stepper of scheme `spec` for a separable system of fixed dimension,
+/// like with_stepper, but compiles far less: the paper's schemes run on their reduced fast path,
+/// and every Lobatto and Gauss member through the general engine with the system's derivatives
+/// by hand (one compiled stepper for all degrees, at some cost per step).
+template <class System, class F>
+decltype(auto) with_compact_stepper(const scheme_spec& spec, const System& sys, double h,
+                                    const newton_options& opt, F&& f) {
+    if (spec.kind == scheme_kind::simpson) {
+        simpson::stepper<System> s(sys, h, opt);
+        return std::forward<F>(f)(s);
+    }
+    if (spec.kind == scheme_kind::newmark) {
+        newmark::stepper<System> s(sys, h, opt);
+        return std::forward<F>(f)(s);
+    }
+    general::stepper<separable_lagrangian<System>> s(
+        lagrangian_system<separable_lagrangian<System>>({sys}), h, spec, opt);
+    return std::forward<F>(f)(s);
+}
+
+} // namespace varsym

@@ -1,0 +1,175 @@
+// apps/varsym/bench_methods.cpp: the pendulum and Kepler problems of `varsym bench`, with
+// varsym's schemes and Boost.Odeint's symplectic steppers on each.
+#include "bench_methods.hpp"
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+// Boost 1.74's m4 header is not self-contained: it needs the umbrella header first.
+#include <boost/numeric/odeint.hpp>
+#include <boost/numeric/odeint/stepper/symplectic_rkn_sb3a_m4_mclachlan.hpp>
+
+#include "cli_common.hpp"
+#include "varsym/integrate.hpp"
+#include "varsym/problems/kepler.hpp"
+#include "varsym/problems/pendulum.hpp"
+#include "varsym/schemes/scheme_kind.hpp"
+#include "varsym/schemes/variational.hpp"
+
+namespace varsym::cli {
+
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+namespace odeint = boost::numeric::odeint;
+
+double seconds_since(clock_type::time_point start) {
+    return std::chrono::duration<double>(clock_type::now() - start).count();
+}
+
+scheme_spec parse_spec(const std::string& label) {
+    const auto dash = label.find('-');
+    const auto kind = parse_scheme(label.substr(0, dash));
+    if (!kind) throw usage_error("unknown scheme '" + label + "' in --schemes");
+    if (dash == std::string::npos) return *kind;
+    try {
+        return {*kind, std::stoi(label.substr(dash + 1))};
+    } catch (const std::exception& e) {
+        throw usage_error("--schemes: '" + label + "': " + e.what());
+    }
+}
+
+/// Runs a varsym stepper: timed loop without observer, or an observed run for the energy.
+template <class Stepper, class Energy>
+bench_run run_stepper(Stepper& stepper, phase_state<Stepper::dim> x, std::size_t n, bool observe,
+                      const Energy& energy) {
+    bench_run r;
+    if (observe) {
+        const double e0 = energy(x);
+        const run_summary sum = integrate(stepper, x, 0.0, n, [&](std::size_t, double, const auto& y) {
+            r.energy_error = std::max(r.energy_error, std::abs(energy(y) - e0) / std::abs(e0));
+        });
+        r.newton_mean = sum.mean_newton_iterations();
+    } else {
+        const auto start = clock_type::now();
+        for (std::size_t j = 1; j <= n; ++j)
+            if (!stepper.step(x).converged)
+                throw numerical_error("Newton did not converge in step " + std::to_string(j) +
+                                      " of the benchmark");
+        r.seconds = seconds_since(start);
+    }
+    r.q = x.q;
+    r.p = x.p;
+    return r;
+}
+
+/// Runs an odeint symplectic stepper on q̈ = a(q) with unit mass, state as std::arrays.
+template <class Stepper, std::size_t D, class Accel, class Energy>
+bench_run run_odeint(std::array<double, D> q, std::array<double, D> p, double h, std::size_t n,
+                     bool observe, const Accel& accel, const Energy& energy) {
+    using state = std::array<double, D>;
+    Stepper stepper;
+    bench_run r;
+    auto coordinate = [](const state& mom, state& dq) { dq = mom; };
+    auto momentum = [&accel](const state& pos, state& dp) { accel(pos, dp); };
+    const double e0 = energy(q, p);
+    const auto start = clock_type::now();
+    double t = 0.0;
+    for (std::size_t j = 1; j <= n; ++j) {
+        if constexpr (std::is_same_v<Stepper, odeint::velocity_verlet<state>>) {
+            stepper.do_step([&accel](const state& pos, const state&, state& a, double) { accel(pos, a); },
+                            std::make_pair(std::ref(q), std::ref(p)), t, h);
+        } else {
+            stepper.do_step(std::make_pair(coordinate, momentum), std::make_pair(std::ref(q), std::ref(p)), t, h);
+        }
+        t += h;
+        if (observe) r.energy_error = std::max(r.energy_error, std::abs(energy(q, p) - e0) / std::abs(e0));
+    }
+    if (!observe) r.seconds = seconds_since(start);
+    r.q.resize(D); // element by element: a Map of a 1-element array trips GCC 12's -Warray-bounds
+    r.p.resize(D);
+    for (std::size_t i = 0; i < D; ++i) {
+        r.q(static_cast<Eigen::Index>(i)) = q[i];
+        r.p(static_cast<Eigen::Index>(i)) = p[i];
+    }
+    return r;
+}
+
+template <std::size_t D, class Accel, class Energy>
+void add_odeint_methods(bench_problem& b, std::array<double, D> q0, std::array<double, D> p0,
+                        Accel accel, Energy energy) {
+    using state = std::array<double, D>;
+    auto add = [&](const char* name, int order, auto tag) {
+        using stepper_t = typename decltype(tag)::type;
+        b.methods.push_back({name, order, true, [=](std::size_t n, double h, bool observe) {
+                                 return run_odeint<stepper_t>(q0, p0, h, n, observe, accel, energy);
+                             }});
+    };
+    add("odeint-velocity_verlet", 2, std::type_identity<odeint::velocity_verlet<state>>{});
+    add("odeint-sb3a_mclachlan", 4, std::type_identity<odeint::symplectic_rkn_sb3a_mclachlan<state>>{});
+    add("odeint-sb3a_m4_mclachlan", 4, std::type_identity<odeint::symplectic_rkn_sb3a_m4_mclachlan<state>>{});
+}
+
+} // namespace
+
+bench_problem pendulum_bench(const std::vector<std::string>& specs) {
+    const double omega = 2.0 * std::numbers::pi, q0 = std::numbers::pi / 2;
+    const auto sys = pendulum::make_system(1.0, omega);
+    const pendulum::exact_solution exact(1.0, omega, q0, 0.0);
+    bench_problem b{"pendulum", exact.period(), {}, {}};
+    b.error = [exact, omega](const bench_run& r, double t) {
+        const auto x = exact.at(t);
+        return std::max(std::abs(r.q(0) - x.q(0)), std::abs(r.p(0) - x.p(0)) / omega);
+    };
+    for (const std::string& label : specs) {
+        const scheme_spec spec = parse_spec(label);
+        b.methods.push_back({spec.label(), spec.order(), false, [=](std::size_t n, double h, bool observe) {
+                                 const phase_state<1> x0{vec<1>{q0}, vec<1>{0.0}};
+                                 return with_stepper(spec, sys, h, {}, [&](auto& st) {
+                                     return run_stepper(st, x0, n, observe, [&](const phase_state<1>& y) { return sys.energy(y); });
+                                 });
+                             }});
+    }
+    add_odeint_methods<1>(
+        b, {q0}, {0.0}, [omega](const std::array<double, 1>& q, std::array<double, 1>& a) { a[0] = -omega * omega * std::sin(q[0]); },
+        [omega](const std::array<double, 1>& q, const std::array<double, 1>& p) {
+            const double s = std::sin(0.5 * q[0]);
+            return 0.5 * p[0] * p[0] + 2.0 * omega * omega * s * s;
+        });
+    return b;
+}
+
+bench_problem kepler_bench(const std::vector<std::string>& specs) {
+    const kepler::orbit orbit(0.6, 1.0);
+    const auto sys = kepler::make_system();
+    bench_problem b{"kepler", orbit.period(), {}, {}};
+    b.error = [orbit](const bench_run& r, double t) {
+        const auto x = orbit.at(t);
+        return std::max((r.q - x.q).lpNorm<Eigen::Infinity>(), (r.p - x.p).lpNorm<Eigen::Infinity>());
+    };
+    for (const std::string& label : specs) {
+        const scheme_spec spec = parse_spec(label);
+        b.methods.push_back({spec.label(), spec.order(), false, [=](std::size_t n, double h, bool observe) {
+                                 return with_compact_stepper(spec, sys, h, {}, [&](auto& st) {
+                                     return run_stepper(st, orbit.at(0.0), n, observe,
+                                                        [&](const phase_state<2>& y) { return sys.energy(y); });
+                                 });
+                             }});
+    }
+    const auto x0 = orbit.at(0.0);
+    add_odeint_methods<2>(
+        b, {x0.q(0), x0.q(1)}, {x0.p(0), x0.p(1)},
+        [](const std::array<double, 2>& q, std::array<double, 2>& a) {
+            const double r2 = q[0] * q[0] + q[1] * q[1], f = -1.0 / (r2 * std::sqrt(r2));
+            a = {f * q[0], f * q[1]};
+        },
+        [](const std::array<double, 2>& q, const std::array<double, 2>& p) {
+            return 0.5 * (p[0] * p[0] + p[1] * p[1]) - 1.0 / std::sqrt(q[0] * q[0] + q[1] * q[1]);
+        });
+    return b;
+}
+
+} // namespace varsym::cli
