@@ -124,7 +124,7 @@ figure work_precision(const std::vector<row>& rows, const std::vector<std::strin
     const int panels = static_cast<int>(problems.size());
     std::string script = script_preamble(640 * panels, 620) + "set datafile separator ','\n" +
                          "set logscale xy\nset format y '10^{%L}'\nset format x '10^{%L}'\n"
-                         "set key outside bottom center horizontal maxrows 5 font ',9'\n"
+                         "set key outside bottom center horizontal maxrows 5 font ',9' noenhanced\n"
                          "set xlabel 'CPU time per period [us]'\nset ylabel 'final error'\n"
                          "set multiplot layout 1," + std::to_string(panels) + "\n";
     for (const std::string& p : problems) {
@@ -148,8 +148,8 @@ figure work_precision(const std::vector<row>& rows, const std::vector<std::strin
         fig.data.push_back({"-" + p + ".csv", data});
         script += "set title '" + p + "' font ',14'\nnames = '" + names + "'\n" +
                   "plot for [i=0:" + std::to_string(blocks - 1) + "] stem.'-" + p +
-                  ".csv' index i using 1:2 with linespoints lw 2 pt (i % 7) + 1 "
-                  "dt (strstrt(word(names, i + 1), 'odeint') ? 2 : 1) title word(names, i + 1)\n";
+                  ".csv' index i using 1:2 with linespoints lw 2 pt ((i % 7) + 1) "
+                  "title (word(names, i + 1))\n";
     }
     fig.script = script + "unset multiplot\n";
     return fig;

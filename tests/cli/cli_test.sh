@@ -237,6 +237,19 @@ expect_error 2 "config syntax error" run --config syntax.toml -o out.csv
 grep -q 'syntax.toml:1' stderr.txt && ok || bad "syntax message: $(cat stderr.txt)"
 expect_error 2 "config missing file" run --config nowhere.toml -o out.csv
 
+# --- bench (issue 5): tiny settings; one row per method and N, ratios to odeint's peer ----------
+"$VARSYM" bench --problems pendulum --schemes simpson,gauss-2 --steps 25,50 --periods 2 --repetitions 1 \
+  --format csv > bench.csv 2> stderr.txt &&
+  [ "$(head -1 bench.csv)" = "problem,method,order,steps_per_period,error,max_rel_energy_error,ns_per_step,us_per_period,newton_per_step,peer,ns_ratio,error_ratio" ] &&
+  [ "$(wc -l < bench.csv)" -eq 11 ] && grep -q '^pendulum,simpson,4,50,.*,odeint-sb3a_mclachlan,' bench.csv && ok ||
+  bad "bench csv: $(cat bench.csv) $(cat stderr.txt)"
+# Simpson's error at N = 50 over 2 periods is Table 1's regime (~1e-6 per period): below 1e-5.
+awk -F, '$2 == "simpson" && $4 == 50 { exit !($5 < 1e-5) }' bench.csv && ok || bad "bench simpson error"
+expect_error 2 "bench zero repetitions" bench --repetitions 0 -o out.csv
+expect_error 2 "bench unknown problem" bench --problems rocket -o out.csv
+expect_error 2 "bench unknown scheme" bench --schemes euler --periods 1 --steps 25 -o out.csv
+expect_error 2 "bench zero steps" bench --steps 0 -o out.csv
+
 "$VARSYM" --help | grep -q 'Exit codes' && ok || bad "--help"
 "$VARSYM" run --help | grep -q 'step,t,q,p,energy,q_exact,p_exact' && ok || bad "run --help"
 
