@@ -6,7 +6,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 OUT ?= out
 VARSYM = $(BUILD_DIR)/apps/varsym/varsym
 
-.PHONY: all deps configure build run test bench clean
+.PHONY: all deps configure build run test bench soak clean
 
 all: build
 
@@ -35,6 +35,9 @@ test: build
 
 bench: build
 	$(BUILD_DIR)/bench/varsym_bench --benchmark_min_time=0.2
+
+soak: build
+	$(BUILD_DIR)/bench/varsym_soak
 
 clean:
 	rm -rf $(BUILD_DIR) $(OUT)

@@ -250,6 +250,12 @@ expect_error 2 "bench unknown problem" bench --problems rocket -o out.csv
 expect_error 2 "bench unknown scheme" bench --schemes euler --periods 1 --steps 25 -o out.csv
 expect_error 2 "bench zero steps" bench --steps 0 -o out.csv
 
+# Determinism: the same command gives byte-identical output (no -ffast-math, no threads, no
+# randomness; README "Determinism").
+"$VARSYM" run --model double-pendulum --time 5 --steps 2000 > det1.csv &&
+  "$VARSYM" run --model double-pendulum --time 5 --steps 2000 > det2.csv && cmp -s det1.csv det2.csv && ok ||
+  bad "two identical runs differ"
+
 "$VARSYM" --help | grep -q 'Exit codes' && ok || bad "--help"
 "$VARSYM" run --help | grep -q 'step,t,q,p,energy,q_exact,p_exact' && ok || bad "run --help"
 

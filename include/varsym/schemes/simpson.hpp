@@ -30,9 +30,10 @@ double discrete_lagrangian(const System& sys, double h, const vec<System::dim>& 
 
 /// One step of eqs. equation-milieu-intervalle and simpson-hamilton in their reduced form
 /// (DESIGN.md §2): one D×D Newton solve for the midpoint q_m = q_{j+½}, then explicit updates.
-/// Increments are accumulated with compensated summation (solvers/compensated.hpp).
+/// Increments are accumulated with compensated summation (solvers/compensated.hpp); Update =
+/// plain_update<D> adds them plainly (the baseline of `make soak`).
 /// ∇V(q_{j+1}) of a step is kept as ∇V(q_j) of the next (recomputed if the state was changed).
-template <class System>
+template <class System, class Update = compensated_update<System::dim>>
 class stepper {
 public:
     static constexpr int dim = System::dim;
@@ -78,7 +79,7 @@ private:
     newton_options opt_;
     vec<dim> grad_{};
     vec<dim> stage_{};
-    compensated_update<dim> sum_;
+    Update sum_;
     vec<dim> cached_q_{};
     bool cache_valid_ = false;
 };

@@ -40,4 +40,12 @@ private:
     bool valid_ = false;
 };
 
+/// Plain x.q += Δq, x.p += Δp with the interface of compensated_update: the baseline that
+/// `make soak` compares compensated summation against.
+template <int D>
+struct plain_update {
+    void add_q(phase_state<D>& x, const vec<D>& dq) { x.q += dq; }
+    void add_p(phase_state<D>& x, const vec<D>& dp) { x.p += dp; }
+};
+
 } // namespace varsym
