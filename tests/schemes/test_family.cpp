@@ -5,6 +5,7 @@
 
 #include <numbers>
 
+#include "compare_steppers.hpp"
 #include "test_support.hpp"
 #include "varsym/diagnostics/symplecticity.hpp"
 #include "varsym/problems/pendulum.hpp"
@@ -19,22 +20,10 @@ using std::numbers::pi;
 
 namespace {
 
-template <class A, class B, int D>
-double max_difference(A a, B b, phase_state<D> x0, int n) {
-    phase_state<D> x = x0, y = x0;
-    double worst = 0;
-    for (int j = 0; j < n; ++j) {
-        EXPECT_TRUE(a.step(x).converged);
-        EXPECT_TRUE(b.step(y).converged);
-        worst = std::max({worst, (x.q - y.q).template lpNorm<Eigen::Infinity>(),
-                          (x.p - y.p).template lpNorm<Eigen::Infinity>()});
-    }
-    return worst;
-}
-
-const auto pendulum_sys = pendulum::make_system(1.0, 2 * pi);
-const double paper_h = pendulum::exact_solution(1.0, 2 * pi, pi / 2, 0.0).period() / 50;
-const phase_state<1> paper_x0{vec<1>{pi / 2}, vec<1>{0.0}};
+using test::max_difference;
+using test::paper_h;
+using test::paper_x0;
+using test::pendulum_sys;
 
 } // namespace
 
