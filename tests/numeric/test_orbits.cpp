@@ -107,13 +107,20 @@ TEST(Kepler, OrdersTwoAndFour) {
     }
 }
 
+namespace {
+/// A 3-dimensional oscillator with non-diagonal M and K, its exact solution and its system.
+struct oscillator_case {
+    Eigen::MatrixXd m = (Eigen::MatrixXd(3, 3) << 2, 0.3, 0, 0.3, 1, 0.1, 0, 0.1, 1.5).finished();
+    Eigen::MatrixXd k = (Eigen::MatrixXd(3, 3) << 5, -2, 0, -2, 4, -1, 0, -1, 3).finished();
+    phase_state<dynamic> x0{Eigen::Vector3d{1.0, -0.5, 0.2}, Eigen::Vector3d{0.0, 0.3, -0.1}};
+    oscillator::exact_solution ex{m, k, x0};
+    oscillator::system sys = oscillator::make_system(m, k);
+};
+} // namespace
+
 TEST(Oscillator, ExactSolutionSolvesTheEquations) {
-    Eigen::MatrixXd m(3, 3), k(3, 3);
-    m << 2, 0.3, 0, 0.3, 1, 0.1, 0, 0.1, 1.5;
-    k << 5, -2, 0, -2, 4, -1, 0, -1, 3;
-    const phase_state<dynamic> x0{Eigen::Vector3d{1.0, -0.5, 0.2}, Eigen::Vector3d{0.0, 0.3, -0.1}};
-    const oscillator::exact_solution ex(m, k, x0);
-    const auto sys = oscillator::make_system(m, k);
+    const oscillator_case osc;
+    const auto& [m, k, x0, ex, sys] = osc;
     // q̇ = M⁻¹p and ṗ = −Kq, by central differences (error ~ dt² |q'''| ~ 1e-8).
     const double t = 2.3, dt = 1e-4;
     const auto a = ex.at(t - dt), b = ex.at(t + dt), c = ex.at(t);
@@ -126,12 +133,8 @@ TEST(Oscillator, ExactSolutionSolvesTheEquations) {
 // Simpson's order 4 on a 3-dimensional oscillator with non-diagonal M and K: error after one
 // slowest period at 25/50/100 steps per period, against the modal solution.
 TEST(Oscillator, SimpsonOrderFour) {
-    Eigen::MatrixXd m(3, 3), k(3, 3);
-    m << 2, 0.3, 0, 0.3, 1, 0.1, 0, 0.1, 1.5;
-    k << 5, -2, 0, -2, 4, -1, 0, -1, 3;
-    const phase_state<dynamic> x0{Eigen::Vector3d{1.0, -0.5, 0.2}, Eigen::Vector3d{0.0, 0.3, -0.1}};
-    const oscillator::exact_solution ex(m, k, x0);
-    const auto sys = oscillator::make_system(m, k);
+    const oscillator_case osc;
+    const auto& [m, k, x0, ex, sys] = osc;
     const std::array<double, 3> steps{25, 50, 100};
     std::array<double, 3> err{};
     for (std::size_t i = 0; i < steps.size(); ++i) {
