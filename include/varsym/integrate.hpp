@@ -2,11 +2,13 @@
 // each, keeps Newton statistics, and turns a failed step into an error that says where.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "varsym/solvers/newton.hpp"
 #include "varsym/types.hpp"
@@ -49,23 +51,34 @@ struct run_summary {
     }
 };
 
+/// Continues a run from step `first` (x is the state at t0 + first·h) to step n, with
+/// t_j = t0 + j h, calling observe(j, t_j, x) after each step j = first+1 … n (a resumed run
+/// has its earlier rows already). Adds each step's Newton statistics to `sum` before observe
+/// sees the step. Throws step_failure if a step does not converge; x is then the state of the
+/// last good step.
+template <class Stepper, class Observer>
+void integrate_from(Stepper& stepper, phase_state<Stepper::dim>& x, double t0, std::size_t first,
+                    std::size_t n, run_summary& sum, Observer&& observe) {
+    const double h = stepper.step_size();
+    for (std::size_t j = first + 1; j <= n; ++j) {
+        const newton_report rep = stepper.step(x);
+        const double t = t0 + static_cast<double>(j) * h;
+        if (!rep.converged) throw step_failure(j, t - h, t, rep);
+        ++sum.steps;
+        sum.newton_iterations += rep.iterations;
+        sum.newton_iterations_max = std::max(sum.newton_iterations_max, rep.iterations);
+        observe(j, t, static_cast<const phase_state<Stepper::dim>&>(x));
+    }
+}
+
 /// Runs n steps from x at time t0 with t_j = t0 + j h. Calls observe(j, t_j, x) for j = 0 … n
 /// (j = 0 is the initial state). Throws step_failure if a step does not converge.
 template <class Stepper, class Observer>
 run_summary integrate(Stepper& stepper, phase_state<Stepper::dim>& x, double t0, std::size_t n,
                       Observer&& observe) {
-    const double h = stepper.step_size();
-    run_summary sum;
     observe(std::size_t{0}, t0, static_cast<const phase_state<Stepper::dim>&>(x));
-    for (std::size_t j = 1; j <= n; ++j) {
-        const newton_report rep = stepper.step(x);
-        const double t = t0 + static_cast<double>(j) * h;
-        if (!rep.converged) throw step_failure(j, t - h, t, rep);
-        sum.steps = j;
-        sum.newton_iterations += rep.iterations;
-        sum.newton_iterations_max = std::max(sum.newton_iterations_max, rep.iterations);
-        observe(j, t, static_cast<const phase_state<Stepper::dim>&>(x));
-    }
+    run_summary sum;
+    integrate_from(stepper, x, t0, 0, n, sum, std::forward<Observer>(observe));
     return sum;
 }
 

@@ -7,6 +7,7 @@
 // p_i = m q̇_i; the energy is conserved (the fixed ends break translation invariance).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -108,6 +109,23 @@ private:
     double m_, minv_;
     chain::potential v_;
 };
+
+/// An upper bound of the highest frequency at x: √(max Gershgorin row bound of ∇²V(q)) / √m.
+/// The Hessian is tridiagonal, so the bound costs O(n) where an eigensolver would cost O(n³).
+/// Found by argument-dependent lookup next to varsym::highest_frequency (diagnostics/stability).
+inline double highest_frequency(const system& sys, const phase_state<dynamic>& x) {
+    const Eigen::Index n = x.q.size();
+    Eigen::VectorXd diag(n), off(std::max<Eigen::Index>(n - 1, 0));
+    sys.potential().hessian_diagonals(x.q, diag, off);
+    double bound = 0.0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+        double row = diag(i);
+        if (i > 0) row += std::abs(off(i - 1));
+        if (i + 1 < n) row += std::abs(off(i));
+        bound = std::max(bound, row);
+    }
+    return std::sqrt(bound * sys.inverse_mass());
+}
 
 /// Newton on m δ + c ∇V(q + δ) = r (the stage equation of stage_equation.hpp) with the
 /// tridiagonal Jacobian m I + c ∇²V solved in O(n). Found by argument-dependent lookup from the

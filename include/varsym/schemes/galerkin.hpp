@@ -137,6 +137,8 @@ public:
 
     [[nodiscard]] double step_size() const { return h_; }
     [[nodiscard]] const System& system() const { return sys_; }
+    /// The compensated summation of the increments, whose carries a checkpoint keeps.
+    [[nodiscard]] compensated_update<dim>& summation() { return sum_; }
 
     newton_report step(phase_state<dim>& x) {
         const int d = static_cast<int>(x.q.size());
@@ -289,6 +291,9 @@ public:
         return std::visit([](const auto& s) -> const System& { return s.system(); }, impl_);
     }
     [[nodiscard]] const tableau& table() const { return tab_; }
+    [[nodiscard]] compensated_update<dim>& summation() {
+        return std::visit([](auto& s) -> compensated_update<dim>& { return s.summation(); }, impl_);
+    }
     newton_report step(phase_state<dim>& x) {
         return std::visit([&](auto& s) { return s.step(x); }, impl_);
     }

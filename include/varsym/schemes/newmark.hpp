@@ -36,6 +36,8 @@ public:
 
     [[nodiscard]] double step_size() const { return h_; }
     [[nodiscard]] const System& system() const { return sys_; }
+    /// The compensated summation of the increments, whose carries a checkpoint keeps.
+    [[nodiscard]] auto& summation() { return sum_; }
 
     newton_report step(phase_state<dim>& x) {
         const auto& minv = sys_.inverse_mass();

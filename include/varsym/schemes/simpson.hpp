@@ -45,6 +45,8 @@ public:
 
     [[nodiscard]] double step_size() const { return h_; }
     [[nodiscard]] const System& system() const { return sys_; }
+    /// The compensated summation of the increments, whose carries a checkpoint keeps.
+    [[nodiscard]] auto& summation() { return sum_; }
     /// The internal value q_{j+½} of the last successful step.
     [[nodiscard]] const vec<dim>& last_stage() const { return stage_; }
 

@@ -61,6 +61,8 @@ public:
 
     [[nodiscard]] double step_size() const { return h_; }
     [[nodiscard]] const system_type& system() const { return sys_; }
+    /// The compensated summation of the increments, whose carries a checkpoint keeps.
+    [[nodiscard]] auto& summation() { return sum_; }
     [[nodiscard]] const galerkin::tableau& table() const { return tab_; }
 
     newton_report step(phase_state<dim>& x) {

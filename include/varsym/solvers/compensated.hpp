@@ -27,6 +27,19 @@ public:
         valid_ = true;
     }
 
+    /// The low-order bits not yet added to x.q and x.p (what a checkpoint must keep).
+    [[nodiscard]] const vec<D>& carry_q() const { return cq_; }
+    [[nodiscard]] const vec<D>& carry_p() const { return cp_; }
+    /// Continues a summation whose last sums were x and whose carries were cq, cp (a resumed
+    /// run): the next step is then bit for bit the step the interrupted run would have taken.
+    void restore(const phase_state<D>& x, const vec<D>& cq, const vec<D>& cp) {
+        q_ = x.q;
+        p_ = x.p;
+        cq_ = cq;
+        cp_ = cp;
+        valid_ = true;
+    }
+
 private:
     static void add(vec<D>& sum, const vec<D>& increment, vec<D>& carry) {
         for (Eigen::Index i = 0; i < sum.size(); ++i) {
