@@ -77,6 +77,30 @@ output_file::output_file(const std::string& path) {
         throw std::runtime_error("cannot write '" + path + "': " + std::strerror(errno));
 }
 
+output_file::output_file(const std::string& path, std::uint64_t keep) : path_(path) {
+    const std::string part = partial_path();
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(part, ec);
+    if (ec)
+        throw usage_error("cannot resume: '" + part + "', the rows of the interrupted run, is " +
+                          "missing (" + ec.message() + ")");
+    if (size < keep)
+        throw usage_error("cannot resume: '" + part + "' has " + std::to_string(size) +
+                          " bytes, fewer than the " + std::to_string(keep) +
+                          " its checkpoint covers; it was changed after the run stopped");
+    if (::truncate(part.c_str(), static_cast<off_t>(keep)) != 0)
+        throw std::runtime_error("cannot truncate '" + part + "': " + std::strerror(errno));
+    f_ = std::fopen(part.c_str(), "a");
+    if (f_ == nullptr) throw std::runtime_error("cannot write '" + part + "': " + std::strerror(errno));
+    bytes_ = keep;
+    keep_ = true; // an interrupted resumed run keeps its rows for the next resume
+}
+
+void output_file::sync() {
+    if (std::fflush(f_) != 0 || (!is_stdout() && ::fsync(::fileno(f_)) != 0))
+        throw std::runtime_error("cannot write '" + path_.string() + "': " + std::strerror(errno));
+}
+
 output_file::~output_file() {
     if (is_stdout() || committed_) return;
     std::fclose(f_);
@@ -84,6 +108,7 @@ output_file::~output_file() {
 }
 
 void output_file::write(const std::string& s) {
+    bytes_ += s.size();
     if (std::fwrite(s.data(), 1, s.size(), f_) != s.size() || std::fflush(f_) != 0)
         throw std::runtime_error("cannot write '" + (is_stdout() ? std::string("standard output")
                                                                  : path_.string()) +

@@ -2,6 +2,7 @@
 // codes, CSV number formatting, and output files that never look complete when they are not.
 #pragma once
 
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -46,6 +47,9 @@ void append_number(std::string& line, double v);
 class output_file {
 public:
     explicit output_file(const std::string& path);
+    /// Continues FILE.part of an interrupted run: truncates it to its first `keep` bytes (the
+    /// rows a checkpoint covers) and appends from there. Refuses a missing or shorter file.
+    output_file(const std::string& path, std::uint64_t keep);
     output_file(const output_file&) = delete;
     output_file& operator=(const output_file&) = delete;
     ~output_file();
@@ -54,6 +58,10 @@ public:
     [[nodiscard]] bool is_stdout() const { return path_.empty(); }
     [[nodiscard]] std::string partial_path() const { return path_.string() + ".part"; }
     void write(const std::string& s);
+    /// Bytes in the file so far (for a resumed file, counting the kept ones).
+    [[nodiscard]] std::uint64_t bytes() const { return bytes_; }
+    /// Flushes and fsyncs what was written (before a checkpoint that counts these bytes).
+    void sync();
     void commit();
     void keep_partial() { keep_ = true; }
 
@@ -62,6 +70,7 @@ private:
     std::FILE* f_ = nullptr;
     bool committed_ = false;
     bool keep_ = false;
+    std::uint64_t bytes_ = 0;
 };
 
 /// A subcommand's action, run after the whole command line parsed.

@@ -1,6 +1,11 @@
 // apps/varsym/cmd_run.cpp: `varsym run`, integrate a built-in model and stream its trajectory
 // as CSV. The model-independent options live here; each model adds its own (models.hpp).
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
 #include <memory>
 
 #include "cli_common.hpp"
@@ -17,7 +22,47 @@ struct run_options {
     scheme_options scheme;
     run_setup setup;
     std::string config;
+    std::string resume; ///< only to refuse --resume from a config file: main handles it
 };
+
+/// Checks the checkpoint options of a new run before it starts, so that a run of hours does not
+/// fail at its first checkpoint.
+void check_checkpoint_options(run_setup& s, const CLI::App& cmd) {
+    if (s.checkpoint.empty()) return;
+    if (s.output.empty() || s.output == "-")
+        throw usage_error("--checkpoint needs --output FILE: a resumed run appends its rows to FILE");
+    namespace fs = std::filesystem;
+    std::error_code e1, e2;
+    const fs::path a = fs::weakly_canonical(s.checkpoint, e1), b = fs::weakly_canonical(s.output, e2);
+    if (!e1 && !e2 && a == b)
+        throw usage_error("--checkpoint and --output name the same file");
+    if (fs::exists(s.checkpoint))
+        throw usage_error("checkpoint '" + s.checkpoint + "' exists: continue its run with 'varsym run --resume " +
+                          s.checkpoint + "', or remove it to start a new run");
+    const std::string probe = s.checkpoint + ".tmp";
+    std::FILE* f = std::fopen(probe.c_str(), "w");
+    if (f == nullptr)
+        throw std::runtime_error("cannot write checkpoint '" + s.checkpoint + "': " + std::strerror(errno));
+    std::fclose(f);
+    std::remove(probe.c_str());
+    if (cmd.count("--checkpoint-every") == 0 && cmd.count("--checkpoint-seconds") == 0)
+        s.checkpoint_seconds = 60.0;
+}
+
+/// `varsym run --resume FILE`: the run's options came from the checkpoint; its output and
+/// checkpoint are the files it named and FILE. Returns false if the run had already completed.
+bool prepare_resume(run_setup& s, const run_context& ctx) {
+    s.resume = ctx.resume;
+    s.output = ctx.resume->output;
+    s.checkpoint = ctx.resume_path;
+    namespace fs = std::filesystem;
+    if (ctx.resume->step == ctx.resume->steps && !fs::exists(s.output + ".part") && fs::exists(s.output)) {
+        std::cerr << "varsym: the run of checkpoint '" << ctx.resume_path << "' is complete ("
+                  << ctx.resume->steps << " steps); its rows are in " << s.output << '\n';
+        return false;
+    }
+    return true;
+}
 
 /// The model's own options may not be combined with another model.
 void check_model_options(const model& chosen, const CLI::App& cmd) {
@@ -32,13 +77,21 @@ void check_model_options(const model& chosen, const CLI::App& cmd) {
     }
 }
 
-void run(run_options& o, const CLI::App& cmd) {
+void run(run_options& o, const CLI::App& cmd, const run_context& ctx) {
     const auto& models = all_models();
     const auto it = std::find_if(models.begin(), models.end(), [&](const model& m) { return m.name == o.model; });
     check_model_options(*it, cmd);
     o.setup.spec = make_spec(o.scheme);
     o.setup.by_time = cmd.count("--time") > 0;
     o.setup.periods_given = cmd.count("--periods") > 0;
+    o.setup.args = ctx.args;
+    if (ctx.resume) {
+        if (!prepare_resume(o.setup, ctx)) return;
+    } else {
+        if (!o.resume.empty())
+            throw usage_error("--resume must be given on the command line, as 'varsym run --resume FILE'");
+        check_checkpoint_options(o.setup, cmd);
+    }
     it->run(o.setup);
 }
 
@@ -50,7 +103,7 @@ std::string model_names() {
 
 } // namespace
 
-void add_run_command(CLI::App& app, action& todo) {
+void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
     auto o = std::make_shared<run_options>();
     auto* cmd = app.add_subcommand(
         "run", "Integrate a model (default: the paper's pendulum) and stream its trajectory as CSV");
@@ -64,6 +117,11 @@ void add_run_command(CLI::App& app, action& todo) {
         "(q_exact,p_exact or q_1_exact,...); 17 significant digits.\n"
         "A file given by --output is written as FILE.part and renamed when the run completes;\n"
         "a run whose Newton iteration fails keeps FILE.part with the rows already computed.\n"
+        "Long runs: --checkpoint CK writes the complete state (q, p, compensated-summation\n"
+        "carries, step, options) to CK atomically; after a crash or kill, 'varsym run --resume CK'\n"
+        "truncates FILE.part to the rows CK covers and continues: the result is byte-identical\n"
+        "to a run that never stopped. A failed step leaves CK (or FILE.ckpt) at the last good\n"
+        "state and exits 3 with a safer step size.\n"
         "--config FILE reads options from a TOML file: each key is a long option of this\n"
         "command without '--' (model = \"kepler\", eccentricity = 0.3, q0 = [1.0, 0.0], stats =\n"
         "true); options on the command line take precedence over the file.\n\n"
@@ -74,7 +132,9 @@ void add_run_command(CLI::App& app, action& todo) {
         "  varsym run --model kepler --eccentricity 0.9 --periods 10 --steps-per-period 400\n"
         "  varsym run --model heavy-top --scheme gauss --degree 3 --periods 5\n"
         "  varsym run --model double-pendulum --time 20 --steps 20000 --every 100 -o arm.csv\n"
-        "  varsym run --config kepler.toml\n");
+        "  varsym run --config kepler.toml\n"
+        "  varsym run --time 1e5 --steps 100000000 --every 10000 -o long.csv --checkpoint long.ckpt\n"
+        "  varsym run --resume long.ckpt\n");
     cmd->add_option("--model", o->model, "The system to integrate: " + model_names())
         ->check(CLI::IsMember(names))
         ->capture_default_str();
@@ -121,7 +181,21 @@ void add_run_command(CLI::App& app, action& todo) {
     cmd->add_flag("--stats", s.stats, "Print Newton iteration statistics to standard error");
     cmd->add_option("--config", o->config, "TOML file of options (see below)");
     for (const model& m : all_models()) m.add_options(*cmd);
-    cmd->callback([o, cmd, &todo] { todo = [o, cmd] { run(*o, *cmd); }; });
+    auto* ckpt = cmd->add_option("--checkpoint", s.checkpoint,
+                                 "Write the run's complete state to FILE (atomically) every "
+                                 "--checkpoint-every steps or --checkpoint-seconds (default 60 s), "
+                                 "at the end, and at a failed step; needs --output");
+    cmd->add_option("--checkpoint-every", s.checkpoint_every, "Checkpoint every S steps")
+        ->check(positive_integer)
+        ->needs(ckpt);
+    cmd->add_option("--checkpoint-seconds", s.checkpoint_seconds,
+                    "Checkpoint every T seconds of wall-clock time")
+        ->check(positive_number)
+        ->needs(ckpt);
+    cmd->add_option("--resume", o->resume,
+                    "Continue the run of checkpoint FILE to its end: 'varsym run --resume FILE' "
+                    "alone, the options are those of the checkpointed run");
+    cmd->callback([o, cmd, &todo, &ctx] { todo = [o, cmd, &ctx] { run(*o, *cmd, ctx); }; });
 }
 
 } // namespace varsym::cli

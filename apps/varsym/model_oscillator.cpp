@@ -87,4 +87,16 @@ model make_oscillator_model() {
     return m;
 }
 
+// Here, because this translation unit compiles every scheme's stepper for the oscillator already.
+bool unit_oscillator_step(const scheme_spec& spec, double z, phase_state<1>& x) {
+    static const oscillator::system sys =
+        oscillator::make_system(Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1));
+    return with_stepper(spec, sys, z, newton_options{}, [&](auto& stepper) {
+        phase_state<dynamic> y{x.q, x.p};
+        const bool ok = stepper.step(y).converged;
+        x = phase_state<1>{vec<1>{y.q(0)}, vec<1>{y.p(0)}};
+        return ok;
+    });
+}
+
 } // namespace varsym::cli

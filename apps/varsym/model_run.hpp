@@ -1,29 +1,86 @@
 // apps/varsym/model_run.hpp: the driver every model's run shares: steps a stepper, streams the
-// CSV rows (state, energy, conserved quantities, exact values), and turns a failed step into
-// exit code 3 keeping the rows already written.
+// CSV rows (state, energy, conserved quantities, exact values), writes checkpoints and resumes
+// from them, and turns a failed step into exit code 3 keeping the rows already written.
 #pragma once
 
+#include <chrono>
 #include <iostream>
 #include <string>
 
 #include "models.hpp"
+#include "varsym/diagnostics/stability.hpp"
 #include "varsym/integrate.hpp"
 
 namespace varsym::cli {
 
+/// What a checkpoint keeps of a stepper and its state.
+struct saved_state {
+    std::vector<double> q, p, carry_q, carry_p;
+};
+
+/// The output and the checkpoints of one run (run_log.cpp): the template below calls it.
+class run_log {
+  public:
+    /// Opens the CSV (or, resuming, the interrupted run's FILE.part cut to the checkpoint's rows)
+    /// and writes the header of a new run. Refuses --checkpoint without --output, an existing
+    /// checkpoint file, and a checkpoint whose scheme, step count, h or dimension differ.
+    run_log(const run_setup& s, const run_plan& plan, int d, const std::string& header);
+
+    [[nodiscard]] const checkpoint* resumed() const { return s_.resume.get(); }
+    void write(const std::string& row) { out_.write(row); }
+
+    /// Whether a checkpoint is due after step j (every --checkpoint-every steps, or when
+    /// --checkpoint-seconds have passed, looked at every 1024 steps).
+    [[nodiscard]] bool due(std::size_t j) {
+        if (!checkpointing_) return false;
+        if (every_ != 0 && j % every_ == 0) return true;
+        return seconds_ > 0.0 && (j & 1023U) == 0 && clock::now() >= next_;
+    }
+    /// Writes the checkpoint of the state after step j (CSV flushed and fsync'ed first).
+    void save(std::size_t j, const saved_state& x, const run_summary& sum);
+    /// A step failed: writes a checkpoint of the last good state (step e.step() − 1), and throws
+    /// numerical_error naming the step, time, residual and a safer step size from the scheme's
+    /// linear stability limit and the highest frequency omega at the last good state.
+    [[noreturn]] void fail(const step_failure& e, const saved_state& x, const run_summary& sum,
+                           double omega);
+    /// The run completed: final checkpoint (if checkpointing), CSV renamed into place, --stats.
+    void finish(const saved_state& x, const run_summary& sum);
+
+  private:
+    using clock = std::chrono::steady_clock;
+    void write_checkpoint_to(const std::string& path, std::size_t j, const saved_state& x,
+                             const run_summary& sum);
+    const run_setup& s_;
+    run_plan plan_;
+    int d_;
+    output_file out_;
+    bool checkpointing_ = false;
+    std::size_t every_ = 0;
+    double seconds_ = 0.0;
+    clock::time_point next_;
+};
+
+template <class Stepper, int D>
+saved_state save_state(Stepper& stepper, const phase_state<D>& x) {
+    const auto& sum = stepper.summation();
+    auto list = [](const auto& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+    return {list(x.q), list(x.p), list(sum.carry_q()), list(sum.carry_p())};
+}
+
 /// Streams `step,t,<state columns><extra header>` rows for plan.steps steps from x, written every
 /// s.every steps and at the end. `with_stepper(f)` calls f(stepper); `extras(t, x, line)` appends
-/// the model's columns (each preceded by a comma) to a row.
+/// the model's columns (each preceded by a comma) to a row. A resumed run (s.resume) starts from
+/// its checkpoint's state, carries and step instead of x.
 template <int D, class WithStepper, class Extras>
 void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> x,
-                       const std::string& extra_header, WithStepper&& with_stepper, Extras&& extras) {
-    output_file out(s.output);
+                       const std::string& extra_header, WithStepper&& with_stepper,
+                       Extras&& extras) {
     const int d = static_cast<int>(x.q.size());
-    out.write("step,t," + state_columns(d) + extra_header + "\n");
+    run_log log(s, plan, d, "step,t," + state_columns(d) + extra_header + "\n");
     const auto every = static_cast<std::size_t>(s.every);
     const std::size_t n = plan.steps;
     std::string line;
-    auto observe = [&](std::size_t j, double t, const phase_state<D>& y) {
+    auto row = [&](std::size_t j, double t, const phase_state<D>& y) {
         const bool write = every == 0 ? j == n : (j % every == 0 || j == n);
         if (!write) return;
         line = std::to_string(j);
@@ -39,22 +96,40 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
         }
         extras(t, y, line);
         line += '\n';
-        out.write(line);
+        log.write(line);
     };
-    run_summary summary;
-    try {
-        summary = with_stepper([&](auto& stepper) { return integrate(stepper, x, 0.0, n, observe); });
-    } catch (const step_failure& e) {
-        if (out.is_stdout()) throw numerical_error(e.what());
-        out.keep_partial();
-        throw numerical_error(std::string(e.what()) + "; the rows before it are in " +
-                              out.partial_path());
-    }
-    out.commit();
-    if (s.stats)
-        std::cerr << "varsym: " << s.spec.label() << ", " << summary.steps << " steps of h = " << plan.h
-                  << ": Newton iterations per step mean " << summary.mean_newton_iterations()
-                  << ", max " << summary.newton_iterations_max << '\n';
+    with_stepper([&](auto& stepper) {
+        run_summary sum;
+        std::size_t first = 0;
+        if (const checkpoint* ck = log.resumed()) {
+            auto as_vec = [d](const std::vector<double>& v) {
+                return vec<D>(Eigen::Map<const vec<D>>(v.data(), d));
+            };
+            x = phase_state<D>{as_vec(ck->q), as_vec(ck->p)};
+            stepper.summation().restore(x, as_vec(ck->carry_q), as_vec(ck->carry_p));
+            first = ck->step;
+            sum.steps = first;
+            sum.newton_iterations = ck->newton_iterations;
+            sum.newton_iterations_max = ck->newton_iterations_max;
+        } else {
+            row(0, 0.0, x);
+        }
+        try {
+            integrate_from(stepper, x, 0.0, first, n, sum,
+                           [&](std::size_t j, double t, const phase_state<D>& y) {
+                               row(j, t, y);
+                               if (log.due(j)) log.save(j, save_state(stepper, y), sum);
+                           });
+        } catch (const step_failure& e) {
+            double omega = std::numeric_limits<double>::quiet_NaN();
+            try {
+                omega = highest_frequency(stepper.system(), x);
+            } catch (const std::exception&) { // no estimate: the message says so
+            }
+            log.fail(e, save_state(stepper, x), sum, omega);
+        }
+        log.finish(save_state(stepper, x), sum);
+    });
 }
 
 /// Appends ",v" for each value.

@@ -3,9 +3,11 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "checkpoint.hpp"
 #include "cli_common.hpp"
 #include "varsym/schemes/scheme_kind.hpp"
 
@@ -25,6 +27,11 @@ struct run_setup {
     bool stats = false;
     std::vector<double> q0, p0, v0; ///< initial state; empty: the model's default
     bool periods_given = false;
+    std::string checkpoint;             ///< --checkpoint FILE, or the file of --resume
+    long long checkpoint_every = 0;     ///< checkpoint every this many steps (0: by time only)
+    double checkpoint_seconds = 0.0;    ///< and every this many seconds of wall time (0: never)
+    std::vector<std::string> args;      ///< the run's arguments, kept in its checkpoints
+    std::shared_ptr<const cli::checkpoint> resume; ///< the checkpoint a resumed run continues
 };
 
 /// A built-in model. Its parameters are options of `varsym run` that only it accepts.
@@ -63,6 +70,18 @@ vec<dynamic> initial_vector(const std::vector<double>& given, const char* option
 
 /// The CSV columns q and p of a d-dimensional state: "q,p" for d = 1, else "q_1,…,q_d,p_1,…,p_d".
 std::string state_columns(int d, const char* suffix = "");
+
+/// The linear stability limit of a scheme: the largest z such that the step map of the harmonic
+/// oscillator with h·ω < z is stable (infinity if it is stable at every h·ω); computed by
+/// running the scheme's stepper on the oscillator (model_oscillator.cpp, stability.cpp).
+double linear_stability_limit(const scheme_spec& spec);
+
+/// One step of scheme `spec` with h = z of the unit harmonic oscillator (m = 1, ω = 1) from x;
+/// false if Newton did not converge (model_oscillator.cpp).
+bool unit_oscillator_step(const scheme_spec& spec, double z, phase_state<1>& x);
+
+/// Where h·ω is unstable for `spec`, scanned up to stability_scan_end (stability.cpp).
+inline constexpr double stability_scan_end = 50.0;
 
 /// Validators shared by model options.
 extern const CLI::Validator non_negative_number;

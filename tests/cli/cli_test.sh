@@ -2,35 +2,7 @@
 # tests/cli/cli_test.sh VARSYM: the varsym tool end to end: successful runs produce what the
 # README says, and every bad input gives one line on standard error, the documented exit code,
 # no output file that looks complete, and leaves a file the user already had untouched.
-set -u
-VARSYM=$(realpath "${1:?usage: cli_test.sh PATH_TO_VARSYM}")
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cd "$work" || exit 1
-failures=0
-passed=0
-
-ok() { passed=$((passed + 1)); }
-bad() { echo "FAIL: $*"; failures=$((failures + 1)); }
-
-# expect_error CODE NAME ARGS...: exit status CODE, exactly one line on stderr starting with
-# "varsym: error:", nothing named out.csv created, and a pre-existing keep.csv unchanged.
-expect_error() {
-  local code=$1 name=$2
-  shift 2
-  rm -f out.csv out.csv.part
-  echo "precious" > keep.csv
-  "$VARSYM" "$@" > stdout.txt 2> stderr.txt
-  local rc=$?
-  local lines
-  lines=$(wc -l < stderr.txt)
-  if [ "$rc" -ne "$code" ]; then bad "$name: exit $rc, expected $code ($(cat stderr.txt))"; return; fi
-  if [ "$lines" -ne 1 ]; then bad "$name: $lines lines on stderr: $(cat stderr.txt)"; return; fi
-  if ! grep -q '^varsym: error: ' stderr.txt; then bad "$name: message: $(cat stderr.txt)"; return; fi
-  if [ -e out.csv ]; then bad "$name: left out.csv behind"; return; fi
-  if [ "$(cat keep.csv)" != "precious" ]; then bad "$name: changed keep.csv"; return; fi
-  ok
-}
+source "$(dirname "$0")/lib.sh" "$@"
 
 # --- bad input: exit 2 ---------------------------------------------------------------------
 expect_error 2 "zero steps" run --steps-per-period 0 -o out.csv
@@ -259,5 +231,4 @@ expect_error 2 "bench zero steps" bench --steps 0 -o out.csv
 "$VARSYM" --help | grep -q 'Exit codes' && ok || bad "--help"
 "$VARSYM" run --help | grep -q 'step,t,q,p,energy,q_exact,p_exact' && ok || bad "run --help"
 
-echo "$passed passed, $failures failed"
-[ "$failures" -eq 0 ]
+finish
