@@ -17,8 +17,10 @@ std::string format(const char* fmt, double v) {
     return buf;
 }
 
-/// Refuses a checkpoint that does not describe the run its own arguments set up.
-void check_resume(const checkpoint& ck, const run_setup& s, const run_plan& plan, int d) {
+/// Refuses a checkpoint that does not describe the run its own arguments set up; returns d.
+int check_resume(const run_setup& s, const run_plan& plan, int d) {
+    if (!s.resume) return d;
+    const checkpoint& ck = *s.resume;
     std::string what;
     if (ck.scheme != s.spec.label())
         what = "scheme " + ck.scheme + " vs " + s.spec.label();
@@ -32,23 +34,21 @@ void check_resume(const checkpoint& ck, const run_setup& s, const run_plan& plan
         throw usage_error("checkpoint '" + s.checkpoint +
                           "' does not match the run its options set up (" + what +
                           "); it was not written by this varsym build");
+    return d;
 }
 
 } // namespace
 
 run_log::run_log(const run_setup& s, const run_plan& plan, int d, const std::string& header)
-    : s_(s), plan_(plan), d_(d),
+    // The checkpoint is checked against the run before FILE.part is truncated to its rows.
+    : s_(s), plan_(plan), d_(check_resume(s, plan, d)),
       out_(s.resume ? output_file(s.output, s.resume->csv_bytes) : output_file(s.output)) {
     checkpointing_ = !s.checkpoint.empty();
     every_ = static_cast<std::size_t>(s.checkpoint_every);
     seconds_ = s.checkpoint_seconds;
     next_ = clock::now() +
             std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(seconds_));
-    if (s.resume) {
-        check_resume(*s.resume, s, plan, d);
-        return;
-    }
-    out_.write(header);
+    if (!s.resume) out_.write(header);
 }
 
 void run_log::write_checkpoint_to(const std::string& path, std::size_t j, const saved_state& x,
