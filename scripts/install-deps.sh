@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian packages varsym needs to build, test and plot. Idempotent: silent when
+# Installs the Debian packages varsym needs to build, test and plot (and those named as
+# arguments). Idempotent: silent when
 # everything is present; otherwise one apt-get run (as root, or through sudo when available).
 set -euo pipefail
 
@@ -13,6 +14,7 @@ packages=(
   libbenchmark-dev          # benchmarks
   gnuplot-nox               # figures (pngcairo and svg terminals)
 )
+packages+=("$@")            # more for one target: make fuzz adds clang and libclang-rt-14-dev
 
 missing=()
 for p in "${packages[@]}"; do
