@@ -27,7 +27,7 @@ struct run_options {
 
 /// Checks the checkpoint options of a new run before it starts, so that a run of hours does not
 /// fail at its first checkpoint.
-void check_checkpoint_options(run_setup& s, const CLI::App& cmd) {
+void check_checkpoint_options(const run_setup& s) {
     if (s.checkpoint.empty()) return;
     if (s.output.empty() || s.output == "-")
         throw usage_error("--checkpoint needs --output FILE: a resumed run appends its rows to FILE");
@@ -45,8 +45,6 @@ void check_checkpoint_options(run_setup& s, const CLI::App& cmd) {
         throw std::runtime_error("cannot write checkpoint '" + s.checkpoint + "': " + std::strerror(errno));
     std::fclose(f);
     std::remove(probe.c_str());
-    if (cmd.count("--checkpoint-every") == 0 && cmd.count("--checkpoint-seconds") == 0)
-        s.checkpoint_seconds = 60.0;
 }
 
 /// `varsym run --resume FILE`: the run's options came from the checkpoint; its output and
@@ -90,8 +88,11 @@ void run(run_options& o, const CLI::App& cmd, const run_context& ctx) {
     } else {
         if (!o.resume.empty())
             throw usage_error("--resume must be given on the command line, as 'varsym run --resume FILE'");
-        check_checkpoint_options(o.setup, cmd);
+        check_checkpoint_options(o.setup);
     }
+    // Neither --checkpoint-every nor --checkpoint-seconds (a new or a resumed run): every 60 s.
+    if (!o.setup.checkpoint.empty() && o.setup.checkpoint_every == 0 && o.setup.checkpoint_seconds == 0.0)
+        o.setup.checkpoint_seconds = 60.0;
     it->run(o.setup);
 }
 
