@@ -52,7 +52,6 @@ class run_log {
                              const run_summary& sum);
     const run_setup& s_;
     run_plan plan_;
-    int d_;
     output_file out_;
     bool checkpointing_ = false;
     std::size_t every_ = 0;

@@ -17,9 +17,9 @@ std::string format(const char* fmt, double v) {
     return buf;
 }
 
-/// Refuses a checkpoint that does not describe the run its own arguments set up; returns d.
-int check_resume(const run_setup& s, const run_plan& plan, int d) {
-    if (!s.resume) return d;
+/// Refuses a checkpoint that does not describe the run its own arguments set up.
+void check_resume(const run_setup& s, const run_plan& plan, int d) {
+    if (!s.resume) return;
     const checkpoint& ck = *s.resume;
     std::string what;
     if (ck.scheme != s.spec.label())
@@ -34,15 +34,20 @@ int check_resume(const run_setup& s, const run_plan& plan, int d) {
         throw usage_error("checkpoint '" + s.checkpoint +
                           "' does not match the run its options set up (" + what +
                           "); it was not written by this varsym build");
-    return d;
+}
+
+/// The CSV of a new run, or a resumed run's FILE.part cut to the checkpoint's rows once the
+/// checkpoint is known to belong to this run.
+output_file open_output(const run_setup& s, const run_plan& plan, int d) {
+    if (!s.resume) return output_file(s.output);
+    check_resume(s, plan, d);
+    return output_file(s.output, s.resume->csv_bytes);
 }
 
 } // namespace
 
 run_log::run_log(const run_setup& s, const run_plan& plan, int d, const std::string& header)
-    // The checkpoint is checked against the run before FILE.part is truncated to its rows.
-    : s_(s), plan_(plan), d_(check_resume(s, plan, d)),
-      out_(s.resume ? output_file(s.output, s.resume->csv_bytes) : output_file(s.output)) {
+    : s_(s), plan_(plan), out_(open_output(s, plan, d)) {
     checkpointing_ = !s.checkpoint.empty();
     every_ = static_cast<std::size_t>(s.checkpoint_every);
     seconds_ = s.checkpoint_seconds;
@@ -81,12 +86,7 @@ void run_log::save(std::size_t j, const saved_state& x, const run_summary& sum) 
 void run_log::fail(const step_failure& e, const saved_state& x, const run_summary& sum,
                    double omega) {
     const double h = plan_.h;
-    const newton_report& r = e.report();
-    std::string msg = "Newton's method did not converge in step " + std::to_string(e.step()) +
-                      format(" (t = %.9g", e.time()) + format(" -> %.9g)", e.time() + h) +
-                      format(": residual %.3e", r.residual) + " after " +
-                      std::to_string(r.iterations) + " iterations" +
-                      (std::isfinite(r.residual) ? "" : " (NaN or infinity)");
+    std::string msg = e.diagnosis();
     // A safer step: below the scheme's linear stability limit z* for the highest frequency ω
     // at the last good state (h ω < z*), with a margin of 2, and at most half the failed step.
     const double limit = linear_stability_limit(s_.spec);

@@ -20,24 +20,29 @@ namespace varsym {
 class step_failure : public std::runtime_error {
 public:
     step_failure(std::size_t step, double t_from, double t_to, const newton_report& rep)
-        : std::runtime_error(describe(step, t_from, t_to, rep)), step_(step), time_(t_from),
-          report_(rep) {}
+        : std::runtime_error(describe(step, t_from, t_to, rep) + "; use a smaller time step"),
+          step_(step), time_(t_from), time_to_(t_to), report_(rep) {}
     [[nodiscard]] std::size_t step() const { return step_; }
     [[nodiscard]] double time() const { return time_; }
     [[nodiscard]] const newton_report& report() const { return report_; }
+    /// what() without its closing advice, for a caller that has better advice to append.
+    [[nodiscard]] std::string diagnosis() const {
+        return describe(step_, time_, time_to_, report_);
+    }
 
 private:
     static std::string describe(std::size_t step, double t0, double t1, const newton_report& r) {
         char buf[320];
         std::snprintf(buf, sizeof buf,
                       "Newton's method did not converge in step %zu (t = %.9g -> %.9g): residual "
-                      "%.3e after %d iterations%s; use a smaller time step",
+                      "%.3e after %d iterations%s",
                       step, t0, t1, r.residual, r.iterations,
                       std::isfinite(r.residual) ? "" : " (NaN or infinity)");
         return buf;
     }
     std::size_t step_;
     double time_;
+    double time_to_;
     newton_report report_;
 };
 
