@@ -31,8 +31,10 @@ void kepler_simpson_separable(benchmark::State& s) {
     run_steps(s, simpson::stepper(kepler::make_system(), kepler_h), orbit.at(0.0));
 }
 void kepler_simpson_general_ad(benchmark::State& s) {
-    run_steps(s, general::stepper(lagrangian_system<kepler::lagrangian>({}), kepler_h, scheme_kind::simpson),
-              orbit.at(0.0));
+    run_steps(
+        s,
+        general::stepper(lagrangian_system<kepler::lagrangian>({}), kepler_h, scheme_kind::simpson),
+        orbit.at(0.0));
 }
 void kepler_gauss_general_ad(benchmark::State& s) {
     const int degree = static_cast<int>(s.range(0));
@@ -55,8 +57,9 @@ void heavy_top_simpson(benchmark::State& s) {
 void chain_simpson(benchmark::State& s) {
     const chain::system sys(static_cast<int>(s.range(0)), 1.0);
     run_steps(s, simpson::stepper(sys, 0.1), sys.lowest_mode(1.0));
-    s.counters["ns_per_mass"] = benchmark::Counter(static_cast<double>(s.iterations() * s.range(0)),
-                                                   benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+    s.counters["ns_per_mass"] =
+        benchmark::Counter(static_cast<double>(s.iterations() * s.range(0)),
+                           benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 /// Value, gradient and Hessian of L in (q, q̇) by nested AutoDiffScalar (the library's path).

@@ -33,24 +33,34 @@ void run_steps(benchmark::State& state, Stepper stepper) {
         iterations += stepper.step(x).iterations;
         benchmark::DoNotOptimize(x);
     }
-    state.counters["newton_its"] = benchmark::Counter(static_cast<double>(iterations),
-                                                      benchmark::Counter::kAvgIterations);
+    state.counters["newton_its"] =
+        benchmark::Counter(static_cast<double>(iterations), benchmark::Counter::kAvgIterations);
 }
 
 using pendulum_system = pendulum::system;
 
 const pendulum_system sys = pendulum::make_system(1.0, omega);
-void simpson_step(benchmark::State& s) { run_steps(s, simpson::stepper(sys, h)); }
-void newmark_step(benchmark::State& s) { run_steps(s, newmark::stepper(sys, h)); }
-void simpson_paper_step(benchmark::State& s) { run_steps(s, paper_reference::simpson_stepper(sys, h)); }
-void newmark_paper_step(benchmark::State& s) { run_steps(s, paper_reference::newmark_stepper(sys, h)); }
+void simpson_step(benchmark::State& s) {
+    run_steps(s, simpson::stepper(sys, h));
+}
+void newmark_step(benchmark::State& s) {
+    run_steps(s, newmark::stepper(sys, h));
+}
+void simpson_paper_step(benchmark::State& s) {
+    run_steps(s, paper_reference::simpson_stepper(sys, h));
+}
+void newmark_paper_step(benchmark::State& s) {
+    run_steps(s, paper_reference::newmark_stepper(sys, h));
+}
 
 // The family, degree s = state.range(0), at the same h.
 void lobatto_step(benchmark::State& s) {
-    run_steps(s, galerkin::stepper(sys, h, galerkin::rule_kind::lobatto, static_cast<int>(s.range(0))));
+    run_steps(
+        s, galerkin::stepper(sys, h, galerkin::rule_kind::lobatto, static_cast<int>(s.range(0))));
 }
 void gauss_step(benchmark::State& s) {
-    run_steps(s, galerkin::stepper(sys, h, galerkin::rule_kind::gauss, static_cast<int>(s.range(0))));
+    run_steps(s,
+              galerkin::stepper(sys, h, galerkin::rule_kind::gauss, static_cast<int>(s.range(0))));
 }
 
 // Boost.Odeint: q'' = −ω² sin q as (coordinate, momentum) with m = 1.

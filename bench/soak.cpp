@@ -1,7 +1,7 @@
 // bench/soak.cpp: the long-run soak of `make soak` (not part of `make test`): 10⁸ Simpson steps
 // of the paper's pendulum at N = 50 and N = 2000 steps per period, each with and without
-// compensated summation of the increments. Reports the largest relative energy error in each tenth of the
-// run (bounded and flat means no drift), the time, and the peak resident memory.
+// compensated summation of the increments. Reports the largest relative energy error in each tenth
+// of the run (bounded and flat means no drift), the time, and the peak resident memory.
 #include <sys/resource.h>
 
 #include <array>
@@ -20,7 +20,8 @@ using namespace varsym;
 namespace {
 
 template <class Stepper>
-std::array<double, 10> soak(Stepper stepper, const pendulum::system& sys, std::size_t n, double& seconds) {
+std::array<double, 10> soak(Stepper stepper, const pendulum::system& sys, std::size_t n,
+                            double& seconds) {
     phase_state<1> x{vec<1>{std::numbers::pi / 2}, vec<1>{0.0}};
     const double e0 = sys.energy(x);
     std::array<double, 10> worst{};
@@ -36,7 +37,8 @@ std::array<double, 10> soak(Stepper stepper, const pendulum::system& sys, std::s
 
 void report(const char* name, const std::array<double, 10>& worst, double seconds) {
     std::printf("%-24s", name);
-    for (double w : worst) std::printf(" %.3e", w);
+    for (double w : worst)
+        std::printf(" %.3e", w);
     std::printf("   last/first %.3f   %.1f s\n", worst[9] / worst[0], seconds);
 }
 
@@ -45,7 +47,8 @@ void report(const char* name, const std::array<double, 10>& worst, double second
 int main(int argc, char** argv) {
     const std::size_t n = argc > 1 ? std::strtoull(argv[1], nullptr, 10) : 100'000'000ULL;
     const auto sys = pendulum::make_system(1.0, 2 * std::numbers::pi);
-    const double period = pendulum::exact_solution(1.0, 2 * std::numbers::pi, std::numbers::pi / 2, 0.0).period();
+    const double period =
+        pendulum::exact_solution(1.0, 2 * std::numbers::pi, std::numbers::pi / 2, 0.0).period();
     bool ok = true;
     // N = 50: the paper's step, truncation error ~1e-6 dominates; N = 2000: truncation error
     // ~3e-13, so round-off in the accumulated q and p is what the energy error shows.
@@ -57,7 +60,8 @@ int main(int argc, char** argv) {
         double s1 = 0, s2 = 0;
         const auto compensated = soak(simpson::stepper(sys, h), sys, n, s1);
         report("compensated summation", compensated, s1);
-        const auto plain = soak(simpson::stepper<pendulum::system, plain_update<1>>(sys, h), sys, n, s2);
+        const auto plain =
+            soak(simpson::stepper<pendulum::system, plain_update<1>>(sys, h), sys, n, s2);
         report("plain summation", plain, s2);
         // Bounded, no drift: the last tenth's largest error within 10 % of the first tenth's
         // (the maxima rise a little as the sampled phases fill the period).
@@ -66,6 +70,7 @@ int main(int argc, char** argv) {
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
     std::printf("peak resident memory: %.1f MB\n", static_cast<double>(usage.ru_maxrss) / 1024.0);
-    std::printf(ok ? "OK: energy error bounded, no drift at N = 50\n" : "DRIFT: energy error grows at N = 50\n");
+    std::printf(ok ? "OK: energy error bounded, no drift at N = 50\n"
+                   : "DRIFT: energy error grows at N = 50\n");
     return ok ? 0 : 1;
 }

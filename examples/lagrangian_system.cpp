@@ -35,10 +35,12 @@ int main() {
             energy_error = std::max(energy_error, std::abs(system.energy(y) - e0) / std::abs(e0));
             momentum_error = std::max(momentum_error, std::abs(y.p(1) - x0.p(1)));
         });
-        std::printf("%-8s 20000 steps of h = 0.01: max relative energy error %.3e, p_phi drift %.1e\n",
-                    scheme_spec(scheme).label().c_str(), energy_error, momentum_error);
+        std::printf(
+            "%-8s 20000 steps of h = 0.01: max relative energy error %.3e, p_phi drift %.1e\n",
+            scheme_spec(scheme).label().c_str(), energy_error, momentum_error);
         // Bounded energy error (Newmark ~1e-4, Simpson ~1e-8 here) and p_phi to the last bit.
-        ok = ok && energy_error < (scheme == scheme_kind::simpson ? 1e-6 : 1e-3) && momentum_error == 0.0;
+        ok = ok && energy_error < (scheme == scheme_kind::simpson ? 1e-6 : 1e-3) &&
+             momentum_error == 0.0;
     }
     std::printf(ok ? "OK\n" : "FAILED\n");
     return ok ? 0 : 1;

@@ -49,9 +49,10 @@ bench_run run_stepper(Stepper& stepper, phase_state<Stepper::dim> x, std::size_t
     bench_run r;
     if (observe) {
         const double e0 = energy(x);
-        const run_summary sum = integrate(stepper, x, 0.0, n, [&](std::size_t, double, const auto& y) {
-            r.energy_error = std::max(r.energy_error, std::abs(energy(y) - e0) / std::abs(e0));
-        });
+        const run_summary sum =
+            integrate(stepper, x, 0.0, n, [&](std::size_t, double, const auto& y) {
+                r.energy_error = std::max(r.energy_error, std::abs(energy(y) - e0) / std::abs(e0));
+            });
         r.newton_mean = sum.mean_newton_iterations();
     } else {
         const auto start = clock_type::now();
@@ -80,13 +81,16 @@ bench_run run_odeint(std::array<double, D> q, std::array<double, D> p, double h,
     double t = 0.0;
     for (std::size_t j = 1; j <= n; ++j) {
         if constexpr (std::is_same_v<Stepper, odeint::velocity_verlet<state>>) {
-            stepper.do_step([&accel](const state& pos, const state&, state& a, double) { accel(pos, a); },
-                            std::make_pair(std::ref(q), std::ref(p)), t, h);
+            stepper.do_step(
+                [&accel](const state& pos, const state&, state& a, double) { accel(pos, a); },
+                std::make_pair(std::ref(q), std::ref(p)), t, h);
         } else {
-            stepper.do_step(std::make_pair(coordinate, momentum), std::make_pair(std::ref(q), std::ref(p)), t, h);
+            stepper.do_step(std::make_pair(coordinate, momentum),
+                            std::make_pair(std::ref(q), std::ref(p)), t, h);
         }
         t += h;
-        if (observe) r.energy_error = std::max(r.energy_error, std::abs(energy(q, p) - e0) / std::abs(e0));
+        if (observe)
+            r.energy_error = std::max(r.energy_error, std::abs(energy(q, p) - e0) / std::abs(e0));
     }
     if (!observe) r.seconds = seconds_since(start);
     r.q.resize(D); // element by element: a Map of a 1-element array trips GCC 12's -Warray-bounds
@@ -109,8 +113,10 @@ void add_odeint_methods(bench_problem& b, std::array<double, D> q0, std::array<d
                              }});
     };
     add("odeint-velocity_verlet", 2, std::type_identity<odeint::velocity_verlet<state>>{});
-    add("odeint-sb3a_mclachlan", 4, std::type_identity<odeint::symplectic_rkn_sb3a_mclachlan<state>>{});
-    add("odeint-sb3a_m4_mclachlan", 4, std::type_identity<odeint::symplectic_rkn_sb3a_m4_mclachlan<state>>{});
+    add("odeint-sb3a_mclachlan", 4,
+        std::type_identity<odeint::symplectic_rkn_sb3a_mclachlan<state>>{});
+    add("odeint-sb3a_m4_mclachlan", 4,
+        std::type_identity<odeint::symplectic_rkn_sb3a_m4_mclachlan<state>>{});
 }
 
 } // namespace
@@ -126,15 +132,20 @@ bench_problem pendulum_bench(const std::vector<std::string>& specs) {
     };
     for (const std::string& label : specs) {
         const scheme_spec spec = parse_spec(label);
-        b.methods.push_back({spec.label(), spec.order(), false, [=](std::size_t n, double h, bool observe) {
-                                 const phase_state<1> x0{vec<1>{q0}, vec<1>{0.0}};
-                                 return with_stepper(spec, sys, h, {}, [&](auto& st) {
-                                     return run_stepper(st, x0, n, observe, [&](const phase_state<1>& y) { return sys.energy(y); });
-                                 });
-                             }});
+        b.methods.push_back(
+            {spec.label(), spec.order(), false, [=](std::size_t n, double h, bool observe) {
+                 const phase_state<1> x0{vec<1>{q0}, vec<1>{0.0}};
+                 return with_stepper(spec, sys, h, {}, [&](auto& st) {
+                     return run_stepper(st, x0, n, observe,
+                                        [&](const phase_state<1>& y) { return sys.energy(y); });
+                 });
+             }});
     }
     add_odeint_methods<1>(
-        b, {q0}, {0.0}, [omega](const std::array<double, 1>& q, std::array<double, 1>& a) { a[0] = -omega * omega * std::sin(q[0]); },
+        b, {q0}, {0.0},
+        [omega](const std::array<double, 1>& q, std::array<double, 1>& a) {
+            a[0] = -omega * omega * std::sin(q[0]);
+        },
         [omega](const std::array<double, 1>& q, const std::array<double, 1>& p) {
             const double s = std::sin(0.5 * q[0]);
             return 0.5 * p[0] * p[0] + 2.0 * omega * omega * s * s;
@@ -148,16 +159,18 @@ bench_problem kepler_bench(const std::vector<std::string>& specs) {
     bench_problem b{"kepler", orbit.period(), {}, {}};
     b.error = [orbit](const bench_run& r, double t) {
         const auto x = orbit.at(t);
-        return std::max((r.q - x.q).lpNorm<Eigen::Infinity>(), (r.p - x.p).lpNorm<Eigen::Infinity>());
+        return std::max((r.q - x.q).lpNorm<Eigen::Infinity>(),
+                        (r.p - x.p).lpNorm<Eigen::Infinity>());
     };
     for (const std::string& label : specs) {
         const scheme_spec spec = parse_spec(label);
-        b.methods.push_back({spec.label(), spec.order(), false, [=](std::size_t n, double h, bool observe) {
-                                 return with_compact_stepper(spec, sys, h, {}, [&](auto& st) {
-                                     return run_stepper(st, orbit.at(0.0), n, observe,
-                                                        [&](const phase_state<2>& y) { return sys.energy(y); });
-                                 });
-                             }});
+        b.methods.push_back(
+            {spec.label(), spec.order(), false, [=](std::size_t n, double h, bool observe) {
+                 return with_compact_stepper(spec, sys, h, {}, [&](auto& st) {
+                     return run_stepper(st, orbit.at(0.0), n, observe,
+                                        [&](const phase_state<2>& y) { return sys.energy(y); });
+                 });
+             }});
     }
     const auto x0 = orbit.at(0.0);
     add_odeint_methods<2>(

@@ -12,10 +12,10 @@ namespace varsym::cli {
 
 /// What one run of a method produced.
 struct bench_run {
-    Eigen::VectorXd q, p;        ///< the final state
-    double energy_error = 0.0;   ///< max |H_j − H_0|/|H_0| over the steps (observed runs only)
-    double newton_mean = 0.0;    ///< mean Newton iterations per step (0 for explicit methods)
-    double seconds = 0.0;        ///< time spent stepping (not constructing, not observing)
+    Eigen::VectorXd q, p;      ///< the final state
+    double energy_error = 0.0; ///< max |H_j − H_0|/|H_0| over the steps (observed runs only)
+    double newton_mean = 0.0;  ///< mean Newton iterations per step (0 for explicit methods)
+    double seconds = 0.0;      ///< time spent stepping (not constructing, not observing)
 };
 
 struct bench_method {

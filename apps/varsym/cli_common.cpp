@@ -91,7 +91,8 @@ output_file::output_file(const std::string& path, std::uint64_t keep) : path_(pa
     if (::truncate(part.c_str(), static_cast<off_t>(keep)) != 0)
         throw std::runtime_error("cannot truncate '" + part + "': " + std::strerror(errno));
     f_ = std::fopen(part.c_str(), "a");
-    if (f_ == nullptr) throw std::runtime_error("cannot write '" + part + "': " + std::strerror(errno));
+    if (f_ == nullptr)
+        throw std::runtime_error("cannot write '" + part + "': " + std::strerror(errno));
     bytes_ = keep;
     keep_ = true; // an interrupted resumed run keeps its rows for the next resume
 }
@@ -110,8 +111,8 @@ output_file::~output_file() {
 void output_file::write(const std::string& s) {
     bytes_ += s.size();
     if (std::fwrite(s.data(), 1, s.size(), f_) != s.size() || std::fflush(f_) != 0)
-        throw std::runtime_error("cannot write '" + (is_stdout() ? std::string("standard output")
-                                                                 : path_.string()) +
+        throw std::runtime_error("cannot write '" +
+                                 (is_stdout() ? std::string("standard output") : path_.string()) +
                                  "': " + std::strerror(errno));
 }
 

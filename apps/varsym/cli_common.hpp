@@ -45,7 +45,7 @@ void append_number(std::string& line, double v);
 /// keep_partial() was called (a run that failed mid-way keeps its rows for inspection).
 /// An existing FILE is untouched until commit().
 class output_file {
-public:
+  public:
     explicit output_file(const std::string& path);
     /// Continues FILE.part of an interrupted run: truncates it to its first `keep` bytes (the
     /// rows a checkpoint covers) and appends from there. Refuses a missing or shorter file.
@@ -65,7 +65,7 @@ public:
     void commit();
     void keep_partial() { keep_ = true; }
 
-private:
+  private:
     std::filesystem::path path_;
     std::FILE* f_ = nullptr;
     bool committed_ = false;

@@ -16,8 +16,9 @@ namespace {
 
 struct bench_options {
     std::vector<std::string> problems{"pendulum", "kepler"};
-    std::vector<std::string> schemes{"newmark", "simpson", "lobatto-3", "lobatto-4", "lobatto-5",
-                                     "lobatto-6", "gauss-2", "gauss-3", "gauss-4", "gauss-5", "gauss-6"};
+    std::vector<std::string> schemes{"newmark",   "simpson",   "lobatto-3", "lobatto-4",
+                                     "lobatto-5", "lobatto-6", "gauss-2",   "gauss-3",
+                                     "gauss-4",   "gauss-5",   "gauss-6"};
     std::vector<int> steps{25, 50, 100, 200, 400, 800};
     std::vector<int> kepler_steps{100, 200, 400, 800, 1600, 3200};
     double periods = 1000;
@@ -42,7 +43,8 @@ std::string peer_of(const bench_method& m) {
     return m.order == 2 ? "odeint-velocity_verlet" : "odeint-sb3a_mclachlan";
 }
 
-std::vector<row> measure(const bench_problem& b, const std::vector<int>& steps, double periods, int reps) {
+std::vector<row> measure(const bench_problem& b, const std::vector<int>& steps, double periods,
+                         int reps) {
     std::vector<row> rows;
     for (const bench_method& m : b.methods)
         for (int n_per : steps) {
@@ -56,7 +58,8 @@ std::vector<row> measure(const bench_problem& b, const std::vector<int>& steps, 
             r.energy_error = observed.energy_error;
             r.newton = observed.newton_mean;
             std::vector<double> ns;
-            for (int i = 0; i < reps; ++i) ns.push_back(1e9 * m.run(n, h, false).seconds / static_cast<double>(n));
+            for (int i = 0; i < reps; ++i)
+                ns.push_back(1e9 * m.run(n, h, false).seconds / static_cast<double>(n));
             std::sort(ns.begin(), ns.end());
             r.ns = ns[ns.size() / 2];
             r.us_period = 1e-3 * r.ns * n_per;
@@ -79,8 +82,9 @@ std::string csv(const std::vector<row>& rows) {
     char buf[400];
     for (const row& r : rows) {
         std::snprintf(buf, sizeof buf, "%s,%s,%d,%d,%.4e,%.4e,%.1f,%.3f,%.2f,%s,%.3f,%.3e\n",
-                      r.problem.c_str(), r.method.c_str(), r.order, r.steps, r.error, r.energy_error,
-                      r.ns, r.us_period, r.newton, r.peer.c_str(), r.ns_ratio, r.error_ratio);
+                      r.problem.c_str(), r.method.c_str(), r.order, r.steps, r.error,
+                      r.energy_error, r.ns, r.us_period, r.newton, r.peer.c_str(), r.ns_ratio,
+                      r.error_ratio);
         s += buf;
     }
     return s;
@@ -88,12 +92,14 @@ std::string csv(const std::vector<row>& rows) {
 
 std::string text(const std::vector<row>& rows, const bench_options& o) {
     char buf[400];
-    std::snprintf(buf, sizeof buf,
-                  "Pendulum: q0 = pi/2, omega = 2 pi, %g nonlinear periods; Kepler: e = 0.6, a = 1, %g orbits.\n"
-                  "error: final max(|dq|, |dp|/omega) (Kepler: max(|dq|, |dp|)); dE: max relative energy\n"
-                  "error; ns/step: median of %d timed runs after a warm-up; ratios to the peer (odeint's\n"
-                  "stepper of the same order, or its best 4th-order one, sb3a_mclachlan).\n",
-                  o.periods, o.orbits, o.repetitions);
+    std::snprintf(
+        buf, sizeof buf,
+        "Pendulum: q0 = pi/2, omega = 2 pi, %g nonlinear periods; Kepler: e = 0.6, a = 1, %g "
+        "orbits.\n"
+        "error: final max(|dq|, |dp|/omega) (Kepler: max(|dq|, |dp|)); dE: max relative energy\n"
+        "error; ns/step: median of %d timed runs after a warm-up; ratios to the peer (odeint's\n"
+        "stepper of the same order, or its best 4th-order one, sb3a_mclachlan).\n",
+        o.periods, o.orbits, o.repetitions);
     std::string s = buf;
     std::string problem;
     for (const row& r : rows) {
@@ -109,9 +115,10 @@ std::string text(const std::vector<row>& rows, const bench_options& o) {
             std::snprintf(ns_ratio, sizeof ns_ratio, "%.3f", r.ns_ratio);
             std::snprintf(error_ratio, sizeof error_ratio, "%.2e", r.error_ratio);
         }
-        std::snprintf(buf, sizeof buf, "%-9s %-25s %5d %5d %10.3e %10.3e %9.1f %10.2f %6.2f %9s %10s\n",
-                      r.problem.c_str(), r.method.c_str(), r.order, r.steps, r.error, r.energy_error, r.ns,
-                      r.us_period, r.newton, ns_ratio, error_ratio);
+        std::snprintf(buf, sizeof buf,
+                      "%-9s %-25s %5d %5d %10.3e %10.3e %9.1f %10.2f %6.2f %9s %10s\n",
+                      r.problem.c_str(), r.method.c_str(), r.order, r.steps, r.error,
+                      r.energy_error, r.ns, r.us_period, r.newton, ns_ratio, error_ratio);
         s += buf;
     }
     return s;
@@ -126,7 +133,8 @@ figure work_precision(const std::vector<row>& rows, const std::vector<std::strin
                          "set logscale xy\nset format y '10^{%L}'\nset format x '10^{%L}'\n"
                          "set key outside bottom center horizontal maxrows 5 font ',9' noenhanced\n"
                          "set xlabel 'CPU time per period [us]'\nset ylabel 'final error'\n"
-                         "set multiplot layout 1," + std::to_string(panels) + "\n";
+                         "set multiplot layout 1," +
+                         std::to_string(panels) + "\n";
     for (const std::string& p : problems) {
         std::string data, names;
         std::string method;
@@ -162,7 +170,8 @@ void bench(const bench_options& o) {
     for (const std::string& p : o.problems) {
         const bool pendulum = p == "pendulum";
         const bench_problem b = pendulum ? pendulum_bench(o.schemes) : kepler_bench(o.schemes);
-        const auto r = measure(b, pendulum ? o.steps : o.kepler_steps, pendulum ? o.periods : o.orbits, o.repetitions);
+        const auto r = measure(b, pendulum ? o.steps : o.kepler_steps,
+                               pendulum ? o.periods : o.orbits, o.repetitions);
         rows.insert(rows.end(), r.begin(), r.end());
         problems.push_back(p);
     }
@@ -177,21 +186,23 @@ void bench(const bench_options& o) {
 void add_bench_command(CLI::App& app, action& todo) {
     auto o = std::make_shared<bench_options>();
     auto* cmd = app.add_subcommand(
-        "bench", "Work-precision benchmark: varsym's schemes against Boost.Odeint's symplectic steppers");
-    cmd->footer("\nOne process runs every method on the same problems and step counts: the pendulum\n"
-                "(q0 = pi/2, omega = 2 pi, m = 1) over --periods nonlinear periods and the Kepler orbit\n"
-                "(e = 0.6) over --orbits orbits. For each method and N it reports the final error\n"
-                "against the exact solution, the max relative energy error, ns per step (median of\n"
-                "--repetitions timed runs after one observed run that also warms up), mean Newton\n"
-                "iterations per step, and ratios of ns/step and error to odeint's stepper of the same\n"
-                "order. Times are for this machine at this moment: compare ratios, not absolute times.\n"
-                "Odeint's steppers: velocity_verlet (order 2), symplectic_rkn_sb3a_mclachlan and\n"
-                "symplectic_rkn_sb3a_m4_mclachlan (order 4). On Kepler the Lobatto and Gauss members\n"
-                "run on the general engine with hand derivatives.\n\n"
-                "Examples:\n"
-                "  varsym bench                                  # everything (a few minutes)\n"
-                "  varsym bench --problems pendulum --plot wp.png --format csv -o wp-table.csv\n"
-                "  varsym bench --schemes simpson,gauss-4 --steps 50,100 --periods 100 --repetitions 3\n");
+        "bench",
+        "Work-precision benchmark: varsym's schemes against Boost.Odeint's symplectic steppers");
+    cmd->footer(
+        "\nOne process runs every method on the same problems and step counts: the pendulum\n"
+        "(q0 = pi/2, omega = 2 pi, m = 1) over --periods nonlinear periods and the Kepler orbit\n"
+        "(e = 0.6) over --orbits orbits. For each method and N it reports the final error\n"
+        "against the exact solution, the max relative energy error, ns per step (median of\n"
+        "--repetitions timed runs after one observed run that also warms up), mean Newton\n"
+        "iterations per step, and ratios of ns/step and error to odeint's stepper of the same\n"
+        "order. Times are for this machine at this moment: compare ratios, not absolute times.\n"
+        "Odeint's steppers: velocity_verlet (order 2), symplectic_rkn_sb3a_mclachlan and\n"
+        "symplectic_rkn_sb3a_m4_mclachlan (order 4). On Kepler the Lobatto and Gauss members\n"
+        "run on the general engine with hand derivatives.\n\n"
+        "Examples:\n"
+        "  varsym bench                                  # everything (a few minutes)\n"
+        "  varsym bench --problems pendulum --plot wp.png --format csv -o wp-table.csv\n"
+        "  varsym bench --schemes simpson,gauss-4 --steps 50,100 --periods 100 --repetitions 3\n");
     cmd->add_option("--problems", o->problems, "pendulum and/or kepler")
         ->check(CLI::IsMember({"pendulum", "kepler"}))
         ->delimiter(',')
@@ -199,19 +210,32 @@ void add_bench_command(CLI::App& app, action& todo) {
     cmd->add_option("--schemes", o->schemes, "varsym schemes: newmark, simpson, lobatto-s, gauss-s")
         ->delimiter(',')
         ->capture_default_str();
-    cmd->add_option("--steps", o->steps, "Pendulum: steps per period N")->check(positive_integer)->delimiter(',')->capture_default_str();
+    cmd->add_option("--steps", o->steps, "Pendulum: steps per period N")
+        ->check(positive_integer)
+        ->delimiter(',')
+        ->capture_default_str();
     cmd->add_option("--kepler-steps", o->kepler_steps, "Kepler: steps per orbit")
         ->check(positive_integer)
         ->delimiter(',')
         ->capture_default_str();
-    cmd->add_option("--periods", o->periods, "Pendulum periods per run")->check(positive_number)->capture_default_str();
-    cmd->add_option("--orbits", o->orbits, "Kepler orbits per run")->check(positive_number)->capture_default_str();
-    cmd->add_option("--repetitions", o->repetitions, "Timed runs per method and N (the median is reported)")
+    cmd->add_option("--periods", o->periods, "Pendulum periods per run")
+        ->check(positive_number)
+        ->capture_default_str();
+    cmd->add_option("--orbits", o->orbits, "Kepler orbits per run")
+        ->check(positive_number)
+        ->capture_default_str();
+    cmd->add_option("--repetitions", o->repetitions,
+                    "Timed runs per method and N (the median is reported)")
         ->check(positive_integer)
         ->capture_default_str();
-    cmd->add_option("--format", o->format, "text or csv")->check(CLI::IsMember({"text", "csv"}))->capture_default_str();
-    cmd->add_option("--output,-o", o->output, "File to write the table to (default: standard output)");
-    cmd->add_option("--plot", o->plot, "Work-precision diagram, .png or .svg (data and gnuplot script kept beside it)");
+    cmd->add_option("--format", o->format, "text or csv")
+        ->check(CLI::IsMember({"text", "csv"}))
+        ->capture_default_str();
+    cmd->add_option("--output,-o", o->output,
+                    "File to write the table to (default: standard output)");
+    cmd->add_option(
+        "--plot", o->plot,
+        "Work-precision diagram, .png or .svg (data and gnuplot script kept beside it)");
     cmd->callback([o, &todo] { todo = [o] { bench(*o); }; });
 }
 

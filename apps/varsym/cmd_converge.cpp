@@ -84,8 +84,9 @@ std::string text_table(const converge_options& o, const scheme_spec& spec, doubl
         }
         s += '\n';
     }
-    std::snprintf(buf, sizeof buf, "%8s   %-20s %-20s %-20s\n", "fitted", format_order(fitted(rs, 0)).c_str(),
-                  format_order(fitted(rs, 1)).c_str(), format_order(fitted(rs, 2)).c_str());
+    std::snprintf(buf, sizeof buf, "%8s   %-20s %-20s %-20s\n", "fitted",
+                  format_order(fitted(rs, 0)).c_str(), format_order(fitted(rs, 1)).c_str(),
+                  format_order(fitted(rs, 2)).c_str());
     return s + buf;
 }
 
@@ -169,15 +170,16 @@ void add_converge_command(CLI::App& app, action& todo) {
     auto o = std::make_shared<converge_options>();
     auto* cmd = app.add_subcommand(
         "converge", "Error table of a scheme at several step counts, with observed orders");
-    cmd->footer(std::string(pendulum_help) +
-                "\nErrors, as in the paper's Table 1: max over all steps of |p_j - p(t_j)|, "
-                "|q_j - q(t_j)|\nand |H_j - H_0|/H_0 against the exact solution. The fitted "
-                "order is the least-squares\nslope over all step counts; round-off (about 1e-15 "
-                "in q) stops it for the highest orders.\n\n"
-                "Examples:\n"
-                "  varsym converge --scheme simpson                         # Table 1's Simpson rows\n"
-                "  varsym converge --scheme gauss --degree 3 --steps 16,32,64,128 --plot conv.png\n"
-                "  varsym converge --scheme lobatto --degree 2 --format csv\n");
+    cmd->footer(
+        std::string(pendulum_help) +
+        "\nErrors, as in the paper's Table 1: max over all steps of |p_j - p(t_j)|, "
+        "|q_j - q(t_j)|\nand |H_j - H_0|/H_0 against the exact solution. The fitted "
+        "order is the least-squares\nslope over all step counts; round-off (about 1e-15 "
+        "in q) stops it for the highest orders.\n\n"
+        "Examples:\n"
+        "  varsym converge --scheme simpson                         # Table 1's Simpson rows\n"
+        "  varsym converge --scheme gauss --degree 3 --steps 16,32,64,128 --plot conv.png\n"
+        "  varsym converge --scheme lobatto --degree 2 --format csv\n");
     cmd->add_option("--model", o->model,
                     "Model: pendulum (the other models run with 'varsym run --model')")
         ->check(CLI::IsMember({"pendulum"}))
@@ -194,10 +196,12 @@ void add_converge_command(CLI::App& app, action& todo) {
     cmd->add_option("--format", o->format, "text or csv (scheme,degree,quantity,steps,error)")
         ->check(CLI::IsMember({"text", "csv"}))
         ->capture_default_str();
-    cmd->add_option("--output,-o", o->output, "File to write the table to (default: standard output)");
-    cmd->add_option("--plot", o->plot,
-                    "Log-log convergence plot, .png or .svg (data and gnuplot script kept beside it); "
-                    "repeat for both formats");
+    cmd->add_option("--output,-o", o->output,
+                    "File to write the table to (default: standard output)");
+    cmd->add_option(
+        "--plot", o->plot,
+        "Log-log convergence plot, .png or .svg (data and gnuplot script kept beside it); "
+        "repeat for both formats");
     cmd->callback([o, &todo] { todo = [o] { converge(*o); }; });
 }
 

@@ -30,17 +30,19 @@ std::string table1_text(const std::vector<paper::table1_row>& rows) {
     const paper::pendulum_case c;
     const double period = pendulum::exact_solution(c.mass, c.omega, c.q0, c.p0).period();
     char buf[200];
-    std::snprintf(buf, sizeof buf,
-                  "Table 1. Errors in the maximum norm over all time steps of one nonlinear period\n"
-                  "T = 4K(k^2)/omega = %.6g s (pendulum, m = %g, omega = 2 pi, q0 = pi/2, p0 = 0).\n\n",
-                  period, c.mass);
+    std::snprintf(
+        buf, sizeof buf,
+        "Table 1. Errors in the maximum norm over all time steps of one nonlinear period\n"
+        "T = 4K(k^2)/omega = %.6g s (pendulum, m = %g, omega = 2 pi, q0 = pi/2, p0 = 0).\n\n",
+        period, c.mass);
     std::string s = buf;
     std::snprintf(buf, sizeof buf, "%-20s %-17s %10s %10s %10s %7s\n", "", "number of meshes", "50",
                   "100", "200", "order");
     s += buf;
     for (const auto& r : rows) {
-        const std::string what =
-            r.what == paper::quantity::energy ? "relative energy" : std::string(quantity_name(r.what));
+        const std::string what = r.what == paper::quantity::energy
+                                     ? "relative energy"
+                                     : std::string(quantity_name(r.what));
         std::snprintf(buf, sizeof buf, "%-20s %-17s %10.2e %10.2e %10.2e %7.1f\n",
                       std::string(scheme_title(r.scheme)).c_str(), what.c_str(), r.errors[0],
                       r.errors[1], r.errors[2], r.order);
@@ -54,16 +56,17 @@ std::string table1_csv(const std::vector<paper::table1_row>& rows) {
     char buf[120];
     for (const auto& r : rows)
         for (std::size_t i = 0; i < r.errors.size(); ++i) {
-            std::snprintf(buf, sizeof buf, "%s,%s,%d,%.6e\n", std::string(scheme_name(r.scheme)).c_str(),
-                          std::string(quantity_name(r.what)).c_str(), paper::table1_steps[i],
-                          r.errors[i]);
+            std::snprintf(
+                buf, sizeof buf, "%s,%s,%d,%.6e\n", std::string(scheme_name(r.scheme)).c_str(),
+                std::string(quantity_name(r.what)).c_str(), paper::table1_steps[i], r.errors[i]);
             s += buf;
         }
     return s;
 }
 
 // The two figures' gnuplot set-up: two stacked panels sharing t, key on the right.
-const std::string paper_preamble = script_preamble(1100, 820) + R"(set key outside right top box opaque Left reverse width 1
+const std::string paper_preamble =
+    script_preamble(1100, 820) + R"(set key outside right top box opaque Left reverse width 1
 set autoscale xfix
 set xlabel 't [s]'
 set lmargin 12
@@ -80,7 +83,8 @@ std::string csv_row(std::initializer_list<double> values) {
 }
 
 // The exact solution sampled `samples_per_period` times per period over `periods`, as t,q,p CSV.
-std::string exact_samples(const pendulum::exact_solution& exact, int periods, int samples_per_period) {
+std::string exact_samples(const pendulum::exact_solution& exact, int periods,
+                          int samples_per_period) {
     std::string data = "t,q,p\n";
     for (int i = 0; i <= periods * samples_per_period; ++i) {
         const double t = exact.period() * i / samples_per_period;
@@ -161,11 +165,13 @@ void add_paper_command(CLI::App& app, action& todo) {
     paper_cmd->require_subcommand(1);
 
     auto* t1 = paper_cmd->add_subcommand(
-        "table1", "Errors of Newmark and Simpson at N = 50, 100, 200 steps per period, with orders");
+        "table1",
+        "Errors of Newmark and Simpson at N = 50, 100, 200 steps per period, with orders");
     auto format = std::make_shared<std::string>("text");
     auto t1_out = std::make_shared<std::string>();
-    t1->add_option("--format", *format, "text (laid out as in the paper) or csv "
-                                        "(scheme,quantity,steps,error)")
+    t1->add_option("--format", *format,
+                   "text (laid out as in the paper) or csv "
+                   "(scheme,quantity,steps,error)")
         ->check(CLI::IsMember({"text", "csv"}))
         ->capture_default_str();
     t1->add_option("--output,-o", *t1_out, "File to write (default: standard output)");
@@ -188,8 +194,9 @@ void add_paper_command(CLI::App& app, action& todo) {
         auto* f = paper_cmd->add_subcommand(name, help);
         f->footer("\nBeside the picture: STEM.csv (data) and STEM.gp (gnuplot script); run "
                   "'gnuplot STEM.gp'\nin that folder to redraw after restyling.");
-        f->add_option("--output,-o", o->outputs,
-                      "Picture to draw, .png or .svg; repeat for both formats (same folder and name)")
+        f->add_option(
+             "--output,-o", o->outputs,
+             "Picture to draw, .png or .svg; repeat for both formats (same folder and name)")
             ->required();
         f->add_option("--periods", o->periods, "Number of periods shown")
             ->check(positive_integer)

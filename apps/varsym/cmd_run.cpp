@@ -30,19 +30,22 @@ struct run_options {
 void check_checkpoint_options(const run_setup& s) {
     if (s.checkpoint.empty()) return;
     if (s.output.empty() || s.output == "-")
-        throw usage_error("--checkpoint needs --output FILE: a resumed run appends its rows to FILE");
+        throw usage_error(
+            "--checkpoint needs --output FILE: a resumed run appends its rows to FILE");
     namespace fs = std::filesystem;
     std::error_code e1, e2;
-    const fs::path a = fs::weakly_canonical(s.checkpoint, e1), b = fs::weakly_canonical(s.output, e2);
-    if (!e1 && !e2 && a == b)
-        throw usage_error("--checkpoint and --output name the same file");
+    const fs::path a = fs::weakly_canonical(s.checkpoint, e1),
+                   b = fs::weakly_canonical(s.output, e2);
+    if (!e1 && !e2 && a == b) throw usage_error("--checkpoint and --output name the same file");
     if (fs::exists(s.checkpoint))
-        throw usage_error("checkpoint '" + s.checkpoint + "' exists: continue its run with 'varsym run --resume " +
-                          s.checkpoint + "', or remove it to start a new run");
+        throw usage_error("checkpoint '" + s.checkpoint +
+                          "' exists: continue its run with 'varsym run --resume " + s.checkpoint +
+                          "', or remove it to start a new run");
     const std::string probe = s.checkpoint + ".tmp";
     std::FILE* f = std::fopen(probe.c_str(), "w");
     if (f == nullptr)
-        throw std::runtime_error("cannot write checkpoint '" + s.checkpoint + "': " + std::strerror(errno));
+        throw std::runtime_error("cannot write checkpoint '" + s.checkpoint +
+                                 "': " + std::strerror(errno));
     std::fclose(f);
     std::remove(probe.c_str());
 }
@@ -54,7 +57,8 @@ bool prepare_resume(run_setup& s, const run_context& ctx) {
     s.output = ctx.resume->output;
     s.checkpoint = ctx.resume_path;
     namespace fs = std::filesystem;
-    if (ctx.resume->step == ctx.resume->steps && !fs::exists(s.output + ".part") && fs::exists(s.output)) {
+    if (ctx.resume->step == ctx.resume->steps && !fs::exists(s.output + ".part") &&
+        fs::exists(s.output)) {
         std::cerr << "varsym: the run of checkpoint '" << ctx.resume_path << "' is complete ("
                   << ctx.resume->steps << " steps); its rows are in " << s.output << '\n';
         return false;
@@ -67,17 +71,19 @@ void check_model_options(const model& chosen, const CLI::App& cmd) {
     for (const model& other : all_models()) {
         if (other.name == chosen.name) continue;
         for (const std::string& opt : other.options) {
-            const bool own = std::find(chosen.options.begin(), chosen.options.end(), opt) != chosen.options.end();
+            const bool own = std::find(chosen.options.begin(), chosen.options.end(), opt) !=
+                             chosen.options.end();
             if (!own && cmd.count(opt) > 0)
-                throw usage_error(opt + " is a parameter of --model " + other.name + ", not of --model " +
-                                  chosen.name + " (see 'varsym models')");
+                throw usage_error(opt + " is a parameter of --model " + other.name +
+                                  ", not of --model " + chosen.name + " (see 'varsym models')");
         }
     }
 }
 
 void run(run_options& o, const CLI::App& cmd, const run_context& ctx) {
     const auto& models = all_models();
-    const auto it = std::find_if(models.begin(), models.end(), [&](const model& m) { return m.name == o.model; });
+    const auto it = std::find_if(models.begin(), models.end(),
+                                 [&](const model& m) { return m.name == o.model; });
     check_model_options(*it, cmd);
     o.setup.spec = make_spec(o.scheme);
     o.setup.by_time = cmd.count("--time") > 0;
@@ -87,18 +93,21 @@ void run(run_options& o, const CLI::App& cmd, const run_context& ctx) {
         if (!prepare_resume(o.setup, ctx)) return;
     } else {
         if (!o.resume.empty())
-            throw usage_error("--resume must be given on the command line, as 'varsym run --resume FILE'");
+            throw usage_error(
+                "--resume must be given on the command line, as 'varsym run --resume FILE'");
         check_checkpoint_options(o.setup);
     }
     // Neither --checkpoint-every nor --checkpoint-seconds (a new or a resumed run): every 60 s.
-    if (!o.setup.checkpoint.empty() && o.setup.checkpoint_every == 0 && o.setup.checkpoint_seconds == 0.0)
+    if (!o.setup.checkpoint.empty() && o.setup.checkpoint_every == 0 &&
+        o.setup.checkpoint_seconds == 0.0)
         o.setup.checkpoint_seconds = 60.0;
     it->run(o.setup);
 }
 
 std::string model_names() {
     std::string names;
-    for (const model& m : all_models()) names += (names.empty() ? "" : ", ") + m.name;
+    for (const model& m : all_models())
+        names += (names.empty() ? "" : ", ") + m.name;
     return names;
 }
 
@@ -107,11 +116,15 @@ std::string model_names() {
 void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
     auto o = std::make_shared<run_options>();
     auto* cmd = app.add_subcommand(
-        "run", "Integrate a model (default: the paper's pendulum) and stream its trajectory as CSV");
+        "run",
+        "Integrate a model (default: the paper's pendulum) and stream its trajectory as CSV");
     std::vector<std::string> names;
-    for (const model& m : all_models()) names.push_back(m.name);
-    cmd->footer(std::string(pendulum_help) + "\n" +
-        "Models (parameters and conserved quantities: 'varsym models'): " + model_names() + ".\n"
+    for (const model& m : all_models())
+        names.push_back(m.name);
+    cmd->footer(
+        std::string(pendulum_help) + "\n" +
+        "Models (parameters and conserved quantities: 'varsym models'): " + model_names() +
+        ".\n"
         "Columns (pendulum: step,t,q,p,energy,q_exact,p_exact): step,t, then q,p for d = 1 or\n"
         "q_1..q_d,p_1..p_d, then energy, the model's conserved quantities by name\n"
         "(angular_momentum, p_phi, p_psi), then the exact solution where the model has one\n"
@@ -119,7 +132,8 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
         "A file given by --output is written as FILE.part and renamed when the run completes;\n"
         "a run whose Newton iteration fails keeps FILE.part with the rows already computed.\n"
         "Long runs: --checkpoint CK writes the complete state (q, p, compensated-summation\n"
-        "carries, step, options) to CK atomically; after a crash or kill, 'varsym run --resume CK'\n"
+        "carries, step, options) to CK atomically; after a crash or kill, 'varsym run --resume "
+        "CK'\n"
         "truncates FILE.part to the rows CK covers and continues: the result is byte-identical\n"
         "to a run that never stopped. A failed step leaves CK (or FILE.ckpt) at the last good\n"
         "state and exits 3 with a safer step size.\n"
@@ -134,25 +148,28 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
         "  varsym run --model heavy-top --scheme gauss --degree 3 --periods 5\n"
         "  varsym run --model double-pendulum --time 20 --steps 20000 --every 100 -o arm.csv\n"
         "  varsym run --config kepler.toml\n"
-        "  varsym run --time 1e5 --steps 100000000 --every 10000 -o long.csv --checkpoint long.ckpt\n"
+        "  varsym run --time 1e5 --steps 100000000 --every 10000 -o long.csv --checkpoint "
+        "long.ckpt\n"
         "  varsym run --resume long.ckpt\n");
     cmd->add_option("--model", o->model, "The system to integrate: " + model_names())
         ->check(CLI::IsMember(names))
         ->capture_default_str();
     add_scheme_options(*cmd, o->scheme);
     run_setup& s = o->setup;
-    auto* spp = cmd->add_option("--steps-per-period", s.steps_per_period,
-                                "Steps per period of the model (pendulum: nonlinear period; kepler: "
-                                "orbit; default: the model's, see 'varsym models')")
-                    ->check(positive_integer);
+    auto* spp =
+        cmd->add_option("--steps-per-period", s.steps_per_period,
+                        "Steps per period of the model (pendulum: nonlinear period; kepler: "
+                        "orbit; default: the model's, see 'varsym models')")
+            ->check(positive_integer);
     auto* periods = cmd->add_option("--periods", s.periods, "Number of periods to integrate")
                         ->check(positive_number)
                         ->capture_default_str();
-    auto* time = cmd->add_option("--time", s.time, "Final time T [s] (with --steps; instead of "
-                                                   "--periods)")
+    auto* time = cmd->add_option("--time", s.time,
+                                 "Final time T [s] (with --steps; instead of "
+                                 "--periods)")
                      ->check(positive_number);
-    auto* steps = cmd->add_option("--steps", s.steps, "Number of steps over --time")
-                      ->check(positive_integer);
+    auto* steps =
+        cmd->add_option("--steps", s.steps, "Number of steps over --time")->check(positive_integer);
     time->needs(steps)->excludes(spp)->excludes(periods);
     steps->needs(time);
     cmd->add_option("--every", s.every,
@@ -160,8 +177,9 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
         ->check(non_negative_integer)
         ->capture_default_str();
     cmd->add_option("--output,-o", s.output, "CSV file to write (default: standard output)");
-    cmd->add_option("--q0", s.q0, "Initial configuration q(0), d values separated by commas "
-                                  "(default: the model's)")
+    cmd->add_option("--q0", s.q0,
+                    "Initial configuration q(0), d values separated by commas "
+                    "(default: the model's)")
         ->check(finite_number)
         ->delimiter(',');
     auto* p0 = cmd->add_option("--p0", s.p0, "Initial momenta p(0) = dL/dqdot, d values")
@@ -171,8 +189,9 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
         ->check(finite_number)
         ->delimiter(',')
         ->excludes(p0);
-    cmd->add_option("--newton-tol", s.newton.tolerance,
-                    "Newton stops when its update is below this times the size of the step's increment")
+    cmd->add_option(
+           "--newton-tol", s.newton.tolerance,
+           "Newton stops when its update is below this times the size of the step's increment")
         ->check(positive_number)
         ->capture_default_str();
     cmd->add_option("--newton-max-iter", s.newton.max_iterations,
@@ -181,7 +200,8 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
         ->capture_default_str();
     cmd->add_flag("--stats", s.stats, "Print Newton iteration statistics to standard error");
     cmd->add_option("--config", o->config, "TOML file of options (see below)");
-    for (const model& m : all_models()) m.add_options(*cmd);
+    for (const model& m : all_models())
+        m.add_options(*cmd);
     auto* ckpt = cmd->add_option("--checkpoint", s.checkpoint,
                                  "Write the run's complete state to FILE (atomically) every "
                                  "--checkpoint-every steps or --checkpoint-seconds (default 60 s), "

@@ -63,7 +63,9 @@ std::vector<std::string> expand_config(const std::vector<std::string>& args, con
         table = toml::parse_file(file);
     } catch (const toml::parse_error& e) {
         const auto line = e.source().begin.line;
-        if (line == 0) throw usage_error("cannot read config file '" + file + "': " + std::string(e.description()));
+        if (line == 0)
+            throw usage_error("cannot read config file '" + file +
+                              "': " + std::string(e.description()));
         throw usage_error(file + ":" + std::to_string(line) + ": " + std::string(e.description()));
     }
     std::vector<std::string> inserted;
@@ -92,7 +94,8 @@ std::vector<std::string> expand_config(const std::vector<std::string>& args, con
             if (!list) throw usage_error(at + ": key '" + name + "' takes one value, not a list");
             for (const toml::node& item : *arr) {
                 const std::string one = scalar_argument(item, type, error);
-                if (!error.empty()) throw usage_error(at + ": key '" + name + "': every entry " + error);
+                if (!error.empty())
+                    throw usage_error(at + ": key '" + name + "': every entry " + error);
                 value += (value.empty() ? "" : ",") + one;
             }
             if (value.empty()) throw usage_error(at + ": key '" + name + "' is an empty list");
@@ -117,7 +120,8 @@ std::string locate(const std::string& message, const config_origins& origins) {
         if (pos == std::string::npos) continue;
         const auto end = pos + option.size();
         // a whole option name, not the prefix of a longer one (--steps vs --steps-per-period)
-        if (end < message.size() && (std::isalnum(static_cast<unsigned char>(message[end])) || message[end] == '-'))
+        if (end < message.size() &&
+            (std::isalnum(static_cast<unsigned char>(message[end])) || message[end] == '-'))
             continue;
         return at + ": key '" + option.substr(2) + "': " + message;
     }

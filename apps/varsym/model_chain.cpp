@@ -31,7 +31,9 @@ model make_chain_model() {
         "  No exact solution, no period: default --time 100 --steps 1000.";
     m.options = {"--n", "--beta", "--amplitude"};
     m.add_options = [par](CLI::App& cmd) {
-        cmd.add_option("--n", par->n, "chain: number of moving masses")->check(positive_integer)->capture_default_str();
+        cmd.add_option("--n", par->n, "chain: number of moving masses")
+            ->check(positive_integer)
+            ->capture_default_str();
         cmd.add_option("--beta", par->beta, "chain: quartic coupling beta")
             ->check(non_negative_number)
             ->capture_default_str();
@@ -41,8 +43,10 @@ model make_chain_model() {
     };
     m.run = [par](const run_setup& s) {
         if (s.spec.kind != scheme_kind::simpson && s.spec.kind != scheme_kind::newmark)
-            throw usage_error("--model chain runs --scheme simpson or newmark (their Newton system is "
-                              "tridiagonal); " + s.spec.label() + " is not offered for it");
+            throw usage_error(
+                "--model chain runs --scheme simpson or newmark (their Newton system is "
+                "tridiagonal); " +
+                s.spec.label() + " is not offered for it");
         if (par->n > 100000000) throw usage_error("--n is at most 1e8");
         const chain::system sys(par->n, par->beta);
         const int d = par->n;

@@ -40,8 +40,9 @@ model make_kepler_model() {
     };
     m.run = [par](const run_setup& s) {
         if (!s.q0.empty() || !s.p0.empty() || !s.v0.empty())
-            throw usage_error("--model kepler starts at pericentre: set the orbit with --eccentricity "
-                              "and --semi-major-axis instead of --q0/--p0/--v0");
+            throw usage_error(
+                "--model kepler starts at pericentre: set the orbit with --eccentricity "
+                "and --semi-major-axis instead of --q0/--p0/--v0");
         const kepler::orbit orbit(par->eccentricity, par->semi_major_axis, par->mu);
         const auto sys = kepler::make_system(par->mu);
         const run_plan plan = plan_steps(s, "kepler", orbit.period(), 200, 0.0, 0);

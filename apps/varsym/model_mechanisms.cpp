@@ -18,15 +18,17 @@ namespace {
 /// through p = dL/dqdot; refuses a singular mass matrix there.
 template <class L>
 phase_state<L::dim> initial_state(const lagrangian_system<L>& sys, const run_setup& s,
-                                  const std::string& names, const vec<L::dim>& q0, const vec<L::dim>& v0) {
+                                  const std::string& names, const vec<L::dim>& q0,
+                                  const vec<L::dim>& v0) {
     constexpr int d = L::dim;
     if (!s.p0.empty() && !s.v0.empty()) throw usage_error("give --p0 or --v0, not both");
     const vec<d> q = initial_vector(s.q0, "--q0", d, names, q0);
     const vec<d> v = initial_vector(s.v0, "--v0", d, "the velocities of " + names, v0);
     try {
         sys.check_regular(q, v);
-        const vec<d> p = s.p0.empty() ? sys.momentum(q, v)
-                                      : vec<d>(initial_vector(s.p0, "--p0", d, "the momenta of " + names, {}));
+        const vec<d> p =
+            s.p0.empty() ? sys.momentum(q, v)
+                         : vec<d>(initial_vector(s.p0, "--p0", d, "the momenta of " + names, {}));
         sys.check_regular(q, sys.velocity(q, p));
         return {q, p};
     } catch (const std::exception& e) {
@@ -58,7 +60,8 @@ model make_double_pendulum_model() {
         "  energy), --v0 (0, 0) or --p0. Conserved: energy. No exact solution, no period:\n"
         "  default --time 10 --steps 10000.";
     m.options = {"--masses", "--lengths", "--gravity", "--joint-stiffness"};
-    auto masses = std::make_shared<std::vector<double>>(), lengths = std::make_shared<std::vector<double>>();
+    auto masses = std::make_shared<std::vector<double>>(),
+         lengths = std::make_shared<std::vector<double>>();
     m.add_options = [par, masses, lengths](CLI::App& cmd) {
         cmd.add_option("--masses", *masses, "double-pendulum: m1,m2 [kg]")
             ->check(positive_number)
@@ -71,7 +74,8 @@ model make_double_pendulum_model() {
         cmd.add_option("--gravity", par->g, "double-pendulum: g [m/s^2]")
             ->check(non_negative_number)
             ->capture_default_str();
-        cmd.add_option("--joint-stiffness", par->k, "double-pendulum: joint spring stiffness k [N m/rad]")
+        cmd.add_option("--joint-stiffness", par->k,
+                       "double-pendulum: joint spring stiffness k [N m/rad]")
             ->check(non_negative_number)
             ->capture_default_str();
     };
@@ -106,19 +110,23 @@ model make_heavy_top_model() {
         "  steps per period.";
     m.options = {"--I1", "--I3", "--mgl"};
     m.add_options = [par](CLI::App& cmd) {
-        cmd.add_option("--I1", par->i1, "heavy-top: moment of inertia about a transverse axis [kg m^2]")
+        cmd.add_option("--I1", par->i1,
+                       "heavy-top: moment of inertia about a transverse axis [kg m^2]")
             ->check(positive_number)
             ->capture_default_str();
-        cmd.add_option("--I3", par->i3, "heavy-top: moment of inertia about the symmetry axis [kg m^2]")
+        cmd.add_option("--I3", par->i3,
+                       "heavy-top: moment of inertia about the symmetry axis [kg m^2]")
             ->check(positive_number)
             ->capture_default_str();
-        cmd.add_option("--mgl", par->mgl, "heavy-top: weight times distance to the centre of mass [J]")
+        cmd.add_option("--mgl", par->mgl,
+                       "heavy-top: weight times distance to the centre of mass [J]")
             ->check(positive_number)
             ->capture_default_str();
     };
     m.run = [par](const run_setup& s) {
         const auto sys = heavy_top::make_system(*par);
-        const auto x0 = initial_state(sys, s, "th, phi, psi", vec<3>{1.0, 0.0, 0.0}, vec<3>{0.0, 0.5, 8.0});
+        const auto x0 =
+            initial_state(sys, s, "th, phi, psi", vec<3>{1.0, 0.0, 0.0}, vec<3>{0.0, 0.5, 8.0});
         const heavy_top::nutation nutation = [&] {
             try {
                 return heavy_top::nutation(*par, x0);
@@ -127,10 +135,11 @@ model make_heavy_top_model() {
             }
         }();
         const run_plan plan = plan_steps(s, "heavy-top", nutation.period(), 100, 10.0, 1000);
-        stream_trajectory<3>(s, plan, x0, ",energy,p_phi,p_psi,q_1_exact", general_runner(s, sys, plan.h),
-                             [&](double t, const phase_state<3>& x, std::string& line) {
-                                 append_values(line, {sys.energy(x), x.p(1), x.p(2), nutation.theta(t)});
-                             });
+        stream_trajectory<3>(
+            s, plan, x0, ",energy,p_phi,p_psi,q_1_exact", general_runner(s, sys, plan.h),
+            [&](double t, const phase_state<3>& x, std::string& line) {
+                append_values(line, {sys.energy(x), x.p(1), x.p(2), nutation.theta(t)});
+            });
     };
     return m;
 }

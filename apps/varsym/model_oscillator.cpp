@@ -15,7 +15,9 @@ Eigen::MatrixXd square_matrix(const std::vector<double>& v, int d, const char* o
     if (n == 1) return v[0] * Eigen::MatrixXd::Identity(d, d);
     if (n == d) return Eigen::Map<const Eigen::VectorXd>(v.data(), d).asDiagonal();
     if (n == d * d)
-        return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(v.data(), d, d);
+        return Eigen::Map<
+            const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(v.data(),
+                                                                                          d, d);
     throw usage_error(std::string(option) + " needs 1, " + std::to_string(d) + " or " +
                       std::to_string(d * d) + " values for --dim " + std::to_string(d) + ", got " +
                       std::to_string(n));
@@ -33,7 +35,8 @@ model make_oscillator_model() {
     auto par = std::make_shared<oscillator_parameters>();
     model m;
     m.name = "oscillator";
-    m.summary = "d-dimensional harmonic oscillator with mass matrix M and stiffness K, exact solution";
+    m.summary =
+        "d-dimensional harmonic oscillator with mass matrix M and stiffness K, exact solution";
     m.description =
         "  L = (1/2) qdot^T M qdot - (1/2) q^T K q, M and K symmetric positive definite.\n"
         "  Parameters: --dim d (2); --mass-matrix and --stiffness-matrix as 1 value (times the\n"
@@ -44,7 +47,9 @@ model make_oscillator_model() {
         "  2 pi / omega_min; default 50 steps per period.";
     m.options = {"--dim", "--mass-matrix", "--stiffness-matrix"};
     m.add_options = [par](CLI::App& cmd) {
-        cmd.add_option("--dim", par->dim, "oscillator: dimension d")->check(positive_integer)->capture_default_str();
+        cmd.add_option("--dim", par->dim, "oscillator: dimension d")
+            ->check(positive_integer)
+            ->capture_default_str();
         cmd.add_option("--mass-matrix", par->mass, "oscillator: M (1, d or d*d values)")
             ->check(finite_number)
             ->delimiter(',');
@@ -54,12 +59,16 @@ model make_oscillator_model() {
     };
     m.run = [par](const run_setup& s) {
         const int d = par->dim;
-        if (d > 10000) throw usage_error("--dim " + std::to_string(d) + " is too large for dense M and K (at most 10000)");
+        if (d > 10000)
+            throw usage_error("--dim " + std::to_string(d) +
+                              " is too large for dense M and K (at most 10000)");
         const double w2 = 4.0 * std::numbers::pi * std::numbers::pi;
         const Eigen::MatrixXd mass = square_matrix(par->mass, d, "--mass-matrix");
         Eigen::MatrixXd k = w2 * Eigen::MatrixXd::Identity(d, d);
-        if (!par->stiffness.empty()) k = square_matrix(par->stiffness, d, "--stiffness-matrix");
-        else if (d == 2) k << 2 * w2, -w2, -w2, 2 * w2;
+        if (!par->stiffness.empty())
+            k = square_matrix(par->stiffness, d, "--stiffness-matrix");
+        else if (d == 2)
+            k << 2 * w2, -w2, -w2, 2 * w2;
         oscillator::system sys = [&] {
             try {
                 return oscillator::make_system(mass, k);
@@ -81,7 +90,8 @@ model make_oscillator_model() {
                 const auto ref = exact.at(t);
                 append_values(line, {sys.energy(x)});
                 for (auto* v : {&ref.q, &ref.p})
-                    for (Eigen::Index i = 0; i < d; ++i) append_values(line, {(*v)(i)});
+                    for (Eigen::Index i = 0; i < d; ++i)
+                        append_values(line, {(*v)(i)});
             });
     };
     return m;

@@ -33,7 +33,8 @@ model make_pendulum_model() {
         paper::pendulum_case c = *par;
         c.q0 = initial_vector(s.q0, "--q0", 1, "the angle q", vec<dynamic>::Constant(1, c.q0))(0);
         if (!s.v0.empty()) c.p0 = c.mass * initial_vector(s.v0, "--v0", 1, "dq/dt", {})(0);
-        c.p0 = initial_vector(s.p0, "--p0", 1, "the momentum p", vec<dynamic>::Constant(1, c.p0))(0);
+        c.p0 =
+            initial_vector(s.p0, "--p0", 1, "the momentum p", vec<dynamic>::Constant(1, c.p0))(0);
         const pendulum::system sys = make_system(c);
         const pendulum::exact_solution exact = make_exact(c);
         const run_plan plan = plan_steps(s, "pendulum", exact.period(), 50, 0.0, 0);

@@ -7,9 +7,9 @@
 namespace varsym::cli {
 
 const std::vector<model>& all_models() {
-    static const std::vector<model> models{make_pendulum_model(),        make_oscillator_model(),
-                                           make_kepler_model(),          make_double_pendulum_model(),
-                                           make_heavy_top_model(),       make_chain_model()};
+    static const std::vector<model> models{make_pendulum_model(),  make_oscillator_model(),
+                                           make_kepler_model(),    make_double_pendulum_model(),
+                                           make_heavy_top_model(), make_chain_model()};
     return models;
 }
 
@@ -19,19 +19,21 @@ constexpr double max_steps = 1e15;
 } // namespace
 
 run_plan plan_steps(const run_setup& s, const std::string& model, double period,
-                    long long default_steps_per_period, double default_time, long long default_steps) {
+                    long long default_steps_per_period, double default_time,
+                    long long default_steps) {
     double count = 0.0; // number of steps, checked against max_steps before it becomes an integer
     double h = 0.0;
     if (s.by_time) {
         count = static_cast<double>(s.steps);
         h = s.time / count;
     } else if (period > 0.0) {
-        const long long spp = s.steps_per_period > 0 ? s.steps_per_period : default_steps_per_period;
+        const long long spp =
+            s.steps_per_period > 0 ? s.steps_per_period : default_steps_per_period;
         const double total = static_cast<double>(spp) * s.periods;
         count = std::round(total);
         if (std::abs(total - count) > 1e-9 * total || count < 1.0)
-            throw usage_error("--periods " + std::to_string(s.periods) + " times --steps-per-period " +
-                              std::to_string(spp) +
+            throw usage_error("--periods " + std::to_string(s.periods) +
+                              " times --steps-per-period " + std::to_string(spp) +
                               " is not a whole number of steps; choose periods so that it is");
         h = period / static_cast<double>(spp);
     } else {

@@ -17,7 +17,7 @@ namespace varsym::cli {
 struct run_setup {
     scheme_spec spec;
     newton_options newton;
-    bool by_time = false;          ///< --time and --steps given (else steps per period)
+    bool by_time = false;           ///< --time and --steps given (else steps per period)
     long long steps_per_period = 0; ///< 0: the model's default
     double periods = 1.0;
     double time = 0.0;
@@ -27,10 +27,10 @@ struct run_setup {
     bool stats = false;
     std::vector<double> q0, p0, v0; ///< initial state; empty: the model's default
     bool periods_given = false;
-    std::string checkpoint;             ///< --checkpoint FILE, or the file of --resume
-    long long checkpoint_every = 0;     ///< checkpoint every this many steps (0: by time only)
-    double checkpoint_seconds = 0.0;    ///< and every this many seconds of wall time (0: never)
-    std::vector<std::string> args;      ///< the run's arguments, kept in its checkpoints
+    std::string checkpoint;          ///< --checkpoint FILE, or the file of --resume
+    long long checkpoint_every = 0;  ///< checkpoint every this many steps (0: by time only)
+    double checkpoint_seconds = 0.0; ///< and every this many seconds of wall time (0: never)
+    std::vector<std::string> args;   ///< the run's arguments, kept in its checkpoints
     std::shared_ptr<const cli::checkpoint> resume; ///< the checkpoint a resumed run continues
 };
 
@@ -61,7 +61,8 @@ struct run_plan {
     double h = 0.0;
 };
 run_plan plan_steps(const run_setup& s, const std::string& model, double period,
-                    long long default_steps_per_period, double default_time, long long default_steps);
+                    long long default_steps_per_period, double default_time,
+                    long long default_steps);
 
 /// The initial vector of `option` (--q0, --p0, --v0): the given values, which must be d of them
 /// (`names` says what they are in the message), or `fallback` when none were given.

@@ -31,7 +31,8 @@ int run_gnuplot(const fs::path& dir, const std::string& script, const std::strin
                 const std::string& fmt, const fs::path& log) {
     const std::string vars = "out='" + out + "'; fmt='" + fmt + "'";
     const pid_t pid = fork();
-    if (pid < 0) throw std::runtime_error(std::string("cannot start gnuplot: ") + std::strerror(errno));
+    if (pid < 0)
+        throw std::runtime_error(std::string("cannot start gnuplot: ") + std::strerror(errno));
     if (pid == 0) {
         const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
         if (fd >= 0) {
@@ -39,11 +40,13 @@ int run_gnuplot(const fs::path& dir, const std::string& script, const std::strin
             ::dup2(fd, STDERR_FILENO);
         }
         if (::chdir(dir.c_str()) != 0) _exit(126);
-        ::execlp("gnuplot", "gnuplot", "-e", vars.c_str(), script.c_str(), static_cast<char*>(nullptr));
+        ::execlp("gnuplot", "gnuplot", "-e", vars.c_str(), script.c_str(),
+                 static_cast<char*>(nullptr));
         _exit(127);
     }
     int status = 0;
-    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
 }
 
@@ -61,10 +64,12 @@ std::string script_preamble(int svg_width, int svg_height) {
     const int png_width = svg_width * 14 / 11, png_height = svg_height * 14 / 11;
     return "set encoding utf8\n"
            "if (fmt eq 'svg') {\n"
-           "  set terminal svg size " + std::to_string(svg_width) + "," + std::to_string(svg_height) +
+           "  set terminal svg size " +
+           std::to_string(svg_width) + "," + std::to_string(svg_height) +
            " dynamic enhanced font 'DejaVu Sans,13' background rgb 'white'\n"
            "} else {\n"
-           "  set terminal pngcairo size " + std::to_string(png_width) + "," + std::to_string(png_height) +
+           "  set terminal pngcairo size " +
+           std::to_string(png_width) + "," + std::to_string(png_height) +
            " enhanced font 'DejaVu Sans,13' background rgb 'white'\n"
            "}\n"
            "set output out\n"
@@ -82,7 +87,8 @@ void check_pictures(const std::vector<std::string>& outputs) {
             throw usage_error("cannot draw '" + o + "': use a .png or .svg file name");
         if (p.parent_path() != first.parent_path() || p.stem() != first.stem())
             throw usage_error("all pictures of one figure must share folder and name, "
-                              "differing only in extension (got '" + o + "')");
+                              "differing only in extension (got '" +
+                              o + "')");
         if (o.find_first_of("'\"") != std::string::npos)
             throw usage_error("cannot draw '" + o + "': quotes in file names are not supported");
     }
@@ -96,15 +102,16 @@ void render_figure(const figure& fig, const std::vector<std::string>& outputs) {
     const fs::path first = fs::absolute(outputs.front());
     const fs::path dir = first.parent_path();
     const std::string stem = first.stem().string();
-    for (const auto& [suffix, content] : fig.data) write_file(dir / (stem + suffix), content);
+    for (const auto& [suffix, content] : fig.data)
+        write_file(dir / (stem + suffix), content);
     const std::string script = stem + ".gp";
     const std::string picture = first.filename().string();
-    write_file(dir / script, "# " + script + ": run  gnuplot " + script + "  in this folder to redraw " +
-                                 picture + ";\n# gnuplot -e \"out='other.svg'\" " + script +
-                                 " draws elsewhere (.png or .svg).\n" +
-                                 "if (!exists(\"out\")) out = '" + picture + "'\n" +
-                                 "if (!exists(\"fmt\")) fmt = out[strlen(out)-2:]\n" +
-                                 "stem = '" + stem + "'\n" + fig.script);
+    write_file(dir / script,
+               "# " + script + ": run  gnuplot " + script + "  in this folder to redraw " +
+                   picture + ";\n# gnuplot -e \"out='other.svg'\" " + script +
+                   " draws elsewhere (.png or .svg).\n" + "if (!exists(\"out\")) out = '" +
+                   picture + "'\n" + "if (!exists(\"fmt\")) fmt = out[strlen(out)-2:]\n" +
+                   "stem = '" + stem + "'\n" + fig.script);
     for (const auto& o : outputs) {
         const fs::path p = fs::absolute(o);
         const std::string name = p.filename().string();
@@ -114,8 +121,9 @@ void render_figure(const figure& fig, const std::vector<std::string>& outputs) {
         if (rc != 0) {
             std::error_code ec;
             fs::remove(dir / part, ec);
-            const std::string why = rc == 127 ? "gnuplot not found; install gnuplot-nox (make run does)"
-                                              : "gnuplot failed: " + first_line(log);
+            const std::string why = rc == 127
+                                        ? "gnuplot not found; install gnuplot-nox (make run does)"
+                                        : "gnuplot failed: " + first_line(log);
             fs::remove(log, ec);
             throw std::runtime_error("cannot draw '" + o + "': " + why);
         }

@@ -15,7 +15,8 @@ void add_pendulum_options(CLI::App& cmd, pendulum_options& o) {
     cmd.add_option("--mass", o.mass, "Moment of inertia m [kg m^2]")
         ->check(positive_number)
         ->capture_default_str();
-    cmd.add_option("--omega", o.omega, "Small-oscillation angular frequency omega [rad/s] (default 2 pi)")
+    cmd.add_option("--omega", o.omega,
+                   "Small-oscillation angular frequency omega [rad/s] (default 2 pi)")
         ->check(positive_number)
         ->capture_default_str();
     cmd.add_option("--q0", o.q0, "Initial angle q(0) [rad] (default pi/2)")

@@ -18,7 +18,7 @@ namespace varsym {
 /// Thrown when a step's Newton iteration does not converge. The state passed to integrate()
 /// is left at the last good step (index step − 1, time t_from).
 class step_failure : public std::runtime_error {
-public:
+  public:
     step_failure(std::size_t step, double t_from, double t_to, const newton_report& rep)
         : std::runtime_error(describe(step, t_from, t_to, rep) + "; use a smaller time step"),
           step_(step), time_(t_from), time_to_(t_to), report_(rep) {}
@@ -30,7 +30,7 @@ public:
         return describe(step_, time_, time_to_, report_);
     }
 
-private:
+  private:
     static std::string describe(std::size_t step, double t0, double t1, const newton_report& r) {
         char buf[320];
         std::snprintf(buf, sizeof buf,
@@ -52,7 +52,8 @@ struct run_summary {
     long long newton_iterations = 0;
     int newton_iterations_max = 0;
     [[nodiscard]] double mean_newton_iterations() const {
-        return steps == 0 ? 0.0 : static_cast<double>(newton_iterations) / static_cast<double>(steps);
+        return steps == 0 ? 0.0
+                          : static_cast<double>(newton_iterations) / static_cast<double>(steps);
     }
 };
 

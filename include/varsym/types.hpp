@@ -9,7 +9,9 @@ namespace varsym {
 inline constexpr int dynamic = Eigen::Dynamic;
 
 /// Size of a block of `k` copies of a `d`-vector, staying Dynamic when d is.
-constexpr int blocks(int k, int d) { return d == dynamic ? dynamic : k * d; }
+constexpr int blocks(int k, int d) {
+    return d == dynamic ? dynamic : k * d;
+}
 
 template <int D>
 using vec = Eigen::Matrix<double, D, 1>;

@@ -36,7 +36,9 @@ TEST(AutoDiff, DoublePendulumMassMatrix) {
     EXPECT_NEAR(t.lvv(1, 1), 2.0 * 0.25, 1e-14);
     EXPECT_EQ(t.lvv(0, 1), t.lvv(1, 0));
     // ∂L/∂θ₂ = m₂ℓ₁ℓ₂θ̇₁θ̇₂ sin(θ₁−θ₂) − m₂gℓ₂ sin θ₂
-    EXPECT_NEAR(t.lq(1), 2.0 * 1.5 * 0.5 * 0.3 * 0.1 * std::sin(1.1) - 2.0 * 9.81 * 0.5 * std::sin(-0.2), 1e-13);
+    EXPECT_NEAR(t.lq(1),
+                2.0 * 1.5 * 0.5 * 0.3 * 0.1 * std::sin(1.1) - 2.0 * 9.81 * 0.5 * std::sin(-0.2),
+                1e-13);
 }
 
 TEST(AutoDiff, HeavyTopClosedForms) {

@@ -37,11 +37,21 @@ void* operator new(std::size_t n) {
     if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
     throw std::bad_alloc();
 }
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void* operator new[](std::size_t n) {
+    return operator new(n);
+}
+void operator delete(void* p) noexcept {
+    std::free(p);
+}
+void operator delete[](void* p) noexcept {
+    std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+    std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+    std::free(p);
+}
 
 using namespace varsym;
 
@@ -55,7 +65,8 @@ long allocations_in_steps(Stepper& stepper, phase_state<D> x) {
     const long before = allocations.load();
     Eigen::internal::set_is_malloc_allowed(false);
     try {
-        for (int j = 0; j < 1000; ++j) EXPECT_TRUE(stepper.step(x).converged);
+        for (int j = 0; j < 1000; ++j)
+            EXPECT_TRUE(stepper.step(x).converged);
     } catch (...) {
         Eigen::internal::set_is_malloc_allowed(true);
         throw;

@@ -42,7 +42,8 @@ double state_error(rule_kind kind, int s, int steps_per_period) {
 
 double measured_order(rule_kind kind, int s, const std::vector<double>& steps) {
     std::vector<double> errors;
-    for (double n : steps) errors.push_back(state_error(kind, s, static_cast<int>(n)));
+    for (double n : steps)
+        errors.push_back(state_error(kind, s, static_cast<int>(n)));
     return fitted_order(steps, errors);
 }
 
@@ -52,14 +53,16 @@ TEST(FamilyOrders, Lobatto) {
     const std::vector<std::vector<double>> windows = {
         {64, 128, 256}, {64, 128, 256}, {48, 64, 96, 128}, {24, 32, 48, 64}};
     for (int s = 1; s <= 4; ++s)
-        EXPECT_NEAR(measured_order(rule_kind::lobatto, s, windows[s - 1]), 2 * s, 0.15) << "s = " << s;
+        EXPECT_NEAR(measured_order(rule_kind::lobatto, s, windows[s - 1]), 2 * s, 0.15)
+            << "s = " << s;
 }
 
 TEST(FamilyOrders, Gauss) {
     const std::vector<std::vector<double>> windows = {
         {64, 128, 256}, {64, 128, 256}, {32, 48, 64, 96, 128}, {24, 32, 48, 64}};
     for (int s = 1; s <= 4; ++s)
-        EXPECT_NEAR(measured_order(rule_kind::gauss, s, windows[s - 1]), 2 * s, 0.15) << "s = " << s;
+        EXPECT_NEAR(measured_order(rule_kind::gauss, s, windows[s - 1]), 2 * s, 0.15)
+            << "s = " << s;
 }
 
 TEST(FamilyOrders, HighestDegreesReachTheRoundOffFloor) {

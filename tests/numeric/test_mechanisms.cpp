@@ -74,7 +74,8 @@ TEST(DoublePendulum, SimpsonOrderFourByStepHalving) {
     std::array<double, 3> err{};
     for (std::size_t i = 0; i < steps.size(); ++i) {
         const auto x = arm_at(1.0, static_cast<int>(steps[i]));
-        err[i] = std::max((x.q - ref.q).lpNorm<Eigen::Infinity>(), (x.p - ref.p).lpNorm<Eigen::Infinity>());
+        err[i] = std::max((x.q - ref.q).lpNorm<Eigen::Infinity>(),
+                          (x.p - ref.p).lpNorm<Eigen::Infinity>());
     }
     EXPECT_NEAR(fitted_order(steps, err), 4.0, 0.2);
 }
@@ -142,8 +143,9 @@ TEST(Chain, TridiagonalNewtonMatchesDense) {
     for (int j = 0; j < 200; ++j) {
         ASSERT_TRUE(s1.step(a).converged && s2.step(b).converged);
         ASSERT_TRUE(n1.step(c).converged && n2.step(d).converged);
-        worst = std::max({worst, (a.q - b.q).lpNorm<Eigen::Infinity>(), (a.p - b.p).lpNorm<Eigen::Infinity>(),
-                          (c.q - d.q).lpNorm<Eigen::Infinity>(), (c.p - d.p).lpNorm<Eigen::Infinity>()});
+        worst = std::max(
+            {worst, (a.q - b.q).lpNorm<Eigen::Infinity>(), (a.p - b.p).lpNorm<Eigen::Infinity>(),
+             (c.q - d.q).lpNorm<Eigen::Infinity>(), (c.p - d.p).lpNorm<Eigen::Infinity>()});
     }
     EXPECT_LE(worst, 1e-13);
 }

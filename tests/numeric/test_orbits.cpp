@@ -31,7 +31,8 @@ double kepler_error(const scheme_spec& spec, int n, int orbits) {
         return 0;
     });
     const auto ref = paper_orbit.at(orbits * paper_orbit.period());
-    return std::max((x.q - ref.q).lpNorm<Eigen::Infinity>(), (x.p - ref.p).lpNorm<Eigen::Infinity>());
+    return std::max((x.q - ref.q).lpNorm<Eigen::Infinity>(),
+                    (x.p - ref.p).lpNorm<Eigen::Infinity>());
 }
 
 } // namespace
@@ -101,8 +102,8 @@ TEST(Kepler, OrdersTwoAndFour) {
         std::array<double, 3> err{};
         for (std::size_t i = 0; i < steps.size(); ++i)
             err[i] = kepler_error(spec, static_cast<int>(steps[i]), 10);
-        RecordProperty(spec.label() + "_errors", test::sci(err[0]) + " " + test::sci(err[1]) +
-                                                     " " + test::sci(err[2]));
+        RecordProperty(spec.label() + "_errors",
+                       test::sci(err[0]) + " " + test::sci(err[1]) + " " + test::sci(err[2]));
         EXPECT_NEAR(fitted_order(steps, err), order, 0.15) << spec.label();
     }
 }
@@ -142,7 +143,8 @@ TEST(Oscillator, SimpsonOrderFour) {
         simpson::stepper s(sys, ex.period() / steps[i]);
         integrate(s, x, 0.0, static_cast<std::size_t>(steps[i]), [](auto, auto, const auto&) {});
         const auto ref = ex.at(ex.period());
-        err[i] = std::max((x.q - ref.q).lpNorm<Eigen::Infinity>(), (x.p - ref.p).lpNorm<Eigen::Infinity>());
+        err[i] = std::max((x.q - ref.q).lpNorm<Eigen::Infinity>(),
+                          (x.p - ref.p).lpNorm<Eigen::Infinity>());
     }
     EXPECT_NEAR(fitted_order(steps, err), 4.0, 0.15);
 }

@@ -21,7 +21,8 @@ namespace {
 constexpr double tol = 1e-10;
 
 template <class Stepper>
-double defect(const typename Stepper::system_type& sys, double h, const phase_state<Stepper::dim>& x) {
+double defect(const typename Stepper::system_type& sys, double h,
+              const phase_state<Stepper::dim>& x) {
     auto step = [&](phase_state<Stepper::dim>& y) {
         Stepper s(sys, h);
         if (!s.step(y).converged) throw std::runtime_error("step did not converge");
@@ -34,8 +35,10 @@ double defect(const typename Stepper::system_type& sys, double h, const phase_st
 TEST(Symplecticity, PendulumBothSchemesSeveralStatesAndSteps) {
     const auto sys = pendulum::make_system(1.0, 2 * pi);
     using sys_t = decltype(sys);
-    const phase_state<1> states[] = {{vec<1>{pi / 2}, vec<1>{0.0}}, {vec<1>{0.3}, vec<1>{-2.0}},
-                                     {vec<1>{2.5}, vec<1>{1.0}},    {vec<1>{-1.0}, vec<1>{5.0}},
+    const phase_state<1> states[] = {{vec<1>{pi / 2}, vec<1>{0.0}},
+                                     {vec<1>{0.3}, vec<1>{-2.0}},
+                                     {vec<1>{2.5}, vec<1>{1.0}},
+                                     {vec<1>{-1.0}, vec<1>{5.0}},
                                      {vec<1>{3.0}, vec<1>{9.0}}};
     for (double h : {0.118, 0.0236, 0.0059}) {
         for (const auto& x : states) {

@@ -7,9 +7,9 @@
 
 #include "varsym/problems/pendulum.hpp"
 
+using std::numbers::pi;
 using varsym::pendulum::exact_solution;
 using varsym::pendulum::regime;
-using std::numbers::pi;
 
 namespace {
 
@@ -20,8 +20,8 @@ struct case_t {
 // Libration (paper's case, a generic one, one near the separatrix, one shifted by 2π·3),
 // rotation both ways, all with distinct m and ω.
 const case_t cases[] = {
-    {1.0, 2 * pi, pi / 2, 0.0},  {2.5, 1.3, 0.3, -2.0},     {0.7, 3.0, 3.0, 0.1},
-    {1.0, 2 * pi, pi / 2 + 6 * pi, 1.0}, {1.5, 2.0, 0.5, 7.0}, {1.5, 2.0, -1.0, -9.0},
+    {1.0, 2 * pi, pi / 2, 0.0},          {2.5, 1.3, 0.3, -2.0}, {0.7, 3.0, 3.0, 0.1},
+    {1.0, 2 * pi, pi / 2 + 6 * pi, 1.0}, {1.5, 2.0, 0.5, 7.0},  {1.5, 2.0, -1.0, -9.0},
 };
 
 double max_abs_derivative_scale(const case_t& c, const exact_solution& e) {
@@ -72,7 +72,8 @@ TEST(PendulumExact, SatisfiesHamiltonsEquationsByFiniteDifferences) {
             }
             const auto x = e.at(t);
             EXPECT_NEAR(dq, x.p(0) / c.m, 1e-12 * scale) << "t = " << t;
-            EXPECT_NEAR(dp, -c.m * c.omega * c.omega * std::sin(x.q(0)), 1e-12 * scale) << "t = " << t;
+            EXPECT_NEAR(dp, -c.m * c.omega * c.omega * std::sin(x.q(0)), 1e-12 * scale)
+                << "t = " << t;
         }
     }
 }
@@ -89,7 +90,9 @@ TEST(PendulumExact, PeriodMatchesQuadratureOfThePeriodIntegral) {
             const double k2 = e.modulus() * e.modulus();
             t_quad = 4.0 / c.omega *
                      gauss_kronrod<double, 61>::integrate(
-                         [&](double phi) { return 1.0 / std::sqrt(1.0 - k2 * std::sin(phi) * std::sin(phi)); },
+                         [&](double phi) {
+                             return 1.0 / std::sqrt(1.0 - k2 * std::sin(phi) * std::sin(phi));
+                         },
                          0.0, pi / 2, 15, 1e-15);
         } else {
             const double energy = e.energy();
@@ -128,10 +131,10 @@ TEST(PendulumExact, RestStaysAtRest) {
 }
 
 TEST(PendulumExact, SeparatrixAndBadInputAreRefused) {
-    EXPECT_THROW(exact_solution(1.0, 2.0, pi, 0.0), std::invalid_argument);       // upright
-    EXPECT_THROW(exact_solution(1.0, 2.0, 0.0, 4.0), std::invalid_argument);      // p0 = 2mω
-    EXPECT_THROW(exact_solution(0.0, 2.0, 0.1, 0.0), std::invalid_argument);      // m = 0
-    EXPECT_THROW(exact_solution(1.0, -1.0, 0.1, 0.0), std::invalid_argument);     // ω < 0
+    EXPECT_THROW(exact_solution(1.0, 2.0, pi, 0.0), std::invalid_argument);   // upright
+    EXPECT_THROW(exact_solution(1.0, 2.0, 0.0, 4.0), std::invalid_argument);  // p0 = 2mω
+    EXPECT_THROW(exact_solution(0.0, 2.0, 0.1, 0.0), std::invalid_argument);  // m = 0
+    EXPECT_THROW(exact_solution(1.0, -1.0, 0.1, 0.0), std::invalid_argument); // ω < 0
     EXPECT_THROW(exact_solution(1.0, 2.0, std::nan(""), 0.0), std::invalid_argument);
     try {
         exact_solution(1.0, 2.0, pi, 0.0);

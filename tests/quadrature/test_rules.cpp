@@ -32,7 +32,8 @@ void expect_table(const rule& r, std::vector<std::pair<double, double>> half, bo
 
 double monomial_error(const rule& r, int k) {
     double sum = 0;
-    for (std::size_t i = 0; i < r.size(); ++i) sum += r.weights[i] * std::pow(r.nodes[i], k);
+    for (std::size_t i = 0; i < r.size(); ++i)
+        sum += r.weights[i] * std::pow(r.nodes[i], k);
     return std::abs(sum - 1.0 / (k + 1)); // ∫₀¹ x^k dx = 1/(k+1)
 }
 
@@ -42,21 +43,28 @@ TEST(Quadrature, GaussLegendreTables) {
     expect_table(gauss_legendre(1), {{0.0, 2.0}}, true);
     expect_table(gauss_legendre(2), {{1 / std::sqrt(3.0), 1.0}}, false);
     expect_table(gauss_legendre(3), {{0.0, 8.0 / 9}, {std::sqrt(0.6), 5.0 / 9}}, true);
-    expect_table(gauss_legendre(4), {{0.33998104358485626, 0.65214515486254614},
-                                     {0.86113631159405258, 0.34785484513745386}}, false);
-    expect_table(gauss_legendre(5), {{0.0, 128.0 / 225},
-                                     {0.53846931010568309, 0.47862867049936647},
-                                     {0.90617984593866399, 0.23692688505618909}}, true);
+    expect_table(
+        gauss_legendre(4),
+        {{0.33998104358485626, 0.65214515486254614}, {0.86113631159405258, 0.34785484513745386}},
+        false);
+    expect_table(gauss_legendre(5),
+                 {{0.0, 128.0 / 225},
+                  {0.53846931010568309, 0.47862867049936647},
+                  {0.90617984593866399, 0.23692688505618909}},
+                 true);
 }
 
 TEST(Quadrature, GaussLobattoTables) {
     expect_table(gauss_lobatto(2), {{1.0, 1.0}}, false);
     expect_table(gauss_lobatto(3), {{0.0, 4.0 / 3}, {1.0, 1.0 / 3}}, true);
     expect_table(gauss_lobatto(4), {{1 / std::sqrt(5.0), 5.0 / 6}, {1.0, 1.0 / 6}}, false);
-    expect_table(gauss_lobatto(5), {{0.0, 32.0 / 45}, {std::sqrt(3.0 / 7), 49.0 / 90}, {1.0, 0.1}}, true);
-    expect_table(gauss_lobatto(6), {{0.28523151648064510, 0.55485837703548635},
-                                    {0.76505532392946469, 0.37847495629784698},
-                                    {1.0, 1.0 / 15}}, false);
+    expect_table(gauss_lobatto(5), {{0.0, 32.0 / 45}, {std::sqrt(3.0 / 7), 49.0 / 90}, {1.0, 0.1}},
+                 true);
+    expect_table(gauss_lobatto(6),
+                 {{0.28523151648064510, 0.55485837703548635},
+                  {0.76505532392946469, 0.37847495629784698},
+                  {1.0, 1.0 / 15}},
+                 false);
 }
 
 TEST(Quadrature, ExactUpToTheirDegreeAndNotBeyond) {
@@ -65,14 +73,16 @@ TEST(Quadrature, ExactUpToTheirDegreeAndNotBeyond) {
     // is still far above round-off.
     for (int n = 1; n <= 13; ++n) {
         const auto g = gauss_legendre(n);
-        for (int k = 0; k <= 2 * n - 1; ++k) EXPECT_LT(monomial_error(g, k), 1e-15) << "gauss " << n << " x^" << k;
+        for (int k = 0; k <= 2 * n - 1; ++k)
+            EXPECT_LT(monomial_error(g, k), 1e-15) << "gauss " << n << " x^" << k;
         if (n <= 8) {
             EXPECT_GT(monomial_error(g, 2 * n), 1e-12) << "gauss " << n;
         }
     }
     for (int n = 2; n <= 13; ++n) {
         const auto l = gauss_lobatto(n);
-        for (int k = 0; k <= 2 * n - 3; ++k) EXPECT_LT(monomial_error(l, k), 1e-15) << "lobatto " << n << " x^" << k;
+        for (int k = 0; k <= 2 * n - 3; ++k)
+            EXPECT_LT(monomial_error(l, k), 1e-15) << "lobatto " << n << " x^" << k;
         if (n <= 8) {
             EXPECT_GT(monomial_error(l, 2 * n - 2), 1e-12) << "lobatto " << n;
         }

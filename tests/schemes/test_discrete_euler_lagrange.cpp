@@ -47,9 +47,12 @@ void check_simpson(const System& sys, phase_state<System::dim> x, double h, int 
         ASSERT_TRUE(s.step(x).converged);
         const V ql = before.q, qm = s.last_stage(), qr = x.q;
         const double scale = std::max(1.0, x.p.template lpNorm<Eigen::Infinity>());
-        const V dl = gradient_fd<System::dim>([&](const V& y) { return simpson::discrete_lagrangian(sys, h, y, qm, qr); }, ql, delta);
-        const V dm = gradient_fd<System::dim>([&](const V& y) { return simpson::discrete_lagrangian(sys, h, ql, y, qr); }, qm, delta);
-        const V dr = gradient_fd<System::dim>([&](const V& y) { return simpson::discrete_lagrangian(sys, h, ql, qm, y); }, qr, delta);
+        const V dl = gradient_fd<System::dim>(
+            [&](const V& y) { return simpson::discrete_lagrangian(sys, h, y, qm, qr); }, ql, delta);
+        const V dm = gradient_fd<System::dim>(
+            [&](const V& y) { return simpson::discrete_lagrangian(sys, h, ql, y, qr); }, qm, delta);
+        const V dr = gradient_fd<System::dim>(
+            [&](const V& y) { return simpson::discrete_lagrangian(sys, h, ql, qm, y); }, qr, delta);
         EXPECT_LE((before.p + dl).template lpNorm<Eigen::Infinity>(), tol * scale) << "step " << j;
         EXPECT_LE(dm.template lpNorm<Eigen::Infinity>(), tol * scale) << "step " << j;
         EXPECT_LE((x.p - dr).template lpNorm<Eigen::Infinity>(), tol * scale) << "step " << j;
@@ -65,8 +68,10 @@ void check_newmark(const System& sys, phase_state<System::dim> x, double h, int 
         ASSERT_TRUE(s.step(x).converged);
         const V ql = before.q, qr = x.q;
         const double scale = std::max(1.0, x.p.template lpNorm<Eigen::Infinity>());
-        const V dl = gradient_fd<System::dim>([&](const V& y) { return newmark::discrete_lagrangian(sys, h, y, qr); }, ql, delta);
-        const V dr = gradient_fd<System::dim>([&](const V& y) { return newmark::discrete_lagrangian(sys, h, ql, y); }, qr, delta);
+        const V dl = gradient_fd<System::dim>(
+            [&](const V& y) { return newmark::discrete_lagrangian(sys, h, y, qr); }, ql, delta);
+        const V dr = gradient_fd<System::dim>(
+            [&](const V& y) { return newmark::discrete_lagrangian(sys, h, ql, y); }, qr, delta);
         EXPECT_LE((before.p + dl).template lpNorm<Eigen::Infinity>(), tol * scale) << "step " << j;
         EXPECT_LE((x.p - dr).template lpNorm<Eigen::Infinity>(), tol * scale) << "step " << j;
     }

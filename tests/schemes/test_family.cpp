@@ -48,7 +48,8 @@ TEST(Family, LobattoTwoIsSimpson) {
               1e-13);
     const auto sys = test::coupled_system();
     const phase_state<2> x0{vec<2>{1.0, -0.5}, vec<2>{0.3, 1.2}};
-    EXPECT_LE(max_difference(galerkin::stepper(sys, 0.05, rule_kind::lobatto, 2), simpson::stepper(sys, 0.05), x0, 400),
+    EXPECT_LE(max_difference(galerkin::stepper(sys, 0.05, rule_kind::lobatto, 2),
+                             simpson::stepper(sys, 0.05), x0, 400),
               1e-13);
 }
 
@@ -58,7 +59,8 @@ TEST(Family, GaussOneIsNewmark) {
               1e-13);
     const auto sys = test::coupled_system();
     const phase_state<2> x0{vec<2>{1.0, -0.5}, vec<2>{0.3, 1.2}};
-    EXPECT_LE(max_difference(galerkin::stepper(sys, 0.05, rule_kind::gauss, 1), newmark::stepper(sys, 0.05), x0, 400),
+    EXPECT_LE(max_difference(galerkin::stepper(sys, 0.05, rule_kind::gauss, 1),
+                             newmark::stepper(sys, 0.05), x0, 400),
               1e-13);
 }
 
@@ -88,7 +90,9 @@ TEST(Family, EveryMemberIsSymplectic) {
     const phase_state<2> x2{vec<2>{1.0, -0.5}, vec<2>{0.3, 1.2}};
     for (auto kind : {rule_kind::lobatto, rule_kind::gauss})
         for (int s = 1; s <= galerkin::max_degree; ++s) {
-            auto step1 = [&](phase_state<1>& y) { galerkin::stepper(pendulum_sys, 0.05, kind, s).step(y); };
+            auto step1 = [&](phase_state<1>& y) {
+                galerkin::stepper(pendulum_sys, 0.05, kind, s).step(y);
+            };
             auto step2 = [&](phase_state<2>& y) { galerkin::stepper(sys2, 0.1, kind, s).step(y); };
             EXPECT_LE(symplecticity_defect(tangent_map<1>(step1, x1)), 1e-10) << "d = 1, s = " << s;
             EXPECT_LE(symplecticity_defect(tangent_map<2>(step2, x2)), 1e-10) << "d = 2, s = " << s;
@@ -97,5 +101,6 @@ TEST(Family, EveryMemberIsSymplectic) {
 
 TEST(Family, RefusesBadDegrees) {
     EXPECT_THROW(galerkin::tableau::make(rule_kind::gauss, 0), std::invalid_argument);
-    EXPECT_THROW(galerkin::tableau::make(rule_kind::lobatto, galerkin::max_degree + 1), std::invalid_argument);
+    EXPECT_THROW(galerkin::tableau::make(rule_kind::lobatto, galerkin::max_degree + 1),
+                 std::invalid_argument);
 }

@@ -6,8 +6,8 @@
 
 #include "compare_steppers.hpp"
 #include "test_support.hpp"
-#include "varsym/problems/pendulum.hpp"
 #include "varsym/integrate.hpp"
+#include "varsym/problems/pendulum.hpp"
 #include "varsym/schemes/galerkin.hpp"
 #include "varsym/schemes/newmark.hpp"
 #include "varsym/schemes/simpson.hpp"
@@ -64,7 +64,8 @@ TEST(GeneralEngine, PendulumSameStepsAsSeparablePath) {
         for (int s = 1; s <= 5; ++s) {
             const auto rule = general::family_member({kind, s}).first;
             EXPECT_LE(max_difference(general::stepper(sys, paper_h, {kind, s}),
-                                     galerkin::stepper(pendulum_sys, paper_h, rule, s), paper_x0, 500),
+                                     galerkin::stepper(pendulum_sys, paper_h, rule, s), paper_x0,
+                                     500),
                       1e-13)
                 << scheme_spec(kind, s).label();
         }

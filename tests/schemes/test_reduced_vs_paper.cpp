@@ -42,10 +42,12 @@ TEST(ReducedVsPaper, PendulumTenPeriods) {
     for (int n : {50, 100, 200}) {
         const double h = exact.period() / n;
         const auto steps = static_cast<std::size_t>(10 * n);
-        EXPECT_LE(max_difference(newmark::stepper(sys, h), paper_reference::newmark_stepper(sys, h), x0, steps),
+        EXPECT_LE(max_difference(newmark::stepper(sys, h), paper_reference::newmark_stepper(sys, h),
+                                 x0, steps),
                   1e-13)
             << "newmark, N = " << n;
-        EXPECT_LE(max_difference(simpson::stepper(sys, h), paper_reference::simpson_stepper(sys, h), x0, steps),
+        EXPECT_LE(max_difference(simpson::stepper(sys, h), paper_reference::simpson_stepper(sys, h),
+                                 x0, steps),
                   1e-13)
             << "simpson, N = " << n;
     }
@@ -59,18 +61,24 @@ TEST(ReducedVsPaper, PendulumTenPeriodsCoarse) {
     const auto sys = pendulum::make_system(1.0, 2 * pi);
     const phase_state<1> x0{vec<1>{pi / 2}, vec<1>{0.0}};
     const double h = exact.period() / 10;
-    EXPECT_LE(max_difference(newmark::stepper(sys, h), paper_reference::newmark_stepper(sys, h), x0, 100), 1e-12);
-    EXPECT_LE(max_difference(simpson::stepper(sys, h), paper_reference::simpson_stepper(sys, h), x0, 100), 1e-12);
+    EXPECT_LE(
+        max_difference(newmark::stepper(sys, h), paper_reference::newmark_stepper(sys, h), x0, 100),
+        1e-12);
+    EXPECT_LE(
+        max_difference(simpson::stepper(sys, h), paper_reference::simpson_stepper(sys, h), x0, 100),
+        1e-12);
 }
 
 TEST(ReducedVsPaper, RotatingPendulum) {
     const auto sys = pendulum::make_system(1.5, 2.0);
     const phase_state<1> x0{vec<1>{0.5}, vec<1>{7.0}};
     const double h = 0.02;
-    EXPECT_LE(max_difference(simpson::stepper(sys, h), paper_reference::simpson_stepper(sys, h), x0, 500),
-              1e-12); // q grows to ~60 rad here: same relative accuracy as above
-    EXPECT_LE(max_difference(newmark::stepper(sys, h), paper_reference::newmark_stepper(sys, h), x0, 500),
-              1e-12);
+    EXPECT_LE(
+        max_difference(simpson::stepper(sys, h), paper_reference::simpson_stepper(sys, h), x0, 500),
+        1e-12); // q grows to ~60 rad here: same relative accuracy as above
+    EXPECT_LE(
+        max_difference(newmark::stepper(sys, h), paper_reference::newmark_stepper(sys, h), x0, 500),
+        1e-12);
 }
 
 TEST(ReducedVsPaper, CoupledPendulumsWithFullMassMatrix) {
@@ -78,8 +86,10 @@ TEST(ReducedVsPaper, CoupledPendulumsWithFullMassMatrix) {
     const auto sys = test::coupled_system();
     const phase_state<2> x0{vec<2>{1.0, -0.5}, vec<2>{0.3, 1.2}};
     const double h = 0.05;
-    EXPECT_LE(max_difference(simpson::stepper(sys, h), paper_reference::simpson_stepper(sys, h), x0, 400),
-              1e-13);
-    EXPECT_LE(max_difference(newmark::stepper(sys, h), paper_reference::newmark_stepper(sys, h), x0, 400),
-              1e-13);
+    EXPECT_LE(
+        max_difference(simpson::stepper(sys, h), paper_reference::simpson_stepper(sys, h), x0, 400),
+        1e-13);
+    EXPECT_LE(
+        max_difference(newmark::stepper(sys, h), paper_reference::newmark_stepper(sys, h), x0, 400),
+        1e-13);
 }

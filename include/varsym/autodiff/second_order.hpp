@@ -26,13 +26,15 @@ second_order<N> variable(double x, int i) {
     second_order<N> r;
     r.value() = first_order<N>(x, N, i);
     r.derivatives() = Eigen::Matrix<first_order<N>, N, 1>::Unit(N, i);
-    for (int j = 0; j < N; ++j) r.derivatives()(j).derivatives().setZero();
+    for (int j = 0; j < N; ++j)
+        r.derivatives()(j).derivatives().setZero();
     return r;
 }
 
 /// Splits r into its value, gradient g (N) and Hessian h (N × N).
 template <int N>
-double unpack(const second_order<N>& r, Eigen::Matrix<double, N, 1>& g, Eigen::Matrix<double, N, N>& h) {
+double unpack(const second_order<N>& r, Eigen::Matrix<double, N, 1>& g,
+              Eigen::Matrix<double, N, N>& h) {
     for (int i = 0; i < N; ++i) {
         g(i) = r.derivatives()(i).value();
         h.row(i) = r.derivatives()(i).derivatives().transpose();

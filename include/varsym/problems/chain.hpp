@@ -68,11 +68,12 @@ struct potential {
         Eigen::VectorXd d(n), o(std::max<Eigen::Index>(n - 1, 0));
         hessian_diagonals(q, d, o);
         mat<dynamic> h = d.asDiagonal();
-        for (Eigen::Index i = 0; i + 1 < n; ++i) h(i, i + 1) = h(i + 1, i) = o(i);
+        for (Eigen::Index i = 0; i + 1 < n; ++i)
+            h(i, i + 1) = h(i + 1, i) = o(i);
         return h;
     }
 
-private:
+  private:
     [[nodiscard]] double force(double r) const { return r + beta * r * r * r; }
     [[nodiscard]] double stiffness(double r) const { return 1.0 + 3.0 * beta * r * r; }
 };
@@ -80,15 +81,18 @@ private:
 /// The chain as a system for the Simpson and Newmark steppers: scalar mass m, so M⁻¹ is a number
 /// and every step is O(n) (solve_stage_increment below replaces the dense Newton).
 class system {
-public:
+  public:
     static constexpr int dim = dynamic;
 
     system(int n, double beta, double m = 1.0) : n_(n), m_(m), minv_(1.0 / m), v_{beta} {
-        if (n < 1) throw std::invalid_argument("chain length n must be >= 1, got " + std::to_string(n));
+        if (n < 1)
+            throw std::invalid_argument("chain length n must be >= 1, got " + std::to_string(n));
         if (!(std::isfinite(m) && m > 0.0))
-            throw std::invalid_argument("mass must be a finite positive number, got " + std::to_string(m));
+            throw std::invalid_argument("mass must be a finite positive number, got " +
+                                        std::to_string(m));
         if (!(std::isfinite(beta) && beta >= 0.0))
-            throw std::invalid_argument("beta must be finite and >= 0, got " + std::to_string(beta));
+            throw std::invalid_argument("beta must be finite and >= 0, got " +
+                                        std::to_string(beta));
     }
     [[nodiscard]] int dimension() const { return n_; }
     [[nodiscard]] const double& mass() const { return m_; }
@@ -100,11 +104,12 @@ public:
     /// The lowest linear mode with amplitude a: q_i = a sin(π i/(n+1)), p = 0.
     [[nodiscard]] phase_state<dynamic> lowest_mode(double a) const {
         phase_state<dynamic> x{vec<dynamic>(n_), vec<dynamic>::Zero(n_)};
-        for (int i = 0; i < n_; ++i) x.q(i) = a * std::sin(std::numbers::pi * (i + 1) / (n_ + 1));
+        for (int i = 0; i < n_; ++i)
+            x.q(i) = a * std::sin(std::numbers::pi * (i + 1) / (n_ + 1));
         return x;
     }
 
-private:
+  private:
     int n_;
     double m_, minv_;
     chain::potential v_;

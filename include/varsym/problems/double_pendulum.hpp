@@ -24,7 +24,8 @@ struct lagrangian {
     template <class T>
     T operator()(const tvec<T, 2>& q, const tvec<T, 2>& v) const {
         using std::cos;
-        const T kinetic = 0.5 * (m1 + m2) * l1 * l1 * v(0) * v(0) + 0.5 * m2 * l2 * l2 * v(1) * v(1) +
+        const T kinetic = 0.5 * (m1 + m2) * l1 * l1 * v(0) * v(0) +
+                          0.5 * m2 * l2 * l2 * v(1) * v(1) +
                           m2 * l1 * l2 * v(0) * v(1) * cos(q(0) - q(1));
         const T d = q(1) - q(0);
         const T potential = -(m1 + m2) * g * l1 * cos(q(0)) - m2 * g * l2 * cos(q(1)) +
@@ -37,8 +38,8 @@ struct lagrangian {
 inline lagrangian_system<lagrangian> make_system(const lagrangian& l) {
     auto positive = [](const char* what, double x) {
         if (!(std::isfinite(x) && x > 0.0))
-            throw std::invalid_argument(std::string(what) + " must be a finite positive number, got " +
-                                        std::to_string(x));
+            throw std::invalid_argument(
+                std::string(what) + " must be a finite positive number, got " + std::to_string(x));
     };
     positive("m1", l.m1);
     positive("m2", l.m2);
@@ -47,7 +48,8 @@ inline lagrangian_system<lagrangian> make_system(const lagrangian& l) {
     if (!(std::isfinite(l.g) && l.g >= 0.0))
         throw std::invalid_argument("gravity must be finite and >= 0, got " + std::to_string(l.g));
     if (!(std::isfinite(l.k) && l.k >= 0.0))
-        throw std::invalid_argument("joint stiffness must be finite and >= 0, got " + std::to_string(l.k));
+        throw std::invalid_argument("joint stiffness must be finite and >= 0, got " +
+                                    std::to_string(l.k));
     return lagrangian_system<lagrangian>(l);
 }
 

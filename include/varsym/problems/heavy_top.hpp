@@ -40,8 +40,8 @@ struct lagrangian {
 inline lagrangian_system<lagrangian> make_system(const lagrangian& l) {
     for (auto [what, x] : {std::pair{"I1", l.i1}, std::pair{"I3", l.i3}, std::pair{"mgl", l.mgl}})
         if (!(std::isfinite(x) && x > 0.0))
-            throw std::invalid_argument(std::string(what) + " must be a finite positive number, got " +
-                                        std::to_string(x));
+            throw std::invalid_argument(
+                std::string(what) + " must be a finite positive number, got " + std::to_string(x));
     return lagrangian_system<lagrangian>(l);
 }
 
@@ -52,7 +52,7 @@ inline lagrangian_system<lagrangian> make_system(const lagrangian& l) {
 ///   λ = sqrt(mgl (u₃ − u₁)/(2 I₁)),
 /// and the nutation period is 2K(k²)/λ (Goldstein, Classical Mechanics, §5.7).
 class nutation {
-public:
+  public:
     nutation(const lagrangian& l, const phase_state<3>& x0) {
         const lagrangian_system<lagrangian> sys(l);
         const vec<3> v = sys.velocity(x0.q, x0.p);
@@ -69,14 +69,16 @@ public:
         c1_ = -2.0 * l.mgl / i1 + 2.0 * pphi_ * ppsi_ / (i1 * i1);
         c0_ = 2.0 * e1_ / i1 - pphi_ * pphi_ / (i1 * i1);
         if (!(f(1.0) < 0.0) || !(f(-1.0) < 0.0))
-            throw std::invalid_argument("the top's axis reaches the vertical (p_phi = +-p_psi): the "
-                                        "Euler angles are singular there");
+            throw std::invalid_argument(
+                "the top's axis reaches the vertical (p_phi = +-p_psi): the "
+                "Euler angles are singular there");
         double hi = 2.0;
-        while (f(hi) <= 0.0) hi *= 2.0;
+        while (f(hi) <= 0.0)
+            hi *= 2.0;
         std::uintmax_t iterations = 200;
-        const auto r = boost::math::tools::toms748_solve([this](double u) { return f(u); }, 1.0, hi,
-                                                         boost::math::tools::eps_tolerance<double>(),
-                                                         iterations);
+        const auto r = boost::math::tools::toms748_solve(
+            [this](double u) { return f(u); }, 1.0, hi, boost::math::tools::eps_tolerance<double>(),
+            iterations);
         u3_ = 0.5 * (r.first + r.second);
         // Deflate: f(u) = (u − u₃)(c₃u² + b u + c), then polish the two roots on f itself.
         const double b = c2_ + c3_ * u3_, c = c1_ + b * u3_;
@@ -115,7 +117,7 @@ public:
         return std::acos(std::clamp(u1_ + (u2_ - u1_) * sn * sn, -1.0, 1.0));
     }
 
-private:
+  private:
     [[nodiscard]] double f(double u) const { return ((c3_ * u + c2_) * u + c1_) * u + c0_; }
 
     double pphi_ = 0, ppsi_ = 0, e1_ = 0;

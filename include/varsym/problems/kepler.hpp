@@ -37,7 +37,8 @@ using system = separable_system<2, potential>;
 
 inline system make_system(double mu = 1.0) {
     if (!(std::isfinite(mu) && mu > 0.0))
-        throw std::invalid_argument("mu must be a finite positive number, got " + std::to_string(mu));
+        throw std::invalid_argument("mu must be a finite positive number, got " +
+                                    std::to_string(mu));
     return system(mat<2>::Identity(), potential{mu});
 }
 
@@ -53,11 +54,13 @@ struct lagrangian {
 };
 
 /// ℓ = x p_y − y p_x: conserved (rotations are a symmetry of L; discrete Noether).
-inline double angular_momentum(const phase_state<2>& x) { return x.q(0) * x.p(1) - x.q(1) * x.p(0); }
+inline double angular_momentum(const phase_state<2>& x) {
+    return x.q(0) * x.p(1) - x.q(1) * x.p(0);
+}
 
 /// The Keplerian ellipse of eccentricity 0 ≤ e < 1 and semi-major axis a > 0, from pericentre.
 class orbit {
-public:
+  public:
     orbit(double eccentricity, double semi_major_axis, double mu = 1.0)
         : e_(eccentricity), a_(semi_major_axis), mu_(mu) {
         if (!(std::isfinite(e_) && e_ >= 0.0 && e_ < 1.0))
@@ -90,7 +93,7 @@ public:
         return {vec<2>{a_ * (c - e_), b_ * s}, vec<2>{0.0 - a_ * s * rate, b_ * c * rate}}; // no −0
     }
 
-private:
+  private:
     /// Newton on f(E) = E − e sin E − M from E = M + e sin M (or π for e > 0.8), which converges
     /// monotonically for all e < 1; stops when the update is at round-off.
     [[nodiscard]] double eccentric_anomaly(double mean) const {

@@ -42,8 +42,9 @@ inline system make_system(const Eigen::MatrixXd& m, const Eigen::MatrixXd& k) {
 /// q(t), p(t) from (q₀, p₀) by the modes Φ (ΦᵀMΦ = I, ΦᵀKΦ = diag ω²): η = Φᵀ M q,
 /// η(t) = η₀ cos ωt + (η̇₀/ω) sin ωt with η̇₀ = Φᵀ p₀, and q = Φ η, p = M Φ η̇.
 class exact_solution {
-public:
-    exact_solution(const Eigen::MatrixXd& m, const Eigen::MatrixXd& k, const phase_state<dynamic>& x0)
+  public:
+    exact_solution(const Eigen::MatrixXd& m, const Eigen::MatrixXd& k,
+                   const phase_state<dynamic>& x0)
         : m_(m) {
         const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(k, m);
         if (eig.info() != Eigen::Success || eig.eigenvalues().minCoeff() <= 0.0)
@@ -57,12 +58,14 @@ public:
     [[nodiscard]] double period() const { return 2.0 * std::numbers::pi / omega_.minCoeff(); }
     [[nodiscard]] phase_state<dynamic> at(double t) const {
         const Eigen::ArrayXd wt = omega_.array() * t;
-        const Eigen::VectorXd eta = (eta0_.array() * wt.cos() + rate0_.array() / omega_.array() * wt.sin()).matrix();
-        const Eigen::VectorXd rate = (rate0_.array() * wt.cos() - eta0_.array() * omega_.array() * wt.sin()).matrix();
+        const Eigen::VectorXd eta =
+            (eta0_.array() * wt.cos() + rate0_.array() / omega_.array() * wt.sin()).matrix();
+        const Eigen::VectorXd rate =
+            (rate0_.array() * wt.cos() - eta0_.array() * omega_.array() * wt.sin()).matrix();
         return {modes_ * eta, m_ * (modes_ * rate)};
     }
 
-private:
+  private:
     Eigen::MatrixXd m_, modes_;
     Eigen::VectorXd omega_, eta0_, rate0_;
 };

@@ -58,7 +58,8 @@ enum class regime { rest, libration, rotation };
 ///  - libration (k < 1): sin(q/2) = k sn(ωt + u₀ | k²), p = 2mωk cn(ωt + u₀ | k²),
 ///    u₀ = F(φ₀ | k²), sin φ₀ = sin(q₀/2)/k, cos φ₀ = p₀/(2mωk); period T = 4K(k²)/ω
 ///    (paper eqs. temps and periode);
-///  - rotation (k > 1), κ = 1/k, s = sign p₀: q = 2s am(kωt + u₀ | κ²), p = 2smωk dn(kωt + u₀ | κ²),
+///  - rotation (k > 1), κ = 1/k, s = sign p₀: q = 2s am(kωt + u₀ | κ²), p = 2smωk dn(kωt + u₀ |
+///  κ²),
 ///    u₀ = F(s q₀/2 | κ²); period (one revolution) T = 2K(κ²)/(kω);
 ///  - rest (k = 0): q ≡ q₀, p ≡ 0; the period reported is the linear one, 2π/ω.
 /// Boost.Math takes the modulus k (not the parameter m = k² of the paper's K(m), F(φ, m)).
@@ -69,7 +70,7 @@ enum class regime { rest, libration, rotation };
 /// digits for measuring high orders (tests/numeric/test_family_orders.cpp).
 template <class Real>
 class basic_exact_solution {
-public:
+  public:
     struct point {
         Real q, p;
     };
@@ -137,7 +138,8 @@ public:
             const Real u = k_ * omega_ * t + u0_;
             const Real n = floor((u + quarter_) / (2 * quarter_));
             const Real ur = u - 2 * quarter_ * n;
-            const Real sn = boost::math::jacobi_elliptic(kappa_, ur, &cn, static_cast<Real*>(nullptr));
+            const Real sn =
+                boost::math::jacobi_elliptic(kappa_, ur, &cn, static_cast<Real*>(nullptr));
             const Real dn = sqrt(1 - kappa_ * kappa_ * sn * sn);
             const Real am = atan2(sn, cn) + n * pi;
             return {shift_ + sign_ * 2 * am, sign_ * 2 * m_ * omega_ * k_ * dn};
@@ -146,7 +148,7 @@ public:
         return {}; // unreachable
     }
 
-private:
+  private:
     Real m_, omega_;
     Real k2_ = 0, k_ = 0, kappa_ = 0;
     Real quarter_ = 0, u0_ = 0, period_ = 0;
@@ -156,7 +158,7 @@ private:
 
 /// The exact solution in double precision, as phase-space states.
 class exact_solution : public basic_exact_solution<double> {
-public:
+  public:
     using basic_exact_solution<double>::basic_exact_solution;
     [[nodiscard]] phase_state<1> at(double t) const {
         const auto x = state(t);

@@ -13,10 +13,10 @@
 #include <array>
 #include <cmath>
 #include <memory>
-#include <utility>
-#include <variant>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <variant>
 
 #include "varsym/quadrature/rules.hpp"
 #include "varsym/solvers/compensated.hpp"
@@ -35,19 +35,19 @@ inline constexpr int max_degree = 8;
 struct tableau {
     int degree = 0;
     rule_kind kind = rule_kind::lobatto;
-    std::vector<double> control;   ///< d_0 … d_s (Gauss–Lobatto nodes on [0, 1])
-    quadrature::rule quad;         ///< c_k, w_k
-    Eigen::MatrixXd phi;           ///< (s+1) × r: ℓ_i(c_k)
-    Eigen::MatrixXd dphi;          ///< (s+1) × r: ℓ_i'(c_k)
-    Eigen::MatrixXd stiffness;     ///< (s+1) × (s+1): A_il
+    std::vector<double> control; ///< d_0 … d_s (Gauss–Lobatto nodes on [0, 1])
+    quadrature::rule quad;       ///< c_k, w_k
+    Eigen::MatrixXd phi;         ///< (s+1) × r: ℓ_i(c_k)
+    Eigen::MatrixXd dphi;        ///< (s+1) × r: ℓ_i'(c_k)
+    Eigen::MatrixXd stiffness;   ///< (s+1) × (s+1): A_il
 
     /// Builds the tables in long double (64-bit mantissa) and rounds each entry once to double,
     /// so that their errors stay at half an ulp: the scheme's period is then right to ~1 ulp.
     static tableau make(rule_kind kind, int s) {
         using LD = long double;
         if (s < 1 || s > max_degree)
-            throw std::invalid_argument("degree must be between 1 and " + std::to_string(max_degree) +
-                                        ", got " + std::to_string(s));
+            throw std::invalid_argument("degree must be between 1 and " +
+                                        std::to_string(max_degree) + ", got " + std::to_string(s));
         const auto control = quadrature::gauss_lobatto<LD>(s + 1).nodes;
         const auto quad = kind == rule_kind::lobatto ? quadrature::gauss_lobatto<LD>(s + 1)
                                                      : quadrature::gauss_legendre<LD>(s);
@@ -69,7 +69,8 @@ struct tableau {
             }
         if (kind == rule_kind::lobatto) phi.setIdentity(); // c_k = d_k: ℓ_i(c_k) = δ_ik exactly
         matrix_ld weights = matrix_ld::Zero(r, r);
-        for (Eigen::Index k = 0; k < r; ++k) weights(k, k) = quad.weights[k];
+        for (Eigen::Index k = 0; k < r; ++k)
+            weights(k, k) = quad.weights[k];
         const matrix_ld stiffness = dphi * weights * dphi.transpose();
 
         tableau t;
@@ -87,7 +88,9 @@ struct tableau {
 };
 
 /// Number of quadrature points of a member: s + 1 for Lobatto, s for Gauss.
-constexpr int points(rule_kind kind, int s) { return kind == rule_kind::lobatto ? s + 1 : s; }
+constexpr int points(rule_kind kind, int s) {
+    return kind == rule_kind::lobatto ? s + 1 : s;
+}
 
 /// One step solves, for the increments X_l = Q_l − q_j (l = 1 … s; X_0 = 0), the s·D equations
 ///   h p_j + Σ_l A_0l M X_l − h² Σ_k w_k ℓ_0(c_k) ∇V(q_k) = 0     (p_j = −∂L_d/∂Q_0)
@@ -101,7 +104,7 @@ constexpr int points(rule_kind kind, int s) { return kind == rule_kind::lobatto 
 /// a step allocates nothing; galerkin::stepper below chooses among them at run time.
 template <class System, rule_kind Kind, int S>
 class fixed_stepper {
-public:
+  public:
     static constexpr int dim = System::dim;
     static constexpr int R = points(Kind, S);
     static constexpr int N = blocks(S, dim);
@@ -109,15 +112,18 @@ public:
 
     fixed_stepper(System sys, double h, const tableau& t, const newton_options& opt = {})
         : sys_(std::move(sys)), h_(h), opt_(opt) {
-        if (t.degree != S || t.kind != Kind) throw std::logic_error("galerkin tableau does not match");
+        if (t.degree != S || t.kind != Kind)
+            throw std::logic_error("galerkin tableau does not match");
         // In matrix form, with X = [X_1 … X_s] (d × s) and G = [∇V(q_1) … ∇V(q_r)] (d × r):
         //   residual R = M X Aᵀ − h² G Uᵀ + h p_j e_0ᵀ,   points Q = q_j 1ᵀ + X V,
         //   Jacobian J = A ⊗ M − h² Σ_k (U_k V_kᵀ) ⊗ ∇²V(q_k),
         // with A_il = A(i, l), U_ik = w_k ℓ_i(c_k) (i < s), V_lk = ℓ_l(c_k) (l ≥ 1).
         a_ = t.stiffness.block(0, 1, S, S);
         for (int k = 0; k < R; ++k) {
-            for (int i = 0; i < S; ++i) u_(i, k) = t.quad.weights[k] * t.phi(i, k);
-            for (int l = 0; l < S; ++l) v_(l, k) = t.phi(l + 1, k);
+            for (int i = 0; i < S; ++i)
+                u_(i, k) = t.quad.weights[k] * t.phi(i, k);
+            for (int l = 0; l < S; ++l)
+                v_(l, k) = t.phi(l + 1, k);
             w_[k] = t.quad.weights[k];
             // Newton evaluates ∇V and ∇²V only where a point enters the solved equations
             // (U_k ≠ 0) and moves with the unknowns (V_k ≠ 0). For Lobatto, c_0 = 0 is q_j
@@ -127,7 +133,8 @@ public:
             at_start_[k] = t.quad.nodes[k] == 0.0;
             at_end_[k] = t.quad.nodes[k] == 1.0;
         }
-        for (int l = 0; l < S; ++l) control_[l] = t.control[l + 1];
+        for (int l = 0; l < S; ++l)
+            control_[l] = t.control[l + 1];
         const int d = sys_.dimension();
         xm_.resize(d, S);
         grads_.resize(d, R);
@@ -162,7 +169,8 @@ public:
         mat<N> jac(S * d, S * d);
         while (true) {
             // Residual R = M X Aᵀ − h² G Uᵀ + h p_j e_0ᵀ and its Jacobian at X.
-            for (int k = 0; k < R; ++k) grads_.col(k) = at_start_[k] ? grad_j_ : vec<dim>::Zero(d);
+            for (int k = 0; k < R; ++k)
+                grads_.col(k) = at_start_[k] ? grad_j_ : vec<dim>::Zero(d);
             for (int a = 0; a < n_active_; ++a) {
                 const int k = active_[a];
                 const vec<dim> q = x.q + xm_ * v_.col(k);
@@ -176,7 +184,8 @@ public:
             if constexpr (dim == 1) {
                 // d = 1: J = m A − h² U diag(∇²V(q_k)) Vᵀ as one fixed-size product.
                 Eigen::Matrix<double, R, 1> curvature = Eigen::Matrix<double, R, 1>::Zero();
-                for (int a = 0; a < n_active_; ++a) curvature(active_[a]) = hess_[active_[a]](0, 0);
+                for (int a = 0; a < n_active_; ++a)
+                    curvature(active_[a]) = hess_[active_[a]](0, 0);
                 jac.noalias() = m(0, 0) * a_;
                 jac.noalias() -= h2 * (u_ * curvature.asDiagonal() * v_.transpose());
             } else {
@@ -224,7 +233,7 @@ public:
         return rep;
     }
 
-private:
+  private:
     using stage_matrix = Eigen::Matrix<double, dim, S>;
     System sys_;
     double h_;
@@ -273,9 +282,10 @@ struct stepper_variant<System, std::integer_sequence<int, I...>> {
 /// A member of the family chosen at run time: (rule, degree s ≤ max_degree).
 template <class System>
 class stepper {
-    using variant_t = typename detail::stepper_variant<System, std::make_integer_sequence<int, max_degree>>::type;
+    using variant_t =
+        typename detail::stepper_variant<System, std::make_integer_sequence<int, max_degree>>::type;
 
-public:
+  public:
     static constexpr int dim = System::dim;
     using system_type = System;
 
@@ -298,7 +308,7 @@ public:
         return std::visit([&](auto& s) { return s.step(x); }, impl_);
     }
 
-private:
+  private:
     tableau tab_;
     variant_t impl_;
 };

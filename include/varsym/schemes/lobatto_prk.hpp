@@ -45,7 +45,8 @@ struct tableau {
         t.b.assign(lob.weights.begin(), lob.weights.end());
         for (int i = 0; i < n; ++i)
             for (int j = 0; j < n; ++j)
-                t.a_hat(i, j) = static_cast<double>(lob.weights[j] * (1 - a(j, i) / lob.weights[i]));
+                t.a_hat(i, j) =
+                    static_cast<double>(lob.weights[j] * (1 - a(j, i) / lob.weights[i]));
         return t;
     }
 };
@@ -56,7 +57,7 @@ struct tableau {
 /// the stages stop changing; the report counts sweeps.
 template <class System>
 class stepper {
-public:
+  public:
     static constexpr int dim = System::dim;
     using system_type = System;
 
@@ -77,14 +78,17 @@ public:
             double change = 0;
             for (int i = 0; i < n; ++i) {
                 vec<dim> qi = x.q;
-                for (int j = 0; j < n; ++j) qi += (h * tab_.a(i, j)) * (minv * p[j]);
+                for (int j = 0; j < n; ++j)
+                    qi += (h * tab_.a(i, j)) * (minv * p[j]);
                 change = std::max(change, (qi - q[i]).template lpNorm<Eigen::Infinity>());
                 q[i] = qi;
             }
-            for (int i = 0; i < n; ++i) f[i] = v.gradient(q[i]);
+            for (int i = 0; i < n; ++i)
+                f[i] = v.gradient(q[i]);
             for (int i = 0; i < n; ++i) {
                 vec<dim> pi = x.p;
-                for (int j = 0; j < n; ++j) pi -= (h * tab_.a_hat(i, j)) * f[j];
+                for (int j = 0; j < n; ++j)
+                    pi -= (h * tab_.a_hat(i, j)) * f[j];
                 change = std::max(change, (pi - p[i]).template lpNorm<Eigen::Infinity>());
                 p[i] = pi;
             }
@@ -111,7 +115,7 @@ public:
         return rep;
     }
 
-private:
+  private:
     System sys_;
     double h_;
     tableau tab_;

@@ -26,7 +26,7 @@ double discrete_lagrangian(const System& sys, double h, const vec<System::dim>& 
 /// The increments are accumulated with compensated summation (solvers/compensated.hpp).
 template <class System>
 class stepper {
-public:
+  public:
     static constexpr int dim = System::dim;
     using system_type = System;
     static constexpr std::string_view scheme_name = name;
@@ -56,7 +56,7 @@ public:
         return rep;
     }
 
-private:
+  private:
     System sys_;
     double h_;
     newton_options opt_;

@@ -20,8 +20,8 @@ namespace varsym::paper_reference {
 namespace detail {
 // Size of the increments of a step: h (|M⁻¹p| + |∇V|); the scale of Newton's stopping test.
 template <class System>
-double increment_scale(const System& sys, const phase_state<System::dim>& x, const vec<System::dim>& grad,
-                       double h) {
+double increment_scale(const System& sys, const phase_state<System::dim>& x,
+                       const vec<System::dim>& grad, double h) {
     return h * std::max((sys.inverse_mass() * x.p).template lpNorm<Eigen::Infinity>(),
                         grad.template lpNorm<Eigen::Infinity>());
 }
@@ -32,7 +32,7 @@ double increment_scale(const System& sys, const phase_state<System::dim>& x, con
 /// (eq. systeme-dynamique-discret-ordre-2), Jacobian [[I, (h/2)∇²V(q̄)], [−(h/2)M⁻¹, I]].
 template <class System>
 class newmark_stepper {
-public:
+  public:
     static constexpr int dim = System::dim;
     using system_type = System;
     static constexpr std::string_view scheme_name = "newmark-paper";
@@ -57,8 +57,9 @@ public:
                 const vec<dim> dp = block_of<dim>(y, 0, d);
                 const vec<dim> dq = block_of<dim>(y, 1, d);
                 const vec<dim> qbar = x.q + 0.5 * dq;
-                block_of<dim>(r, 0, d) = dp + h * v.gradient(qbar);                // eq. systeme-...-ordre-2
-                block_of<dim>(r, 1, d) = dq - 0.5 * h * minv * (2.0 * x.p + dp); // eq. systeme-...-ordre-2
+                block_of<dim>(r, 0, d) = dp + h * v.gradient(qbar); // eq. systeme-...-ordre-2
+                block_of<dim>(r, 1, d) =
+                    dq - 0.5 * h * minv * (2.0 * x.p + dp); // eq. systeme-...-ordre-2
                 const mat<dim> id = mat<dim>::Identity(d, d);
                 block_of<dim>(jac, 0, 0, d) = id;
                 block_of<dim>(jac, 0, 1, d) = 0.5 * h * v.hessian(qbar);
@@ -73,7 +74,7 @@ public:
         return rep;
     }
 
-private:
+  private:
     System sys_;
     double h_;
     newton_options opt_;
@@ -81,13 +82,14 @@ private:
 };
 
 /// Simpson: unknowns z = (q_m − q_j, Δp, Δq), started at 0 (the paper's (q_j, p_j, q_j)), solving
-///   F_S = [ q_m − (h²/8) M⁻¹∇V(q_m) − (q_j + q)/2 ;                  (eq. equation-milieu-intervalle)
+///   F_S = [ q_m − (h²/8) M⁻¹∇V(q_m) − (q_j + q)/2 ;                  (eq.
+///   equation-milieu-intervalle)
 ///           p − p_j + (h/6)(∇V_j + 4∇V(q_m) + ∇V(q)) ;                (eq. simpson-hamilton, 1st)
 ///           q − q_j − (h²/12) M⁻¹(∇V(q) − ∇V_j) − (h/2) M⁻¹(p + p_j) ] (eq. simpson-hamilton, 2nd)
 /// with the Jacobian dF_S printed in the paper (θ = (h/m)V''(q_m), φ = (h/m)V''(q) for d = 1).
 template <class System>
 class simpson_stepper {
-public:
+  public:
     static constexpr int dim = System::dim;
     using system_type = System;
     static constexpr std::string_view scheme_name = "simpson-paper";
@@ -125,14 +127,14 @@ public:
                     dq - (h * h / 12.0) * minv * (gq - grad_j) - 0.5 * h * minv * (2.0 * x.p + dp);
                 const mat<dim> id = mat<dim>::Identity(d, d);
                 const mat<dim> zero = mat<dim>::Zero(d, d);
-                block_of<dim>(jac, 0, 0, d) = id - (h * h / 8.0) * minv * hm; // 1 − hθ/8
-                block_of<dim>(jac, 0, 1, d) = zero;                          // 0
-                block_of<dim>(jac, 0, 2, d) = -0.5 * id;                     // −1/2
-                block_of<dim>(jac, 1, 0, d) = (2.0 / 3.0) * h * hm;          // (2/3) m θ
-                block_of<dim>(jac, 1, 1, d) = id;                            // 1
-                block_of<dim>(jac, 1, 2, d) = (h / 6.0) * hq;                // (1/6) m φ
-                block_of<dim>(jac, 2, 0, d) = zero;                          // 0
-                block_of<dim>(jac, 2, 1, d) = -0.5 * h * minv;               // −h/(2m)
+                block_of<dim>(jac, 0, 0, d) = id - (h * h / 8.0) * minv * hm;  // 1 − hθ/8
+                block_of<dim>(jac, 0, 1, d) = zero;                            // 0
+                block_of<dim>(jac, 0, 2, d) = -0.5 * id;                       // −1/2
+                block_of<dim>(jac, 1, 0, d) = (2.0 / 3.0) * h * hm;            // (2/3) m θ
+                block_of<dim>(jac, 1, 1, d) = id;                              // 1
+                block_of<dim>(jac, 1, 2, d) = (h / 6.0) * hq;                  // (1/6) m φ
+                block_of<dim>(jac, 2, 0, d) = zero;                            // 0
+                block_of<dim>(jac, 2, 1, d) = -0.5 * h * minv;                 // −h/(2m)
                 block_of<dim>(jac, 2, 2, d) = id - (h * h / 12.0) * minv * hq; // 1 − hφ/12
             },
             opt);
@@ -143,7 +145,7 @@ public:
         return rep;
     }
 
-private:
+  private:
     System sys_;
     double h_;
     newton_options opt_;

@@ -25,16 +25,22 @@ inline constexpr std::array all_scheme_kinds{scheme_kind::newmark, scheme_kind::
 
 constexpr std::string_view scheme_name(scheme_kind k) {
     switch (k) {
-    case scheme_kind::newmark: return newmark::name;
-    case scheme_kind::simpson: return simpson::name;
-    case scheme_kind::lobatto: return "lobatto";
-    case scheme_kind::gauss: return "gauss";
+    case scheme_kind::newmark:
+        return newmark::name;
+    case scheme_kind::simpson:
+        return simpson::name;
+    case scheme_kind::lobatto:
+        return "lobatto";
+    case scheme_kind::gauss:
+        return "gauss";
     }
     return {};
 }
 
 /// Polynomial degree s of q(t) on a step: fixed for the paper's schemes, chosen for the family.
-constexpr int natural_degree(scheme_kind k) { return k == scheme_kind::newmark ? 1 : 2; }
+constexpr int natural_degree(scheme_kind k) {
+    return k == scheme_kind::newmark ? 1 : 2;
+}
 constexpr bool has_degree_choice(scheme_kind k) {
     return k == scheme_kind::lobatto || k == scheme_kind::gauss;
 }

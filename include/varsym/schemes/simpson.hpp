@@ -35,7 +35,7 @@ double discrete_lagrangian(const System& sys, double h, const vec<System::dim>& 
 /// ∇V(q_{j+1}) of a step is kept as ∇V(q_j) of the next (recomputed if the state was changed).
 template <class System, class Update = compensated_update<System::dim>>
 class stepper {
-public:
+  public:
     static constexpr int dim = System::dim;
     using system_type = System;
     static constexpr std::string_view scheme_name = name;
@@ -75,7 +75,7 @@ public:
         return rep;
     }
 
-private:
+  private:
     System sys_;
     double h_;
     newton_options opt_;

@@ -28,10 +28,14 @@ namespace varsym::general {
 /// The rule and degree that a scheme_spec names: Simpson is Lobatto 2, Newmark is Gauss 1.
 inline std::pair<galerkin::rule_kind, int> family_member(const scheme_spec& spec) {
     switch (spec.kind) {
-    case scheme_kind::simpson: return {galerkin::rule_kind::lobatto, 2};
-    case scheme_kind::newmark: return {galerkin::rule_kind::gauss, 1};
-    case scheme_kind::lobatto: return {galerkin::rule_kind::lobatto, spec.degree};
-    case scheme_kind::gauss: break;
+    case scheme_kind::simpson:
+        return {galerkin::rule_kind::lobatto, 2};
+    case scheme_kind::newmark:
+        return {galerkin::rule_kind::gauss, 1};
+    case scheme_kind::lobatto:
+        return {galerkin::rule_kind::lobatto, spec.degree};
+    case scheme_kind::gauss:
+        break;
     }
     return {galerkin::rule_kind::gauss, spec.degree};
 }
@@ -42,7 +46,7 @@ inline std::pair<galerkin::rule_kind, int> family_member(const scheme_spec& spec
 /// All work arrays are sized in the constructor: a step allocates nothing.
 template <lagrangian L>
 class stepper {
-public:
+  public:
     static constexpr int dim = L::dim;
     using system_type = lagrangian_system<L>;
 
@@ -83,14 +87,16 @@ public:
             const double step = delta_.template lpNorm<Eigen::Infinity>();
             rep.iterations = monitor.iterations() + 1;
             if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
-            for (int l = 0; l < s_; ++l) x_.col(l) -= delta_.template segment<dim>(l * dim);
+            for (int l = 0; l < s_; ++l)
+                x_.col(l) -= delta_.template segment<dim>(l * dim);
             if (monitor.converged(step, x_.template lpNorm<Eigen::Infinity>())) break;
         }
         // p_{j+1} − p_j = h Σ_k w_k L_q(k) at the converged increments. A coordinate that L does
         // not depend on has L_q = 0 exactly, so its momentum is conserved to the last bit.
         evaluate_points(x.q);
         vec<dim> dp = vec<dim>::Zero();
-        for (int k = 0; k < r_; ++k) dp += (h * tab_.quad.weights[k]) * terms_[k].lq;
+        for (int k = 0; k < r_; ++k)
+            dp += (h * tab_.quad.weights[k]) * terms_[k].lq;
         if (!dp.allFinite()) {
             rep.converged = false;
             rep.residual = std::numeric_limits<double>::quiet_NaN();
@@ -102,7 +108,7 @@ public:
         return rep;
     }
 
-private:
+  private:
     /// Taylor predictor X_l ≈ τ_l v + ½ τ_l² a, τ_l = d_l h, with v from ∂L/∂q̇(q, v) = p and
     /// a from the Euler–Lagrange equations L_vv a = L_q − L_vq v at (q_j, v).
     void predict(const phase_state<dim>& x) {

@@ -12,7 +12,7 @@ namespace varsym {
 /// between steps by someone else.
 template <int D>
 class compensated_update {
-public:
+  public:
     void add_q(phase_state<D>& x, const vec<D>& dq) {
         if (!valid_ || x.q != q_ || x.p != p_) {
             cq_.setZero(x.q.size());
@@ -40,7 +40,7 @@ public:
         valid_ = true;
     }
 
-private:
+  private:
     static void add(vec<D>& sum, const vec<D>& increment, vec<D>& carry) {
         for (Eigen::Index i = 0; i < sum.size(); ++i) {
             const double y = increment(i) + carry(i);

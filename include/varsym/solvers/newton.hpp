@@ -37,14 +37,15 @@ struct newton_report {
 ///  - or the updates stop decreasing once already tiny: the round-off floor, |δ_k| ≥ |δ_{k−1}|/2
 ///    with |δ_k| ≤ 64 ε max(|x|, typical, reference), whatever the tolerance asked for.
 class newton_monitor {
-public:
+  public:
     explicit newton_monitor(const newton_options& opt) : opt_(opt) {}
     bool converged(double step, double size) {
         ++iterations_;
         const double magnitude = std::max(opt_.typical, size);
         const double scale = opt_.tolerance * magnitude;
         const bool tiny = step <= scale;
-        const bool predicted = iterations_ > 1 && step * step * step <= scale * previous_ * previous_;
+        const bool predicted =
+            iterations_ > 1 && step * step * step <= scale * previous_ * previous_;
         const bool floor = iterations_ > 1 && step >= 0.5 * previous_ &&
                            step <= 64.0 * std::numeric_limits<double>::epsilon() *
                                        std::max(magnitude, opt_.reference);
@@ -54,7 +55,7 @@ public:
     [[nodiscard]] int iterations() const { return iterations_; }
     [[nodiscard]] bool exhausted() const { return iterations_ >= opt_.max_iterations; }
 
-private:
+  private:
     newton_options opt_;
     int iterations_ = 0;
     double previous_ = std::numeric_limits<double>::infinity();

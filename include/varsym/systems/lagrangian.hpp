@@ -35,17 +35,19 @@ struct lagrangian_terms {
 /// callable with T = double and T = ad::second_order<2D> (so: `using std::sin;` before calling
 /// sin, and double literals, 2.0 not 2, in arithmetic with T).
 template <class L>
-concept lagrangian = requires { L::dim; } && (L::dim >= 1) &&
-    requires(const L& l, const tvec<double, L::dim>& q) {
-        { l(q, q) } -> std::convertible_to<double>;
-    };
+concept lagrangian = requires {
+    L::dim;
+}
+&&(L::dim >= 1) && requires(const L& l, const tvec<double, L::dim>& q) {
+    { l(q, q) } -> std::convertible_to<double>;
+};
 
 /// A Lagrangian that also supplies its derivatives by hand (used instead of differentiation).
 template <class L>
-concept lagrangian_with_derivatives =
-    lagrangian<L> && requires(const L& l, const vec<L::dim>& q, lagrangian_terms<L::dim>& t) {
-        l.derivatives(q, q, t);
-    };
+concept lagrangian_with_derivatives = lagrangian<L> &&
+    requires(const L& l, const vec<L::dim>& q, lagrangian_terms<L::dim>& t) {
+    l.derivatives(q, q, t);
+};
 
 /// Fills `t` with L(q, v) and its derivatives: by hand when L provides them, else with one
 /// pass of L over automatic-differentiation scalars seeded with the 2D variables (q, v).
@@ -78,7 +80,7 @@ void evaluate(const L& l, const vec<L::dim>& q, const vec<L::dim>& v, lagrangian
 /// and the energy E = q̇ᵀp − L (the Hamiltonian), which a time-independent L conserves.
 template <lagrangian L>
 class lagrangian_system {
-public:
+  public:
     static constexpr int dim = L::dim;
     using lagrangian_type = L;
 
@@ -127,8 +129,9 @@ public:
         lagrangian_terms<dim> t;
         evaluate(l_, q, v, t);
         if (!t.lvv.allFinite() || !t.lv.allFinite() || !t.lq.allFinite() || !std::isfinite(t.value))
-            throw std::invalid_argument("the Lagrangian or its derivatives are NaN or infinite at the "
-                                        "initial state");
+            throw std::invalid_argument(
+                "the Lagrangian or its derivatives are NaN or infinite at the "
+                "initial state");
         // Eigenvalues, not a Cholesky attempt: round-off can let a singular matrix pass LLᵀ.
         const Eigen::SelfAdjointEigenSolver<mat<dim>> eig(t.lvv, Eigen::EigenvaluesOnly);
         const double lo = eig.eigenvalues().minCoeff(), hi = eig.eigenvalues().maxCoeff();
@@ -136,11 +139,12 @@ public:
             char range[80];
             std::snprintf(range, sizeof range, " (eigenvalues from %.3g to %.3g)", lo, hi);
             throw std::invalid_argument("the mass matrix d2L/dqdot2 is singular or not positive "
-                                        "definite at the initial state" + std::string(range));
+                                        "definite at the initial state" +
+                                        std::string(range));
         }
     }
 
-private:
+  private:
     L l_;
 };
 

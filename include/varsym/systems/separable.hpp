@@ -24,7 +24,7 @@ class separable_system {
                   "Potential must provide value(q) -> double, gradient(q) -> vec<D> and "
                   "hessian(q) -> mat<D>");
 
-public:
+  public:
     static constexpr int dim = D;
     using potential_type = Potential;
 
@@ -49,7 +49,7 @@ public:
         return 0.5 * x.p.dot(inv_mass_ * x.p) + v_.value(x.q);
     }
 
-private:
+  private:
     mat<D> mass_;
     mat<D> inv_mass_;
     Potential v_;
