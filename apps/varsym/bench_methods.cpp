@@ -13,6 +13,7 @@
 #include <boost/numeric/odeint/stepper/symplectic_rkn_sb3a_m4_mclachlan.hpp>
 
 #include "cli_common.hpp"
+#include "family_instances.hpp" // before any use of the family (compiled elsewhere)
 #include "varsym/integrate.hpp"
 #include "varsym/problems/kepler.hpp"
 #include "varsym/problems/pendulum.hpp"

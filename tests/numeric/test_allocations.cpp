@@ -17,6 +17,7 @@
 
 #include <gtest/gtest.h>
 
+#include "family_instances.hpp" // before any use of the family (compiled elsewhere)
 #include "test_support.hpp"
 #include "varsym/problems/pendulum.hpp"
 #include "varsym/schemes/galerkin.hpp"

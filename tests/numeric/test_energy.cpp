@@ -5,6 +5,7 @@
 
 #include <numbers>
 
+#include "family_instances.hpp" // before any use of the family (compiled elsewhere)
 #include "test_support.hpp"
 #include "varsym/integrate.hpp"
 #include "varsym/problems/pendulum.hpp"

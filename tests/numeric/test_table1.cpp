@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "family_instances.hpp" // before any use of the family (compiled elsewhere)
 #include "varsym/problems/paper.hpp"
 
 using namespace varsym;

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "compare_steppers.hpp"
+#include "family_instances.hpp" // before any use of the family (compiled elsewhere)
 #include "test_support.hpp"
 #include "varsym/diagnostics/symplecticity.hpp"
 #include "varsym/problems/pendulum.hpp"

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "family_instances.hpp" // before any use of the family (compiled elsewhere)
 #include "test_support.hpp"
 #include "varsym/diagnostics/stability.hpp"
 #include "varsym/integrate.hpp"
