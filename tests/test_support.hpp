@@ -10,6 +10,20 @@
 
 namespace varsym::test {
 
+/// Whether this build runs under AddressSanitizer (make test-sanitize), where a step costs 30 to
+/// 60 times more: long-run tests then run fewer steps, enough to exercise the same code.
+#if defined(__SANITIZE_ADDRESS__) // GCC
+inline constexpr bool sanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) // clang
+inline constexpr bool sanitized = true;
+#else
+inline constexpr bool sanitized = false;
+#endif
+#else
+inline constexpr bool sanitized = false;
+#endif
+
 /// Two pendulums coupled by a spring, V = a(1 − cos q₁) + b(1 − cos q₂) + (c/2)(q₁ − q₂)²,
 /// with a non-diagonal mass matrix: a d = 2 system for the generic-dimension code paths.
 struct coupled_pendulums {
