@@ -43,6 +43,8 @@ TEST(Integrate, FailureNamesStepTimeAndResidual) {
         EXPECT_NE(msg.find("step 7"), std::string::npos) << msg;
         EXPECT_NE(msg.find("t = 2.5"), std::string::npos) << msg;
         EXPECT_NE(msg.find("1.235e+02"), std::string::npos) << msg;
+        // diagnosis() is what() without the advice, for callers that give their own.
+        EXPECT_EQ(msg, e.diagnosis() + "; use a smaller time step");
     }
     EXPECT_EQ(x.q(0), 6.0); // the state after the last good step
     EXPECT_EQ(observed, 7); // j = 0 … 6
