@@ -6,12 +6,17 @@
 source "$(dirname "$0")/lib.sh" "$@"
 
 # --- SIGKILL at >= 5 random moments, resume each time, compare with cmp --------------------------
-# 2e7 Simpson steps of the pendulum (about 3 s in Release, longer under the sanitizers), a
-# checkpoint every 2e5 steps (1 % of the run). The kills come after random pauses of 4 % to 15 %
-# of the uninterrupted run's duration, so each attempt gets past a checkpoint and about ten
-# kills happen whatever the build's speed (at least seven if its speed holds).
-args=(run --time 1000 --steps 20000000 --every 1000 -o run.csv --checkpoint run.ckpt
-      --checkpoint-every 200000)
+# Simpson steps of the pendulum, as many as take about 3 s in this build (2e7 in Release, about
+# 2e6 under the sanitizers; timed from a 1e6-step run), a checkpoint every 1 % of the run. The
+# kills come after random pauses of 4 % to 15 % of the uninterrupted run's duration, so each
+# attempt gets past a checkpoint and about ten kills happen whatever the build's speed (at least
+# seven if its speed holds).
+t0=$(date +%s%N)
+"$VARSYM" run --time 50 --steps 1000000 --every 0 -o calibrate.csv || bad "timing run failed"
+steps=$(awk -v ns="$(( $(date +%s%N) - t0 ))" 'BEGIN { n = int(3e9 / ns * 10) * 1e5;
+  if (n < 1e6) n = 1e6; if (n > 2e7) n = 2e7; printf "%d", n }')
+args=(run --time 1000 --steps "$steps" --every 1000 -o run.csv --checkpoint run.ckpt
+      --checkpoint-every $((steps / 100)))
 mkdir straight killed
 t0=$(date +%s%N)
 (cd straight && "$VARSYM" "${args[@]}") || bad "uninterrupted run failed"
@@ -40,7 +45,7 @@ state() { grep -v '^output \|^crc32 ' "$1"; }
 diff <(state run.ckpt) <(state ../straight/run.ckpt) > /dev/null && ok ||
   bad "final checkpoint differs after $kills kills"
 [ ! -e run.csv.part ] && ok || bad "run.csv.part left after completion"
-echo "checkpoint_test: $kills kills at random moments (sleeps:$sleeps), resumed each time"
+echo "checkpoint_test: $steps steps, $kills kills at random moments (sleeps:$sleeps), resumed each time"
 # Resuming a completed run changes nothing and says so.
 cp run.csv before.csv
 "$VARSYM" run --resume run.ckpt 2> stderr.txt && grep -q 'is complete' stderr.txt && cmp -s run.csv before.csv &&
