@@ -13,7 +13,6 @@
 #include <boost/numeric/odeint/stepper/symplectic_rkn_sb3a_m4_mclachlan.hpp>
 
 #include "cli_common.hpp"
-#include "family_instances.hpp" // before any use of the family (compiled elsewhere)
 #include "varsym/integrate.hpp"
 #include "varsym/problems/kepler.hpp"
 #include "varsym/problems/pendulum.hpp"
@@ -167,7 +166,7 @@ bench_problem kepler_bench(const std::vector<std::string>& specs) {
         const scheme_spec spec = parse_spec(label);
         b.methods.push_back(
             {spec.label(), spec.order(), false, [=](std::size_t n, double h, bool observe) {
-                 return with_compact_stepper(spec, sys, h, {}, [&](auto& st) {
+                 return with_stepper(spec, sys, h, {}, [&](auto& st) {
                      return run_stepper(st, orbit.at(0.0), n, observe,
                                         [&](const phase_state<2>& y) { return sys.energy(y); });
                  });

@@ -4,7 +4,7 @@
 
 #include "model_run.hpp"
 #include "varsym/problems/kepler.hpp"
-#include "varsym/schemes/variational.hpp"
+#include "varsym/schemes/scheme_kind.hpp"
 
 namespace varsym::cli {
 
@@ -48,7 +48,7 @@ model make_kepler_model() {
         const run_plan plan = plan_steps(s, "kepler", orbit.period(), 200, 0.0, 0);
         stream_trajectory<2>(
             s, plan, orbit.at(0.0), ",energy,angular_momentum," + state_columns(2, "_exact"),
-            [&](auto&& f) { return with_compact_stepper(s.spec, sys, plan.h, s.newton, f); },
+            [&](auto&& f) { return with_stepper(s.spec, sys, plan.h, s.newton, f); },
             [&](double t, const phase_state<2>& x, std::string& line) {
                 const auto ref = orbit.at(t);
                 append_values(line, {sys.energy(x), kepler::angular_momentum(x), ref.q(0), ref.q(1),

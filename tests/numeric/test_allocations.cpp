@@ -17,13 +17,16 @@
 
 #include <gtest/gtest.h>
 
-#include "family_instances.hpp" // before any use of the family (compiled elsewhere)
+#include "schemes/nbody.hpp"
 #include "test_support.hpp"
+#include "varsym/problems/double_pendulum.hpp"
+#include "varsym/problems/kepler.hpp"
 #include "varsym/problems/pendulum.hpp"
+#include "varsym/reference/paper_schemes.hpp"
 #include "varsym/schemes/galerkin.hpp"
 #include "varsym/schemes/newmark.hpp"
-#include "varsym/schemes/paper_reference.hpp"
 #include "varsym/schemes/simpson.hpp"
+#include "varsym/schemes/variational.hpp"
 
 namespace {
 std::atomic<long> allocations{0};
@@ -104,12 +107,40 @@ TEST(Allocations, PaperSchemesStepWithoutAllocating) {
 }
 
 TEST(Allocations, FamilyStepsWithoutAllocating) {
+    // One compiled stepper for every (rule, degree): its storage is sized in the constructor.
     for (auto kind : {galerkin::rule_kind::lobatto, galerkin::rule_kind::gauss})
-        for (int s = 1; s <= 6; ++s) {
+        for (int s = 1; s <= galerkin::max_degree; ++s) {
             galerkin::stepper st(sys, h, kind, s);
             EXPECT_EQ(allocations_in_steps(st, x0), 0) << "s = " << s;
         }
     const auto sys2 = test::coupled_system();
-    galerkin::stepper st2(sys2, 0.05, galerkin::rule_kind::gauss, 3);
-    EXPECT_EQ(allocations_in_steps(st2, phase_state<2>{vec<2>{1.0, -0.5}, vec<2>{0.3, 1.2}}), 0);
+    for (int s = 1; s <= galerkin::max_degree; ++s) {
+        galerkin::stepper st2(sys2, 0.05, galerkin::rule_kind::gauss, s);
+        EXPECT_EQ(allocations_in_steps(st2, phase_state<2>{vec<2>{1.0, -0.5}, vec<2>{0.3, 1.2}}), 0)
+            << "s = " << s;
+    }
+}
+
+TEST(Allocations, LargeFixedDimensionStepsWithoutAllocating) {
+    // d = 18: the family's Jacobian (up to 144 × 144) is on the heap, allocated once.
+    const test::planetary_start start(6);
+    const separable_system<18, test::gravity<18>> nbody(mat<18>(start.mass_diagonal().asDiagonal()),
+                                                        test::gravity<18>{start.masses});
+    const phase_state<18> y0{vec<18>(start.q), vec<18>(start.p)};
+    for (int s : {1, 3, 8}) {
+        galerkin::stepper st(nbody, 0.5, galerkin::rule_kind::lobatto, s);
+        EXPECT_EQ(allocations_in_steps(st, y0), 0) << "s = " << s;
+    }
+    using lag = separable_lagrangian<decltype(nbody)>;
+    general::stepper<lag> g(lagrangian_system<lag>({nbody}), 0.5, {scheme_kind::gauss, 4});
+    EXPECT_EQ(allocations_in_steps(g, y0), 0);
+}
+
+TEST(Allocations, GeneralEngineStepsWithoutAllocating) {
+    // Automatic derivatives (double pendulum, d = 2) and derivatives by hand (the pendulum).
+    general::stepper dp(double_pendulum::make_system({}), 1e-3, {scheme_kind::lobatto, 3});
+    EXPECT_EQ(allocations_in_steps(dp, phase_state<2>{vec<2>{1.0, 0.5}, vec<2>{0.0, 0.1}}), 0);
+    using lag = separable_lagrangian<pendulum::system>;
+    general::stepper<lag> g(lagrangian_system<lag>({sys}), h, {scheme_kind::gauss, 5});
+    EXPECT_EQ(allocations_in_steps(g, x0), 0);
 }

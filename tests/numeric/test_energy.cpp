@@ -5,7 +5,6 @@
 
 #include <numbers>
 
-#include "family_instances.hpp" // before any use of the family (compiled elsewhere)
 #include "test_support.hpp"
 #include "varsym/integrate.hpp"
 #include "varsym/problems/pendulum.hpp"

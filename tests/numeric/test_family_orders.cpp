@@ -14,7 +14,6 @@
 #include <numbers>
 #include <vector>
 
-#include "family_instances.hpp" // before any use of the family (compiled elsewhere)
 #include "varsym/diagnostics/convergence.hpp"
 #include "varsym/integrate.hpp"
 #include "varsym/problems/pendulum.hpp"

@@ -3,7 +3,6 @@
 
 #include <cmath>
 
-#include "family_instances.hpp" // before any use of the family (compiled elsewhere)
 #include "varsym/problems/paper.hpp"
 
 using namespace varsym;

@@ -6,12 +6,11 @@
 #include <numbers>
 
 #include "compare_steppers.hpp"
-#include "family_instances.hpp" // before any use of the family (compiled elsewhere)
 #include "test_support.hpp"
 #include "varsym/diagnostics/symplecticity.hpp"
 #include "varsym/problems/pendulum.hpp"
+#include "varsym/reference/lobatto_prk.hpp"
 #include "varsym/schemes/galerkin.hpp"
-#include "varsym/schemes/lobatto_prk.hpp"
 #include "varsym/schemes/newmark.hpp"
 #include "varsym/schemes/simpson.hpp"
 

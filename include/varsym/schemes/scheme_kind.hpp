@@ -3,7 +3,6 @@
 #pragma once
 
 #include <array>
-#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -76,26 +75,40 @@ struct scheme_spec {
     }
 };
 
-/// Calls f(stepper) with a stepper of scheme `spec` for `sys` and time step h.
-template <class System, class F>
+/// The rule and degree of the family member that a scheme_spec names: Simpson is Lobatto 2,
+/// Newmark is Gauss 1.
+inline std::pair<galerkin::rule_kind, int> family_member(const scheme_spec& spec) {
+    switch (spec.kind) {
+    case scheme_kind::simpson:
+        return {galerkin::rule_kind::lobatto, 2};
+    case scheme_kind::newmark:
+        return {galerkin::rule_kind::gauss, 1};
+    case scheme_kind::lobatto:
+        return {galerkin::rule_kind::lobatto, spec.degree};
+    case scheme_kind::gauss:
+        break;
+    }
+    return {galerkin::rule_kind::gauss, spec.degree};
+}
+
+/// Calls f(stepper) with a stepper of scheme `spec` for the separable system `sys` and time
+/// step h. Simpson and Newmark, also when named as lobatto-2 and gauss-1, run on their reduced
+/// steppers (one d × d solve a step); every other member on the run-time-degree family stepper.
+/// So f is compiled for three stepper types, whatever the member.
+template <separable System, class F>
 decltype(auto) with_stepper(const scheme_spec& spec, const System& sys, double h,
                             const newton_options& opt, F&& f) {
-    switch (spec.kind) {
-    case scheme_kind::newmark: {
+    const auto [rule, degree] = family_member(spec);
+    if (rule == galerkin::rule_kind::gauss && degree == 1) {
         newmark::stepper<System> s(sys, h, opt);
         return std::forward<F>(f)(s);
     }
-    case scheme_kind::simpson: {
+    if (rule == galerkin::rule_kind::lobatto && degree == 2) {
         simpson::stepper<System> s(sys, h, opt);
         return std::forward<F>(f)(s);
     }
-    default: {
-        const auto rule = spec.kind == scheme_kind::lobatto ? galerkin::rule_kind::lobatto
-                                                            : galerkin::rule_kind::gauss;
-        galerkin::stepper<System> s(sys, h, rule, spec.degree, opt);
-        return std::forward<F>(f)(s);
-    }
-    }
+    galerkin::stepper<System> s(sys, h, rule, degree, opt);
+    return std::forward<F>(f)(s);
 }
 
 } // namespace varsym

@@ -25,25 +25,11 @@
 
 namespace varsym::general {
 
-/// The rule and degree that a scheme_spec names: Simpson is Lobatto 2, Newmark is Gauss 1.
-inline std::pair<galerkin::rule_kind, int> family_member(const scheme_spec& spec) {
-    switch (spec.kind) {
-    case scheme_kind::simpson:
-        return {galerkin::rule_kind::lobatto, 2};
-    case scheme_kind::newmark:
-        return {galerkin::rule_kind::gauss, 1};
-    case scheme_kind::lobatto:
-        return {galerkin::rule_kind::lobatto, spec.degree};
-    case scheme_kind::gauss:
-        break;
-    }
-    return {galerkin::rule_kind::gauss, spec.degree};
-}
-
 /// One step of the scheme for the system's Lagrangian. The state is (q, p); steps are
 /// independent of any history (the Newton start is a Taylor predictor from (q_j, p_j) alone),
 /// so a run restarted from a saved state continues exactly as it would have.
-/// All work arrays are sized in the constructor: a step allocates nothing.
+/// All work arrays are sized in the constructor: for a compile-time d a step allocates nothing;
+/// d may also be `dynamic` (known at run time), with the derivatives given by hand.
 template <lagrangian L>
 class stepper {
   public:
@@ -55,12 +41,24 @@ class stepper {
           tab_(galerkin::tableau::make(family_member(spec).first, family_member(spec).second)) {
         s_ = tab_.degree;
         r_ = static_cast<int>(tab_.quad.size());
-        x_.setZero(dim, s_);
+        d_ = sys_.dimension();
+        x_.setZero(d_, s_);
         terms_.resize(static_cast<std::size_t>(r_));
-        res_.setZero(s_ * dim);
-        delta_.setZero(s_ * dim);
-        jac_.setZero(s_ * dim, s_ * dim);
-        lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(s_ * dim);
+        for (auto& t : terms_) {
+            t.lq.setZero(d_);
+            t.lv.setZero(d_);
+            t.lqq.setZero(d_, d_);
+            t.lqv.setZero(d_, d_);
+            t.lvv.setZero(d_, d_);
+        }
+        qk_.setZero(d_);
+        vk_.setZero(d_);
+        dp_.setZero(d_);
+        dq_.setZero(d_);
+        res_.setZero(s_ * d_);
+        delta_.setZero(s_ * d_);
+        jac_.setZero(s_ * d_, s_ * d_);
+        lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(s_ * d_);
     }
 
     [[nodiscard]] double step_size() const { return h_; }
@@ -88,22 +86,23 @@ class stepper {
             rep.iterations = monitor.iterations() + 1;
             if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
             for (int l = 0; l < s_; ++l)
-                x_.col(l) -= delta_.template segment<dim>(l * dim);
+                x_.col(l) -= block_of<dim>(delta_, l, d_);
             if (monitor.converged(step, x_.template lpNorm<Eigen::Infinity>())) break;
         }
         // p_{j+1} − p_j = h Σ_k w_k L_q(k) at the converged increments. A coordinate that L does
         // not depend on has L_q = 0 exactly, so its momentum is conserved to the last bit.
         evaluate_points(x.q);
-        vec<dim> dp = vec<dim>::Zero();
+        dp_.setZero();
         for (int k = 0; k < r_; ++k)
-            dp += (h * tab_.quad.weights[k]) * terms_[k].lq;
-        if (!dp.allFinite()) {
+            dp_ += (h * tab_.quad.weights[k]) * terms_[k].lq;
+        if (!dp_.allFinite()) {
             rep.converged = false;
             rep.residual = std::numeric_limits<double>::quiet_NaN();
             return rep;
         }
-        sum_.add_q(x, x_.col(s_ - 1));
-        sum_.add_p(x, dp);
+        dq_ = x_.col(s_ - 1);
+        sum_.add_q(x, dq_);
+        sum_.add_p(x, dp_);
         rep.converged = true;
         return rep;
     }
@@ -113,7 +112,8 @@ class stepper {
     /// a from the Euler–Lagrange equations L_vv a = L_q − L_vq v at (q_j, v).
     void predict(const phase_state<dim>& x) {
         lagrangian_terms<dim>& t = terms_[0];
-        evaluate(sys_.lagrangian(), x.q, vec<dim>::Zero(), t);
+        vk_.setZero();
+        evaluate(sys_.lagrangian(), x.q, vk_, t);
         vec<dim> v = solve_symmetric<dim>(t.lvv, x.p - t.lv);
         evaluate(sys_.lagrangian(), x.q, v, t);
         v += solve_symmetric<dim>(t.lvv, x.p - t.lv);
@@ -128,12 +128,14 @@ class stepper {
     /// L and its derivatives at every quadrature point (q_k, v_k) for the current increments.
     void evaluate_points(const vec<dim>& q) {
         for (int k = 0; k < r_; ++k) {
-            vec<dim> qk = q, vk = vec<dim>::Zero();
+            qk_ = q;
+            vk_.setZero();
             for (int l = 0; l < s_; ++l) {
-                qk += tab_.phi(l + 1, k) * x_.col(l);
-                vk += tab_.dphi(l + 1, k) * x_.col(l);
+                qk_ += tab_.phi(l + 1, k) * x_.col(l);
+                vk_ += tab_.dphi(l + 1, k) * x_.col(l);
             }
-            evaluate(sys_.lagrangian(), qk, vec<dim>(vk / h_), terms_[k]);
+            vk_ /= h_;
+            evaluate(sys_.lagrangian(), qk_, vk_, terms_[k]);
         }
     }
 
@@ -147,24 +149,25 @@ class stepper {
             const lagrangian_terms<dim>& t = terms_[k];
             for (int i = 0; i < s_; ++i) {
                 const double fi = tab_.phi(i, k), gi = tab_.dphi(i, k);
-                res_.template segment<dim>(i * dim) += w * (h * fi * t.lq + gi * t.lv);
+                block_of<dim>(res_, i, d_) += w * (h * fi * t.lq + gi * t.lv);
                 for (int l = 0; l < s_; ++l) {
                     const double fl = tab_.phi(l + 1, k), gl = tab_.dphi(l + 1, k);
-                    auto block = jac_.template block<dim, dim>(i * dim, l * dim);
+                    auto block = block_of<dim>(jac_, i, l, d_);
                     block += (w * h * fi * fl) * t.lqq + (w * fi * gl) * t.lqv;
                     block += (w * gi * fl) * t.lqv.transpose() + (w * gi * gl / h) * t.lvv;
                 }
             }
         }
-        res_.template segment<dim>(0) += p;
+        block_of<dim>(res_, 0, d_) += p;
     }
 
     system_type sys_;
     double h_;
     newton_options opt_;
     galerkin::tableau tab_;
-    int s_ = 0, r_ = 0;
+    int s_ = 0, r_ = 0, d_ = 0;
     Eigen::Matrix<double, dim, Eigen::Dynamic> x_;
+    vec<dim> qk_, vk_, dp_, dq_;
     std::vector<lagrangian_terms<dim>> terms_;
     Eigen::VectorXd res_, delta_;
     Eigen::MatrixXd jac_;
@@ -173,27 +176,3 @@ class stepper {
 };
 
 } // namespace varsym::general
-
-namespace varsym {
-
-/// Calls f(stepper) with a stepper of scheme `spec` for a separable system of fixed dimension,
-/// like with_stepper, but compiles far less: the paper's schemes run on their reduced fast path,
-/// and every Lobatto and Gauss member through the general engine with the system's derivatives
-/// by hand (one compiled stepper for all degrees, at some cost per step).
-template <class System, class F>
-decltype(auto) with_compact_stepper(const scheme_spec& spec, const System& sys, double h,
-                                    const newton_options& opt, F&& f) {
-    if (spec.kind == scheme_kind::simpson) {
-        simpson::stepper<System> s(sys, h, opt);
-        return std::forward<F>(f)(s);
-    }
-    if (spec.kind == scheme_kind::newmark) {
-        newmark::stepper<System> s(sys, h, opt);
-        return std::forward<F>(f)(s);
-    }
-    general::stepper<separable_lagrangian<System>> s(
-        lagrangian_system<separable_lagrangian<System>>({sys}), h, spec, opt);
-    return std::forward<F>(f)(s);
-}
-
-} // namespace varsym

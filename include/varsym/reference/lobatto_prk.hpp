@@ -1,4 +1,4 @@
-// varsym/schemes/lobatto_prk.hpp: the (s+1)-stage Lobatto IIIA–IIIB partitioned Runge–Kutta
+// varsym/reference/lobatto_prk.hpp: the (s+1)-stage Lobatto IIIA–IIIB partitioned Runge–Kutta
 // method for separable Hamiltonians H = ½ pᵀM⁻¹p + V(q), written from its Butcher tableaux and
 // solved by fixed-point iteration: an implementation independent of the variational
 // (galerkin.hpp) one, which for constant M it must equal step by step (Hairer, Lubich &

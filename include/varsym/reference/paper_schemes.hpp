@@ -1,4 +1,4 @@
-// varsym/schemes/paper_reference.hpp: the paper's full per-step Newton systems, F_N (2 blocks)
+// varsym/reference/paper_schemes.hpp: the paper's full per-step Newton systems, F_N (2 blocks)
 // and F_S (3 blocks) with the Jacobians it prints. Slower than the reduced steppers of
 // newmark.hpp and simpson.hpp; kept as the reference those are tested against.
 //
