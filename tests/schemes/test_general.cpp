@@ -5,7 +5,6 @@
 #include <numbers>
 
 #include "compare_steppers.hpp"
-#include "family_instances.hpp" // before any use of the family (compiled elsewhere)
 #include "test_support.hpp"
 #include "varsym/integrate.hpp"
 #include "varsym/problems/pendulum.hpp"
@@ -63,7 +62,7 @@ TEST(GeneralEngine, PendulumSameStepsAsSeparablePath) {
               1e-13);
     for (auto kind : {scheme_kind::lobatto, scheme_kind::gauss})
         for (int s = 1; s <= 5; ++s) {
-            const auto rule = general::family_member({kind, s}).first;
+            const auto rule = family_member({kind, s}).first;
             EXPECT_LE(max_difference(general::stepper(sys, paper_h, {kind, s}),
                                      galerkin::stepper(pendulum_sys, paper_h, rule, s), paper_x0,
                                      500),

@@ -6,12 +6,12 @@
 #include <cmath>
 #include <numbers>
 
-#include "family_instances.hpp" // before any use of the family (compiled elsewhere)
 #include "test_support.hpp"
 #include "varsym/diagnostics/stability.hpp"
 #include "varsym/integrate.hpp"
 #include "varsym/problems/chain.hpp"
 #include "varsym/problems/pendulum.hpp"
+#include "varsym/run/state.hpp"
 #include "varsym/schemes/galerkin.hpp"
 #include "varsym/schemes/newmark.hpp"
 #include "varsym/schemes/simpson.hpp"
@@ -24,29 +24,32 @@ namespace {
 const auto pendulum_sys = pendulum::make_system(1.0, 2 * std::numbers::pi);
 const phase_state<1> start{vec<1>{std::numbers::pi / 2}, vec<1>{0.0}};
 
-/// Runs n steps straight, and k steps, then a fresh stepper restored from (x, carries) for the
-/// remaining n − k: the two final states must be the same bits.
+/// Runs n steps straight, and k steps, then a fresh stepper restored from the saved run_state
+/// (x, carries, step, statistics) for the remaining n − k: the two final states must be the
+/// same bits.
 template <class Make>
 void expect_bitwise_resume(Make make, std::size_t n, std::size_t k) {
-    auto quiet = [](std::size_t, double, const phase_state<1>&) {};
+    auto quiet = [](const auto&) {};
     auto straight = make();
-    phase_state<1> a = start;
-    run_summary sa;
-    integrate_from(straight, a, 0.0, 0, n, sa, quiet);
+    auto a = run_state<1>::start(start);
+    EXPECT_TRUE(integrate_from(straight, a, n, quiet));
 
     auto first = make();
-    phase_state<1> b = start;
-    run_summary sb;
-    integrate_from(first, b, 0.0, 0, k, sb, quiet);
-    const vec<1> cq = first.summation().carry_q(), cp = first.summation().carry_p();
-    auto second = make(); // as a resumed process would build it
-    second.summation().restore(b, cq, cp);
-    integrate_from(second, b, 0.0, k, n, sb, quiet);
+    auto b = run_state<1>::start(start);
+    integrate_from(first, b, k, quiet);
+    const run_state<1> saved = b; // what a checkpoint keeps
+    auto second = make();         // as a resumed process would build it
+    auto c = saved;
+    restore(second, c);
+    integrate_from(second, c, n, quiet);
 
-    EXPECT_EQ(a.q(0), b.q(0));
-    EXPECT_EQ(a.p(0), b.p(0));
-    EXPECT_EQ(sa.steps, sb.steps);
-    EXPECT_EQ(sa.newton_iterations, sb.newton_iterations);
+    EXPECT_EQ(saved.step, k);
+    EXPECT_EQ(a.x.q(0), c.x.q(0));
+    EXPECT_EQ(a.x.p(0), c.x.p(0));
+    EXPECT_EQ(a.carry_q(0), c.carry_q(0));
+    EXPECT_EQ(a.carry_p(0), c.carry_p(0));
+    EXPECT_EQ(a.stats.steps, c.stats.steps);
+    EXPECT_EQ(a.stats.newton_iterations, c.stats.newton_iterations);
 }
 
 /// The unit harmonic oscillator's step for `Stepper` (m = 1, V = q²/2, ω = 1) at h = z.
@@ -66,12 +69,8 @@ TEST(Resume, EveryStepperContinuesBitForBit) {
     expect_bitwise_resume([&] { return simpson::stepper(pendulum_sys, h); }, 500, 187);
     expect_bitwise_resume([&] { return newmark::stepper(pendulum_sys, h); }, 500, 213);
     using galerkin::rule_kind;
-    expect_bitwise_resume(
-        [&] {
-            return galerkin::fixed_stepper<pendulum::system, rule_kind::gauss, 3>(
-                pendulum_sys, h, galerkin::tableau::make(rule_kind::gauss, 3));
-        },
-        500, 251);
+    expect_bitwise_resume([&] { return galerkin::stepper(pendulum_sys, h, rule_kind::gauss, 3); },
+                          500, 251);
     using lag = separable_lagrangian<pendulum::system>;
     expect_bitwise_resume(
         [&] {
@@ -96,22 +95,20 @@ TEST(Stability, SimpsonLimitsMatchTheClosedForm) {
 TEST(Stability, StormerVerletLimitIsTwoAndGaussHasNone) {
     using galerkin::rule_kind;
     // Lobatto s = 1 (trapezoidal rule) is Störmer–Verlet: stable for hω < 2.
-    const double lobatto1 = linear_stability_limit(
-        oscillator_step([](auto sys, double h) {
-            return galerkin::fixed_stepper<decltype(sys), rule_kind::lobatto, 1>(
-                sys, h, galerkin::tableau::make(rule_kind::lobatto, 1));
-        }),
-        10.0);
+    const double lobatto1 =
+        linear_stability_limit(oscillator_step([](auto sys, double h) {
+                                   return galerkin::stepper(sys, h, rule_kind::lobatto, 1);
+                               }),
+                               10.0);
     EXPECT_NEAR(lobatto1, 2.0, 1e-8);
     // Newmark (midpoint rule) and Gauss s = 3: A-stable on linear problems, no limit.
     EXPECT_TRUE(std::isinf(linear_stability_limit(
         oscillator_step([](auto sys, double h) { return newmark::stepper(sys, h); }), 30.0, 0.01)));
-    EXPECT_TRUE(std::isinf(linear_stability_limit(
-        oscillator_step([](auto sys, double h) {
-            return galerkin::fixed_stepper<decltype(sys), rule_kind::gauss, 3>(
-                sys, h, galerkin::tableau::make(rule_kind::gauss, 3));
-        }),
-        30.0, 0.01)));
+    EXPECT_TRUE(std::isinf(linear_stability_limit(oscillator_step([](auto sys, double h) {
+                                                      return galerkin::stepper(sys, h,
+                                                                               rule_kind::gauss, 3);
+                                                  }),
+                                                  30.0, 0.01)));
 }
 
 TEST(Stability, HighestFrequency) {
@@ -132,7 +129,7 @@ TEST(Stability, HighestFrequency) {
     const chain::system c(50, 0.0, 2.0);
     const phase_state<dynamic> x = c.lowest_mode(0.1);
     const double exact = std::sqrt((2 - 2 * std::cos(50 * std::numbers::pi / 51)) / 2.0);
-    const double bound = chain::highest_frequency(c, x);
+    const double bound = highest_frequency(c, x);
     EXPECT_GE(bound, exact);
     EXPECT_LT(bound, 1.02 * exact);
 }

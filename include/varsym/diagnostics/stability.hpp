@@ -71,13 +71,26 @@ double linear_stability_limit(Step&& step, double z_max, double dz = 1e-3) {
 }
 
 /// The highest frequency ω of the linearized motion at q: √λ for the largest λ of
-/// ∇²V(q) v = λ M v (0 if no λ is positive).
-template <int D, class P>
-double highest_frequency(const separable_system<D, P>& sys, const phase_state<D>& x) {
-    Eigen::GeneralizedSelfAdjointEigenSolver<mat<D>> eig(sys.potential().hessian(x.q), sys.mass(),
-                                                         Eigen::EigenvaluesOnly);
-    if (eig.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
-    return std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff()));
+/// ∇²V(q) v = λ M v (0 if no λ is positive). A system may supply a cheaper bound as a member
+/// `highest_frequency(x)` (the chain: a Gershgorin bound in O(d)), which is used instead.
+template <separable S>
+double highest_frequency(const S& sys, const phase_state<S::dim>& x) {
+    if constexpr (requires {
+                      { sys.highest_frequency(x) } -> std::convertible_to<double>;
+                  }) {
+        return sys.highest_frequency(x);
+    } else {
+        constexpr int D = S::dim;
+        const mat<D> hess = sys.potential().hessian(x.q);
+        mat<D> mass;
+        if constexpr (scalar_mass<S>)
+            mass = sys.mass() * mat<D>::Identity(hess.rows(), hess.cols());
+        else
+            mass = sys.mass();
+        Eigen::GeneralizedSelfAdjointEigenSolver<mat<D>> eig(hess, mass, Eigen::EigenvaluesOnly);
+        if (eig.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
+        return std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff()));
+    }
 }
 
 /// The same for L(q, q̇) at the velocity of (q, p): ∂²L/∂q̇² a = ∂²L/∂q² δq, so λ are the

@@ -79,7 +79,7 @@ struct potential {
 };
 
 /// The chain as a system for the Simpson and Newmark steppers: scalar mass m, so M⁻¹ is a number
-/// and every step is O(n) (solve_stage_increment below replaces the dense Newton).
+/// and every step is O(n) (its solve_stage member replaces the dense Newton).
 class system {
   public:
     static constexpr int dim = dynamic;
@@ -109,60 +109,59 @@ class system {
         return x;
     }
 
+    /// An upper bound of the highest frequency at x: √(max Gershgorin row bound of ∇²V(q)) / √m.
+    /// The Hessian is tridiagonal, so the bound costs O(n) where an eigensolver would cost O(n³).
+    /// Used by varsym::highest_frequency (diagnostics/stability.hpp) in place of an eigensolver.
+    [[nodiscard]] double highest_frequency(const phase_state<dynamic>& x) const {
+        const Eigen::Index n = x.q.size();
+        Eigen::VectorXd diag(n), off(std::max<Eigen::Index>(n - 1, 0));
+        v_.hessian_diagonals(x.q, diag, off);
+        double bound = 0.0;
+        for (Eigen::Index i = 0; i < n; ++i) {
+            double row = diag(i);
+            if (i > 0) row += std::abs(off(i - 1));
+            if (i + 1 < n) row += std::abs(off(i));
+            bound = std::max(bound, row);
+        }
+        return std::sqrt(bound * minv_);
+    }
+
+    /// Newton on m δ + c ∇V(q + δ) = r (the stage equation of stage_equation.hpp) with the
+    /// tridiagonal Jacobian m I + c ∇²V solved in O(n): the Simpson and Newmark steppers call it
+    /// through varsym::solve_stage_increment in place of the dense Newton.
+    [[nodiscard]] newton_report solve_stage(double c, const vec<dynamic>& q, const vec<dynamic>& r,
+                                            vec<dynamic>& delta, const newton_options& opt) const {
+        const Eigen::Index n = q.size();
+        newton_options local = opt;
+        local.typical = delta.lpNorm<Eigen::Infinity>();
+        local.reference = q.lpNorm<Eigen::Infinity>();
+        newton_monitor monitor(local);
+        newton_report rep;
+        Eigen::VectorXd x(n), res(n), diag(n), off(std::max<Eigen::Index>(n - 1, 0));
+        while (!monitor.exhausted()) {
+            x.noalias() = q + delta;
+            res.noalias() = m_ * delta + c * v_.gradient(x) - r;
+            rep.residual = res.lpNorm<Eigen::Infinity>();
+            v_.hessian_diagonals(x, diag, off);
+            diag = (m_ + c * diag.array()).matrix();
+            off *= c;
+            rep.iterations = monitor.iterations() + 1;
+            if (!solve_symmetric_tridiagonal(diag, off, res)) return rep;
+            const double step = res.lpNorm<Eigen::Infinity>();
+            if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
+            delta -= res;
+            if (monitor.converged(step, delta.lpNorm<Eigen::Infinity>())) {
+                rep.converged = true;
+                return rep;
+            }
+        }
+        return rep;
+    }
+
   private:
     int n_;
     double m_, minv_;
     chain::potential v_;
 };
-
-/// An upper bound of the highest frequency at x: √(max Gershgorin row bound of ∇²V(q)) / √m.
-/// The Hessian is tridiagonal, so the bound costs O(n) where an eigensolver would cost O(n³).
-/// Found by argument-dependent lookup next to varsym::highest_frequency (diagnostics/stability).
-inline double highest_frequency(const system& sys, const phase_state<dynamic>& x) {
-    const Eigen::Index n = x.q.size();
-    Eigen::VectorXd diag(n), off(std::max<Eigen::Index>(n - 1, 0));
-    sys.potential().hessian_diagonals(x.q, diag, off);
-    double bound = 0.0;
-    for (Eigen::Index i = 0; i < n; ++i) {
-        double row = diag(i);
-        if (i > 0) row += std::abs(off(i - 1));
-        if (i + 1 < n) row += std::abs(off(i));
-        bound = std::max(bound, row);
-    }
-    return std::sqrt(bound * sys.inverse_mass());
-}
-
-/// Newton on m δ + c ∇V(q + δ) = r (the stage equation of stage_equation.hpp) with the
-/// tridiagonal Jacobian m I + c ∇²V solved in O(n). Found by argument-dependent lookup from the
-/// Simpson and Newmark steppers.
-inline newton_report solve_stage_increment(const system& sys, double c, const vec<dynamic>& q,
-                                           const vec<dynamic>& r, vec<dynamic>& delta,
-                                           const newton_options& opt) {
-    const Eigen::Index n = q.size();
-    newton_options local = opt;
-    local.typical = delta.lpNorm<Eigen::Infinity>();
-    local.reference = q.lpNorm<Eigen::Infinity>();
-    newton_monitor monitor(local);
-    newton_report rep;
-    Eigen::VectorXd x(n), res(n), diag(n), off(std::max<Eigen::Index>(n - 1, 0));
-    while (!monitor.exhausted()) {
-        x.noalias() = q + delta;
-        res.noalias() = sys.mass() * delta + c * sys.potential().gradient(x) - r;
-        rep.residual = res.lpNorm<Eigen::Infinity>();
-        sys.potential().hessian_diagonals(x, diag, off);
-        diag = (sys.mass() + c * diag.array()).matrix();
-        off *= c;
-        rep.iterations = monitor.iterations() + 1;
-        if (!solve_symmetric_tridiagonal(diag, off, res)) return rep;
-        const double step = res.lpNorm<Eigen::Infinity>();
-        if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
-        delta -= res;
-        if (monitor.converged(step, delta.lpNorm<Eigen::Infinity>())) {
-            rep.converged = true;
-            return rep;
-        }
-    }
-    return rep;
-}
 
 } // namespace varsym::chain

@@ -3,32 +3,53 @@
 #pragma once
 
 #include "varsym/solvers/newton.hpp"
+#include "varsym/systems/separable.hpp"
 
 namespace varsym {
 
+/// A system that solves its own stage equation (e.g. in O(d) for a banded Hessian): a member
+/// `newton_report solve_stage(double c, const vec& q, const vec& r, vec& delta,
+/// const newton_options&) const`, used by the Simpson and Newmark steppers instead of the dense
+/// Newton below.
+template <class System>
+concept has_stage_solver = requires(const System& s, const vec<System::dim>& q,
+                                    vec<System::dim>& delta, const newton_options& opt) {
+    { s.solve_stage(1.0, q, q, delta, opt) } -> std::same_as<newton_report>;
+};
+
 /// Solves M x + c ∇V(x) = b for x = q + δ, written as  M δ + c ∇V(q + δ) = r  with r = b − M q,
 /// for the increment δ (started from the guess in `delta`, whose size sets the scale of the
-/// stopping test). Solving for δ rather than x keeps
-/// δ's relative accuracy when |δ| ≪ |q|, which is what the update q_{j+1} = q_j + Δq needs.
-/// Newmark: c = h²/4, x = q̄ the midpoint; Simpson: c = h²/24, x = q_{j+½}. See DESIGN.md §2.
-template <class System>
+/// stopping test). Solving for δ rather than x keeps δ's relative accuracy when |δ| ≪ |q|, which
+/// is what the update q_{j+1} = q_j + Δq needs. Newmark: c = h²/4, x = q̄ the midpoint; Simpson:
+/// c = h²/24, x = q_{j+½} (docs/design.md, "Reduced steps"). A system with its own
+/// solve_stage member (has_stage_solver) solves it instead.
+template <separable System>
 newton_report solve_stage_increment(const System& sys, double c, const vec<System::dim>& q,
                                     const vec<System::dim>& r, vec<System::dim>& delta,
                                     const newton_options& opt) {
-    constexpr int D = System::dim;
-    const auto& m = sys.mass();
-    const auto& v = sys.potential();
-    newton_options local = opt;
-    local.typical = delta.template lpNorm<Eigen::Infinity>();
-    local.reference = q.template lpNorm<Eigen::Infinity>();
-    return newton_solve<D>(
-        delta,
-        [&](const vec<D>& y, vec<D>& res, mat<D>& jac) {
-            const vec<D> x = q + y;
-            res.noalias() = m * y + c * v.gradient(x) - r;
-            jac.noalias() = m + c * v.hessian(x);
-        },
-        local);
+    if constexpr (has_stage_solver<System>) {
+        return sys.solve_stage(c, q, r, delta, opt);
+    } else {
+        constexpr int D = System::dim;
+        const auto& m = sys.mass();
+        const auto& v = sys.potential();
+        newton_options local = opt;
+        local.typical = delta.template lpNorm<Eigen::Infinity>();
+        local.reference = q.template lpNorm<Eigen::Infinity>();
+        return newton_solve<D>(
+            delta,
+            [&](const vec<D>& y, vec<D>& res, mat<D>& jac) {
+                const vec<D> x = q + y;
+                res.noalias() = m * y + c * v.gradient(x) - r;
+                if constexpr (scalar_mass<System>) {
+                    jac.noalias() = c * v.hessian(x);
+                    jac.diagonal().array() += m;
+                } else {
+                    jac.noalias() = m + c * v.hessian(x);
+                }
+            },
+            local);
+    }
 }
 
 } // namespace varsym

@@ -13,6 +13,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "varsym/autodiff/second_order.hpp"
+#include "varsym/systems/separable.hpp"
 #include "varsym/types.hpp"
 
 namespace varsym {
@@ -30,17 +31,21 @@ struct lagrangian_terms {
     mat<D> lqq, lqv, lvv;
 };
 
-/// What a Lagrangian must provide: `static constexpr int dim` (D ≥ 1) and
+/// What a Lagrangian must provide: `static constexpr int dim` (D ≥ 1, or `dynamic` with a
+/// member `int dimension() const`) and
 /// `template <class T> T operator()(const tvec<T, D>& q, const tvec<T, D>& v) const`,
-/// callable with T = double and T = ad::second_order<2D> (so: `using std::sin;` before calling
-/// sin, and double literals, 2.0 not 2, in arithmetic with T).
+/// callable with T = double and with the automatic-differentiation scalars (so: `using std::sin;`
+/// before calling sin, and double literals, 2.0 not 2, in arithmetic with T).
 template <class L>
 concept lagrangian = requires {
     L::dim;
 }
-&&(L::dim >= 1) && requires(const L& l, const tvec<double, L::dim>& q) {
+&&(L::dim >= 1 || L::dim == dynamic) && requires(const L& l, const tvec<double, L::dim>& q) {
     { l(q, q) } -> std::convertible_to<double>;
-};
+}
+&&(L::dim != dynamic || requires(const L& l) {
+    { l.dimension() } -> std::convertible_to<int>;
+});
 
 /// A Lagrangian that also supplies its derivatives by hand (used instead of differentiation).
 template <class L>
@@ -49,30 +54,82 @@ concept lagrangian_with_derivatives = lagrangian<L> &&
     l.derivatives(q, q, t);
 };
 
-/// Fills `t` with L(q, v) and its derivatives: by hand when L provides them, else with one
-/// pass of L over automatic-differentiation scalars seeded with the 2D variables (q, v).
+namespace detail {
+/// All of L's second derivatives in one pass of ad::second_order<2D>.
+template <class L>
+void differentiate_at_once(const L& l, const vec<L::dim>& q, const vec<L::dim>& v,
+                           lagrangian_terms<L::dim>& t) {
+    constexpr int D = L::dim, N = 2 * D;
+    using J = ad::second_order<N>;
+    tvec<J, D> qj, vj;
+    for (int i = 0; i < D; ++i) {
+        qj(i) = ad::variable<N>(q(i), i);
+        vj(i) = ad::variable<N>(v(i), D + i);
+    }
+    const J r = l(qj, vj);
+    Eigen::Matrix<double, N, 1> g;
+    Eigen::Matrix<double, N, N> h;
+    t.value = ad::unpack<N>(r, g, h);
+    t.lq = g.template head<D>();
+    t.lv = g.template tail<D>();
+    t.lqq = h.template topLeftCorner<D, D>();
+    t.lqv = h.template topRightCorner<D, D>();
+    t.lvv = h.template bottomRightCorner<D, D>();
+}
+
+/// The same, B Hessian columns per pass of ad::directional<2D, B> (large D).
+template <int B, class L>
+void differentiate_in_blocks(const L& l, const vec<L::dim>& q, const vec<L::dim>& v,
+                             lagrangian_terms<L::dim>& t) {
+    constexpr int D = L::dim, N = 2 * D;
+    using J = ad::directional<N, B>;
+    tvec<J, D> qj, vj;
+    for (int first = 0; first < N; first += B) {
+        for (int i = 0; i < D; ++i) {
+            qj(i) = ad::seeded_variable<N, B>(q(i), i, first);
+            vj(i) = ad::seeded_variable<N, B>(v(i), D + i, first);
+        }
+        const J r = l(qj, vj);
+        if (first == 0) {
+            t.value = r.value().value();
+            t.lq = r.value().derivatives().template head<D>();
+            t.lv = r.value().derivatives().template tail<D>();
+        }
+        for (int j = 0; j < B && first + j < N; ++j) {
+            // Column c of the Hessian in (q, v): ∂/∂x of ∂L/∂x_c.
+            const int c = first + j;
+            const auto& col = r.derivatives()(j).derivatives();
+            if (c < D) {
+                t.lqq.col(c) = col.template head<D>();
+                t.lqv.row(c) = col.template tail<D>().transpose(); // ∂²L/∂q_c∂v
+            } else {
+                t.lvv.col(c - D) = col.template tail<D>();
+            }
+        }
+    }
+}
+} // namespace detail
+
+/// Fills `t` with L(q, v) and its derivatives: by hand when L provides them, else by
+/// forward-mode automatic differentiation in the 2D variables (q, v): one pass for small D,
+/// a few passes of a few Hessian columns each for large D (ad::hessian_columns_per_pass).
 template <lagrangian L>
 void evaluate(const L& l, const vec<L::dim>& q, const vec<L::dim>& v, lagrangian_terms<L::dim>& t) {
     constexpr int D = L::dim;
     if constexpr (lagrangian_with_derivatives<L>) {
         l.derivatives(q, v, t);
     } else {
-        constexpr int N = 2 * D;
-        using J = ad::second_order<N>;
-        tvec<J, D> qj, vj;
-        for (int i = 0; i < D; ++i) {
-            qj(i) = ad::variable<N>(q(i), i);
-            vj(i) = ad::variable<N>(v(i), D + i);
-        }
-        const J r = l(qj, vj);
-        Eigen::Matrix<double, N, 1> g;
-        Eigen::Matrix<double, N, N> h;
-        t.value = ad::unpack<N>(r, g, h);
-        t.lq = g.template head<D>();
-        t.lv = g.template tail<D>();
-        t.lqq = h.template topLeftCorner<D, D>();
-        t.lqv = h.template topRightCorner<D, D>();
-        t.lvv = h.template bottomRightCorner<D, D>();
+        static_assert(D != dynamic,
+                      "automatic derivatives need a compile-time dimension: give a Lagrangian of "
+                      "run-time dimension its derivatives by hand (a member "
+                      "derivatives(q, v, lagrangian_terms&))");
+        constexpr int B = ad::hessian_columns_per_pass<D>();
+        static_assert(B > 0, "dimension too large for automatic derivatives (at most 60): give "
+                             "the Lagrangian its derivatives by hand");
+        if constexpr (B == 2 * D)
+            detail::differentiate_at_once(l, q, v, t);
+        else
+            detail::differentiate_in_blocks<B>(l, q, v, t);
     }
 }
 
@@ -86,7 +143,12 @@ class lagrangian_system {
 
     explicit lagrangian_system(L l) : l_(std::move(l)) {}
 
-    [[nodiscard]] int dimension() const { return dim; }
+    [[nodiscard]] int dimension() const {
+        if constexpr (dim == dynamic)
+            return l_.dimension();
+        else
+            return dim;
+    }
     [[nodiscard]] const L& lagrangian() const { return l_; }
 
     [[nodiscard]] vec<dim> momentum(const vec<dim>& q, const vec<dim>& v) const {
@@ -98,7 +160,7 @@ class lagrangian_system {
     /// Solves ∂L/∂q̇(q, v) = p for v by Newton (one iteration when L is quadratic in q̇).
     /// Throws std::domain_error if ∂²L/∂q̇² is not positive definite there or Newton fails.
     [[nodiscard]] vec<dim> velocity(const vec<dim>& q, const vec<dim>& p) const {
-        vec<dim> v = vec<dim>::Zero();
+        vec<dim> v = vec<dim>::Zero(q.size());
         lagrangian_terms<dim> t;
         for (int it = 0; it < 50; ++it) {
             evaluate(l_, q, v, t);
@@ -149,23 +211,32 @@ class lagrangian_system {
 };
 
 /// A separable system L = ½ q̇ᵀMq̇ − V(q) seen as a general Lagrangian, with its derivatives by
-/// hand: lets the general engine run any separable_system (and tests compare the two paths).
-template <class Separable>
+/// hand: lets the general engine run any separable system (and tests compare the two paths).
+template <separable Separable>
 struct separable_lagrangian {
     static constexpr int dim = Separable::dim;
-    static_assert(dim >= 1, "separable_lagrangian needs a compile-time dimension");
     Separable sys;
 
+    [[nodiscard]] int dimension() const { return sys.dimension(); }
     double operator()(const vec<dim>& q, const vec<dim>& v) const {
-        return 0.5 * v.dot(sys.mass() * v) - sys.potential().value(q);
+        if constexpr (scalar_mass<Separable>)
+            return 0.5 * sys.mass() * v.squaredNorm() - sys.potential().value(q);
+        else
+            return 0.5 * v.dot(sys.mass() * v) - sys.potential().value(q);
     }
     void derivatives(const vec<dim>& q, const vec<dim>& v, lagrangian_terms<dim>& t) const {
         t.value = (*this)(q, v);
         t.lq = -sys.potential().gradient(q);
-        t.lv = sys.mass() * v;
         t.lqq = -sys.potential().hessian(q);
-        t.lqv.setZero();
-        t.lvv = sys.mass();
+        t.lqv.setZero(q.size(), q.size());
+        if constexpr (scalar_mass<Separable>) {
+            t.lv = sys.mass() * v;
+            t.lvv.setZero(q.size(), q.size());
+            t.lvv.diagonal().setConstant(sys.mass());
+        } else {
+            t.lv.noalias() = sys.mass() * v;
+            t.lvv = sys.mass();
+        }
     }
 };
 

@@ -3,6 +3,7 @@
 
 #include <concepts>
 #include <stdexcept>
+#include <type_traits>
 
 #include "varsym/types.hpp"
 
@@ -15,6 +16,31 @@ concept potential = requires(const P& v, const vec<D>& q) {
     { v.gradient(q) } -> std::convertible_to<vec<D>>;
     { v.hessian(q) } -> std::convertible_to<mat<D>>;
 };
+
+/// The protocol of a separable system L = ½ q̇ᵀ M q̇ − V(q), which the Simpson, Newmark and family
+/// steppers take: `dim` (a size ≥ 1, or `dynamic` when d is known only at run time),
+/// `dimension()`, a constant mass M and its inverse (a matrix, or one number for M = m I), the
+/// potential's gradient and Hessian, and the energy. Optional: a member
+/// `solve_stage(c, q, r, delta, opt)` replacing the dense Newton on M δ + c ∇V(q + δ) = r
+/// (solvers/stage_equation.hpp), e.g. by a banded solve.
+template <class S>
+concept separable = requires {
+    S::dim;
+}
+&&(S::dim >= 1 || S::dim == dynamic) && requires(const S& s, const phase_state<S::dim>& x) {
+    { s.dimension() } -> std::convertible_to<int>;
+    s.mass();
+    s.inverse_mass();
+    { s.potential().value(x.q) } -> std::convertible_to<double>;
+    { s.potential().gradient(x.q) } -> std::convertible_to<vec<S::dim>>;
+    s.potential().hessian(x.q);
+    { s.energy(x) } -> std::convertible_to<double>;
+};
+
+/// True when the system's mass is one number m (M = m I) rather than a matrix.
+template <class S>
+inline constexpr bool scalar_mass =
+    std::is_arithmetic_v<std::remove_cvref_t<decltype(std::declval<const S&>().mass())>>;
 
 /// L(q, q̇) = ½ q̇ᵀ M q̇ − V(q)  (paper eq. Lagrangien-continu, with m → M), q ∈ R^D.
 /// M must be symmetric positive definite; its inverse is computed once.
