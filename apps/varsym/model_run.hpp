@@ -10,6 +10,7 @@
 #include "models.hpp"
 #include "varsym/diagnostics/stability.hpp"
 #include "varsym/integrate.hpp"
+#include "varsym/run/state.hpp"
 
 namespace varsym::cli {
 
@@ -59,11 +60,11 @@ class run_log {
     clock::time_point next_;
 };
 
-template <class Stepper, int D>
-saved_state save_state(Stepper& stepper, const phase_state<D>& x) {
-    const auto& sum = stepper.summation();
+/// A run_state as the checkpoint file stores it (plain vectors).
+template <int D>
+saved_state save_state(const run_state<D>& r) {
     auto list = [](const auto& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
-    return {list(x.q), list(x.p), list(sum.carry_q()), list(sum.carry_p())};
+    return {list(r.x.q), list(r.x.p), list(r.carry_q), list(r.carry_p)};
 }
 
 /// Streams `step,t,<state columns><extra header>` rows for plan.steps steps from x, written every
@@ -98,36 +99,37 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
         log.write(line);
     };
     with_stepper([&](auto& stepper) {
-        run_summary sum;
-        std::size_t first = 0;
+        auto r = run_state<D>::start(x);
         if (const checkpoint* ck = log.resumed()) {
             auto as_vec = [d](const std::vector<double>& v) {
                 return vec<D>(Eigen::Map<const vec<D>>(v.data(), d));
             };
-            x = phase_state<D>{as_vec(ck->q), as_vec(ck->p)};
-            stepper.summation().restore(x, as_vec(ck->carry_q), as_vec(ck->carry_p));
-            first = ck->step;
-            sum.steps = first;
-            sum.newton_iterations = ck->newton_iterations;
-            sum.newton_iterations_max = ck->newton_iterations_max;
+            r.x = phase_state<D>{as_vec(ck->q), as_vec(ck->p)};
+            r.carry_q = as_vec(ck->carry_q);
+            r.carry_p = as_vec(ck->carry_p);
+            r.step = ck->step;
+            r.stats.steps = ck->step;
+            r.stats.newton_iterations = ck->newton_iterations;
+            r.stats.newton_iterations_max = ck->newton_iterations_max;
+            restore(stepper, r);
         } else {
             row(0, 0.0, x);
         }
+        const double h = stepper.step_size();
         try {
-            integrate_from(stepper, x, 0.0, first, n, sum,
-                           [&](std::size_t j, double t, const phase_state<D>& y) {
-                               row(j, t, y);
-                               if (log.due(j)) log.save(j, save_state(stepper, y), sum);
-                           });
+            integrate_from(stepper, r, n, [&](const run_state<D>& y) {
+                row(y.step, y.time(h), y.x);
+                if (log.due(y.step)) log.save(y.step, save_state(y), y.stats);
+            });
         } catch (const step_failure& e) {
             double omega = std::numeric_limits<double>::quiet_NaN();
             try {
-                omega = highest_frequency(stepper.system(), x);
+                omega = highest_frequency(stepper.system(), r.x);
             } catch (const std::exception&) { // no estimate: the message says so
             }
-            log.fail(e, save_state(stepper, x), sum, omega);
+            log.fail(e, save_state(r), r.stats, omega);
         }
-        log.finish(save_state(stepper, x), sum);
+        log.finish(save_state(r), r.stats);
     });
 }
 

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "varsym/solvers/newton.hpp"
+#include "varsym/stepper.hpp"
 #include "varsym/types.hpp"
 
 namespace varsym {
@@ -57,16 +58,17 @@ struct run_summary {
     }
 };
 
-/// Continues a run from step `first` (x is the state at t0 + first·h) to step n, with
-/// t_j = t0 + j h, calling observe(j, t_j, x) after each step j = first+1 … n (a resumed run
-/// has its earlier rows already). Adds each step's Newton statistics to `sum` before observe
-/// sees the step. Throws step_failure if a step does not converge; x is then the state of the
-/// last good step.
-template <class Stepper, class Observer>
-void integrate_from(Stepper& stepper, phase_state<Stepper::dim>& x, double t0, std::size_t first,
-                    std::size_t n, run_summary& sum, Observer&& observe) {
+/// Runs n steps from x at time t0 with t_j = t0 + j h. Calls observe(j, t_j, x) for j = 0 … n
+/// (j = 0 is the initial state). Throws step_failure if a step does not converge.
+/// For runs that stop early, checkpoint or resume, see run/state.hpp (run_state, integrate_from)
+/// and run/observers.hpp.
+template <stepper Stepper, class Observer>
+run_summary integrate(Stepper& stepper, phase_state<Stepper::dim>& x, double t0, std::size_t n,
+                      Observer&& observe) {
+    observe(std::size_t{0}, t0, static_cast<const phase_state<Stepper::dim>&>(x));
+    run_summary sum;
     const double h = stepper.step_size();
-    for (std::size_t j = first + 1; j <= n; ++j) {
+    for (std::size_t j = 1; j <= n; ++j) {
         const newton_report rep = stepper.step(x);
         const double t = t0 + static_cast<double>(j) * h;
         if (!rep.converged) throw step_failure(j, t - h, t, rep);
@@ -75,16 +77,6 @@ void integrate_from(Stepper& stepper, phase_state<Stepper::dim>& x, double t0, s
         sum.newton_iterations_max = std::max(sum.newton_iterations_max, rep.iterations);
         observe(j, t, static_cast<const phase_state<Stepper::dim>&>(x));
     }
-}
-
-/// Runs n steps from x at time t0 with t_j = t0 + j h. Calls observe(j, t_j, x) for j = 0 … n
-/// (j = 0 is the initial state). Throws step_failure if a step does not converge.
-template <class Stepper, class Observer>
-run_summary integrate(Stepper& stepper, phase_state<Stepper::dim>& x, double t0, std::size_t n,
-                      Observer&& observe) {
-    observe(std::size_t{0}, t0, static_cast<const phase_state<Stepper::dim>&>(x));
-    run_summary sum;
-    integrate_from(stepper, x, t0, 0, n, sum, std::forward<Observer>(observe));
     return sum;
 }
 
