@@ -13,9 +13,9 @@
 #include <boost/numeric/odeint/stepper/symplectic_rkn_sb3a_m4_mclachlan.hpp>
 
 #include "varsym/problems/pendulum.hpp"
+#include "varsym/reference/paper_schemes.hpp"
 #include "varsym/schemes/galerkin.hpp"
 #include "varsym/schemes/newmark.hpp"
-#include "varsym/schemes/paper_reference.hpp"
 #include "varsym/schemes/simpson.hpp"
 
 namespace {

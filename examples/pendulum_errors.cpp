@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <numbers>
 
-#include <varsym/varsym.hpp>
+#include <varsym/problems.hpp>
 
 int main() {
     using namespace varsym;

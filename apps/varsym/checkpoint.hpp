@@ -7,10 +7,12 @@
 #include <string>
 #include <vector>
 
+#include "varsym/version.hpp"
+
 namespace varsym::cli {
 
 /// The version of varsym written into checkpoints; a checkpoint of another version is refused.
-inline constexpr const char* varsym_version = VARSYM_VERSION;
+inline constexpr const char* varsym_version = VARSYM_VERSION_STRING;
 
 /// The complete state of a run after step `step` of `steps`.
 ///

@@ -8,7 +8,6 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
-#include "family_instances.hpp" // before any use of the family (compiled elsewhere)
 #include "plot.hpp"
 #include "shared_options.hpp"
 #include "varsym/problems/paper.hpp"

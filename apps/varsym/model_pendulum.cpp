@@ -3,7 +3,6 @@
 #include <memory>
 #include <numbers>
 
-#include "family_instances.hpp" // before any use of the family (compiled elsewhere)
 #include "model_run.hpp"
 #include "shared_options.hpp"
 #include "varsym/problems/pendulum.hpp"

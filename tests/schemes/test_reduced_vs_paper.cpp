@@ -7,8 +7,8 @@
 #include "test_support.hpp"
 #include "varsym/integrate.hpp"
 #include "varsym/problems/pendulum.hpp"
+#include "varsym/reference/paper_schemes.hpp"
 #include "varsym/schemes/newmark.hpp"
-#include "varsym/schemes/paper_reference.hpp"
 #include "varsym/schemes/simpson.hpp"
 
 using namespace varsym;

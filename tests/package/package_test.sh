@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# tests/package/package_test.sh MODE SOURCE WORK CXX: builds tests/package/consumer against
+# varsym. MODE install: `cmake --install` of a fresh configure of SOURCE into WORK/prefix, then
+# the consumer with find_package(varsym CONFIG REQUIRED) and CMAKE_PREFIX_PATH=WORK/prefix.
+# MODE subdirectory: the consumer embeds SOURCE with add_subdirectory. Runs the consumer, which
+# prints OK. Only the library is configured: no tool, tests or benchmarks are built.
+set -euo pipefail
+mode=$1 src=$2 work=$3 cxx=$4
+rm -rf "$work"
+mkdir -p "$work"
+quiet() { "$@" >"$work/log.txt" 2>&1 || { cat "$work/log.txt"; echo "FAILED: $*"; exit 1; }; }
+consumer=$src/tests/package/consumer
+case $mode in
+install)
+  quiet cmake -S "$src" -B "$work/varsym" -DCMAKE_CXX_COMPILER="$cxx" -DVARSYM_BUILD_TOOL=OFF \
+    -DVARSYM_BUILD_TESTS=OFF -DVARSYM_BUILD_BENCH=OFF -DVARSYM_BUILD_EXAMPLES=OFF -Wno-dev
+  quiet cmake --install "$work/varsym" --prefix "$work/prefix"
+  for f in include/varsym/varsym.hpp include/varsym/version.hpp include/varsym/problems.hpp \
+    share/cmake/varsym/varsym-config.cmake share/cmake/varsym/varsym-config-version.cmake; do
+    [ -f "$work/prefix/$f" ] || { echo "FAILED: $f not installed"; exit 1; }
+  done
+  quiet cmake -S "$consumer" -B "$work/consumer" -DCMAKE_CXX_COMPILER="$cxx" \
+    -DCMAKE_PREFIX_PATH="$work/prefix" -DVARSYM_CONSUME=package
+  ;;
+subdirectory)
+  quiet cmake -S "$consumer" -B "$work/consumer" -DCMAKE_CXX_COMPILER="$cxx" \
+    -DVARSYM_CONSUME=subdirectory -DVARSYM_SOURCE_DIR="$src"
+  ;;
+*) echo "usage: package_test.sh install|subdirectory SOURCE WORK CXX"; exit 2 ;;
+esac
+quiet cmake --build "$work/consumer"
+"$work/consumer/consumer"
