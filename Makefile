@@ -1,12 +1,13 @@
-# varsym: thin wrapper over CMake. `make run` reproduces the paper into out/, `make test` runs
-# every test. Both install missing Debian packages first (scripts/install-deps.sh).
+# varsym: thin wrapper over CMake. `make run` builds the tool alone and reproduces the paper into
+# out/; `make test` builds and runs every test. Both install missing Debian packages first
+# (scripts/install-deps.sh).
 BUILD_DIR ?= build
 BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 OUT ?= out
 VARSYM = $(BUILD_DIR)/apps/varsym/varsym
 
-.PHONY: all deps configure build run test san-configure test-sanitize fuzz bench soak clean
+.PHONY: all deps configure build tool run test install san-configure test-sanitize fuzz bench soak clean
 
 all: build
 
@@ -19,9 +20,17 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
 
+tool: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_tool
+
+# Installs the headers and the CMake package (find_package(varsym)) under PREFIX.
+PREFIX ?= /usr/local
+install: configure
+	@cmake --install $(BUILD_DIR) --prefix $(PREFIX)
+
 # Reproduces the paper: Table 1 (text and CSV), Figures 1 and 2 (PNG and SVG, with their data
 # and gnuplot scripts), all into $(OUT)/.
-run: build
+run: tool
 	@mkdir -p $(OUT)
 	$(VARSYM) paper table1 --output $(OUT)/table1.txt
 	$(VARSYM) paper table1 --format csv --output $(OUT)/table1.csv
@@ -60,10 +69,13 @@ fuzz: san-configure
 	$(SAN_DIR)/fuzz/varsym_fuzz -max_total_time=$(FUZZ_SECONDS) -timeout=10 -close_fd_mask=3 \
 	  -artifact_prefix=$(SAN_DIR)/ -dict=fuzz/cli.dict $(SAN_DIR)/corpus fuzz/corpus
 
-bench: build
+bench: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_bench varsym_bench_family
 	$(BUILD_DIR)/bench/varsym_bench --benchmark_min_time=0.2
+	$(BUILD_DIR)/bench/varsym_bench_family --benchmark_min_time=0.2
 
-soak: build
+soak: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_soak
 	$(BUILD_DIR)/bench/varsym_soak
 
 clean:

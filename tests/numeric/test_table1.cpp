@@ -17,7 +17,7 @@ struct expected_row {
     double order;
 };
 
-// Transcribed from Table 1 of Dubois & Rojas-Quintero (2023), ../shared/reference/paper.tex.
+// Transcribed from Table 1 of Dubois & Rojas-Quintero (2023), cited in docs/design.md.
 const expected_row paper_table[] = {
     {scheme_kind::newmark, quantity::momentum, {2.93e-2, 7.32e-3, 1.83e-3}, 2.0},
     {scheme_kind::simpson, quantity::momentum, {6.08e-6, 3.78e-7, 2.36e-8}, 4.0},

@@ -1,5 +1,6 @@
 // tests/schemes/test_discrete_euler_lagrange.cpp: each step solves the position–momentum form
-// of the discrete Euler–Lagrange equations of its discrete Lagrangian (DESIGN.md §1),
+// of the discrete Euler–Lagrange equations of its discrete Lagrangian (docs/design.md, "The one
+// idea"),
 //   p_j = −∂L_d/∂q_l,  0 = ∂L_d/∂q_m,  p_{j+1} = ∂L_d/∂q_r,
 // with the partial derivatives of L_d (paper eqs. lagrangien-discret, LLhh) taken by finite
 // differences: this checks the stepper against the Lagrangian itself, not against the

@@ -10,6 +10,7 @@
 // (the paper's eq. LLhh is the case lobatto, s = 2; docs/design.md, "The family").
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <type_traits>
 #include <utility>
@@ -85,10 +86,13 @@ class stepper {
             // (U_k ≠ 0) and moves with the unknowns (V_k ≠ 0). For Lobatto, c_0 = 0 is q_j
             // itself (its ∇V is cached) and c_s = 1 enters only p_{j+1}.
             if (u_.col(k).cwiseAbs().maxCoeff() > 0.0 && v_.col(k).cwiseAbs().maxCoeff() > 0.0)
-                active_.push_back(k);
-            at_start_.push_back(tab_.quad.nodes[k] == 0.0);
-            at_end_.push_back(tab_.quad.nodes[k] == 1.0);
+                active_[n_active_++] = k;
+            at_start_[k] = tab_.quad.nodes[k] == 0.0;
+            at_end_[k] = tab_.quad.nodes[k] == 1.0;
+            weight_[k] = tab_.quad.weights[k];
         }
+        for (int l = 0; l < s; ++l)
+            control_[l] = tab_.control[l + 1];
         xm_.setZero(d, s);
         mx_.setZero(d, s);
         grads_.setZero(d, r);
@@ -117,7 +121,7 @@ class stepper {
         vel_.noalias() = sys_.inverse_mass() * x.p;
         acc_.noalias() = sys_.inverse_mass() * grad_j_;
         for (int l = 0; l < s; ++l) {
-            const double tl = tab_.control[l + 1] * h;
+            const double tl = control_[l] * h;
             xm_.col(l) = tl * vel_ - (0.5 * tl * tl) * acc_;
         }
         newton_options opt = opt_;
@@ -129,9 +133,8 @@ class stepper {
             assemble(x);
             rep.residual = res_.template lpNorm<Eigen::Infinity>();
             if (monitor.exhausted()) return rep;
-            if (n_ == 1) {
-                delta_(0) = res_(0) / jac_(0, 0);
-            } else {
+            if (!varsym::detail::solve_small(n_, jac_.data(), jac_.outerStride(), res_.data(),
+                                             delta_.data())) {
                 lu_.compute(jac_);
                 delta_.noalias() = lu_.solve(res_);
             }
@@ -149,7 +152,7 @@ class stepper {
         dp_.setZero();
         bool has_end = false;
         for (int k = 0; k < r_; ++k) {
-            const double c = h * tab_.quad.weights[k];
+            const double c = h * weight_[k];
             if (at_end_[k]) {
                 acc_ = v.gradient(x.q); // ∇V(q_{j+1}); acc_ is free until the next predictor
                 dp_ -= c * acc_;
@@ -158,7 +161,7 @@ class stepper {
                 dp_ -= c * grad_j_;
             } else {
                 qk_ = q_j_;
-                qk_.noalias() += xm_ * v_.col(k);
+                qk_.noalias() += xm_.lazyProduct(v_.col(k));
                 dp_ -= c * v.gradient(qk_);
             }
         }
@@ -187,9 +190,10 @@ class stepper {
             else
                 grads_.col(k).setZero();
         }
-        for (const int k : active_) {
+        for (int a = 0; a < n_active_; ++a) {
+            const int k = active_[a];
             qk_ = x.q;
-            qk_.noalias() += xm_ * v_.col(k);
+            qk_.noalias() += xm_.lazyProduct(v_.col(k));
             grads_.col(k) = v.gradient(qk_);
             hess_[k] = v.hessian(qk_);
         }
@@ -198,16 +202,23 @@ class stepper {
             mx_ = sys_.mass() * xm_;
         else
             mx_.noalias() = sys_.mass() * xm_;
-        rm.noalias() = mx_ * a_.transpose();
-        rm.noalias() -= h2 * grads_ * u_.transpose();
+        // Coefficient-based (lazy) products: these blocks have at most max_degree + 1 columns,
+        // where Eigen's run-time choice of a blocked product costs more than the product.
+        rm.noalias() = mx_.lazyProduct(a_.transpose());
+        rm.noalias() -= h2 * grads_.lazyProduct(u_.transpose());
         rm.col(0) += h_ * x.p;
         if (d == 1) {
             // d = 1: J = m A − h² U diag(∇²V(q_k)) Vᵀ.
             curvature_.setZero();
-            for (const int k : active_)
-                curvature_(k) = hess_[k](0, 0);
-            jac_.noalias() = mass_entry() * a_;
-            jac_.noalias() -= h2 * (u_ * curvature_.asDiagonal() * v_.transpose());
+            for (int a = 0; a < n_active_; ++a)
+                curvature_(active_[a]) = hess_[active_[a]](0, 0);
+            for (int i = 0; i < s; ++i)
+                for (int l = 0; l < s; ++l) {
+                    double c = 0.0;
+                    for (int a = 0; a < n_active_; ++a)
+                        c += u_(i, active_[a]) * curvature_(active_[a]) * v_(l, active_[a]);
+                    jac_(i, l) = mass_entry() * a_(i, l) - h2 * c;
+                }
             return;
         }
         for (int i = 0; i < s; ++i)
@@ -219,7 +230,8 @@ class stepper {
                 } else {
                     block = a_(i, l) * sys_.mass();
                 }
-                for (const int k : active_) {
+                for (int a = 0; a < n_active_; ++a) {
+                    const int k = active_[a];
                     const double c = h2 * u_(i, k) * v_(l, k);
                     if (c != 0.0) block -= c * hess_[k];
                 }
@@ -240,8 +252,11 @@ class stepper {
     int s_ = 0, r_ = 0, n_ = 0;
     detail::bounded_matrix<max_degree, max_degree> a_;
     detail::bounded_matrix<max_degree, max_points> u_, v_;
-    std::vector<int> active_;
-    std::vector<bool> at_start_, at_end_;
+    std::array<int, max_points> active_{};
+    int n_active_ = 0;
+    std::array<bool, max_points> at_start_{}, at_end_{};
+    std::array<double, max_points> weight_{};
+    std::array<double, max_degree> control_{};
     stage_matrix xm_, mx_;
     point_matrix grads_;
     std::vector<mat<dim>> hess_;

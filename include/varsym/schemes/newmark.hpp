@@ -22,8 +22,8 @@ double discrete_lagrangian(const System& sys, double h, const vec<System::dim>& 
 }
 
 /// One step (q_j, p_j) ↦ (q_{j+1}, p_{j+1}) of eq. systeme-dynamique-discret-ordre-2 in its
-/// reduced form (DESIGN.md §2): one D×D Newton solve for the midpoint q̄ = (q_j + q_{j+1})/2.
-/// The increments are accumulated with compensated summation (solvers/compensated.hpp).
+/// reduced form (docs/design.md, "Reduced steps"): one D×D Newton solve for the midpoint q̄ = (q_j +
+/// q_{j+1})/2. The increments are accumulated with compensated summation (solvers/compensated.hpp).
 template <class System>
 class stepper {
   public:

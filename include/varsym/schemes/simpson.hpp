@@ -29,10 +29,11 @@ double discrete_lagrangian(const System& sys, double h, const vec<System::dim>& 
 }
 
 /// One step of eqs. equation-milieu-intervalle and simpson-hamilton in their reduced form
-/// (DESIGN.md §2): one D×D Newton solve for the midpoint q_m = q_{j+½}, then explicit updates.
-/// Increments are accumulated with compensated summation (solvers/compensated.hpp); Update =
-/// plain_update<D> adds them plainly (the baseline of `make soak`).
-/// ∇V(q_{j+1}) of a step is kept as ∇V(q_j) of the next (recomputed if the state was changed).
+/// (docs/design.md, "Reduced steps"): one D×D Newton solve for the midpoint q_m = q_{j+½}, then
+/// explicit updates. Increments are accumulated with compensated summation
+/// (solvers/compensated.hpp); Update = plain_update<D> adds them plainly (the baseline of `make
+/// soak`). ∇V(q_{j+1}) of a step is kept as ∇V(q_j) of the next (recomputed if the state was
+/// changed).
 template <class System, class Update = compensated_update<System::dim>>
 class stepper {
   public:

@@ -2,7 +2,8 @@
 // family (Lobatto or Gauss quadrature, degree s; Simpson = Lobatto 2, Newmark = Gauss 1), one
 // Newton solve per step with the exact Jacobian from second derivatives of L.
 //
-// On a step, q(t_j + τh) = Σ_i ℓ_i(τ) Q_i with Q_0 = q_j, Q_s = q_{j+1} (DESIGN.md §1), and
+// On a step, q(t_j + τh) = Σ_i ℓ_i(τ) Q_i with Q_0 = q_j, Q_s = q_{j+1} (docs/design.md, "The one
+// idea"), and
 //   L_d(Q_0 … Q_s) = h Σ_k w_k L(q_k, v_k),  q_k = Σ_i ℓ_i(c_k) Q_i,  v_k = (1/h) Σ_i ℓ_i'(c_k) Q_i
 // (for s = 2 and Lobatto this is the paper's eq. LLhh applied to a general L). With φ_ik = ℓ_i(c_k)
 // and ψ_ik = ℓ_i'(c_k), the position–momentum form of the discrete Euler–Lagrange equations is
