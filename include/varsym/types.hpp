@@ -1,6 +1,9 @@
 // varsym/types.hpp: vector, matrix and phase-space state types shared by the whole library.
 #pragma once
 
+#include <cmath>
+#include <utility>
+
 #include <Eigen/Dense>
 
 namespace varsym {
@@ -68,54 +71,50 @@ vec<N> solve_symmetric(const mat<N>& a, const vec<N>& b) {
 
 namespace varsym::detail {
 
-/// x = A⁻¹ b for a small dense A (n × n, column-major with leading dimension lda) by Eigen's LU
-/// with partial pivoting at the compile-time size N = n, whose unrolled kernels are 1.5–2.5×
-/// faster than the run-time-sized LU for n ≤ 8 (bench/bench_family.cpp). Depends on n only, not
-/// on a system, so it is compiled once per program whatever the systems stepped.
-template <int N>
-void solve_fixed_size(const double* a, Eigen::Index lda, const double* b, double* x) {
-    const Eigen::Map<const Eigen::Matrix<double, N, N>, 0, Eigen::OuterStride<>> am(
-        a, N, N, Eigen::OuterStride<>(lda));
-    const Eigen::Map<const Eigen::Matrix<double, N, 1>> bm(b);
-    Eigen::Map<Eigen::Matrix<double, N, 1>> xm(x);
-    xm = Eigen::Matrix<double, N, N>(am).partialPivLu().solve(bm);
-}
-
-/// The largest n that solve_small handles at a fixed size.
+/// The largest n that solve_small handles.
 inline constexpr int small_solve_limit = 8;
 
-/// Solves A x = b at a fixed size when n ≤ small_solve_limit; returns false (x untouched) for
-/// larger n, which the caller solves with a run-time-sized LU.
+/// Solves A x = b for n ≤ small_solve_limit (A column-major with leading dimension lda) by
+/// Gaussian elimination with partial pivoting, the algorithm of Eigen's PartialPivLU, written
+/// out for small n; returns false (x untouched) for larger n, which the caller solves with
+/// Eigen's run-time-sized LU. Why not Eigen here: its run-time-sized LU costs 1.5–2.5× more at
+/// n ≤ 8, and its fixed-size LU at the seven sizes costs every source that steps the family
+/// 15 s of compilation at -O3 (docs/performance.md). This loop matches the fixed-size LU's
+/// speed and compiles in no time.
 inline bool solve_small(Eigen::Index n, const double* a, Eigen::Index lda, const double* b,
                         double* x) {
-    switch (n) {
-    case 1:
-        x[0] = b[0] / a[0];
-        return true;
-    case 2:
-        solve_fixed_size<2>(a, lda, b, x);
-        return true;
-    case 3:
-        solve_fixed_size<3>(a, lda, b, x);
-        return true;
-    case 4:
-        solve_fixed_size<4>(a, lda, b, x);
-        return true;
-    case 5:
-        solve_fixed_size<5>(a, lda, b, x);
-        return true;
-    case 6:
-        solve_fixed_size<6>(a, lda, b, x);
-        return true;
-    case 7:
-        solve_fixed_size<7>(a, lda, b, x);
-        return true;
-    case 8:
-        solve_fixed_size<8>(a, lda, b, x);
-        return true;
-    default:
-        return false;
+    if (n > small_solve_limit) return false;
+    double m[small_solve_limit][small_solve_limit]; // m[col][row]
+    double y[small_solve_limit];
+    for (Eigen::Index j = 0; j < n; ++j) {
+        for (Eigen::Index i = 0; i < n; ++i)
+            m[j][i] = a[j * lda + i];
+        y[j] = b[j];
     }
+    for (Eigen::Index k = 0; k < n; ++k) {
+        Eigen::Index p = k; // pivot: the largest entry of column k at or below the diagonal
+        for (Eigen::Index i = k + 1; i < n; ++i)
+            if (std::abs(m[k][i]) > std::abs(m[k][p])) p = i;
+        if (p != k) {
+            for (Eigen::Index j = k; j < n; ++j)
+                std::swap(m[j][k], m[j][p]);
+            std::swap(y[k], y[p]);
+        }
+        const double inv = 1.0 / m[k][k]; // a zero pivot gives inf/NaN, which Newton reports
+        for (Eigen::Index i = k + 1; i < n; ++i) {
+            const double l = m[k][i] * inv;
+            for (Eigen::Index j = k + 1; j < n; ++j)
+                m[j][i] -= l * m[j][k];
+            y[i] -= l * y[k];
+        }
+    }
+    for (Eigen::Index i = n - 1; i >= 0; --i) {
+        double s = y[i];
+        for (Eigen::Index j = i + 1; j < n; ++j)
+            s -= m[j][i] * x[j];
+        x[i] = s / m[i][i];
+    }
+    return true;
 }
 
 } // namespace varsym::detail
