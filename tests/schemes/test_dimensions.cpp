@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "compare_steppers.hpp"
 #include "nbody.hpp"
 #include "test_support.hpp"
 #include "varsym/integrate.hpp"
@@ -58,20 +59,6 @@ drift run_and_measure(Stepper&& stepper, const System& sys, phase_state<D> x, st
     return d;
 }
 
-/// Largest difference of q and p between two steppers over n steps from x0.
-template <class A, class B, int D>
-double max_gap(A&& a, B&& b, phase_state<D> x, std::size_t n) {
-    phase_state<D> y = x;
-    double gap = 0;
-    for (std::size_t j = 0; j < n; ++j) {
-        EXPECT_TRUE(a.step(x).converged);
-        EXPECT_TRUE(b.step(y).converged);
-        gap = std::max({gap, (x.q - y.q).template lpNorm<Eigen::Infinity>(),
-                        (x.p - y.p).template lpNorm<Eigen::Infinity>()});
-    }
-    return gap;
-}
-
 // Tolerances. |q| ≤ 30, |p_i| ≲ 3e-4 for a planet and the sum of the planets' for the central
 // body. The total momentum's forces cancel in pairs up to the round-off of each pair's force
 // (≈ 1e-16 × h|∇V| ≈ 1e-21 a step), and the compensated sums keep p to ~1e-20: measured ≤ 1.2e-19
@@ -103,22 +90,25 @@ void every_path(int bodies, std::size_t n) {
         EXPECT_LE(d.angular, angular_tol);
     }
     // Simpson by the reduced d × d solve and as lobatto-2 by the family's 2d × 2d solve.
-    EXPECT_LE(max_gap(simpson::stepper<sys_t>(c.sys, h),
-                      galerkin::stepper<sys_t>(c.sys, h, galerkin::rule_kind::lobatto, 2), c.x0,
-                      n / 4),
-              gap_tol);
+    EXPECT_LE(
+        test::max_difference(simpson::stepper<sys_t>(c.sys, h),
+                             galerkin::stepper<sys_t>(c.sys, h, galerkin::rule_kind::lobatto, 2),
+                             c.x0, static_cast<int>(n / 4)),
+        gap_tol);
     // The general engine with the system's derivatives by hand against the family.
     using lag = separable_lagrangian<sys_t>;
     EXPECT_LE(
-        max_gap(general::stepper<lag>(lagrangian_system<lag>({c.sys}), h, {scheme_kind::gauss, 3}),
-                galerkin::stepper<sys_t>(c.sys, h, galerkin::rule_kind::gauss, 3), c.x0, n / 10),
+        test::max_difference(
+            general::stepper<lag>(lagrangian_system<lag>({c.sys}), h, {scheme_kind::gauss, 3}),
+            galerkin::stepper<sys_t>(c.sys, h, galerkin::rule_kind::gauss, 3), c.x0,
+            static_cast<int>(n / 10)),
         gap_tol);
 }
 
 /// The general engine with automatic derivatives (fixed d) against the same Lagrangian's
 /// derivatives by hand.
 template <int D>
-void automatic_derivatives(int bodies, std::size_t n) {
+void automatic_derivatives(int bodies, int n) {
     const case_of<D> c(bodies);
     using lag = separable_lagrangian<decltype(c.sys)>;
     using ad_lag = test::gravity_lagrangian<D>;
@@ -131,12 +121,12 @@ void automatic_derivatives(int bodies, std::size_t n) {
     EXPECT_LE((by_ad.lqq - by_hand.lqq).template lpNorm<Eigen::Infinity>(), 1e-17);
     EXPECT_LE((by_ad.lvv - by_hand.lvv).template lpNorm<Eigen::Infinity>(), 1e-18);
     EXPECT_EQ(by_ad.lqv.template lpNorm<Eigen::Infinity>(), 0.0);
-    EXPECT_LE(
-        max_gap(general::stepper<ad_lag>(lagrangian_system<ad_lag>({c.start.masses}), h,
-                                         scheme_kind::simpson),
-                general::stepper<lag>(lagrangian_system<lag>({c.sys}), h, scheme_kind::simpson),
-                c.x0, n),
-        gap_tol);
+    EXPECT_LE(test::max_difference(
+                  general::stepper<ad_lag>(lagrangian_system<ad_lag>({c.start.masses}), h,
+                                           scheme_kind::simpson),
+                  general::stepper<lag>(lagrangian_system<lag>({c.sys}), h, scheme_kind::simpson),
+                  c.x0, n),
+              gap_tol);
 }
 
 } // namespace

@@ -62,7 +62,9 @@ auto checkpoint_every_seconds(double seconds, F save) {
 template <class... Observers>
 auto all(Observers... obs) {
     return [obs = std::make_tuple(std::move(obs)...)](const auto& s) mutable {
-        return std::apply([&](auto&... o) { return (observer_stops(o, s) | ...); }, obs);
+        bool stop = false;
+        std::apply([&](auto&... o) { ((stop = observer_stops(o, s) || stop), ...); }, obs);
+        return stop;
     };
 }
 

@@ -133,10 +133,14 @@ class stepper {
             assemble(x);
             rep.residual = res_.template lpNorm<Eigen::Infinity>();
             if (monitor.exhausted()) return rep;
-            if (!varsym::detail::solve_small(n_, jac_.data(), jac_.outerStride(), res_.data(),
-                                             delta_.data())) {
-                lu_.compute(jac_);
-                delta_.noalias() = lu_.solve(res_);
+            [[maybe_unused]] const bool small = varsym::detail::solve_small(
+                n_, jac_.data(), jac_.outerStride(), res_.data(), delta_.data());
+            // Eigen's LU only where n can exceed the small solve's limit (not compiled for d = 1).
+            if constexpr (max_unknowns == dynamic || max_unknowns > detail_small_limit) {
+                if (!small) {
+                    lu_.compute(jac_);
+                    delta_.noalias() = lu_.solve(res_);
+                }
             }
             const double step = delta_.template lpNorm<Eigen::Infinity>();
             rep.iterations = monitor.iterations() + 1;
@@ -175,6 +179,7 @@ class stepper {
   private:
     static constexpr int max_unknowns = dim == dynamic ? dynamic : dim * max_degree;
     static constexpr int max_points = max_degree + 1;
+    static constexpr int detail_small_limit = varsym::detail::small_solve_limit;
     using jacobian_type = detail::bounded_matrix<max_unknowns, max_unknowns>;
     using stage_matrix = detail::columns<dim, max_degree>;
     using point_matrix = detail::columns<dim, max_points>;
