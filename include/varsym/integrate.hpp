@@ -58,6 +58,22 @@ struct run_summary {
     }
 };
 
+/// Step j of a run: advances x from t_{j−1} to t_j = t0 + j h and returns t_j, adding the
+/// step's Newton statistics to `sum`. Throws step_failure if Newton does not converge; x is then
+/// left at the last good state. The one step of both integrate and integrate_from.
+template <stepper Stepper>
+double advance(Stepper& stepper, phase_state<Stepper::dim>& x, double t0, std::size_t j,
+               run_summary& sum) {
+    const double h = stepper.step_size();
+    const newton_report rep = stepper.step(x);
+    const double t = t0 + static_cast<double>(j) * h;
+    if (!rep.converged) throw step_failure(j, t - h, t, rep);
+    ++sum.steps;
+    sum.newton_iterations += rep.iterations;
+    sum.newton_iterations_max = std::max(sum.newton_iterations_max, rep.iterations);
+    return t;
+}
+
 /// Runs n steps from x at time t0 with t_j = t0 + j h. Calls observe(j, t_j, x) for j = 0 … n
 /// (j = 0 is the initial state). Throws step_failure if a step does not converge.
 /// For runs that stop early, checkpoint or resume, see run/state.hpp (run_state, integrate_from)
@@ -67,14 +83,8 @@ run_summary integrate(Stepper& stepper, phase_state<Stepper::dim>& x, double t0,
                       Observer&& observe) {
     observe(std::size_t{0}, t0, static_cast<const phase_state<Stepper::dim>&>(x));
     run_summary sum;
-    const double h = stepper.step_size();
     for (std::size_t j = 1; j <= n; ++j) {
-        const newton_report rep = stepper.step(x);
-        const double t = t0 + static_cast<double>(j) * h;
-        if (!rep.converged) throw step_failure(j, t - h, t, rep);
-        ++sum.steps;
-        sum.newton_iterations += rep.iterations;
-        sum.newton_iterations_max = std::max(sum.newton_iterations_max, rep.iterations);
+        const double t = varsym::advance(stepper, x, t0, j, sum);
         observe(j, t, static_cast<const phase_state<Stepper::dim>&>(x));
     }
     return sum;

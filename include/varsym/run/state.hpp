@@ -66,16 +66,9 @@ bool observer_stops(Observer& observe, const State& s) {
 /// step_failure if a step does not converge; s is then the state of the last good step.
 template <stepper S, class Observer>
 bool integrate_from(S& stepper, run_state<S::dim>& s, std::size_t n, Observer&& observe) {
-    const double h = stepper.step_size();
     while (s.step < n) {
-        const newton_report rep = stepper.step(s.x);
-        const std::size_t j = s.step + 1;
-        const double t = s.t0 + static_cast<double>(j) * h;
-        if (!rep.converged) throw step_failure(j, t - h, t, rep);
-        s.step = j;
-        ++s.stats.steps;
-        s.stats.newton_iterations += rep.iterations;
-        s.stats.newton_iterations_max = std::max(s.stats.newton_iterations_max, rep.iterations);
+        varsym::advance(stepper, s.x, s.t0, s.step + 1, s.stats);
+        ++s.step;
         if constexpr (resumable_stepper<S>) snapshot(stepper, s);
         if (observer_stops(observe, std::as_const(s))) return s.step == n;
     }
