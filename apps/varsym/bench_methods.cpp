@@ -1,5 +1,6 @@
 // apps/varsym/bench_methods.cpp: the pendulum and Kepler problems of `varsym bench`, with
 // varsym's schemes and Boost.Odeint's symplectic steppers on each.
+#include <charconv>
 #include "bench_methods.hpp"
 
 #include <array>
@@ -35,11 +36,13 @@ scheme_spec parse_spec(const std::string& label) {
     const auto kind = parse_scheme(label.substr(0, dash));
     if (!kind) throw usage_error("unknown scheme '" + label + "' in --schemes");
     if (dash == std::string::npos) return *kind;
-    try {
-        return {*kind, std::stoi(label.substr(dash + 1))};
-    } catch (const std::exception& e) {
-        throw usage_error("--schemes: '" + label + "': " + e.what());
-    }
+    const std::string degree = label.substr(dash + 1);
+    int s = 0;
+    const auto [end, ec] = std::from_chars(degree.data(), degree.data() + degree.size(), s);
+    if (ec != std::errc() || end != degree.data() + degree.size() || s < 1)
+        throw usage_error("--schemes: in " + shown(label) + ", the degree after '-' must be a " +
+                          "whole number >= 1 (e.g. gauss-4, lobatto-3)");
+    return {*kind, s};
 }
 
 /// Runs a varsym stepper: timed loop without observer, or an observed run for the energy.

@@ -7,23 +7,21 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
 
 #include <boost/crc.hpp>
-#include <fcntl.h>
-#include <unistd.h>
 
 #include "cli_common.hpp"
+#include "files.hpp"
 
 namespace varsym::cli {
 
 namespace {
 
-constexpr const char* magic = "varsym-checkpoint 1";
+constexpr const char* magic = "varsym-checkpoint 2";
 
 std::string hex(double v) {
     char buf[40];
@@ -71,14 +69,6 @@ void put_vector(std::string& body, const char* key, const std::vector<double>& v
     for (double x : v)
         body += ' ' + hex(x);
     body += '\n';
-}
-
-void fsync_directory(const std::filesystem::path& file) {
-    const auto dir = file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
-    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
-    if (fd < 0) return; // best effort: the rename itself is atomic
-    ::fsync(fd);
-    ::close(fd);
 }
 
 /// Reads "key value…" lines after the checksum was verified.
@@ -137,7 +127,7 @@ class fields {
 
 } // namespace
 
-void write_checkpoint(const std::string& path, const checkpoint& ck) {
+void write_checkpoint(const std::string& path, const checkpoint& ck, bool replace) {
     std::string body = std::string(magic) + "\nversion " + ck.version + "\n";
     for (const std::string& a : ck.args)
         body += "arg " + escape(a) + '\n';
@@ -147,6 +137,7 @@ void write_checkpoint(const std::string& path, const checkpoint& ck) {
     body += "step " + std::to_string(ck.step) + '\n';
     body += "h " + hex(ck.h) + '\n';
     body += "csv_bytes " + std::to_string(ck.csv_bytes) + '\n';
+    body += "csv_crc32 " + std::to_string(ck.csv_crc32) + '\n';
     put_vector(body, "q", ck.q);
     put_vector(body, "p", ck.p);
     put_vector(body, "carry_q", ck.carry_q);
@@ -155,31 +146,22 @@ void write_checkpoint(const std::string& path, const checkpoint& ck) {
     body += "newton_iterations_max " + std::to_string(ck.newton_iterations_max) + '\n';
     body += "crc32 " + crc_of(body) + '\n';
 
-    const std::string tmp = path + ".tmp";
-    std::FILE* f = std::fopen(tmp.c_str(), "w");
-    if (f == nullptr)
-        throw std::runtime_error("cannot write checkpoint '" + tmp + "': " + std::strerror(errno));
-    const bool ok = std::fwrite(body.data(), 1, body.size(), f) == body.size() &&
-                    std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
-    const int err = errno;
-    if (std::fclose(f) != 0 || !ok) {
-        std::remove(tmp.c_str());
-        throw std::runtime_error("cannot write checkpoint '" + tmp + "': " + std::strerror(err));
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        const int e = errno;
-        std::remove(tmp.c_str());
-        throw std::runtime_error("cannot write checkpoint '" + path + "': " + std::strerror(e));
-    }
-    fsync_directory(path);
+    write_exclusively(path, body, replace, "checkpoint");
+}
+
+bool looks_like_checkpoint(const std::string& path) {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (f == nullptr) return false;
+    const std::string m = magic;
+    std::string head(m.size(), '\0');
+    head.resize(std::fread(head.data(), 1, head.size(), f));
+    std::fclose(f);
+    return m.starts_with(head); // a write killed early leaves a prefix of it, or nothing
+
 }
 
 checkpoint read_checkpoint(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw usage_error("cannot read checkpoint '" + path + "': " + std::strerror(errno));
-    std::ostringstream all;
-    all << in.rdbuf();
-    const std::string text = all.str();
+    const std::string text = read_regular_file(path, max_checkpoint_bytes, "checkpoint");
     if (text.rfind(std::string(magic) + "\n", 0) != 0)
         throw usage_error("'" + path + "' is not a varsym checkpoint");
     // The version first: a file of another version gets that message, not a checksum error.
@@ -210,6 +192,7 @@ checkpoint read_checkpoint(const std::string& path) {
     ck.step = f.integer<std::uint64_t>("step");
     const std::vector<double> h = f.numbers("h");
     ck.csv_bytes = f.integer<std::uint64_t>("csv_bytes");
+    ck.csv_crc32 = f.integer<std::uint32_t>("csv_crc32");
     ck.q = f.numbers("q");
     ck.p = f.numbers("p");
     ck.carry_q = f.numbers("carry_q");

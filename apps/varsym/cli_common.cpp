@@ -1,40 +1,69 @@
-// apps/varsym/cli_common.cpp: validators, number formatting and atomic output files.
+// apps/varsym/cli_common.cpp: option validators (correctly rounded, decimal only) and number
+// formatting.
 #include "cli_common.hpp"
 
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstring>
-
-#include <fcntl.h>
-#include <unistd.h>
 
 namespace varsym::cli {
 
 namespace {
 
-// Parses the whole string as a double; false on trailing text, empty input or overflow.
+// Parses the whole string as a decimal double, correctly rounded; false on trailing text,
+// empty input, hexadecimal input or overflow. A leading '+' is allowed.
 bool parse_double(const std::string& s, double& v) {
-    const char* first = s.data() + (s.starts_with('+') ? 1 : 0);
-    const char* last = first + s.size();
-    auto [ptr, ec] = std::from_chars(first, last, v);
+    const std::size_t skip = s.starts_with('+') ? 1 : 0;
+    const char* first = s.data() + skip;
+    const char* last = s.data() + s.size();
+    if (first == last || *first == '+' || (*first == '-' && skip == 1)) return false;
+    auto [ptr, ec] = std::from_chars(first, last, v, std::chars_format::general);
     return ec == std::errc() && ptr == last;
 }
 
-bool parse_integer(const std::string& s, long long& v) {
-    const char* first = s.data() + (s.starts_with('+') ? 1 : 0);
-    const char* last = first + s.size();
+// A whole number in decimal ("010" is ten), or a real that is one exactly (1e3, 1000.0).
+bool parse_whole(const std::string& s, long long& v) {
+    const std::size_t skip = s.starts_with('+') ? 1 : 0;
+    const char* first = s.data() + skip;
+    const char* last = s.data() + s.size();
+    if (first == last || *first == '+' || (*first == '-' && skip == 1)) return false;
     auto [ptr, ec] = std::from_chars(first, last, v);
-    return ec == std::errc() && ptr == last;
+    if (ec == std::errc() && ptr == last) return true;
+    double d = 0.0;
+    if (!parse_double(s, d) || d != std::floor(d) || std::abs(d) >= 9.2e18) return false;
+    v = static_cast<long long>(d);
+    return true;
 }
 
-CLI::Validator number_check(const char* name, bool positive) {
+/// A double as a C99 hexadecimal float: what CLI11's strtold-based conversion reads exactly.
+std::string exact_text(double v) {
+    char buf[48];
+    char* out = buf;
+    if (std::signbit(v)) *out++ = '-';
+    *out++ = '0';
+    *out++ = 'x';
+    auto [end, ec] = std::to_chars(out, buf + sizeof buf, std::abs(v), std::chars_format::hex);
+    return std::string(buf, end);
+}
+
+CLI::Validator real_check(const char* name, double lo, double hi, bool open_lo, bool open_hi) {
     return CLI::Validator(
-        [positive](std::string& s) -> std::string {
+        [lo, hi, open_lo, open_hi](std::string& s) -> std::string {
             double v = 0;
-            if (!parse_double(s, v)) return "'" + s + "' is not a number";
-            if (!std::isfinite(v)) return "'" + s + "' is not finite";
-            if (positive && !(v > 0)) return "must be > 0, got " + s;
+            if (!parse_double(s, v)) return shown(s) + " is not a number";
+            if (!std::isfinite(v)) return shown(s) + " is not finite";
+            if (open_lo ? !(v > lo) : !(v >= lo)) {
+                std::string bound;
+                append_number(bound, lo);
+                return std::string("must be ") + (open_lo ? "> " : ">= ") + bound + ", got " +
+                       shown(s);
+            }
+            if (open_hi ? !(v < hi) : !(v <= hi)) {
+                std::string bound;
+                append_number(bound, hi);
+                return std::string("must be ") + (open_hi ? "< " : "<= ") + bound + ", got " +
+                       shown(s);
+            }
+            s = exact_text(v);
             return {};
         },
         name);
@@ -44,96 +73,73 @@ CLI::Validator integer_check(const char* name, long long min) {
     return CLI::Validator(
         [min](std::string& s) -> std::string {
             long long v = 0;
-            if (!parse_integer(s, v)) return "'" + s + "' is not a whole number";
-            if (v < min) return "must be >= " + std::to_string(min) + ", got " + s;
+            if (!parse_whole(s, v)) return shown(s) + " is not a whole number";
+            if (v < min) return "must be >= " + std::to_string(min) + ", got " + shown(s);
+            s = std::to_string(v);
             return {};
         },
         name);
 }
 
+constexpr double inf = std::numeric_limits<double>::infinity();
+
 } // namespace
 
-const CLI::Validator finite_number = number_check("REAL", false);
-const CLI::Validator positive_number = number_check("REAL>0", true);
+std::string shown(const std::string& s) {
+    constexpr std::size_t limit = 40;
+    if (s.size() <= limit) return "'" + s + "'";
+    return "'" + s.substr(0, limit) + "...' (" + std::to_string(s.size()) + " characters)";
+}
+
+const CLI::Validator finite_number = real_check("REAL", -inf, inf, false, false);
+const CLI::Validator positive_number = real_check("REAL>0", 0.0, inf, true, false);
+const CLI::Validator non_negative_number = real_check("REAL>=0", 0.0, inf, false, false);
 const CLI::Validator positive_integer = integer_check("INT>0", 1);
 const CLI::Validator non_negative_integer = integer_check("INT>=0", 0);
+
+CLI::Validator number_in(double lo, double hi, const char* name, bool open_hi) {
+    return real_check(name, lo, hi, false, open_hi);
+}
+
+const CLI::Validator number_list(
+    [](std::string& s) -> std::string {
+        std::size_t start = 0, index = 1;
+        while (true) {
+            const std::size_t comma = s.find(',', start);
+            const std::string item = s.substr(start, comma == std::string::npos ? comma : comma - start);
+            double v = 0;
+            if (item.empty())
+                return "value " + std::to_string(index) + " of " + shown(s) +
+                       " is empty (give numbers separated by single commas)";
+            if (!parse_double(item, v))
+                return "value " + std::to_string(index) + ", " + shown(item) + ", is not a number";
+            if (!std::isfinite(v))
+                return "value " + std::to_string(index) + ", " + shown(item) + ", is not finite";
+            if (comma == std::string::npos) return {};
+            start = comma + 1;
+            ++index;
+        }
+    },
+    "");
+
+std::vector<double> parse_number_list(const std::string& s) {
+    std::vector<double> out;
+    std::size_t start = 0;
+    while (start <= s.size() && !s.empty()) {
+        const std::size_t comma = s.find(',', start);
+        double v = 0;
+        parse_double(s.substr(start, comma == std::string::npos ? comma : comma - start), v);
+        out.push_back(v);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    return out;
+}
 
 void append_number(std::string& line, double v) {
     char buf[40];
     auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 17);
     line.append(buf, ptr);
-}
-
-output_file::output_file(const std::string& path) {
-    if (path.empty() || path == "-") {
-        f_ = stdout;
-        return;
-    }
-    path_ = path;
-    if (std::filesystem::is_directory(path_))
-        throw std::runtime_error("cannot write '" + path + "': it is a directory");
-    f_ = std::fopen(partial_path().c_str(), "w");
-    if (f_ == nullptr)
-        throw std::runtime_error("cannot write '" + path + "': " + std::strerror(errno));
-}
-
-output_file::output_file(const std::string& path, std::uint64_t keep) : path_(path) {
-    const std::string part = partial_path();
-    std::error_code ec;
-    const auto size = std::filesystem::file_size(part, ec);
-    if (ec)
-        throw usage_error("cannot resume: '" + part + "', the rows of the interrupted run, is " +
-                          "missing (" + ec.message() + ")");
-    if (size < keep)
-        throw usage_error("cannot resume: '" + part + "' has " + std::to_string(size) +
-                          " bytes, fewer than the " + std::to_string(keep) +
-                          " its checkpoint covers; it was changed after the run stopped");
-    if (::truncate(part.c_str(), static_cast<off_t>(keep)) != 0)
-        throw std::runtime_error("cannot truncate '" + part + "': " + std::strerror(errno));
-    f_ = std::fopen(part.c_str(), "a");
-    if (f_ == nullptr)
-        throw std::runtime_error("cannot write '" + part + "': " + std::strerror(errno));
-    bytes_ = keep;
-    keep_ = true; // an interrupted resumed run keeps its rows for the next resume
-}
-
-void output_file::sync() {
-    if (std::fflush(f_) != 0 || (!is_stdout() && ::fsync(::fileno(f_)) != 0))
-        throw std::runtime_error("cannot write '" + path_.string() + "': " + std::strerror(errno));
-}
-
-output_file::~output_file() {
-    if (is_stdout() || committed_) return;
-    std::fclose(f_);
-    if (!keep_) std::remove(partial_path().c_str());
-}
-
-void output_file::write(const std::string& s) {
-    bytes_ += s.size();
-    if (std::fwrite(s.data(), 1, s.size(), f_) != s.size() || std::fflush(f_) != 0)
-        throw std::runtime_error("cannot write '" +
-                                 (is_stdout() ? std::string("standard output") : path_.string()) +
-                                 "': " + std::strerror(errno));
-}
-
-void output_file::commit() {
-    if (is_stdout()) {
-        std::fflush(f_);
-        return;
-    }
-    const bool ok = std::fflush(f_) == 0 && ::fsync(::fileno(f_)) == 0;
-    const int err = errno;
-    if (std::fclose(f_) != 0 || !ok) {
-        committed_ = true; // the stream is closed: the destructor must not close it again
-        std::remove(partial_path().c_str());
-        throw std::runtime_error("cannot write '" + path_.string() + "': " + std::strerror(err));
-    }
-    committed_ = true;
-    if (std::rename(partial_path().c_str(), path_.c_str()) != 0) {
-        const int e = errno;
-        std::remove(partial_path().c_str());
-        throw std::runtime_error("cannot write '" + path_.string() + "': " + std::strerror(e));
-    }
 }
 
 } // namespace varsym::cli

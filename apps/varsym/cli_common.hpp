@@ -1,13 +1,11 @@
 // apps/varsym/cli_common.hpp: what every varsym subcommand shares: validators, errors with exit
-// codes, CSV number formatting, and output files that never look complete when they are not.
+// codes, number parsing and formatting.
 #pragma once
 
-#include <cstdint>
-#include <cstdio>
-#include <filesystem>
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -19,6 +17,9 @@ enum exit_code : int {
     exit_failure = 1,   ///< I/O or other run-time failure
     exit_usage = 2,     ///< bad command line or bad input value
     exit_numerical = 3, ///< a step's Newton iteration did not converge
+    exit_energy = 4,    ///< the energy error passed --max-energy-error: the rows are meaningless
+    exit_sigint = 130,  ///< stopped by SIGINT (128 + 2), after a checkpoint where one is kept
+    exit_sigterm = 143, ///< stopped by SIGTERM (128 + 15), likewise
 };
 
 /// A bad input value found after parsing (inconsistent options, refused initial state, …).
@@ -31,47 +32,40 @@ struct numerical_error : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-/// Option validators: the value must parse as a finite number (and be > 0, or ≥ 0).
+/// A run stopped by the energy watch (exit code 4).
+struct energy_error : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+/// A run stopped by SIGINT or SIGTERM after a checkpoint (exit code 128 + signal).
+struct interrupted : std::runtime_error {
+    interrupted(int sig, const std::string& what) : std::runtime_error(what), signal(sig) {}
+    int signal;
+};
+
+/// Option validators. Each parses the whole value in decimal (std::from_chars: correctly
+/// rounded, no octal or hexadecimal, a leading '+' allowed) and rewrites it in a form CLI11
+/// converts exactly (integers in plain decimal, reals as hexadecimal floats), so that the value
+/// used is the one a correctly rounded parser gives. Use them with Option::transform.
 extern const CLI::Validator finite_number;
 extern const CLI::Validator positive_number;
-extern const CLI::Validator positive_integer;
-extern const CLI::Validator non_negative_integer;
+extern const CLI::Validator non_negative_number;
+extern const CLI::Validator positive_integer;     ///< also 1e3 and 1000.0: a whole number
+extern const CLI::Validator non_negative_integer; ///< also 1e3 and 1000.0: a whole number
+/// A real number in [lo, hi], or [lo, hi) if open_hi (the name says the range in --help).
+CLI::Validator number_in(double lo, double hi, const char* name, bool open_hi = false);
+/// The type name --help shows for a number_list option; config files give such a key a list.
+inline constexpr const char* list_type_name = "X1,X2,...";
+/// A comma-separated list of finite numbers, none of them empty ("1,2.5,-3").
+extern const CLI::Validator number_list;
+/// The numbers of a value number_list accepted.
+std::vector<double> parse_number_list(const std::string& s);
+
+/// s quoted for a message, cut to its first 40 characters (a value may be megabytes long).
+std::string shown(const std::string& s);
 
 /// Appends v with 17 significant digits (round-trips a double exactly), locale-independent.
 void append_number(std::string& line, double v);
-
-/// An output destination: standard output for "" or "-", else FILE written as FILE.part and
-/// renamed to FILE by commit(). Without commit() the .part file is removed, unless
-/// keep_partial() was called (a run that failed mid-way keeps its rows for inspection).
-/// An existing FILE is untouched until commit().
-class output_file {
-  public:
-    explicit output_file(const std::string& path);
-    /// Continues FILE.part of an interrupted run: truncates it to its first `keep` bytes (the
-    /// rows a checkpoint covers) and appends from there. Refuses a missing or shorter file.
-    output_file(const std::string& path, std::uint64_t keep);
-    output_file(const output_file&) = delete;
-    output_file& operator=(const output_file&) = delete;
-    ~output_file();
-
-    [[nodiscard]] std::FILE* stream() const { return f_; }
-    [[nodiscard]] bool is_stdout() const { return path_.empty(); }
-    [[nodiscard]] std::string partial_path() const { return path_.string() + ".part"; }
-    void write(const std::string& s);
-    /// Bytes in the file so far (for a resumed file, counting the kept ones).
-    [[nodiscard]] std::uint64_t bytes() const { return bytes_; }
-    /// Flushes and fsyncs what was written (before a checkpoint that counts these bytes).
-    void sync();
-    void commit();
-    void keep_partial() { keep_ = true; }
-
-  private:
-    std::filesystem::path path_;
-    std::FILE* f_ = nullptr;
-    bool committed_ = false;
-    bool keep_ = false;
-    std::uint64_t bytes_ = 0;
-};
 
 /// A subcommand's action, run after the whole command line parsed.
 using action = std::function<void()>;

@@ -164,7 +164,22 @@ figure work_precision(const std::vector<row>& rows, const std::vector<std::strin
 }
 
 void bench(const bench_options& o) {
-    if (!o.plot.empty()) check_pictures(o.plot);
+    file_roles roles;
+    roles.add("--output", o.output);
+    if (!o.plot.empty()) {
+        check_pictures(o.plot);
+        std::vector<std::string> suffixes;
+        for (const std::string& p : o.problems)
+            suffixes.push_back("-" + p + ".csv");
+        add_figure_files(roles, suffixes, o.plot);
+    }
+    roles.check();
+    for (const double runs : {o.periods, o.orbits})
+        for (const int n : o.steps)
+            if (std::llround(n * runs) < 1 || n * runs > 1e10)
+                throw usage_error("--periods/--orbits times steps per period must give between 1 "
+                                  "and 1e10 steps a run");
+    output_file out(o.output); // before the work: a conflict is refused at once
     std::vector<row> rows;
     std::vector<std::string> problems;
     for (const std::string& p : o.problems) {
@@ -175,10 +190,11 @@ void bench(const bench_options& o) {
         rows.insert(rows.end(), r.begin(), r.end());
         problems.push_back(p);
     }
-    output_file out(o.output);
     out.write(o.format == "csv" ? csv(rows) : text(rows, o));
+    file_roles others;
+    others.add("--output", o.output);
+    if (!o.plot.empty()) render_figure(work_precision(rows, problems), o.plot, others);
     out.commit();
-    if (!o.plot.empty()) render_figure(work_precision(rows, problems), o.plot);
 }
 
 } // namespace
@@ -211,22 +227,22 @@ void add_bench_command(CLI::App& app, action& todo) {
         ->delimiter(',')
         ->capture_default_str();
     cmd->add_option("--steps", o->steps, "Pendulum: steps per period N")
-        ->check(positive_integer)
+        ->transform(positive_integer)
         ->delimiter(',')
         ->capture_default_str();
     cmd->add_option("--kepler-steps", o->kepler_steps, "Kepler: steps per orbit")
-        ->check(positive_integer)
+        ->transform(positive_integer)
         ->delimiter(',')
         ->capture_default_str();
     cmd->add_option("--periods", o->periods, "Pendulum periods per run")
-        ->check(positive_number)
+        ->transform(positive_number)
         ->capture_default_str();
     cmd->add_option("--orbits", o->orbits, "Kepler orbits per run")
-        ->check(positive_number)
+        ->transform(positive_number)
         ->capture_default_str();
     cmd->add_option("--repetitions", o->repetitions,
                     "Timed runs per method and N (the median is reported)")
-        ->check(positive_integer)
+        ->transform(positive_integer)
         ->capture_default_str();
     cmd->add_option("--format", o->format, "text or csv")
         ->check(CLI::IsMember({"text", "csv"}))

@@ -147,7 +147,14 @@ set ylabel 'error (max norm over all steps)'
 void converge(const converge_options& o) {
     const scheme_spec spec = make_spec(o.scheme);
     make_system(o.pendulum); // validates the parameters before any work
-    if (!o.plot.empty()) check_pictures(o.plot);
+    file_roles roles;
+    roles.add("--output", o.output);
+    if (!o.plot.empty()) {
+        check_pictures(o.plot);
+        add_figure_files(roles, {".csv"}, o.plot);
+    }
+    roles.check();
+    output_file out(o.output); // before the work: a conflict is refused at once
     const double period = make_exact(o.pendulum).period();
     std::vector<int> steps = o.steps;
     std::sort(steps.begin(), steps.end());
@@ -158,10 +165,11 @@ void converge(const converge_options& o) {
         const error_norms e = paper::pendulum_errors(spec, n, o.periods, o.pendulum, o.newton);
         rs.push_back({n, {e.momentum, e.state, e.energy}});
     }
-    output_file out(o.output);
     out.write(o.format == "csv" ? csv_table(spec, rs) : text_table(o, spec, period, rs));
+    file_roles others;
+    others.add("--output", o.output);
+    if (!o.plot.empty()) render_figure(convergence_plot(spec, rs), o.plot, others);
     out.commit();
-    if (!o.plot.empty()) render_figure(convergence_plot(spec, rs), o.plot);
 }
 
 } // namespace
@@ -188,10 +196,10 @@ void add_converge_command(CLI::App& app, action& todo) {
     add_pendulum_options(*cmd, o->pendulum);
     cmd->add_option("--steps", o->steps, "Steps per period, comma-separated")
         ->delimiter(',')
-        ->check(positive_integer)
+        ->transform(positive_integer)
         ->capture_default_str();
     cmd->add_option("--periods", o->periods, "Number of periods integrated")
-        ->check(positive_integer)
+        ->transform(positive_integer)
         ->capture_default_str();
     cmd->add_option("--format", o->format, "text or csv (scheme,degree,quantity,steps,error)")
         ->check(CLI::IsMember({"text", "csv"}))

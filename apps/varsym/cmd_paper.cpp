@@ -177,8 +177,8 @@ void add_paper_command(CLI::App& app, action& todo) {
     t1->add_option("--output,-o", *t1_out, "File to write (default: standard output)");
     t1->callback([=, &todo] {
         todo = [=] {
-            const auto rows = paper_order(paper::table1());
             output_file out(*t1_out);
+            const auto rows = paper_order(paper::table1());
             out.write(*format == "csv" ? table1_csv(rows) : table1_text(rows));
             out.commit();
         };
@@ -198,16 +198,22 @@ void add_paper_command(CLI::App& app, action& todo) {
              "--output,-o", o->outputs,
              "Picture to draw, .png or .svg; repeat for both formats (same folder and name)")
             ->required();
-        f->add_option("--periods", o->periods, "Number of periods shown")
-            ->check(positive_integer)
+        f->add_option("--periods", o->periods, "Number of periods shown (at most 1000)")
+            ->transform(positive_integer)
+            ->check(CLI::Range(1, 1000))
             ->capture_default_str();
         if (has_steps)
-            f->add_option("--steps-per-period", o->steps, "Steps per period of both schemes")
-                ->check(positive_integer)
+            f->add_option("--steps-per-period", o->steps,
+                          "Steps per period of both schemes (at most 10000)")
+                ->transform(positive_integer)
+                ->check(CLI::Range(1, 10000))
                 ->capture_default_str();
         f->callback([=, &todo] {
             todo = [=] {
                 check_pictures(o->outputs);
+                if (has_steps && o->periods * o->steps > 100000)
+                    throw usage_error("--periods times --steps-per-period is at most 100000 (a "
+                                      "picture cannot show more points)");
                 const paper::pendulum_case c;
                 render_figure(has_steps ? figure2(c, o->periods, o->steps) : figure1(c, o->periods),
                               o->outputs);

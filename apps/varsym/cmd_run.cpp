@@ -8,8 +8,12 @@
 #include <iostream>
 #include <memory>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "files.hpp"
 #include "models.hpp"
 #include "shared_options.hpp"
 
@@ -23,31 +27,49 @@ struct run_options {
     run_setup setup;
     std::string config;
     std::string resume; ///< only to refuse --resume from a config file: main handles it
+    std::string q0, p0, v0; ///< comma-separated lists (number_list)
 };
 
-/// Checks the checkpoint options of a new run before it starts, so that a run of hours does not
-/// fail at its first checkpoint.
-void check_checkpoint_options(const run_setup& s) {
-    if (s.checkpoint.empty()) return;
-    if (s.output.empty() || s.output == "-")
-        throw usage_error(
-            "--checkpoint needs --output FILE: a resumed run appends its rows to FILE");
-    namespace fs = std::filesystem;
-    std::error_code e1, e2;
-    const fs::path a = fs::weakly_canonical(s.checkpoint, e1),
-                   b = fs::weakly_canonical(s.output, e2);
-    if (!e1 && !e2 && a == b) throw usage_error("--checkpoint and --output name the same file");
-    if (fs::exists(s.checkpoint))
+/// The files a run touches, checked against each other before anything is written: the output
+/// and its partial file, the checkpoint and its temporary file (or OUTPUT.ckpt, where a failed
+/// or interrupted run without --checkpoint saves its state), and the config file.
+void check_files(const run_setup& s, const std::string& config) {
+    const bool to_file = !s.output.empty() && s.output != "-";
+    const file_kind out_kind = to_file ? kind_of(s.output) : file_kind::special;
+    if (out_kind == file_kind::directory)
+        throw usage_error("cannot write '" + s.output + "': it is a directory");
+    const bool atomic = to_file && out_kind != file_kind::special;
+    file_roles roles;
+    roles.add("--output", s.output);
+    if (atomic) roles.add("the output's partial file", s.output + ".part");
+    const std::string ck = !s.checkpoint.empty() ? s.checkpoint : atomic ? s.output + ".ckpt" : "";
+    const std::string ck_role = s.checkpoint.empty() ? "the failure checkpoint" : "--checkpoint";
+    if (!ck.empty()) {
+        roles.add(ck_role, ck);
+        roles.add(ck_role + "'s temporary file", ck + ".tmp");
+    }
+    if (!config.empty()) roles.add("--config", config);
+    roles.check();
+    if (s.checkpoint.empty() || s.resume) return;
+    // A new run with --checkpoint CK.
+    if (!atomic)
+        throw usage_error("--checkpoint needs --output naming a regular file: a resumed run "
+                          "appends its rows to that file");
+    if (std::filesystem::exists(s.checkpoint) || std::filesystem::is_symlink(s.checkpoint))
         throw usage_error("checkpoint '" + s.checkpoint +
                           "' exists: continue its run with 'varsym run --resume " + s.checkpoint +
                           "', or remove it to start a new run");
-    const std::string probe = s.checkpoint + ".tmp";
-    std::FILE* f = std::fopen(probe.c_str(), "w");
-    if (f == nullptr)
-        throw std::runtime_error("cannot write checkpoint '" + s.checkpoint +
+    const std::string tmp = s.checkpoint + ".tmp";
+    if (std::filesystem::exists(tmp) || std::filesystem::is_symlink(tmp))
+        throw usage_error("'" + tmp + "' exists; varsym writes checkpoint '" + s.checkpoint +
+                          "' through that name: move it away");
+    // Can CK.tmp be created? (created exclusively, so removing it removes only our file)
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0)
+        throw std::runtime_error("cannot write checkpoint '" + s.checkpoint + "': '" + tmp +
                                  "': " + std::strerror(errno));
-    std::fclose(f);
-    std::remove(probe.c_str());
+    ::close(fd);
+    ::unlink(tmp.c_str());
 }
 
 /// `varsym run --resume FILE`: the run's options came from the checkpoint; its output and
@@ -63,6 +85,7 @@ bool prepare_resume(run_setup& s, const run_context& ctx) {
                   << ctx.resume->steps << " steps); its rows are in " << s.output << '\n';
         return false;
     }
+    check_files(s, "");
     return true;
 }
 
@@ -89,13 +112,16 @@ void run(run_options& o, const CLI::App& cmd, const run_context& ctx) {
     o.setup.by_time = cmd.count("--time") > 0;
     o.setup.periods_given = cmd.count("--periods") > 0;
     o.setup.args = ctx.args;
+    o.setup.q0 = parse_number_list(o.q0);
+    o.setup.p0 = parse_number_list(o.p0);
+    o.setup.v0 = parse_number_list(o.v0);
     if (ctx.resume) {
         if (!prepare_resume(o.setup, ctx)) return;
     } else {
         if (!o.resume.empty())
             throw usage_error(
                 "--resume must be given on the command line, as 'varsym run --resume FILE'");
-        check_checkpoint_options(o.setup);
+        check_files(o.setup, o.config);
     }
     // Neither --checkpoint-every nor --checkpoint-seconds (a new or a resumed run): every 60 s.
     if (!o.setup.checkpoint.empty() && o.setup.checkpoint_every == 0 &&
@@ -160,44 +186,49 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
         cmd->add_option("--steps-per-period", s.steps_per_period,
                         "Steps per period of the model (pendulum: nonlinear period; kepler: "
                         "orbit; default: the model's, see 'varsym models')")
-            ->check(positive_integer);
+            ->transform(positive_integer);
     auto* periods = cmd->add_option("--periods", s.periods, "Number of periods to integrate")
-                        ->check(positive_number)
+                        ->transform(positive_number)
                         ->capture_default_str();
     auto* time = cmd->add_option("--time", s.time,
                                  "Final time T [s] (with --steps; instead of "
                                  "--periods)")
-                     ->check(positive_number);
+                     ->transform(positive_number);
     auto* steps =
-        cmd->add_option("--steps", s.steps, "Number of steps over --time")->check(positive_integer);
+        cmd->add_option("--steps", s.steps, "Number of steps over --time")->transform(positive_integer);
     time->needs(steps)->excludes(spp)->excludes(periods);
     steps->needs(time);
     cmd->add_option("--every", s.every,
                     "Write every E-th step and always the last; 0 writes only the final row")
-        ->check(non_negative_integer)
+        ->transform(non_negative_integer)
         ->capture_default_str();
     cmd->add_option("--output,-o", s.output, "CSV file to write (default: standard output)");
-    cmd->add_option("--q0", s.q0,
+    cmd->add_option("--q0", o->q0,
                     "Initial configuration q(0), d values separated by commas "
                     "(default: the model's)")
-        ->check(finite_number)
-        ->delimiter(',');
-    auto* p0 = cmd->add_option("--p0", s.p0, "Initial momenta p(0) = dL/dqdot, d values")
-                   ->check(finite_number)
-                   ->delimiter(',');
-    cmd->add_option("--v0", s.v0, "Initial velocities dq/dt(0), d values (instead of --p0)")
-        ->check(finite_number)
-        ->delimiter(',')
+        ->check(number_list)
+        ->type_name(list_type_name);
+    auto* p0 = cmd->add_option("--p0", o->p0, "Initial momenta p(0) = dL/dqdot, d values")
+                   ->check(number_list)
+                   ->type_name(list_type_name);
+    cmd->add_option("--v0", o->v0, "Initial velocities dq/dt(0), d values (instead of --p0)")
+        ->check(number_list)
+        ->type_name(list_type_name)
         ->excludes(p0);
     cmd->add_option(
            "--newton-tol", s.newton.tolerance,
            "Newton stops when its update is below this times the size of the step's increment")
-        ->check(positive_number)
+        ->transform(positive_number)
         ->capture_default_str();
     cmd->add_option("--newton-max-iter", s.newton.max_iterations,
                     "Newton iterations allowed per step before the run stops with an error")
-        ->check(positive_integer)
+        ->transform(positive_integer)
         ->capture_default_str();
+    cmd->add_option("--max-energy-error", s.max_energy_error,
+                    "Stop the run (exit 4, keeping its rows) when the relative energy error "
+                    "|E-E0|/|E0| passes this bound; 0: never. Default: 100 (h omega)^order at "
+                    "the start, between 0.01 and 0.5")
+        ->transform(non_negative_number);
     cmd->add_flag("--stats", s.stats, "Print Newton iteration statistics to standard error");
     cmd->add_option("--config", o->config, "TOML file of options (see below)");
     for (const model& m : all_models())
@@ -207,11 +238,11 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
                                  "--checkpoint-every steps or --checkpoint-seconds (default 60 s), "
                                  "at the end, and at a failed step; needs --output");
     cmd->add_option("--checkpoint-every", s.checkpoint_every, "Checkpoint every S steps")
-        ->check(positive_integer)
+        ->transform(positive_integer)
         ->needs(ckpt);
     cmd->add_option("--checkpoint-seconds", s.checkpoint_seconds,
                     "Checkpoint every T seconds of wall-clock time")
-        ->check(positive_number)
+        ->transform(positive_number)
         ->needs(ckpt);
     cmd->add_option("--resume", o->resume,
                     "Continue the run of checkpoint FILE to its end: 'varsym run --resume FILE' "

@@ -5,6 +5,8 @@
 
 #include <toml++/toml.h>
 
+#include "files.hpp"
+
 namespace varsym::cli {
 
 namespace {
@@ -52,15 +54,18 @@ std::vector<std::string> expand_config(const std::vector<std::string>& args, con
                                        config_origins& origins) {
     if (args.empty() || args[0] != "run") return args;
     std::string file;
+    bool given = false;
     for (std::size_t i = 1; i < args.size(); ++i) {
-        if (args[i] == "--config" && i + 1 < args.size()) file = args[i + 1];
-        if (args[i].starts_with("--config=")) file = args[i].substr(9);
+        if (args[i] == "--config" && i + 1 < args.size()) file = args[i + 1], given = true;
+        if (args[i].starts_with("--config=")) file = args[i].substr(9), given = true;
     }
-    if (file.empty()) return args;
+    if (!given) return args;
+    if (file.empty()) throw usage_error("--config needs a file name");
 
     toml::table table;
     try {
-        table = toml::parse_file(file);
+        // A valid config file is a few lines; 1 MiB is far beyond any.
+        table = toml::parse(read_regular_file(file, 1U << 20, "config file"), file);
     } catch (const toml::parse_error& e) {
         const auto line = e.source().begin.line;
         if (line == 0)
@@ -79,8 +84,8 @@ std::vector<std::string> expand_config(const std::vector<std::string>& args, con
                               "model, scheme, steps-per-period; see 'varsym run --help')");
         const std::string full_type = opt->get_type_name();
         const std::string type = full_type.substr(0, full_type.find(':'));
-        const bool flag = opt->get_type_size() == 0;
-        const bool list = opt->get_items_expected_max() > 1;
+        const bool flag = opt->get_expected_max() == 0;
+        const bool list = full_type == list_type_name;
         std::string error, value;
         if (flag) {
             const auto b = node.value_exact<bool>();
@@ -93,7 +98,7 @@ std::vector<std::string> expand_config(const std::vector<std::string>& args, con
         if (const toml::array* arr = node.as_array()) {
             if (!list) throw usage_error(at + ": key '" + name + "' takes one value, not a list");
             for (const toml::node& item : *arr) {
-                const std::string one = scalar_argument(item, type, error);
+                const std::string one = scalar_argument(item, "FLOAT", error);
                 if (!error.empty())
                     throw usage_error(at + ": key '" + name + "': every entry " + error);
                 value += (value.empty() ? "" : ",") + one;

@@ -5,6 +5,7 @@
 #include <exception>
 #include <iostream>
 #include <memory>
+#include <new>
 
 #include "checkpoint.hpp"
 #include "varsym/integrate.hpp"
@@ -14,6 +15,8 @@ namespace varsym::cli {
 int fail(int code, std::string message) {
     for (char& c : message)
         if (c == '\n') c = ' ';
+    constexpr std::size_t limit = 2000; // one line, even when it quotes a huge value
+    if (message.size() > limit) message = message.substr(0, limit) + "... (message cut)";
     std::cerr << "varsym: error: " << message << '\n';
     return code;
 }
@@ -73,7 +76,9 @@ front_end::front_end()
     app_.set_version_flag("--version", std::string("varsym ") + varsym_version);
     app_.require_subcommand(1);
     app_.footer("\nExit codes: 0 success, 1 I/O or run-time failure, 2 bad command line or input "
-                "value,\n3 a step's Newton iteration did not converge (use a smaller step).\n"
+                "value\nor a file conflict, 3 a step's Newton iteration did not converge (use a smaller "
+                "step),\n4 the energy error passed --max-energy-error, 130/143 stopped by "
+                "SIGINT/SIGTERM.\n"
                 "Run 'varsym COMMAND --help' for the options of a command.");
     add_run_command(app_, todo_, run_ctx_);
     add_models_command(app_, todo_);
@@ -107,6 +112,10 @@ int front_end::parse(std::vector<std::string> args) {
         }
     } catch (const usage_error& e) {
         return fail(exit_usage, e.what());
+    } catch (const std::bad_alloc&) {
+        return fail(exit_failure, "out of memory while reading the command line's files");
+    } catch (const std::exception& e) {
+        return fail(exit_failure, e.what());
     }
     std::string program = "varsym";
     std::vector<char*> argv{program.data()};
@@ -136,6 +145,13 @@ int front_end::run() {
         return fail(exit_numerical, e.what());
     } catch (const step_failure& e) {
         return fail(exit_numerical, e.what());
+    } catch (const energy_error& e) {
+        return fail(exit_energy, e.what());
+    } catch (const interrupted& e) {
+        std::cerr << "varsym: " << e.what() << '\n';
+        return 128 + e.signal;
+    } catch (const std::bad_alloc&) {
+        return fail(exit_failure, "out of memory");
     } catch (const std::exception& e) {
         return fail(exit_failure, e.what());
     }

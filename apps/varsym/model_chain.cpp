@@ -1,5 +1,7 @@
 // apps/varsym/model_chain.cpp: `--model chain`, n coupled nonlinear oscillators (FPU-beta) with
 // fixed ends; Newton's linear solve is tridiagonal, so a step costs O(n).
+#include <unistd.h>
+
 #include <memory>
 
 #include "model_run.hpp"
@@ -33,17 +35,33 @@ model make_chain_model() {
     m.options = {"--n", "--beta", "--amplitude"};
     m.add_options = [par](CLI::App& cmd) {
         cmd.add_option("--n", par->n, "chain: number of moving masses")
-            ->check(positive_integer)
+            ->transform(positive_integer)
             ->capture_default_str();
         cmd.add_option("--beta", par->beta, "chain: quartic coupling beta")
-            ->check(non_negative_number)
+            ->transform(non_negative_number)
             ->capture_default_str();
         cmd.add_option("--amplitude", par->amplitude, "chain: amplitude of the initial lowest mode")
-            ->check(finite_number)
+            ->transform(finite_number)
             ->capture_default_str();
     };
     m.run = [par](const run_setup& s) {
-        if (par->n > 100000000) throw usage_error("--n is at most 1e8");
+        if (par->n > static_cast<int>(max_checkpoint_dimension))
+            throw usage_error("--n is at most 1e7");
+        // Memory: about 300 bytes per mass (measured: 243 MB at n = 1e6 with Simpson), and a
+        // dense member's Jacobian and its LU factors, 3 (s n)^2 doubles.
+        const double sn = static_cast<double>(s.spec.degree) * par->n;
+        const bool dense = s.spec.kind != scheme_kind::simpson &&
+                           s.spec.kind != scheme_kind::newmark;
+        const double need = 300.0 * par->n + (dense ? 24.0 * sn * sn : 0.0);
+        const double have = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
+                            static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+        if (have > 0.0 && need > 0.8 * have)
+            throw usage_error("--model chain --n " + std::to_string(par->n) + " with " +
+                              s.spec.label() + " needs about " +
+                              std::to_string(static_cast<long long>(need / 1e9)) +
+                              " GB, more than 80 % of this machine's " +
+                              std::to_string(static_cast<long long>(have / 1e9)) +
+                              " GB: use a smaller --n" + (dense ? " or simpson/newmark" : ""));
         const chain::system sys(par->n, par->beta);
         const int d = par->n;
         const auto mode = sys.lowest_mode(par->amplitude);

@@ -29,13 +29,13 @@ model make_kepler_model() {
     m.options = {"--eccentricity", "--semi-major-axis", "--mu"};
     m.add_options = [par](CLI::App& cmd) {
         cmd.add_option("--eccentricity", par->eccentricity, "kepler: eccentricity e, 0 <= e < 1")
-            ->check(eccentricity_range)
+            ->transform(eccentricity_range)
             ->capture_default_str();
         cmd.add_option("--semi-major-axis", par->semi_major_axis, "kepler: semi-major axis a")
-            ->check(positive_number)
+            ->transform(positive_number)
             ->capture_default_str();
         cmd.add_option("--mu", par->mu, "kepler: gravitational parameter mu = G (m1 + m2)")
-            ->check(positive_number)
+            ->transform(positive_number)
             ->capture_default_str();
     };
     m.run = [par](const run_setup& s) {

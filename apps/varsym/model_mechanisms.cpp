@@ -64,19 +64,19 @@ model make_double_pendulum_model() {
          lengths = std::make_shared<std::vector<double>>();
     m.add_options = [par, masses, lengths](CLI::App& cmd) {
         cmd.add_option("--masses", *masses, "double-pendulum: m1,m2 [kg]")
-            ->check(positive_number)
+            ->transform(positive_number)
             ->expected(2)
             ->delimiter(',');
         cmd.add_option("--lengths", *lengths, "double-pendulum: l1,l2 [m]")
-            ->check(positive_number)
+            ->transform(positive_number)
             ->expected(2)
             ->delimiter(',');
         cmd.add_option("--gravity", par->g, "double-pendulum: g [m/s^2]")
-            ->check(non_negative_number)
+            ->transform(non_negative_number)
             ->capture_default_str();
         cmd.add_option("--joint-stiffness", par->k,
                        "double-pendulum: joint spring stiffness k [N m/rad]")
-            ->check(non_negative_number)
+            ->transform(non_negative_number)
             ->capture_default_str();
     };
     m.run = [par, masses, lengths](const run_setup& s) {
@@ -112,15 +112,15 @@ model make_heavy_top_model() {
     m.add_options = [par](CLI::App& cmd) {
         cmd.add_option("--I1", par->i1,
                        "heavy-top: moment of inertia about a transverse axis [kg m^2]")
-            ->check(positive_number)
+            ->transform(positive_number)
             ->capture_default_str();
         cmd.add_option("--I3", par->i3,
                        "heavy-top: moment of inertia about the symmetry axis [kg m^2]")
-            ->check(positive_number)
+            ->transform(positive_number)
             ->capture_default_str();
         cmd.add_option("--mgl", par->mgl,
                        "heavy-top: weight times distance to the centre of mass [J]")
-            ->check(positive_number)
+            ->transform(positive_number)
             ->capture_default_str();
     };
     m.run = [par](const run_setup& s) {

@@ -48,13 +48,13 @@ model make_oscillator_model() {
     m.options = {"--dim", "--mass-matrix", "--stiffness-matrix"};
     m.add_options = [par](CLI::App& cmd) {
         cmd.add_option("--dim", par->dim, "oscillator: dimension d")
-            ->check(positive_integer)
+            ->transform(positive_integer)
             ->capture_default_str();
         cmd.add_option("--mass-matrix", par->mass, "oscillator: M (1, d or d*d values)")
-            ->check(finite_number)
+            ->transform(finite_number)
             ->delimiter(',');
         cmd.add_option("--stiffness-matrix", par->stiffness, "oscillator: K (1, d or d*d values)")
-            ->check(finite_number)
+            ->transform(finite_number)
             ->delimiter(',');
     };
     m.run = [par](const run_setup& s) {

@@ -23,11 +23,11 @@ model make_pendulum_model() {
     m.options = {"--mass", "--omega"};
     m.add_options = [par](CLI::App& cmd) {
         cmd.add_option("--mass", par->mass, "pendulum: moment of inertia m [kg m^2]")
-            ->check(positive_number)
+            ->transform(positive_number)
             ->capture_default_str();
         cmd.add_option("--omega", par->omega,
                        "pendulum: small-oscillation angular frequency omega [rad/s] (default 2 pi)")
-            ->check(positive_number);
+            ->transform(positive_number);
     };
     m.run = [par](const run_setup& s) {
         paper::pendulum_case c = *par;

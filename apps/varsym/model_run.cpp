@@ -45,7 +45,7 @@ run_plan plan_steps(const run_setup& s, const std::string& model, double period,
     }
     if (count > max_steps) throw usage_error("more than 1e15 steps requested");
     if (!(std::isfinite(h) && h > 0.0)) throw usage_error("the time step is not a positive number");
-    return {static_cast<std::size_t>(count), h};
+    return {static_cast<std::size_t>(count), h, period > 0.0 ? period : 0.0};
 }
 
 vec<dynamic> initial_vector(const std::vector<double>& given, const char* option, int d,
@@ -69,22 +69,6 @@ std::string state_columns(int d, const char* suffix) {
     return cols;
 }
 
-const CLI::Validator non_negative_number(
-    [](std::string& s) -> std::string {
-        const std::string err = finite_number(s);
-        if (!err.empty()) return err;
-        return std::stod(s) >= 0.0 ? std::string() : "must be >= 0, got " + s;
-    },
-    "REAL>=0");
-
-const CLI::Validator eccentricity_range(
-    [](std::string& s) -> std::string {
-        const std::string err = finite_number(s);
-        if (!err.empty()) return err;
-        const double e = std::stod(s);
-        return e >= 0.0 && e < 1.0 ? std::string()
-                                   : "must be in [0, 1) (a bound, elliptic orbit), got " + s;
-    },
-    "0<=E<1");
+const CLI::Validator eccentricity_range = number_in(0.0, 1.0, "0<=E<1", true);
 
 } // namespace varsym::cli

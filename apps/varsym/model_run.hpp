@@ -5,9 +5,12 @@
 
 #include <chrono>
 #include <iostream>
+#include <numbers>
 #include <string>
 
+#include "files.hpp"
 #include "models.hpp"
+#include "signals.hpp"
 #include "varsym/diagnostics/stability.hpp"
 #include "varsym/integrate.hpp"
 #include "varsym/run/state.hpp"
@@ -18,6 +21,10 @@ namespace varsym::cli {
 struct saved_state {
     std::vector<double> q, p, carry_q, carry_p;
 };
+
+/// The default bound of the energy watch (run_log.cpp): from the scheme's order 2s and h·ω at
+/// the start, between 1 % and 50 %.
+double default_energy_bound(const scheme_spec& spec, double h, double omega);
 
 /// The output and the checkpoints of one run (run_log.cpp): the template below calls it.
 class run_log {
@@ -46,11 +53,32 @@ class run_log {
                            double omega);
     /// The run completed: final checkpoint (if checkpointing), CSV renamed into place, --stats.
     void finish(const saved_state& x, const run_summary& sum);
+    /// SIGINT or SIGTERM arrived: checkpoints the state after step j (to --checkpoint, else to
+    /// OUTPUT.ckpt where no such file is) and throws `interrupted` saying how to resume.
+    [[noreturn]] void stop_by_signal(int sig, std::size_t j, const saved_state& x,
+                                     const run_summary& sum);
+
+    /// The energy watch: the bound on |E − E0| / scale(E0) (0: off) and its check after step j,
+    /// which throws energy_error (exit 4), keeping the rows, when the error passed the bound or
+    /// the energy is not finite. omega: the highest frequency at the state, for the advice.
+    /// omega0: the highest frequency at the start (or the orbit's, if higher), for advice.
+    void set_energy_reference(double e0, double omega0, double bound);
+    [[nodiscard]] bool energy_watched() const { return bound_ > 0.0; }
+    void check_energy(std::size_t j, double t, double energy) {
+        const double err = std::abs(energy - e0_) / scale_;
+        if (bound_ > 0.0 && !(err <= bound_)) energy_out_of_bounds(j, t, err);
+    }
 
   private:
     using clock = std::chrono::steady_clock;
+    [[noreturn]] void energy_out_of_bounds(std::size_t j, double t, double err);
+    /// A safer step for the message: stable at omega and within the energy bound.
+    [[nodiscard]] std::string advice(double omega) const;
+    /// The checkpoint after a stop (--checkpoint, else OUTPUT.ckpt if absent): "" if none.
+    std::string save_last(std::size_t j, const saved_state& x, const run_summary& sum,
+                          std::string& note);
     void write_checkpoint_to(const std::string& path, std::size_t j, const saved_state& x,
-                             const run_summary& sum);
+                             const run_summary& sum, bool replace);
     const run_setup& s_;
     run_plan plan_;
     output_file out_;
@@ -58,6 +86,8 @@ class run_log {
     std::size_t every_ = 0;
     double seconds_ = 0.0;
     clock::time_point next_;
+    bool replace_ = false; ///< a checkpoint of this run exists: later ones replace it
+    double e0_ = 0.0, scale_ = 1.0, bound_ = 0.0, omega0_ = 0.0;
 };
 
 /// A run_state as the checkpoint file stores it (plain vectors).
@@ -100,6 +130,22 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
     };
     with_stepper([&](auto& stepper) {
         auto r = run_state<D>::start(x);
+        const double h = stepper.step_size();
+        auto omega_at = [&](const phase_state<D>& y) {
+            try {
+                return highest_frequency(stepper.system(), y);
+            } catch (const std::exception&) { // no estimate: the messages say so
+                return std::numeric_limits<double>::quiet_NaN();
+            }
+        };
+        // The frequency the step must resolve: the highest at the start, and the orbit's.
+        double omega0 = omega_at(x);
+        if (!(omega0 >= 0.0)) omega0 = 0.0;
+        if (plan.period > 0.0) omega0 = std::max(omega0, 2.0 * std::numbers::pi / plan.period);
+        log.set_energy_reference(stepper.system().energy(x), omega0,
+                                 s.max_energy_error >= 0.0
+                                     ? s.max_energy_error
+                                     : default_energy_bound(s.spec, h, omega0));
         if (const checkpoint* ck = log.resumed()) {
             auto as_vec = [d](const std::vector<double>& v) {
                 return vec<D>(Eigen::Map<const vec<D>>(v.data(), d));
@@ -115,20 +161,24 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
         } else {
             row(0, 0.0, x);
         }
-        const double h = stepper.step_size();
+        set_signal_polling(true);
         try {
             integrate_from(stepper, r, n, [&](const run_state<D>& y) {
-                row(y.step, y.time(h), y.x);
-                if (log.due(y.step)) log.save(y.step, save_state(y), y.stats);
+                const std::size_t j = y.step;
+                row(j, y.time(h), y.x);
+                // The energy watch: at each row and every 256 steps (an energy costs a step).
+                if (log.energy_watched() && ((j & 255U) == 0 || j == n || every == 0 ||
+                                             j % every == 0))
+                    log.check_energy(j, y.time(h), stepper.system().energy(y.x));
+                if (log.due(j)) log.save(j, save_state(y), y.stats);
+                if (const int sig = pending_signal(); sig != 0 && j < n)
+                    log.stop_by_signal(sig, j, save_state(y), y.stats);
             });
         } catch (const step_failure& e) {
-            double omega = std::numeric_limits<double>::quiet_NaN();
-            try {
-                omega = highest_frequency(stepper.system(), r.x);
-            } catch (const std::exception&) { // no estimate: the message says so
-            }
-            log.fail(e, save_state(r), r.stats, omega);
+            set_signal_polling(false);
+            log.fail(e, save_state(r), r.stats, omega_at(r.x));
         }
+        set_signal_polling(false);
         log.finish(save_state(r), r.stats);
     });
 }

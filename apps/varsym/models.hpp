@@ -30,6 +30,7 @@ struct run_setup {
     std::string checkpoint;          ///< --checkpoint FILE, or the file of --resume
     long long checkpoint_every = 0;  ///< checkpoint every this many steps (0: by time only)
     double checkpoint_seconds = 0.0; ///< and every this many seconds of wall time (0: never)
+    double max_energy_error = -1.0;  ///< stop (exit 4) past it; < 0: the default, 0: never
     std::vector<std::string> args;   ///< the run's arguments, kept in its checkpoints
     std::shared_ptr<const cli::checkpoint> resume; ///< the checkpoint a resumed run continues
 };
@@ -59,6 +60,7 @@ model make_chain_model();
 struct run_plan {
     std::size_t steps = 0;
     double h = 0.0;
+    double period = 0.0; ///< the model's period, 0 if it has none
 };
 run_plan plan_steps(const run_setup& s, const std::string& model, double period,
                     long long default_steps_per_period, double default_time,
@@ -85,7 +87,6 @@ bool unit_oscillator_step(const scheme_spec& spec, double z, phase_state<1>& x);
 inline constexpr double stability_scan_end = 50.0;
 
 /// Validators shared by model options.
-extern const CLI::Validator non_negative_number;
 extern const CLI::Validator eccentricity_range;
 
 } // namespace varsym::cli

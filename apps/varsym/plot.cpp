@@ -5,6 +5,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <sstream>
 #include <stdexcept>
 
 #include <fcntl.h>
@@ -12,18 +14,13 @@
 #include <unistd.h>
 
 #include "cli_common.hpp"
+#include "signals.hpp"
 
 namespace varsym::cli {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-void write_file(const fs::path& path, const std::string& content) {
-    output_file f(path.string());
-    f.write(content);
-    f.commit();
-}
 
 // Runs `gnuplot -e "out='NAME'; fmt='EXT'" SCRIPT` in `dir`, with its messages in `log`.
 // Returns gnuplot's exit status (127 if gnuplot could not be started).
@@ -97,40 +94,125 @@ void check_pictures(const std::vector<std::string>& outputs) {
                                  first.parent_path().string() + "' does not exist");
 }
 
-void render_figure(const figure& fig, const std::vector<std::string>& outputs) {
-    check_pictures(outputs);
+void add_figure_files(file_roles& roles, const std::vector<std::string>& suffixes,
+                      const std::vector<std::string>& outputs) {
+    if (outputs.empty()) return;
     const fs::path first = fs::absolute(outputs.front());
     const fs::path dir = first.parent_path();
     const std::string stem = first.stem().string();
-    for (const auto& [suffix, content] : fig.data)
-        write_file(dir / (stem + suffix), content);
+    for (const auto& o : outputs) {
+        roles.add("picture", o);
+        if (kind_of(o) != file_kind::special) roles.add("the picture's partial file", o + ".part");
+    }
+    for (const auto& suffix : suffixes) {
+        const std::string path = (dir / (stem + suffix)).string();
+        roles.add("the figure's data", path);
+        if (kind_of(path) != file_kind::special) roles.add("its partial file", path + ".part");
+    }
+    const std::string script = (dir / (stem + ".gp")).string();
+    roles.add("the figure's gnuplot script", script);
+    if (kind_of(script) != file_kind::special) roles.add("its partial file", script + ".part");
+}
+
+namespace {
+
+/// A temporary file of ours in `dir` (created exclusively), removed when this dies.
+class temporary_file {
+  public:
+    explicit temporary_file(const fs::path& dir) {
+        std::string name = (dir / ".varsym-XXXXXX").string();
+        const int fd = ::mkstemp(name.data());
+        if (fd < 0)
+            throw std::runtime_error("cannot create a temporary file in '" + dir.string() +
+                                     "': " + std::strerror(errno));
+        ::close(fd);
+        path_ = name;
+        remove_at_signal(path_);
+    }
+    temporary_file(const temporary_file&) = delete;
+    temporary_file& operator=(const temporary_file&) = delete;
+    ~temporary_file() {
+        ::unlink(path_.c_str());
+        forget_at_signal(path_);
+    }
+    [[nodiscard]] const std::string& path() const { return path_; }
+
+  private:
+    std::string path_;
+};
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream all;
+    all << in.rdbuf();
+    return all.str();
+}
+
+} // namespace
+
+void render_figure(const figure& fig, const std::vector<std::string>& outputs, file_roles roles) {
+    check_pictures(outputs);
+    std::vector<std::string> suffixes;
+    for (const auto& d : fig.data)
+        suffixes.push_back(d.first);
+    add_figure_files(roles, suffixes, outputs);
+    roles.check();
+    const fs::path first = fs::absolute(outputs.front());
+    const fs::path dir = first.parent_path();
+    const std::string stem = first.stem().string();
+    // Every file is opened (FILE.part created and locked) before any is written, and all are
+    // committed at the end: a failure anywhere leaves none behind.
+    std::vector<std::unique_ptr<output_file>> files;
+    for (const auto& [suffix, content] : fig.data) {
+        files.push_back(std::make_unique<output_file>((dir / (stem + suffix)).string()));
+        files.back()->write(content);
+    }
     const std::string script = stem + ".gp";
     const std::string picture = first.filename().string();
-    write_file(dir / script,
-               "# " + script + ": run  gnuplot " + script + "  in this folder to redraw " +
-                   picture + ";\n# gnuplot -e \"out='other.svg'\" " + script +
-                   " draws elsewhere (.png or .svg).\n" + "if (!exists(\"out\")) out = '" +
-                   picture + "'\n" + "if (!exists(\"fmt\")) fmt = out[strlen(out)-2:]\n" +
-                   "stem = '" + stem + "'\n" + fig.script);
-    for (const auto& o : outputs) {
-        const fs::path p = fs::absolute(o);
-        const std::string name = p.filename().string();
-        const std::string part = name + ".part";
-        const fs::path log = dir / (stem + ".gnuplot.log");
-        const int rc = run_gnuplot(dir, script, part, p.extension().string().substr(1), log);
-        if (rc != 0) {
-            std::error_code ec;
-            fs::remove(dir / part, ec);
-            const std::string why = rc == 127
-                                        ? "gnuplot not found; install gnuplot-nox (make run does)"
-                                        : "gnuplot failed: " + first_line(log);
-            fs::remove(log, ec);
-            throw std::runtime_error("cannot draw '" + o + "': " + why);
+    files.push_back(std::make_unique<output_file>((dir / script).string()));
+    files.back()->write("# " + script + ": run  gnuplot " + script +
+                        "  in this folder to redraw " + picture + ";\n# gnuplot -e " +
+                        "\"out='other.svg'\" " + script +
+                        " draws elsewhere (.png or .svg).\n" + "if (!exists(\"out\")) out = '" +
+                        picture + "'\n" + "if (!exists(\"fmt\")) fmt = out[strlen(out)-2:]\n" +
+                        "stem = '" + stem + "'\n" + fig.script);
+    for (const auto& f : files)
+        f->sync(); // gnuplot reads them by name
+    // The script reads stem.SUFFIX: while they are partial files, let it read those.
+    std::vector<std::unique_ptr<output_file>> pictures;
+    for (const auto& o : outputs)
+        pictures.push_back(std::make_unique<output_file>(o));
+    const temporary_file gp(dir);
+    {
+        std::string body = "stem = '" + stem + "'\n" + fig.script;
+        for (const auto& [suffix, content] : fig.data) {
+            const std::string name = stem + suffix;
+            const std::string part = kind_of((dir / name).string()) == file_kind::special
+                                         ? name
+                                         : name + ".part";
+            for (std::size_t at = body.find("stem.'" + suffix + "'"); at != std::string::npos;
+                 at = body.find("stem.'" + suffix + "'", at + 1))
+                body.replace(at, suffix.size() + 7, "'" + part + "'");
         }
-        std::error_code ec;
-        fs::remove(log, ec);
-        fs::rename(dir / part, p);
+        std::ofstream(gp.path()) << body;
     }
+    for (std::size_t i = 0; i < outputs.size(); ++i) {
+        const std::string& o = outputs[i];
+        const temporary_file drawn(dir), log(dir);
+        const std::string fmt = fs::path(o).extension().string().substr(1);
+        const int rc = run_gnuplot(dir, fs::path(gp.path()).filename().string(),
+                                   fs::path(drawn.path()).filename().string(), fmt, log.path());
+        if (rc != 0)
+            throw std::runtime_error(
+                "cannot draw '" + o + "': " +
+                (rc == 127 ? std::string("gnuplot not found; install gnuplot-nox (make run does)")
+                           : "gnuplot failed: " + first_line(log.path())));
+        pictures[i]->write(slurp(drawn.path()));
+    }
+    for (const auto& f : files)
+        f->commit();
+    for (const auto& p : pictures)
+        p->commit();
 }
 
 } // namespace varsym::cli

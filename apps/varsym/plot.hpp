@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "files.hpp"
+
 namespace varsym::cli {
 
 /// A figure: its data files (suffix after the picture's stem, and content) and the body of a
@@ -22,9 +24,16 @@ std::string script_preamble(int svg_width, int svg_height);
 /// Throws usage_error (bad name) or std::runtime_error (missing folder).
 void check_pictures(const std::vector<std::string>& outputs);
 
+/// Adds the files a figure writes to `roles`: each picture, its data files STEM.SUFFIX for
+/// each suffix (figure::data), its script STEM.gp, and their partial files.
+void add_figure_files(file_roles& roles, const std::vector<std::string>& suffixes,
+                      const std::vector<std::string>& outputs);
+
 /// Writes the data files and STEM.gp beside the pictures, then renders each picture (.png or
-/// .svg, same folder and stem) by running gnuplot there. Every file is written as NAME.part and
-/// renamed once complete, so a failure never leaves a file that looks finished.
-void render_figure(const figure& fig, const std::vector<std::string>& outputs);
+/// .svg, same folder and stem) by running gnuplot there. The figure's files are checked against
+/// each other and against `roles` (the command's other files) first; every file goes through
+/// output_file (files.hpp) and all are committed at the end, so a failure leaves none.
+void render_figure(const figure& fig, const std::vector<std::string>& outputs,
+                   file_roles roles = {});
 
 } // namespace varsym::cli

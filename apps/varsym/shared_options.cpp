@@ -13,17 +13,17 @@ const char* const pendulum_help =
 
 void add_pendulum_options(CLI::App& cmd, pendulum_options& o) {
     cmd.add_option("--mass", o.mass, "Moment of inertia m [kg m^2]")
-        ->check(positive_number)
+        ->transform(positive_number)
         ->capture_default_str();
     cmd.add_option("--omega", o.omega,
                    "Small-oscillation angular frequency omega [rad/s] (default 2 pi)")
-        ->check(positive_number)
+        ->transform(positive_number)
         ->capture_default_str();
     cmd.add_option("--q0", o.q0, "Initial angle q(0) [rad] (default pi/2)")
-        ->check(finite_number)
+        ->transform(finite_number)
         ->capture_default_str();
     cmd.add_option("--p0", o.p0, "Initial angular momentum p(0) [kg m^2/s]")
-        ->check(finite_number)
+        ->transform(finite_number)
         ->capture_default_str();
 }
 
@@ -50,7 +50,7 @@ void add_scheme_options(CLI::App& cmd, scheme_options& o) {
         ->capture_default_str();
     cmd.add_option("--degree", o.degree,
                    "Degree s of q(t) on a step, for lobatto and gauss (1 to 8; default 2)")
-        ->check(positive_integer);
+        ->transform(positive_integer);
 }
 
 scheme_spec make_spec(const scheme_options& o) {

@@ -100,9 +100,8 @@ void add_stability_command(CLI::App& app, action& todo) {
         "Hessian) has h*omega above the limit blows up; 'varsym run' uses this limit to propose\n"
         "a safer step when a step fails. Gauss members are stable at every h*omega; Lobatto\n"
         "members have a finite limit and further unstable intervals.");
-    cmd->add_option("--max", o->max, "Scan h*omega up to this value")
-        ->check(positive_number)
-        ->check(CLI::Range(0.1, 1000.0))
+    cmd->add_option("--max", o->max, "Scan h*omega up to this value (0.1 to 200: 7 s)")
+        ->transform(number_in(0.1, 200.0, "0.1<=Z<=200"))
         ->capture_default_str();
     cmd->add_option("--format", o->format, "text or csv")
         ->check(CLI::IsMember({"text", "csv"}))
