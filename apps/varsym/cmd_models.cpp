@@ -13,7 +13,7 @@ void add_models_command(CLI::App& app, action& todo) {
     cmd->footer("\nEach model runs with 'varsym run --model NAME [its parameters]'.");
     cmd->callback([&todo] {
         todo = [] {
-            for (const model& m : all_models())
+            for (const model& m : make_models())
                 std::cout << m.name << ": " << m.summary << '\n' << m.description << "\n\n";
             std::cout << "All models: --scheme simpson|newmark|lobatto|gauss (--degree s), "
                          "--steps-per-period/--periods\nor --time/--steps, --every, --output; "

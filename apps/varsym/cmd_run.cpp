@@ -28,6 +28,7 @@ struct run_options {
     std::string config;
     std::string resume; ///< only to refuse --resume from a config file: main handles it
     std::string q0, p0, v0; ///< comma-separated lists (number_list)
+    std::vector<cli::model> models = make_models(); ///< with this command line's parameters
 };
 
 /// The files a run touches, checked against each other before anything is written: the output
@@ -90,8 +91,9 @@ bool prepare_resume(run_setup& s, const run_context& ctx) {
 }
 
 /// The model's own options may not be combined with another model.
-void check_model_options(const model& chosen, const CLI::App& cmd) {
-    for (const model& other : all_models()) {
+void check_model_options(const std::vector<model>& models, const model& chosen,
+                         const CLI::App& cmd) {
+    for (const model& other : models) {
         if (other.name == chosen.name) continue;
         for (const std::string& opt : other.options) {
             const bool own = std::find(chosen.options.begin(), chosen.options.end(), opt) !=
@@ -104,10 +106,9 @@ void check_model_options(const model& chosen, const CLI::App& cmd) {
 }
 
 void run(run_options& o, const CLI::App& cmd, const run_context& ctx) {
-    const auto& models = all_models();
-    const auto it = std::find_if(models.begin(), models.end(),
+    const auto it = std::find_if(o.models.begin(), o.models.end(),
                                  [&](const model& m) { return m.name == o.model; });
-    check_model_options(*it, cmd);
+    check_model_options(o.models, *it, cmd);
     o.setup.spec = make_spec(o.scheme);
     o.setup.by_time = cmd.count("--time") > 0;
     o.setup.periods_given = cmd.count("--periods") > 0;
@@ -130,9 +131,9 @@ void run(run_options& o, const CLI::App& cmd, const run_context& ctx) {
     it->run(o.setup);
 }
 
-std::string model_names() {
+std::string model_names(const std::vector<model>& models) {
     std::string names;
-    for (const model& m : all_models())
+    for (const model& m : models)
         names += (names.empty() ? "" : ", ") + m.name;
     return names;
 }
@@ -145,11 +146,11 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
         "run",
         "Integrate a model (default: the paper's pendulum) and stream its trajectory as CSV");
     std::vector<std::string> names;
-    for (const model& m : all_models())
+    for (const model& m : o->models)
         names.push_back(m.name);
     cmd->footer(
         std::string(pendulum_help) + "\n" +
-        "Models (parameters and conserved quantities: 'varsym models'): " + model_names() +
+        "Models (parameters and conserved quantities: 'varsym models'): " + model_names(o->models) +
         ".\n"
         "Columns (pendulum: step,t,q,p,energy,q_exact,p_exact): step,t, then q,p for d = 1 or\n"
         "q_1..q_d,p_1..p_d, then energy, the model's conserved quantities by name\n"
@@ -177,7 +178,7 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
         "  varsym run --time 1e5 --steps 100000000 --every 10000 -o long.csv --checkpoint "
         "long.ckpt\n"
         "  varsym run --resume long.ckpt\n");
-    cmd->add_option("--model", o->model, "The system to integrate: " + model_names())
+    cmd->add_option("--model", o->model, "The system to integrate: " + model_names(o->models))
         ->check(CLI::IsMember(names))
         ->capture_default_str();
     add_scheme_options(*cmd, o->scheme);
@@ -231,7 +232,7 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
         ->transform(non_negative_number);
     cmd->add_flag("--stats", s.stats, "Print Newton iteration statistics to standard error");
     cmd->add_option("--config", o->config, "TOML file of options (see below)");
-    for (const model& m : all_models())
+    for (const model& m : o->models)
         m.add_options(*cmd);
     auto* ckpt = cmd->add_option("--checkpoint", s.checkpoint,
                                  "Write the run's complete state to FILE (atomically) every "

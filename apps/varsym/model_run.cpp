@@ -6,22 +6,18 @@
 
 namespace varsym::cli {
 
-const std::vector<model>& all_models() {
-    static const std::vector<model> models{make_pendulum_model(),  make_oscillator_model(),
-                                           make_kepler_model(),    make_double_pendulum_model(),
-                                           make_heavy_top_model(), make_chain_model()};
-    return models;
+std::vector<model> make_models() {
+    return {make_pendulum_model(),       make_oscillator_model(), make_kepler_model(),
+            make_double_pendulum_model(), make_heavy_top_model(), make_chain_model()};
 }
 
-namespace {
 // At most this many steps in one run: about 2 years at 50 ns/step; beyond it something is off.
-constexpr double max_steps = 1e15;
-} // namespace
+double max_run_steps = 1e15;
 
 run_plan plan_steps(const run_setup& s, const std::string& model, double period,
                     long long default_steps_per_period, double default_time,
                     long long default_steps) {
-    double count = 0.0; // number of steps, checked against max_steps before it becomes an integer
+    double count = 0.0; // number of steps, checked against max_run_steps before it becomes an integer
     double h = 0.0;
     if (s.by_time) {
         count = static_cast<double>(s.steps);
@@ -43,7 +39,11 @@ run_plan plan_steps(const run_setup& s, const std::string& model, double period,
         count = static_cast<double>(default_steps);
         h = default_time / count;
     }
-    if (count > max_steps) throw usage_error("more than 1e15 steps requested");
+    if (count > max_run_steps) {
+        std::string limit;
+        append_number(limit, max_run_steps);
+        throw usage_error("more than " + limit + " steps requested");
+    }
     if (!(std::isfinite(h) && h > 0.0)) throw usage_error("the time step is not a positive number");
     return {static_cast<std::size_t>(count), h, period > 0.0 ? period : 0.0};
 }

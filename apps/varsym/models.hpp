@@ -45,8 +45,9 @@ struct model {
     std::function<void(const run_setup&)> run;
 };
 
-/// All models, in the order `varsym models` lists them.
-const std::vector<model>& all_models();
+/// All models, in the order `varsym models` lists them, each with its own parameters (bound to
+/// the options a command line sets): one set per parsed command line, none shared.
+std::vector<model> make_models();
 
 model make_pendulum_model();
 model make_oscillator_model();
@@ -54,6 +55,9 @@ model make_kepler_model();
 model make_double_pendulum_model();
 model make_heavy_top_model();
 model make_chain_model();
+
+/// The most steps one run may take (1e15; the fuzz target lowers it to run actions cheaply).
+extern double max_run_steps;
 
 /// How many steps of which size: from --steps-per-period/--periods when the model has a period
 /// (period > 0), else from --time/--steps (or the model's defaults). Refuses inconsistent input.
