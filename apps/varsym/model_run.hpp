@@ -167,8 +167,8 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
                 const std::size_t j = y.step;
                 row(j, y.time(h), y.x);
                 // The energy watch: at each row and every 256 steps (an energy costs a step).
-                if (log.energy_watched() && ((j & 255U) == 0 || j == n || every == 0 ||
-                                             j % every == 0))
+                if (log.energy_watched() &&
+                    ((j & 255U) == 0 || j == n || (every != 0 && j % every == 0)))
                     log.check_energy(j, y.time(h), stepper.system().energy(y.x));
                 if (log.due(j)) log.save(j, save_state(y), y.stats);
                 if (const int sig = pending_signal(); sig != 0 && j < n)
