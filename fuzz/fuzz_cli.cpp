@@ -55,8 +55,10 @@ const std::string& scratch_file(const std::string& contents) {
     return path;
 }
 
-/// The scratch directory the actions run in, emptied before each input.
-void enter_scratch_directory() {
+/// Runs the action in a scratch directory, emptied first, and comes back: libFuzzer writes its
+/// corpus and crash files relative to the directory it started in.
+void run_in_scratch_directory(varsym::cli::front_end& cli) {
+    static const std::string home = std::filesystem::current_path().string();
     static const std::string dir = [] {
         char name[] = "/tmp/varsym-fuzz-dir-XXXXXX";
         if (::mkdtemp(name) == nullptr) throw std::runtime_error("mkdtemp failed");
@@ -66,6 +68,8 @@ void enter_scratch_directory() {
     for (const auto& e : std::filesystem::directory_iterator(dir, ec))
         std::filesystem::remove_all(e.path(), ec);
     if (::chdir(dir.c_str()) != 0) throw std::runtime_error("chdir failed");
+    cli.run();
+    if (::chdir(home.c_str()) != 0) throw std::runtime_error("chdir back failed");
 }
 
 } // namespace
@@ -92,7 +96,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const bool cheap = !args.empty() && (args[0] == "run" || args[0] == "models") &&
                        rest.find("chain") == std::string::npos;
     if (names_a_path || !cheap) return 0;
-    enter_scratch_directory();
-    cli.run();
+    run_in_scratch_directory(cli);
     return 0;
 }

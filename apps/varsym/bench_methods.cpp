@@ -1,9 +1,9 @@
 // apps/varsym/bench_methods.cpp: the pendulum and Kepler problems of `varsym bench`, with
 // varsym's schemes and Boost.Odeint's symplectic steppers on each.
-#include <charconv>
 #include "bench_methods.hpp"
 
 #include <array>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <numbers>

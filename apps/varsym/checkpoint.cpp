@@ -157,7 +157,6 @@ bool looks_like_checkpoint(const std::string& path) {
     head.resize(std::fread(head.data(), 1, head.size(), f));
     std::fclose(f);
     return m.starts_with(head); // a write killed early leaves a prefix of it, or nothing
-
 }
 
 checkpoint read_checkpoint(const std::string& path) {

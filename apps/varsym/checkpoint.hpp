@@ -50,7 +50,8 @@ void write_checkpoint(const std::string& path, const checkpoint& ck, bool replac
 bool looks_like_checkpoint(const std::string& path);
 
 /// Reads and verifies a checkpoint. Throws usage_error naming the file if it is not a regular
-/// file, longer than max_checkpoint_bytes, not a varsym checkpoint, was written by another varsym version, or fails its CRC-32 checksum (damaged).
+/// file, longer than max_checkpoint_bytes, not a varsym checkpoint, was written by another varsym
+/// version, or fails its CRC-32 checksum (damaged).
 checkpoint read_checkpoint(const std::string& path);
 
 } // namespace varsym::cli

@@ -106,7 +106,8 @@ const CLI::Validator number_list(
         std::size_t start = 0, index = 1;
         while (true) {
             const std::size_t comma = s.find(',', start);
-            const std::string item = s.substr(start, comma == std::string::npos ? comma : comma - start);
+            const std::string item =
+                s.substr(start, comma == std::string::npos ? comma : comma - start);
             double v = 0;
             if (item.empty())
                 return "value " + std::to_string(index) + " of " + shown(s) +

@@ -26,7 +26,7 @@ struct run_options {
     scheme_options scheme;
     run_setup setup;
     std::string config;
-    std::string resume; ///< only to refuse --resume from a config file: main handles it
+    std::string resume;     ///< only to refuse --resume from a config file: main handles it
     std::string q0, p0, v0; ///< comma-separated lists (number_list)
     std::vector<cli::model> models = make_models(); ///< with this command line's parameters
 };
@@ -195,8 +195,8 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
                                  "Final time T [s] (with --steps; instead of "
                                  "--periods)")
                      ->transform(positive_number);
-    auto* steps =
-        cmd->add_option("--steps", s.steps, "Number of steps over --time")->transform(positive_integer);
+    auto* steps = cmd->add_option("--steps", s.steps, "Number of steps over --time")
+                      ->transform(positive_integer);
     time->needs(steps)->excludes(spp)->excludes(periods);
     steps->needs(time);
     cmd->add_option("--every", s.every,

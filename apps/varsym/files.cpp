@@ -19,7 +19,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string error_text(int err) { return std::strerror(err); }
+std::string error_text(int err) {
+    return std::strerror(err);
+}
 
 /// Names of the calling process's own descriptors: always written through, never resolved.
 bool names_a_descriptor(const std::string& path) {
@@ -66,14 +68,15 @@ std::pair<file_kind, std::string> resolve(const std::string& path) {
 
 } // namespace
 
-file_kind kind_of(const std::string& path) { return resolve(path).first; }
+file_kind kind_of(const std::string& path) {
+    return resolve(path).first;
+}
 
 std::string read_regular_file(const std::string& path, std::uint64_t max_bytes,
                               const std::string& role) {
     if (path.empty()) throw usage_error("the " + role + " name is empty");
     const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0)
-        throw usage_error("cannot read " + role + " '" + path + "': " + error_text(errno));
+    if (fd < 0) throw usage_error("cannot read " + role + " '" + path + "': " + error_text(errno));
     struct stat st {};
     if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
         ::close(fd);
@@ -83,9 +86,9 @@ std::string read_regular_file(const std::string& path, std::uint64_t max_bytes,
     }
     if (static_cast<std::uint64_t>(st.st_size) > max_bytes) {
         ::close(fd);
-        throw usage_error("cannot read " + role + " '" + path + "': " +
-                          std::to_string(st.st_size) + " bytes, more than a valid " + role +
-                          " can be (" + std::to_string(max_bytes) + ")");
+        throw usage_error("cannot read " + role + " '" + path + "': " + std::to_string(st.st_size) +
+                          " bytes, more than a valid " + role + " can be (" +
+                          std::to_string(max_bytes) + ")");
     }
     std::string text(static_cast<std::size_t>(st.st_size), '\0');
     std::size_t got = 0;
@@ -111,7 +114,8 @@ void file_roles::check() const {
         const fs::path ca = fs::weakly_canonical(fs::absolute(a), e1);
         const fs::path cb = fs::weakly_canonical(fs::absolute(b), e2);
         if (!e1 && !e2 && ca == cb) return true;
-        struct stat sa {}, sb {};
+        struct stat sa {
+        }, sb{};
         return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 &&
                sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
     };
@@ -190,8 +194,8 @@ output_file::output_file(const std::string& path, std::uint64_t keep, std::uint3
         refuse("is not the file its checkpoint's run wrote (the CRC-32 of its first " +
                std::to_string(keep) + " bytes differs): it was changed or reused after the run " +
                "stopped");
-    if (::ftruncate(fd, static_cast<off_t>(keep)) != 0 ||
-        ::lseek(fd, 0, SEEK_END) < 0 || (f_ = ::fdopen(fd, "a")) == nullptr)
+    if (::ftruncate(fd, static_cast<off_t>(keep)) != 0 || ::lseek(fd, 0, SEEK_END) < 0 ||
+        (f_ = ::fdopen(fd, "a")) == nullptr)
         refuse("cannot be truncated: " + error_text(errno));
     bytes_ = keep;
     keep_ = true; // an interrupted resumed run keeps its rows for the next resume
@@ -267,9 +271,9 @@ void write_exclusively(const std::string& path, const std::string& body, bool re
     const std::string tmp = path + ".tmp";
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd < 0)
-        throw std::runtime_error("cannot write " + role + " '" + path + "': '" + tmp + "': " +
-                                 (errno == EEXIST ? std::string("exists, not written by this run")
-                                                  : error_text(errno)));
+        throw std::runtime_error(
+            "cannot write " + role + " '" + path + "': '" + tmp + "': " +
+            (errno == EEXIST ? std::string("exists, not written by this run") : error_text(errno)));
     remove_at_signal(tmp);
     auto fail = [&](const std::string& what, int err) {
         ::close(fd);

@@ -75,11 +75,12 @@ front_end::front_end()
            "varsym"} {
     app_.set_version_flag("--version", std::string("varsym ") + varsym_version);
     app_.require_subcommand(1);
-    app_.footer("\nExit codes: 0 success, 1 I/O or run-time failure, 2 bad command line or input "
-                "value\nor a file conflict, 3 a step's Newton iteration did not converge (use a smaller "
-                "step),\n4 the energy error passed --max-energy-error, 130/143 stopped by "
-                "SIGINT/SIGTERM.\n"
-                "Run 'varsym COMMAND --help' for the options of a command.");
+    app_.footer(
+        "\nExit codes: 0 success, 1 I/O or run-time failure, 2 bad command line or input "
+        "value\nor a file conflict, 3 a step's Newton iteration did not converge (use a smaller "
+        "step),\n4 the energy error passed --max-energy-error, 130/143 stopped by "
+        "SIGINT/SIGTERM.\n"
+        "Run 'varsym COMMAND --help' for the options of a command.");
     add_run_command(app_, todo_, run_ctx_);
     add_models_command(app_, todo_);
     add_bench_command(app_, todo_);

@@ -50,8 +50,8 @@ model make_chain_model() {
         // Memory: about 300 bytes per mass (measured: 243 MB at n = 1e6 with Simpson), and a
         // dense member's Jacobian and its LU factors, 3 (s n)^2 doubles.
         const double sn = static_cast<double>(s.spec.degree) * par->n;
-        const bool dense = s.spec.kind != scheme_kind::simpson &&
-                           s.spec.kind != scheme_kind::newmark;
+        const bool dense =
+            s.spec.kind != scheme_kind::simpson && s.spec.kind != scheme_kind::newmark;
         const double need = 300.0 * par->n + (dense ? 24.0 * sn * sn : 0.0);
         const double have = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
                             static_cast<double>(::sysconf(_SC_PAGE_SIZE));

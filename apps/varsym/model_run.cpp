@@ -7,8 +7,8 @@
 namespace varsym::cli {
 
 std::vector<model> make_models() {
-    return {make_pendulum_model(),       make_oscillator_model(), make_kepler_model(),
-            make_double_pendulum_model(), make_heavy_top_model(), make_chain_model()};
+    return {make_pendulum_model(),        make_oscillator_model(), make_kepler_model(),
+            make_double_pendulum_model(), make_heavy_top_model(),  make_chain_model()};
 }
 
 // At most this many steps in one run: about 2 years at 50 ns/step; beyond it something is off.
@@ -17,7 +17,8 @@ double max_run_steps = 1e15;
 run_plan plan_steps(const run_setup& s, const std::string& model, double period,
                     long long default_steps_per_period, double default_time,
                     long long default_steps) {
-    double count = 0.0; // number of steps, checked against max_run_steps before it becomes an integer
+    double count =
+        0.0; // number of steps, checked against max_run_steps before it becomes an integer
     double h = 0.0;
     if (s.by_time) {
         count = static_cast<double>(s.steps);

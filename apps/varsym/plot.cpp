@@ -170,9 +170,8 @@ void render_figure(const figure& fig, const std::vector<std::string>& outputs, f
     const std::string script = stem + ".gp";
     const std::string picture = first.filename().string();
     files.push_back(std::make_unique<output_file>((dir / script).string()));
-    files.back()->write("# " + script + ": run  gnuplot " + script +
-                        "  in this folder to redraw " + picture + ";\n# gnuplot -e " +
-                        "\"out='other.svg'\" " + script +
+    files.back()->write("# " + script + ": run  gnuplot " + script + "  in this folder to redraw " +
+                        picture + ";\n# gnuplot -e " + "\"out='other.svg'\" " + script +
                         " draws elsewhere (.png or .svg).\n" + "if (!exists(\"out\")) out = '" +
                         picture + "'\n" + "if (!exists(\"fmt\")) fmt = out[strlen(out)-2:]\n" +
                         "stem = '" + stem + "'\n" + fig.script);
@@ -187,9 +186,8 @@ void render_figure(const figure& fig, const std::vector<std::string>& outputs, f
         std::string body = "stem = '" + stem + "'\n" + fig.script;
         for (const auto& [suffix, content] : fig.data) {
             const std::string name = stem + suffix;
-            const std::string part = kind_of((dir / name).string()) == file_kind::special
-                                         ? name
-                                         : name + ".part";
+            const std::string part =
+                kind_of((dir / name).string()) == file_kind::special ? name : name + ".part";
             for (std::size_t at = body.find("stem.'" + suffix + "'"); at != std::string::npos;
                  at = body.find("stem.'" + suffix + "'", at + 1))
                 body.replace(at, suffix.size() + 7, "'" + part + "'");

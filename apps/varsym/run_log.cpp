@@ -47,7 +47,9 @@ output_file open_output(const run_setup& s, const run_plan& plan, int d) {
 }
 
 /// The expected relative energy error of a scheme of order r at h·ω is about (h·ω)^r.
-double expected_energy_error(int order, double h_omega) { return std::pow(h_omega, order); }
+double expected_energy_error(int order, double h_omega) {
+    return std::pow(h_omega, order);
+}
 
 } // namespace
 
@@ -150,9 +152,9 @@ std::string run_log::advice(double omega) const {
     const double limit = linear_stability_limit(s_.spec);
     const double bound = bound_ > 0.0 ? bound_ : 0.01;
     double from_omega = std::pow(bound / 100.0, 1.0 / s_.spec.order()) / omega;
-    std::string msg = format("; at omega_max = %.4g rad/s (the start's or the state's), h*omega = ",
-                             omega) +
-                      format("%.3g", h * omega);
+    std::string msg =
+        format("; at omega_max = %.4g rad/s (the start's or the state's), h*omega = ", omega) +
+        format("%.3g", h * omega);
     if (std::isfinite(limit)) {
         msg += " against " + s_.spec.label() + "'s linear stability limit " + format("%.4g", limit);
         from_omega = std::min(from_omega, 0.5 * limit / omega);
@@ -170,8 +172,8 @@ void run_log::fail(const step_failure& e, const saved_state& x, const run_summar
                    double omega) {
     // The last good state's frequency, or the start's if higher (a state may be near a turning
     // point, where the local frequency says little).
-    std::string msg = e.diagnosis() + advice(std::isfinite(omega) ? std::max(omega, omega0_)
-                                                                   : omega0_);
+    std::string msg =
+        e.diagnosis() + advice(std::isfinite(omega) ? std::max(omega, omega0_) : omega0_);
     if (out_.is_stdout()) throw numerical_error(msg);
     out_.keep_partial();
     std::string note;
@@ -184,8 +186,8 @@ void run_log::fail(const step_failure& e, const saved_state& x, const run_summar
 
 void run_log::energy_out_of_bounds(std::size_t j, double t, double err) {
     std::string msg = "the relative energy error reached " + format("%.3g", err) + " at step " +
-                      std::to_string(j) + format(" (t = %.6g)", t) +
-                      ", above --max-energy-error " + format("%.3g", bound_) +
+                      std::to_string(j) + format(" (t = %.6g)", t) + ", above --max-energy-error " +
+                      format("%.3g", bound_) +
                       ": the trajectory is no longer meaningful (0 turns this check off)" +
                       advice(omega0_);
     if (!out_.is_stdout()) {
@@ -195,8 +197,7 @@ void run_log::energy_out_of_bounds(std::size_t j, double t, double err) {
     throw energy_error(msg);
 }
 
-void run_log::stop_by_signal(int sig, std::size_t j, const saved_state& x,
-                             const run_summary& sum) {
+void run_log::stop_by_signal(int sig, std::size_t j, const saved_state& x, const run_summary& sum) {
     set_signal_polling(false);
     const std::string name = sig == SIGINT ? "SIGINT" : "SIGTERM";
     std::string msg = "stopped by " + name + " after step " + std::to_string(j) + " of " +

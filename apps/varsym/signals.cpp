@@ -41,9 +41,13 @@ void install_signal_handlers() {
     sigaction(SIGTERM, &sa, nullptr);
 }
 
-void set_signal_polling(bool on) { polling = on ? 1 : 0; }
+void set_signal_polling(bool on) {
+    polling = on ? 1 : 0;
+}
 
-int pending_signal() { return received; }
+int pending_signal() {
+    return received;
+}
 
 void remove_at_signal(const std::string& path) {
     if (path.size() >= path_max) return;
