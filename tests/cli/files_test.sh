@@ -19,6 +19,15 @@ reader=$!
 "$VARSYM" paper table1 --format csv -o fifo 2> stderr.txt && ok || bad "paper -o FIFO"
 wait "$reader"
 grep -q '^simpson,' table_fifo.txt && [ -p fifo ] && ok || bad "table1 through the FIFO"
+# A picture to a FIFO: drawn into a private temporary file, then written through.
+mkfifo pic.svg
+cat pic.svg > got.svg &
+reader=$!
+"$VARSYM" paper figure1 -o pic.svg 2> stderr.txt && ok || bad "figure to a FIFO: $(cat stderr.txt)"
+wait "$reader"
+[ -p pic.svg ] && grep -q '</svg>' got.svg && [ -s pic.csv ] && [ -s pic.gp ] && ok ||
+  bad "the FIFO's reader did not get the SVG"
+[ -z "$(ls -A | grep '^\.varsym-')" ] && ok || bad "temporary files left: $(ls -A)"
 # A character device made here (root only: skipped, and said, elsewhere).
 if mknod null c 1 3 2> /dev/null; then
   "$VARSYM" run --model kepler -o null 2> stderr.txt && [ -c null ] && [ ! -e null.part ] && ok ||
@@ -140,6 +149,25 @@ sleep 0.3
 kill -INT "$pid"
 wait "$pid"
 [ $? -eq 130 ] && grep -q 'stopped by SIGINT' sig.txt && ok || bad "SIGINT to stdout: $(cat sig.txt)"
+
+# A second signal ends the run at once: here the run is blocked writing to a FIFO nobody
+# reads, so the first SIGINT (which waits for the step to finish) cannot take effect.
+rm -f stuck
+mkfifo stuck
+(exec 3< stuck; sleep 20) &
+holder=$!
+"$VARSYM" run --time 100 --steps 1000000 -o stuck 2> sig.txt &
+pid=$!
+sleep 1
+kill -INT "$pid"
+sleep 0.5
+kill -0 "$pid" 2> /dev/null && ok || bad "one SIGINT ended a run blocked in a write"
+kill -INT "$pid"
+for _ in $(seq 50); do kill -0 "$pid" 2> /dev/null || break; sleep 0.1; done
+kill -0 "$pid" 2> /dev/null && { bad "a second SIGINT did not end the run"; kill -9 "$pid"; } || ok
+wait "$pid" 2> /dev/null
+kill "$holder" 2> /dev/null
+wait "$holder" 2> /dev/null
 
 # --- bounded reads ------------------------------------------------------------------------------
 expect_error 2 "resume /dev/zero" run --resume /dev/zero
