@@ -9,29 +9,38 @@ namespace varsym::cli {
 
 namespace {
 
-// Parses the whole string as a decimal double, correctly rounded; false on trailing text,
-// empty input, hexadecimal input or overflow. A leading '+' is allowed.
-bool parse_double(const std::string& s, double& v) {
-    const std::size_t skip = s.starts_with('+') ? 1 : 0;
-    const char* first = s.data() + skip;
+// std::from_chars over the whole of s after an optional leading '+' ("+-", "++" and "" fail):
+// decimal only, correctly rounded for reals, false on trailing text or overflow.
+template <class T, class... Format>
+bool from_whole(const std::string& s, T& v, Format... format) {
+    const char* first = s.data() + (s.starts_with('+') ? 1 : 0);
     const char* last = s.data() + s.size();
-    if (first == last || *first == '+' || (*first == '-' && skip == 1)) return false;
-    auto [ptr, ec] = std::from_chars(first, last, v, std::chars_format::general);
+    if (first == last || (first != s.data() && (*first == '+' || *first == '-'))) return false;
+    auto [ptr, ec] = std::from_chars(first, last, v, format...);
     return ec == std::errc() && ptr == last;
+}
+
+bool parse_double(const std::string& s, double& v) {
+    return from_whole(s, v, std::chars_format::general);
 }
 
 // A whole number in decimal ("010" is ten), or a real that is one exactly (1e3, 1000.0).
 bool parse_whole(const std::string& s, long long& v) {
-    const std::size_t skip = s.starts_with('+') ? 1 : 0;
-    const char* first = s.data() + skip;
-    const char* last = s.data() + s.size();
-    if (first == last || *first == '+' || (*first == '-' && skip == 1)) return false;
-    auto [ptr, ec] = std::from_chars(first, last, v);
-    if (ec == std::errc() && ptr == last) return true;
+    if (from_whole(s, v)) return true;
     double d = 0.0;
     if (!parse_double(s, d) || d != std::floor(d) || std::abs(d) >= 9.2e18) return false;
     v = static_cast<long long>(d);
     return true;
+}
+
+// The comma-separated entries of s ("1,,2" has an empty second one).
+std::vector<std::string> list_items(const std::string& s) {
+    std::vector<std::string> items;
+    std::size_t start = 0;
+    for (std::size_t comma; (comma = s.find(',', start)) != std::string::npos; start = comma + 1)
+        items.push_back(s.substr(start, comma - start));
+    items.push_back(s.substr(start));
+    return items;
 }
 
 /// A double as a C99 hexadecimal float: what CLI11's strtold-based conversion reads exactly.
@@ -103,36 +112,28 @@ CLI::Validator number_in(double lo, double hi, const char* name, bool open_hi) {
 
 const CLI::Validator number_list(
     [](std::string& s) -> std::string {
-        std::size_t start = 0, index = 1;
-        while (true) {
-            const std::size_t comma = s.find(',', start);
-            const std::string item =
-                s.substr(start, comma == std::string::npos ? comma : comma - start);
+        const std::vector<std::string> items = list_items(s);
+        for (std::size_t i = 0; i < items.size(); ++i) {
+            const std::string index = std::to_string(i + 1);
             double v = 0;
-            if (item.empty())
-                return "value " + std::to_string(index) + " of " + shown(s) +
+            if (items[i].empty())
+                return "value " + index + " of " + shown(s) +
                        " is empty (give numbers separated by single commas)";
-            if (!parse_double(item, v))
-                return "value " + std::to_string(index) + ", " + shown(item) + ", is not a number";
+            if (!parse_double(items[i], v))
+                return "value " + index + ", " + shown(items[i]) + ", is not a number";
             if (!std::isfinite(v))
-                return "value " + std::to_string(index) + ", " + shown(item) + ", is not finite";
-            if (comma == std::string::npos) return {};
-            start = comma + 1;
-            ++index;
+                return "value " + index + ", " + shown(items[i]) + ", is not finite";
         }
+        return {};
     },
     "");
 
 std::vector<double> parse_number_list(const std::string& s) {
     std::vector<double> out;
-    std::size_t start = 0;
-    while (start <= s.size() && !s.empty()) {
-        const std::size_t comma = s.find(',', start);
-        double v = 0;
-        parse_double(s.substr(start, comma == std::string::npos ? comma : comma - start), v);
-        out.push_back(v);
-        if (comma == std::string::npos) break;
-        start = comma + 1;
+    if (s.empty()) return out;
+    for (const std::string& item : list_items(s)) {
+        out.push_back(0.0);
+        parse_double(item, out.back());
     }
     return out;
 }

@@ -72,6 +72,8 @@ class run_log {
   private:
     using clock = std::chrono::steady_clock;
     [[noreturn]] void energy_out_of_bounds(std::size_t j, double t, double err);
+    /// Where the rows written so far are: FILE.part, or the special file written through.
+    [[nodiscard]] std::string rows_place() const;
     /// A safer step for the message: stable at omega and within the energy bound.
     [[nodiscard]] std::string advice(double omega) const;
     /// The checkpoint after a stop (--checkpoint, else OUTPUT.ckpt if absent): "" if none.
@@ -110,9 +112,10 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
     const auto every = static_cast<std::size_t>(s.every);
     const std::size_t n = plan.steps;
     std::string line;
+    /// Writes the row of step j if it is one to write; says whether it did.
     auto row = [&](std::size_t j, double t, const phase_state<D>& y) {
         const bool write = every == 0 ? j == n : (j % every == 0 || j == n);
-        if (!write) return;
+        if (!write) return false;
         line = std::to_string(j);
         line += ',';
         append_number(line, t);
@@ -127,6 +130,7 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
         extras(t, y, line);
         line += '\n';
         log.write(line);
+        return true;
     };
     with_stepper([&](auto& stepper) {
         auto r = run_state<D>::start(x);
@@ -165,10 +169,9 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
         try {
             integrate_from(stepper, r, n, [&](const run_state<D>& y) {
                 const std::size_t j = y.step;
-                row(j, y.time(h), y.x);
+                const bool written = row(j, y.time(h), y.x);
                 // The energy watch: at each row and every 256 steps (an energy costs a step).
-                if (log.energy_watched() &&
-                    ((j & 255U) == 0 || j == n || (every != 0 && j % every == 0)))
+                if (log.energy_watched() && (written || (j & 255U) == 0))
                     log.check_energy(j, y.time(h), stepper.system().energy(y.x));
                 if (log.due(j)) log.save(j, save_state(y), y.stats);
                 if (const int sig = pending_signal(); sig != 0 && j < n)

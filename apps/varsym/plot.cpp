@@ -5,8 +5,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
-#include <sstream>
 #include <stdexcept>
 
 #include <fcntl.h>
@@ -141,13 +141,6 @@ class temporary_file {
     std::string path_;
 };
 
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream all;
-    all << in.rdbuf();
-    return all.str();
-}
-
 } // namespace
 
 void render_figure(const figure& fig, const std::vector<std::string>& outputs, file_roles roles) {
@@ -205,7 +198,8 @@ void render_figure(const figure& fig, const std::vector<std::string>& outputs, f
                 "cannot draw '" + o + "': " +
                 (rc == 127 ? std::string("gnuplot not found; install gnuplot-nox (make run does)")
                            : "gnuplot failed: " + first_line(log.path())));
-        pictures[i]->write(slurp(drawn.path()));
+        pictures[i]->write(read_regular_file(
+            drawn.path(), std::numeric_limits<std::uint64_t>::max(), "picture drawn by gnuplot"));
     }
     for (const auto& f : files)
         f->commit();

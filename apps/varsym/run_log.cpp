@@ -142,6 +142,10 @@ std::string run_log::save_last(std::size_t j, const saved_state& x, const run_su
     }
 }
 
+std::string run_log::rows_place() const {
+    return out_.is_through() ? s_.output : out_.partial_path();
+}
+
 std::string run_log::advice(double omega) const {
     const double h = plan_.h;
     if (!(std::isfinite(omega) && omega > 0.0))
@@ -180,8 +184,7 @@ void run_log::fail(const step_failure& e, const saved_state& x, const run_summar
     const std::string path = save_last(e.step() - 1, x, sum, note);
     if (!path.empty())
         msg += "; the last good state (step " + std::to_string(e.step() - 1) + ") is in " + path;
-    throw numerical_error(msg + note + "; the rows before it are in " +
-                          (out_.is_through() ? s_.output : out_.partial_path()));
+    throw numerical_error(msg + note + "; the rows before it are in " + rows_place());
 }
 
 void run_log::energy_out_of_bounds(std::size_t j, double t, double err) {
@@ -192,7 +195,7 @@ void run_log::energy_out_of_bounds(std::size_t j, double t, double err) {
                       advice(omega0_);
     if (!out_.is_stdout()) {
         out_.keep_partial();
-        msg += "; the rows so far are in " + (out_.is_through() ? s_.output : out_.partial_path());
+        msg += "; the rows so far are in " + rows_place();
     }
     throw energy_error(msg);
 }
@@ -207,7 +210,7 @@ void run_log::stop_by_signal(int sig, std::size_t j, const saved_state& x, const
     std::string note;
     const std::string path = save_last(j, x, sum, note);
     if (path.empty())
-        throw interrupted(sig, msg + note + "; the rows so far are in " + out_.partial_path());
+        throw interrupted(sig, msg + note + "; the rows so far are in " + rows_place());
     throw interrupted(sig, msg + "; continue with 'varsym run --resume " + path + "'");
 }
 
