@@ -1,7 +1,8 @@
 // apps/varsym/signals.hpp: SIGINT and SIGTERM. Outside a run's stepping loop a signal removes
 // the temporary files the tool created (FILE.part, CK.tmp) and ends the process by that signal.
 // Inside it (polling on), the first signal only sets a flag: the run finishes its step, writes a
-// checkpoint and exits 130 or 143; a second signal acts at once, as outside.
+// checkpoint and exits 130 or 143; a second signal acts at once, as outside, unless it is the
+// same signal within a second of the first (one request delivered twice, as timeout(1) does).
 #pragma once
 
 #include <string>
