@@ -198,8 +198,8 @@ checkpoint read_checkpoint(const std::string& path) {
     ck.carry_p = f.numbers("carry_p");
     ck.newton_iterations = f.integer<std::int64_t>("newton_iterations");
     ck.newton_iterations_max = f.integer<int>("newton_iterations_max");
-    if (h.size() != 1 || ck.q.empty() || ck.p.size() != ck.q.size() ||
-        ck.carry_q.size() != ck.q.size() || ck.carry_p.size() != ck.q.size() || ck.step > ck.steps)
+    if (h.size() != 1 || ck.q.empty() || ck.p.empty() || ck.carry_q.size() != ck.q.size() ||
+        ck.carry_p.size() != ck.p.size() || ck.step > ck.steps)
         f.damaged("inconsistent sizes");
     ck.h = h[0];
     return ck;

@@ -110,6 +110,7 @@ void run(run_options& o, const CLI::App& cmd, const run_context& ctx) {
                                  [&](const model& m) { return m.name == o.model; });
     check_model_options(o.models, *it, cmd);
     o.setup.spec = make_spec(o.scheme);
+    o.setup.scheme_given = cmd.count("--scheme") + cmd.count("--degree") > 0;
     o.setup.by_time = cmd.count("--time") > 0;
     o.setup.periods_given = cmd.count("--periods") > 0;
     o.setup.args = ctx.args;

@@ -22,17 +22,19 @@ struct saved_state {
     std::vector<double> q, p, carry_q, carry_p;
 };
 
-/// The default bound of the energy watch (run_log.cpp): from the scheme's order 2s and h·ω at
-/// the start, between 1 % and 50 %.
-double default_energy_bound(const scheme_spec& spec, double h, double omega);
+/// The default bound of the energy watch (run_log.cpp): from the scheme's order and h·ω at the
+/// start, between 1 % and 50 %.
+double default_energy_bound(int order, double h, double omega);
 
 /// The output and the checkpoints of one run (run_log.cpp): the template below calls it.
 class run_log {
   public:
     /// Opens the CSV (or, resuming, the interrupted run's FILE.part cut to the checkpoint's rows)
     /// and writes the header of a new run. Refuses --checkpoint without --output, an existing
-    /// checkpoint file, and a checkpoint whose scheme, step count, h or dimension differ.
-    run_log(const run_setup& s, const run_plan& plan, int d, const std::string& header);
+    /// checkpoint file, and a checkpoint whose scheme, step count, h or dimension differ. d is
+    /// the length of the saved q, dp that of p (−1: d; a rigid body saves R and Π: 9 and 3).
+    run_log(const run_setup& s, const run_plan& plan, int d, const std::string& header,
+            int dp = -1);
 
     [[nodiscard]] const checkpoint* resumed() const { return s_.resume.get(); }
     void write(const std::string& row) { out_.write(row); }
@@ -149,7 +151,7 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
         log.set_energy_reference(stepper.system().energy(x), omega0,
                                  s.max_energy_error >= 0.0
                                      ? s.max_energy_error
-                                     : default_energy_bound(s.spec, h, omega0));
+                                     : default_energy_bound(s.order(), h, omega0));
         if (const checkpoint* ck = log.resumed()) {
             auto as_vec = [d](const std::vector<double>& v) {
                 return vec<D>(Eigen::Map<const vec<D>>(v.data(), d));

@@ -33,6 +33,14 @@ struct run_setup {
     double max_energy_error = -1.0;  ///< stop (exit 4) past it; < 0: the default, 0: never
     std::vector<std::string> args;   ///< the run's arguments, kept in its checkpoints
     std::shared_ptr<const cli::checkpoint> resume; ///< the checkpoint a resumed run continues
+    bool scheme_given = false; ///< --scheme or --degree was set (the rigid bodies refuse them)
+    std::string method;        ///< the integrator where it is not `spec` (rigid bodies: "lgvi-4")
+    int method_order = 0;      ///< its order
+    double method_limit = 0.0; ///< the largest h·ω its steps are defined at (advice only)
+
+    /// The integrator as messages and checkpoints name it, and its order.
+    [[nodiscard]] std::string label() const { return method.empty() ? spec.label() : method; }
+    [[nodiscard]] int order() const { return method.empty() ? spec.order() : method_order; }
 };
 
 /// A built-in model. Its parameters are options of `varsym run` that only it accepts.
@@ -55,6 +63,8 @@ model make_kepler_model();
 model make_double_pendulum_model();
 model make_heavy_top_model();
 model make_chain_model();
+/// `rigid-body`, `top` and `pendulum-3d` (model_rigid.cpp), which share their parameters.
+std::vector<model> make_rigid_models();
 
 /// The most steps one run may take (1e15; the fuzz target lowers it to run actions cheaply).
 extern double max_run_steps;

@@ -20,17 +20,18 @@ std::string format(const char* fmt, double v) {
 }
 
 /// Refuses a checkpoint that does not describe the run its own arguments set up.
-void check_resume(const run_setup& s, const run_plan& plan, int d) {
+void check_resume(const run_setup& s, const run_plan& plan, int d, int dp) {
     if (!s.resume) return;
     const checkpoint& ck = *s.resume;
     std::string what;
-    if (ck.scheme != s.spec.label())
-        what = "scheme " + ck.scheme + " vs " + s.spec.label();
+    if (ck.scheme != s.label())
+        what = "scheme " + ck.scheme + " vs " + s.label();
     else if (ck.steps != plan.steps)
         what = "steps " + std::to_string(ck.steps) + " vs " + std::to_string(plan.steps);
     else if (ck.h != plan.h)
         what = "time step";
-    else if (ck.q.size() != static_cast<std::size_t>(d))
+    else if (ck.q.size() != static_cast<std::size_t>(d) ||
+             ck.p.size() != static_cast<std::size_t>(dp))
         what = "dimension";
     if (!what.empty())
         throw usage_error("checkpoint '" + s.checkpoint +
@@ -40,9 +41,9 @@ void check_resume(const run_setup& s, const run_plan& plan, int d) {
 
 /// The CSV of a new run, or a resumed run's FILE.part (locked, checked against the checkpoint's
 /// CRC-32 and cut to its rows) once the checkpoint is known to belong to this run.
-output_file open_output(const run_setup& s, const run_plan& plan, int d) {
+output_file open_output(const run_setup& s, const run_plan& plan, int d, int dp) {
     if (!s.resume) return output_file(s.output);
-    check_resume(s, plan, d);
+    check_resume(s, plan, d, dp);
     return output_file(s.output, s.resume->csv_bytes, s.resume->csv_crc32);
 }
 
@@ -53,13 +54,14 @@ double expected_energy_error(int order, double h_omega) {
 
 } // namespace
 
-double default_energy_bound(const scheme_spec& spec, double h, double omega) {
+double default_energy_bound(int order, double h, double omega) {
     const double z = std::isfinite(omega) && omega > 0.0 ? h * omega : 0.0;
-    return std::clamp(100.0 * expected_energy_error(spec.order(), z), 0.01, 0.5);
+    return std::clamp(100.0 * expected_energy_error(order, z), 0.01, 0.5);
 }
 
-run_log::run_log(const run_setup& s, const run_plan& plan, int d, const std::string& header)
-    : s_(s), plan_(plan), out_(open_output(s, plan, d)) {
+run_log::run_log(const run_setup& s, const run_plan& plan, int d, const std::string& header,
+                 int dp)
+    : s_(s), plan_(plan), out_(open_output(s, plan, d, dp < 0 ? d : dp)) {
     checkpointing_ = !s.checkpoint.empty();
     every_ = static_cast<std::size_t>(s.checkpoint_every);
     seconds_ = s.checkpoint_seconds;
@@ -96,7 +98,7 @@ void run_log::write_checkpoint_to(const std::string& path, std::size_t j, const 
     checkpoint ck;
     ck.args = s_.args;
     ck.output = std::filesystem::absolute(s_.output).string();
-    ck.scheme = s_.spec.label();
+    ck.scheme = s_.label();
     ck.step = j;
     ck.steps = plan_.steps;
     ck.h = plan_.h;
@@ -153,17 +155,20 @@ std::string run_log::advice(double omega) const {
     // Below the scheme's linear stability limit z* for ω (h ω < z*) with a margin of 2, and where
     // the expected energy error 100 (h ω)^r is within the bound; a tenth of h when these do not
     // call for a step below half the one that failed.
-    const double limit = linear_stability_limit(s_.spec);
+    // The family's linear stability limit, or the limit another method states (the rigid
+    // bodies': the largest turn per step at which its step equation has a solution).
+    const double limit = s_.method.empty() ? linear_stability_limit(s_.spec) : s_.method_limit;
+    const std::string what = s_.method.empty() ? "'s linear stability limit " : "'s step limit ";
     const double bound = bound_ > 0.0 ? bound_ : 0.01;
-    double from_omega = std::pow(bound / 100.0, 1.0 / s_.spec.order()) / omega;
+    double from_omega = std::pow(bound / 100.0, 1.0 / s_.order()) / omega;
     std::string msg =
         format("; at omega_max = %.4g rad/s (the start's or the state's), h*omega = ", omega) +
         format("%.3g", h * omega);
     if (std::isfinite(limit)) {
-        msg += " against " + s_.spec.label() + "'s linear stability limit " + format("%.4g", limit);
+        msg += " against " + s_.label() + what + format("%.4g", limit);
         from_omega = std::min(from_omega, 0.5 * limit / omega);
-    } else {
-        msg += " (" + s_.spec.label() + " is linearly stable at every h*omega)";
+    } else if (std::isinf(limit)) {
+        msg += " (" + s_.label() + " is linearly stable at every h*omega)";
     }
     if (!(from_omega < 0.5 * h))
         return msg + "; that frequency does not explain it (the motion is faster elsewhere): " +
@@ -220,7 +225,7 @@ void run_log::finish(const saved_state& x, const run_summary& sum) {
     if (checkpointing_) write_checkpoint_to(s_.checkpoint, plan_.steps, x, sum, replace_);
     out_.commit();
     if (s_.stats)
-        std::cerr << "varsym: " << s_.spec.label() << ", " << sum.steps
+        std::cerr << "varsym: " << s_.label() << ", " << sum.steps
                   << " steps of h = " << plan_.h << ": Newton iterations per step mean "
                   << sum.mean_newton_iterations() << ", max " << sum.newton_iterations_max << '\n';
 }

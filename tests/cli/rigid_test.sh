@@ -1,0 +1,112 @@
+#!/usr/bin/env bash
+# tests/cli/rigid_test.sh VARSYM: the rigid bodies of `varsym run` (rigid-body, top, pendulum-3d)
+# end to end: their columns, what each conserves (to round-off, read back from the CSV), the
+# closed forms they are compared with, the conventions of --q0, the top through the vertical
+# where the Euler-angle heavy-top refuses, resume after SIGKILL, and bad input.
+source "$(dirname "$0")/lib.sh" "$@"
+
+# col FILE NAME: the column number of NAME in FILE's header.
+col() { head -1 "$1" | tr ',' '\n' | grep -nx "$2" | cut -d: -f1; }
+# spread FILE NAME: max - min of column NAME, relative to max |value| (0 if all are 0).
+spread() {
+  awk -F, -v c="$(col "$1" "$2")" 'NR > 1 { v = $c + 0; if (NR == 2 || v < lo) lo = v;
+    if (NR == 2 || v > hi) hi = v; a = v < 0 ? -v : v; if (a > m) m = a }
+    END { printf "%.3e", m > 0 ? (hi - lo) / m : 0 }' "$1"
+}
+# maxabs FILE NAME [OTHER]: max |NAME| (or max |NAME - OTHER|) over the rows.
+maxabs() {
+  awk -F, -v c="$(col "$1" "$2")" -v d="${3:+$(col "$1" "${3:-}")}" 'NR > 1 {
+    v = $c - (d != "" ? $d : 0); if (v < 0) v = -v; if (v > m) m = v } END { printf "%.3e", m }' "$1"
+}
+lt() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a + 0 < b + 0) }'; }
+
+"$VARSYM" models > models.txt && for m in rigid-body top pendulum-3d; do
+  grep -q "^$m: " models.txt && ok || bad "models does not list $m"
+done
+
+# --- the symmetric top: columns, momentum maps, closed-form nutation ---------------------------
+"$VARSYM" run --model top --periods 3 -o top.csv || bad "top run failed"
+[ "$(head -1 top.csv)" = "step,t,q_w,q_x,q_y,q_z,Omega_1,Omega_2,Omega_3,energy,L_z,Pi_3,theta,theta_exact,orthogonality" ] &&
+  ok || bad "top header: $(head -1 top.csv)"
+[ "$(wc -l < top.csv)" -eq 302 ] && ok || bad "top: 3 periods of 100 steps: $(wc -l < top.csv) lines"
+# L_z = 2.588 and Pi_3 = 4.135 kg m^2/s: conserved to round-off (a few ulps of the value).
+s=$(spread top.csv L_z); lt "$s" 1e-14 && ok || bad "top L_z varies by $s"
+s=$(spread top.csv Pi_3); lt "$s" 1e-14 && ok || bad "top Pi_3 varies by $s"
+s=$(maxabs top.csv orthogonality); lt "$s" 1e-15 && ok || bad "top |R^T R - I| up to $s"
+# Order 4 at 100 steps per nutation period: theta within 2e-4 rad of the closed form (measured
+# 7.1e-5); order 2 at the same step is worse by more than 10 (the negative control).
+e4=$(maxabs top.csv theta theta_exact); lt "$e4" 2e-4 && ok || bad "top theta error $e4"
+"$VARSYM" run --model top --periods 3 --order 2 -o top2.csv || bad "order-2 top failed"
+e2=$(maxabs top2.csv theta theta_exact)
+lt "$(awk -v a="$e4" 'BEGIN { print 10 * a }')" "$e2" && ok || bad "order 2 ($e2) not worse than 4 ($e4)"
+s=$(spread top.csv energy); lt "$s" 1e-6 && ok || bad "top energy varies by $s"
+
+# --- through the vertical: the group model runs, the Euler-angle model refuses ----------------
+expect_error 2 "heavy-top at the vertical" run --model heavy-top --q0 0,0,0 --v0 0.3,0,5 -o out.csv
+"$VARSYM" run --model top --q0 0,0,0 --v0 0.3,0,5 --time 10 --steps 2000 -o vert.csv ||
+  bad "top through the vertical failed"
+grep -q theta_exact vert.csv && bad "a closed form where the axis reaches the vertical" || ok
+s=$(awk -F, -v c="$(col vert.csv theta)" 'NR > 2 && $c < 1e-3 { n++ } END { print n + 0 }' vert.csv)
+[ "$s" -ge 2 ] && ok || bad "the axis did not come back to the vertical ($s rows with theta < 1e-3)"
+s=$(spread vert.csv L_z); lt "$s" 1e-14 && ok || bad "vertical top L_z varies by $s"
+
+# --- the free body: spatial momentum, Casimir, the symmetric body's closed form ---------------
+"$VARSYM" run --model rigid-body --every 100 -o free.csv || bad "rigid-body run failed"
+for c in L_x L_y L_z Pi_norm; do
+  s=$(spread free.csv $c); lt "$s" 1e-13 && ok || bad "rigid-body $c varies by $s"
+done
+# The default start turns near the intermediate axis: Omega_2 changes sign (the body flips).
+awk -F, 'NR > 1 && $8 < -0.5 { f = 1 } END { exit !f }' free.csv && ok || bad "rigid-body did not flip"
+"$VARSYM" run --model rigid-body --inertia 1,1,0.5 --v0 0.3,-0.5,4 --periods 2 \
+  --steps-per-period 400 -o sym.csv &&
+  grep -q attitude_error sym.csv && ok || bad "symmetric free body: no attitude_error column"
+# Order 4 at 400 steps per period of Pi: measured 1.02e-5 rad (2.73e-3 at 100: 256 = 4^4 times).
+e=$(maxabs sym.csv attitude_error); lt "$e" 3e-5 && ok || bad "symmetric free body error $e rad"
+
+# --- the 3-D pendulum, conventions of --q0 and --matrix --------------------------------------
+"$VARSYM" run --model pendulum-3d --every 100 --matrix -o p3.csv || bad "pendulum-3d failed"
+[ "$(head -1 p3.csv | tr ',' '\n' | wc -l)" -eq 22 ] && ok || bad "pendulum-3d --matrix columns"
+s=$(spread p3.csv energy); lt "$s" 1e-4 && ok || bad "pendulum-3d energy varies by $s"
+# R_33 = 1 - 2(q_x^2 + q_y^2) and R_21 = 2(q_x q_y + q_w q_z) in every row.
+awk -F, 'NR > 1 { a = $22 - (1 - 2 * ($4 * $4 + $5 * $5)); b = $17 - 2 * ($4 * $5 + $3 * $6);
+  if (a * a + b * b > 1e-28) bad = 1 } END { exit bad }' p3.csv && ok || bad "quaternion and matrix disagree"
+# Euler angles (1, 0, 0) and the quaternion (cos 1/2, sin 1/2, 0, 0) are the same attitude.
+"$VARSYM" run --model top --q0 1,0,0 --time 1 --steps 100 -o e.csv &&
+  "$VARSYM" run --model top --q0 0.87758256189037276,0.47942553860420295,0,0 --time 1 --steps 100 -o q.csv ||
+  bad "--q0 as Euler angles or quaternion failed"
+d=$(paste -d, e.csv q.csv | awk -F, 'NR > 1 { for (i = 3; i <= 15; i++) { v = $i - $(i + 15);
+  if (v < 0) v = -v; if (v > m) m = v } } END { printf "%.3e", m }')
+lt "$d" 1e-12 && ok || bad "Euler-angle and quaternion starts differ by $d"
+
+# --- SIGKILL and resume: byte-identical ---------------------------------------------------------
+"$VARSYM" run --model top --periods 1500 --every 10 -o ref.csv || bad "reference run failed"
+"$VARSYM" run --model top --periods 1500 --every 10 -o k.csv --checkpoint k.ckpt --checkpoint-every 5000 &
+pid=$!
+for _ in $(seq 100); do [ -e k.ckpt ] && break; sleep 0.02; done
+kill -9 "$pid" 2> /dev/null
+wait "$pid" 2> /dev/null
+[ -e k.ckpt ] && "$VARSYM" run --resume k.ckpt 2> /dev/null && cmp -s k.csv ref.csv && ok ||
+  bad "top resumed after SIGKILL differs from the uninterrupted run"
+
+# --- bad input ---------------------------------------------------------------------------------
+expect_error 2 "scheme for a rigid body" run --model top --scheme gauss -o out.csv
+expect_error 2 "degree for a rigid body" run --model rigid-body --degree 3 -o out.csv
+expect_error 2 "order 3" run --model top --order 3 -o out.csv
+expect_error 2 "impossible inertia" run --model rigid-body --inertia 1,1,3 -o out.csv
+expect_error 2 "negative inertia" run --model top --inertia 1,-1,1 -o out.csv
+expect_error 2 "inertia of 2 values" run --model top --inertia 1,1 -o out.csv
+expect_error 2 "com for a free body" run --model rigid-body --com 0,0,1 -o out.csv
+expect_error 2 "com of 2 values" run --model top --com 0,1 -o out.csv
+expect_error 2 "negative weight" run --model top --weight -1 -o out.csv
+expect_error 2 "non-unit quaternion" run --model top --q0 1,0,0,0.1 -o out.csv
+expect_error 2 "q0 of 5 values" run --model top --q0 1,0,0,0,0 -o out.csv
+expect_error 2 "v0 of 2 values" run --model top --v0 1,0 -o out.csv
+expect_error 2 "p0 and v0" run --model top --p0 0,0,1 --v0 0,0,1 -o out.csv
+expect_error 2 "NaN com" run --model top --com 0,0,nan -o out.csv
+# A turn of more than 90 degrees per sub-step has no step: exit 3, the step limit in the message.
+rm -f big.csv*
+"$VARSYM" run --model top --time 10 --steps 100 -o big.csv 2> big.txt
+[ $? -eq 3 ] && grep -q "lgvi-4's step limit" big.txt && [ -e big.csv.part ] && ok ||
+  bad "too large a step: $(cat big.txt)"
+
+finish
