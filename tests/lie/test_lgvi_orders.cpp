@@ -76,13 +76,14 @@ TEST(LgviOrder, SymmetricTopAgainstClosedFormNutation) {
 }
 
 // The same top in Euler angles on the general engine (Simpson, order 4) and on the group
-// (order 4) at the same h: both reach the closed form to their order's accuracy; recorded side
-// by side (bench/bench_rigid.cpp times them).
+// (order 4) at the same h, over 1.3 nutation periods: both reach the closed form within 1e-6
+// (measured 4.4e-7 on the group, 2.2e-8 in Euler angles, where θ obeys a reduced 1-D equation and
+// the fast spin ψ does not enter it; bench/bench_rigid.cpp compares them at equal accuracy).
 TEST(LgviOrder, SymmetricTopAgreesWithEulerAngleModel) {
     const rigid_body top = symmetric_top();
     const body_state x0 = top_start(top);
     const auto nut = lie::nutation_of(top, x0);
-    const double t = nut.period();
+    const double t = 1.3 * nut.period(); // not a turning point of θ, where errors hide
     const std::size_t n = 400;
     const body_state xg = run_body(top, x0, t, n, 4);
     const auto sys = heavy_top::make_system(lie::euler_lagrangian(top));
