@@ -19,10 +19,11 @@ namespace varsym::so3 {
 using vec3 = Eigen::Vector3d;
 using mat3 = Eigen::Matrix3d;
 
-/// The hat map: hat(a) b = a × b.
-inline mat3 hat(const vec3& a) {
-    mat3 m;
-    m << 0.0, -a(2), a(1), a(2), 0.0, -a(0), -a(1), a(0), 0.0;
+/// The hat map: hat(a) b = a × b (in any scalar type).
+template <class T>
+Eigen::Matrix<T, 3, 3> hat(const Eigen::Matrix<T, 3, 1>& a) {
+    Eigen::Matrix<T, 3, 3> m;
+    m << T(0), -a(2), a(1), a(2), T(0), -a(0), -a(1), a(0), T(0);
     return m;
 }
 
@@ -35,11 +36,13 @@ inline vec3 vee_skew(const mat3& a) {
 ///   G = 2/(1 + fᵀf) (f̂ + f̂²),  f̂² = f fᵀ − (fᵀf) I.
 /// I + G is orthogonal for every f, and G is computed with relative round-off ε|G|, so adding it
 /// to I loses nothing: the orthogonality error of R·cay(f) is that of R plus O(ε|f|).
-inline mat3 cayley_increment(const vec3& f) {
-    const double ff = f.squaredNorm();
-    mat3 sq = f * f.transpose();
+/// The Lie group integrator evaluates it in extended precision (T = long double).
+template <class T>
+Eigen::Matrix<T, 3, 3> cayley_increment(const Eigen::Matrix<T, 3, 1>& f) {
+    const T ff = f.squaredNorm();
+    Eigen::Matrix<T, 3, 3> sq = f * f.transpose();
     sq.diagonal().array() -= ff;
-    return (2.0 / (1.0 + ff)) * (hat(f) + sq);
+    return (T(2) / (T(1) + ff)) * (hat(f) + sq);
 }
 
 /// ‖RᵀR − I‖ in the Frobenius norm: how far R is from SO(3).
