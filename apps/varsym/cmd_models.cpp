@@ -15,9 +15,9 @@ void add_models_command(CLI::App& app, action& todo) {
         todo = [] {
             for (const model& m : make_models())
                 std::cout << m.name << ": " << m.summary << '\n' << m.description << "\n\n";
-            std::cout << "All models: --scheme simpson|newmark|lobatto|gauss (--degree s), "
-                         "--steps-per-period/--periods\nor --time/--steps, --every, --output; "
-                         "see 'varsym run --help'.\n";
+            std::cout << "All models: --scheme simpson|newmark|lobatto|gauss (--degree s) "
+                         "(rigid bodies: --order 2|4|6),\n--steps-per-period/--periods or "
+                         "--time/--steps, --every, --output; see 'varsym run --help'.\n";
         };
     });
 }

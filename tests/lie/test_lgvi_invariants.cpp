@@ -88,7 +88,8 @@ TEST(Lgvi, AsymmetricTopKeepsVerticalMomentumOnly) {
     EXPECT_LE(m.orth, 1e-15);
 }
 
-// A free asymmetric body: all of π = RΠ and the Casimir |Π| to round-off over 10⁶ steps.
+// A free asymmetric body: all of π = RΠ, the Casimir |Π| and the energy to round-off over 10⁶
+// steps.
 TEST(Lgvi, FreeBodyKeepsSpatialMomentumAndCasimir) {
     const rigid_body body(diag(1.0, 2.0, 2.5));
     body_state x;
@@ -110,7 +111,11 @@ TEST(Lgvi, FreeBodyKeepsSpatialMomentumAndCasimir) {
     RecordProperty("max_casimir_error", sci(dc));
     EXPECT_LE(dpi, 16 * 1.1e-16 * casimir);
     EXPECT_LE(dc, 16 * 1.1e-16 * casimir);
-    EXPECT_LT(de, 1e-4);
+    // The free body's energy is conserved to round-off as well (measured 3.9e-16 relative over
+    // 10⁶ steps, at every order and step size tried): a property of this discretisation for the
+    // free body, so no drift either.
+    RecordProperty("max_relative_energy_error", sci(de));
+    EXPECT_LE(de, 16 * 1.1e-16);
 }
 
 // The map is symmetric (time-reversible): stepping (R₁, −Π₁) by h returns to (R₀, −Π₀).
