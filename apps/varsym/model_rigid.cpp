@@ -1,13 +1,11 @@
 // apps/varsym/model_rigid.cpp: the rigid bodies of `varsym run`, integrated on SO(3) by the Lie
 // group variational integrator (lie/lgvi.hpp): `--model rigid-body` (free), `--model top` (heavy
 // top, any inertia and centre of mass) and `--model pendulum-3d` (a body hanging from a pivot).
-#include <cmath>
+#include <array>
 #include <memory>
-#include <numbers>
 
 #include "model_run.hpp"
 #include "rigid_run.hpp"
-#include "varsym/lie/symmetric_top.hpp"
 
 namespace varsym::cli {
 
@@ -58,8 +56,7 @@ lie::vec3 parse_vec3(const std::string& text, const char* option, const lie::vec
     const std::vector<double> v = parse_number_list(text);
     if (v.empty()) return fallback;
     if (v.size() != 3)
-        throw usage_error(std::string(option) + " needs 3 values, got " +
-                          std::to_string(v.size()));
+        throw usage_error(std::string(option) + " needs 3 values, got " + std::to_string(v.size()));
     return {v[0], v[1], v[2]};
 }
 
@@ -91,7 +88,8 @@ lie::body_state initial_body_state(const run_setup& s, const lie::rigid_body& b,
     if (given.empty()) {
         x.pi = b.inertia() * d.omega;
     } else if (given.size() != 3) {
-        throw usage_error(std::string(option) + " needs 3 values (the body-frame components), got " +
+        throw usage_error(std::string(option) +
+                          " needs 3 values (the body-frame components), got " +
                           std::to_string(given.size()));
     } else {
         const lie::vec3 v(given[0], given[1], given[2]);
@@ -141,9 +139,11 @@ model make_rigid_model(const std::string& name, const std::string& summary,
                               ": rigid bodies are integrated on SO(3) by the Lie group "
                               "variational integrator; choose its order with --order 2, 4 or 6");
         const lie::mat3 j = parse_inertia(opt->inertia, d.inertia);
-        const lie::vec3 com = name == "rigid-body" ? lie::vec3::Zero()
-                                                   : parse_vec3(opt->com, "--com", d.com);
-        const double weight = name == "rigid-body" ? 0.0 : opt->weight >= 0 ? opt->weight : d.weight;
+        const lie::vec3 com =
+            name == "rigid-body" ? lie::vec3::Zero() : parse_vec3(opt->com, "--com", d.com);
+        const double weight = name == "rigid-body" ? 0.0
+                              : opt->weight >= 0   ? opt->weight
+                                                   : d.weight;
         const lie::rigid_body body = [&] {
             try {
                 return lie::rigid_body(j, com, weight);
@@ -162,29 +162,38 @@ model make_rigid_model(const std::string& name, const std::string& summary,
 std::vector<model> make_rigid_models() {
     auto opt = std::make_shared<rigid_options>();
     // Turning near its intermediate axis: it flips over and back periodically (Dzhanibekov).
-    const rigid_defaults free{{1.0, 2.0, 3.0}, {0, 0, 0}, 0.0, {0, 0, 0}, {0.01, 1.0, 0.01},
-                              100.0, 10000};
+    const rigid_defaults free{{1.0, 2.0, 3.0},   {0, 0, 0}, 0.0,  {0, 0, 0},
+                              {0.01, 1.0, 0.01}, 100.0,     10000};
     // The `heavy-top` model's default top and start (tilt 1 rad, φ̇ = 0.5, ψ̇ = 8 rad/s).
-    const rigid_defaults top{{1.0, 1.0, 0.5}, {0, 0, 1.0}, 1.0, {1.0, 0, 0},
-                             so3::body_rate(1.0, 0.0, 0.0, 0.5, 8.0), 10.0, 1000};
+    const rigid_defaults top{{1.0, 1.0, 0.5},
+                             {0, 0, 1.0},
+                             1.0,
+                             {1.0, 0, 0},
+                             so3::body_rate(1.0, 0.0, 0.0, 0.5, 8.0),
+                             10.0,
+                             1000};
     // A body hanging 1 m below its pivot, tilted and spinning about a skew axis: a 3-D swing.
     const rigid_defaults pendulum{{1.5, 1.25, 0.5}, {0, 0, -1.0}, 9.81, {0.8, 0, 0},
-                                  {0.5, 1.0, 2.0}, 10.0, 10000};
+                                  {0.5, 1.0, 2.0},  10.0,         10000};
     return {
         make_rigid_model(
             "rigid-body", "free rigid body on SO(3), any inertia (Lie group integrator)",
             "  L = Omega^T J Omega / 2, no potential. --inertia (1,2,3) [kg m^2] about the centre\n"
-            "  of mass. Default start: R = I, Omega = (0.01, 1, 0.01) rad/s, near the intermediate\n"
-            "  axis: the body flips over and back (the Dzhanibekov effect). Conserved: energy, the\n"
+            "  of mass. Default start: R = I, Omega = (0.01, 1, 0.01) rad/s, near the "
+            "intermediate\n"
+            "  axis: the body flips over and back (the Dzhanibekov effect). Conserved: energy, "
+            "the\n"
             "  spatial angular momentum L = R Pi (L_x, L_y, L_z) and |Pi| (Pi_norm). Exact where\n"
-            "  I1 = I2 (attitude_error, rad; period: that of Pi in the body frame); else no period:\n"
+            "  I1 = I2 (attitude_error, rad; period: that of Pi in the body frame); else no "
+            "period:\n"
             "  default --time 100 --steps 10000.",
             opt, free, true),
         make_rigid_model(
             "top", "heavy top on SO(3), any inertia and centre of mass; through the vertical",
             "  L = Omega^T J Omega / 2 - W e3.(R c): the pivot fixed, c = --com in the body frame\n"
             "  (0,0,1) [m], W = --weight (1) [N], --inertia (1,1,0.5) [kg m^2] about the pivot.\n"
-            "  Default start: the heavy-top model's (Euler angles 1,0,0; Omega = (0, 0.42, 8.27)).\n"
+            "  Default start: the heavy-top model's (Euler angles 1,0,0; Omega = (0, 0.42, "
+            "8.27)).\n"
             "  Conserved: energy, L_z (vertical angular momentum), and Pi_3 (spin) when I1 = I2\n"
             "  and c is on the body's e3. Symmetric tops: theta (tilt) and theta_exact in closed\n"
             "  form, period the nutation period (100 steps each by default); no Euler-angle\n"

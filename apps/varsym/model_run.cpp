@@ -7,9 +7,9 @@
 namespace varsym::cli {
 
 std::vector<model> make_models() {
-    std::vector<model> all{make_pendulum_model(),        make_oscillator_model(),
-                           make_kepler_model(),          make_double_pendulum_model(),
-                           make_heavy_top_model(),       make_chain_model()};
+    std::vector<model> all{make_pendulum_model(),  make_oscillator_model(),
+                           make_kepler_model(),    make_double_pendulum_model(),
+                           make_heavy_top_model(), make_chain_model()};
     for (model& m : make_rigid_models())
         all.push_back(std::move(m));
     return all;

@@ -59,8 +59,7 @@ double default_energy_bound(int order, double h, double omega) {
     return std::clamp(100.0 * expected_energy_error(order, z), 0.01, 0.5);
 }
 
-run_log::run_log(const run_setup& s, const run_plan& plan, int d, const std::string& header,
-                 int dp)
+run_log::run_log(const run_setup& s, const run_plan& plan, int d, const std::string& header, int dp)
     : s_(s), plan_(plan), out_(open_output(s, plan, d, dp < 0 ? d : dp)) {
     checkpointing_ = !s.checkpoint.empty();
     every_ = static_cast<std::size_t>(s.checkpoint_every);
@@ -225,9 +224,9 @@ void run_log::finish(const saved_state& x, const run_summary& sum) {
     if (checkpointing_) write_checkpoint_to(s_.checkpoint, plan_.steps, x, sum, replace_);
     out_.commit();
     if (s_.stats)
-        std::cerr << "varsym: " << s_.label() << ", " << sum.steps
-                  << " steps of h = " << plan_.h << ": Newton iterations per step mean "
-                  << sum.mean_newton_iterations() << ", max " << sum.newton_iterations_max << '\n';
+        std::cerr << "varsym: " << s_.label() << ", " << sum.steps << " steps of h = " << plan_.h
+                  << ": Newton iterations per step mean " << sum.mean_newton_iterations()
+                  << ", max " << sum.newton_iterations_max << '\n';
 }
 
 } // namespace varsym::cli

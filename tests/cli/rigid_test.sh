@@ -78,6 +78,11 @@ d=$(paste -d, e.csv q.csv | awk -F, 'NR > 1 { for (i = 3; i <= 15; i++) { v = $i
   if (v < 0) v = -v; if (v > m) m = v } } END { printf "%.3e", m }')
 lt "$d" 1e-12 && ok || bad "Euler-angle and quaternion starts differ by $d"
 
+# Six inertia entries J11,J22,J33,J12,J13,J23: with zero products of inertia, the same run.
+"$VARSYM" run --model top --periods 1 --inertia 1,1,0.5,0,0,0 -o six.csv &&
+  "$VARSYM" run --model top --periods 1 --inertia 1,1,0.5 -o three.csv && cmp -s six.csv three.csv &&
+  ok || bad "--inertia with 6 entries differs from its 3 principal moments"
+
 # --- SIGKILL and resume: byte-identical ---------------------------------------------------------
 "$VARSYM" run --model top --periods 1500 --every 10 -o ref.csv || bad "reference run failed"
 "$VARSYM" run --model top --periods 1500 --every 10 -o k.csv --checkpoint k.ckpt --checkpoint-every 5000 &
@@ -95,6 +100,7 @@ expect_error 2 "order 3" run --model top --order 3 -o out.csv
 expect_error 2 "impossible inertia" run --model rigid-body --inertia 1,1,3 -o out.csv
 expect_error 2 "negative inertia" run --model top --inertia 1,-1,1 -o out.csv
 expect_error 2 "inertia of 2 values" run --model top --inertia 1,1 -o out.csv
+expect_error 2 "inertia not positive definite" run --model top --inertia 1,1,1,2,0,0 -o out.csv
 expect_error 2 "com for a free body" run --model rigid-body --com 0,0,1 -o out.csv
 expect_error 2 "com of 2 values" run --model top --com 0,1 -o out.csv
 expect_error 2 "negative weight" run --model top --weight -1 -o out.csv
