@@ -2,6 +2,7 @@
 // the CSV rows and the checkpoints (R and its low-order part row by row, Π and its low part).
 #include "rigid_run.hpp"
 
+#include <cmath>
 #include <numbers>
 #include <optional>
 
@@ -49,6 +50,9 @@ void run_rigid_body(const run_setup& setup, const rigid_run& r, double default_t
     s.method_order = r.order;
     s.method_limit = lie::lgvi::step_limit(r.order);
     const lie::rigid_body& b = r.body;
+    if (!std::isfinite(b.energy(r.x0)))
+        throw usage_error(r.name + ": the energy of the initial state is not a finite number "
+                                   "(check --v0/--p0, --inertia, --com and --weight)");
     const bool gravity = b.has_gravity(), symmetric = b.symmetric_about_e3();
     // The closed forms, where they exist, give the period and the exact columns.
     std::optional<lie::free_symmetric_motion> free;

@@ -109,6 +109,7 @@ expect_error 2 "q0 of 5 values" run --model top --q0 1,0,0,0,0 -o out.csv
 expect_error 2 "v0 of 2 values" run --model top --v0 1,0 -o out.csv
 expect_error 2 "p0 and v0" run --model top --p0 0,0,1 --v0 0,0,1 -o out.csv
 expect_error 2 "NaN com" run --model top --com 0,0,nan -o out.csv
+expect_error 2 "infinite initial energy" run --model top --v0 1e300,0,0 -o out.csv
 # A turn of more than 90 degrees per sub-step has no step: exit 3, the step limit in the message.
 rm -f big.csv*
 "$VARSYM" run --model top --time 10 --steps 100 -o big.csv 2> big.txt
