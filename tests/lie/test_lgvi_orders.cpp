@@ -12,10 +12,8 @@
 #include "lie_support.hpp"
 #include "test_support.hpp"
 #include "varsym/diagnostics/convergence.hpp"
-#include "varsym/integrate.hpp"
 #include "varsym/lie/symmetric_top.hpp"
 #include "varsym/problems/pendulum.hpp"
-#include "varsym/schemes/variational.hpp"
 
 using namespace varsym;
 using namespace varsym::test;
@@ -73,33 +71,6 @@ TEST(LgviOrder, SymmetricTopAgainstClosedFormNutation) {
         }
         EXPECT_NEAR(order_of(err, steps, "top_order_" + std::to_string(order)), order, 0.15);
     }
-}
-
-// The same top in Euler angles on the general engine (Simpson, order 4) and on the group
-// (order 4) at the same h, over 1.3 nutation periods: both reach the closed form within 1e-6
-// (measured 4.4e-7 on the group, 2.2e-8 in Euler angles, where θ obeys a reduced 1-D equation and
-// the fast spin ψ does not enter it; bench/bench_rigid.cpp compares them at equal accuracy).
-TEST(LgviOrder, SymmetricTopAgreesWithEulerAngleModel) {
-    const rigid_body top = symmetric_top();
-    const body_state x0 = top_start(top);
-    const auto nut = lie::nutation_of(top, x0);
-    const double t = 1.3 * nut.period(); // not a turning point of θ, where errors hide
-    const std::size_t n = 400;
-    const body_state xg = run_body(top, x0, t, n, 4);
-    const auto sys = heavy_top::make_system(lie::euler_lagrangian(top));
-    phase_state<3> xe = lie::euler_state(x0);
-    general::stepper euler(sys, t / n, scheme_kind::simpson);
-    integrate(euler, xe, 0.0, n, [](auto, auto, const auto&) {});
-    const double eg = std::abs(std::acos(xg.R(2, 2)) - nut.theta(t));
-    const double ee = std::abs(xe.q(0) - nut.theta(t));
-    RecordProperty("theta_error_group", sci(eg));
-    RecordProperty("theta_error_euler", sci(ee));
-    EXPECT_LT(eg, 1e-6);
-    EXPECT_LT(ee, 1e-6);
-    // The two describe the same motion: the Euler angles and momenta of the group's state.
-    const phase_state<3> back = lie::euler_state(xg);
-    EXPECT_NEAR(back.p(1), xe.p(1), 1e-12); // p_φ = π₃, conserved by both
-    EXPECT_NEAR(back.p(2), xe.p(2), 1e-12); // p_ψ = Π₃
 }
 
 // Through the vertical: p_φ = p_ψ (1 + 1e-7) makes the axis pass within θ_min ≈ 5e-7 rad of

@@ -36,7 +36,9 @@ inline heavy_top::nutation nutation_of(const rigid_body& b, const body_state& x)
     if (!(b.weight() * b.com()(2) > 0.0))
         throw std::invalid_argument("the closed-form nutation needs the centre of mass above the "
                                     "fixed point on the axis (W rho_3 > 0)");
-    return {euler_lagrangian(b), euler_state(x)};
+    const phase_state<3> e = euler_state(x);
+    const double theta_dot = e.p(0) / b.inertia()(0, 0); // p_θ = I₁ θ̇
+    return {euler_lagrangian(b), b.energy(x), e.p(1), e.p(2), e.q(0), theta_dot};
 }
 
 } // namespace varsym::lie

@@ -53,15 +53,21 @@ inline lagrangian_system<lagrangian> make_system(const lagrangian& l) {
 /// and the nutation period is 2K(k²)/λ (Goldstein, Classical Mechanics, §5.7).
 class nutation {
   public:
-    nutation(const lagrangian& l, const phase_state<3>& x0) {
-        const lagrangian_system<lagrangian> sys(l);
-        const vec<3> v = sys.velocity(x0.q, x0.p);
-        const double e = sys.energy(x0);
-        pphi_ = x0.p(1);
-        ppsi_ = x0.p(2);
+    /// From a state (θ, φ, ψ; p_θ, p_φ, p_ψ): θ̇ = p_θ/I₁ and, with φ̇ = (p_φ − p_ψ cos θ)/(I₁
+    /// sin²θ),
+    ///   E = p_θ²/(2I₁) + (p_φ − p_ψ cos θ)²/(2I₁ sin²θ) + p_ψ²/(2I₃) + mgl cos θ
+    /// (by hand: this header then instantiates no automatic derivatives).
+    nutation(const lagrangian& l, const phase_state<3>& x0)
+        : nutation(l, energy(l, x0), x0.p(1), x0.p(2), x0.q(0), x0.p(0) / l.i1) {}
+
+    /// From the conserved E, p_φ, p_ψ and the tilt θ₀ and its rate θ̇₀ at t = 0.
+    nutation(const lagrangian& l, double e, double p_phi, double p_psi, double theta0,
+             double theta_dot0) {
+        pphi_ = p_phi;
+        ppsi_ = p_psi;
         e1_ = e - ppsi_ * ppsi_ / (2.0 * l.i3);
-        const double u0 = std::cos(x0.q(0));
-        const double du0 = -std::sin(x0.q(0)) * v(0);
+        const double u0 = std::cos(theta0);
+        const double du0 = -std::sin(theta0) * theta_dot0;
         // f(u) = c₃u³ + c₂u² + c₁u + c₀; f(1) = −(p_φ − p_ψ)²/I₁² < 0 < f(+∞) brackets u₃ > 1.
         const double i1 = l.i1;
         c3_ = 2.0 * l.mgl / i1;
@@ -119,6 +125,12 @@ class nutation {
 
   private:
     [[nodiscard]] double f(double u) const { return ((c3_ * u + c2_) * u + c1_) * u + c0_; }
+    static double energy(const lagrangian& l, const phase_state<3>& x) {
+        const double s = std::sin(x.q(0)), c = std::cos(x.q(0));
+        const double a = x.p(1) - x.p(2) * c;
+        return x.p(0) * x.p(0) / (2.0 * l.i1) + a * a / (2.0 * l.i1 * s * s) +
+               x.p(2) * x.p(2) / (2.0 * l.i3) + l.mgl * c;
+    }
 
     double pphi_ = 0, ppsi_ = 0, e1_ = 0;
     double c0_ = 0, c1_ = 0, c2_ = 0, c3_ = 0;
