@@ -20,20 +20,30 @@ using namespace varsym::test;
 
 namespace {
 
-/// The fitted order of errors at n, 2n, 4n steps, recorded as a test property.
-double order_of(const std::array<double, 3>& err, std::array<double, 3> steps,
-                const std::string& name) {
-    const double p = fitted_order(steps, err);
-    ::testing::Test::RecordProperty(name, sci(p) + " (errors " + sci(err[0]) + ", " + sci(err[1]) +
-                                              ", " + sci(err[2]) + ")");
-    return p;
-}
-
 /// Step counts per order where the error is in the asymptotic regime and above round-off.
 std::array<double, 3> counts(int order) {
     return order == 2 ? std::array<double, 3>{400, 800, 1600}
                       : (order == 4 ? std::array<double, 3>{200, 400, 800}
                                     : std::array<double, 3>{100, 200, 400});
+}
+
+/// For orders 2, 4, 6: the error of `end(x)`, x the state after n steps from x0 over [0, t],
+/// at the counts above; the fitted order, recorded as the test property NAME_order_P with its
+/// errors, is within `tol` of P.
+template <class Error>
+void expect_orders(const std::string& name, const rigid_body& b, const body_state& x0, double t,
+                   double tol, Error&& error) {
+    for (const int order : {2, 4, 6}) {
+        const auto steps = counts(order);
+        std::array<double, 3> err{};
+        for (std::size_t i = 0; i < 3; ++i)
+            err[i] = error(run_body(b, x0, t, static_cast<std::size_t>(steps[i]), order));
+        const double p = fitted_order(steps, err);
+        ::testing::Test::RecordProperty(name + "_order_" + std::to_string(order),
+                                        sci(p) + " (errors " + sci(err[0]) + ", " + sci(err[1]) +
+                                            ", " + sci(err[2]) + ")");
+        EXPECT_NEAR(p, order, tol) << name << ", order " << order;
+    }
 }
 
 } // namespace
@@ -44,15 +54,9 @@ TEST(LgviOrder, FreeSymmetricBodyAgainstClosedForm) {
     body_state x0;
     x0.R = so3::from_euler(0.7, 0.3, 0.2);
     x0.pi = vec3(0.3, -0.5, 2.0);
-    const lie::free_symmetric_motion exact(body, x0);
-    for (const int order : {2, 4, 6}) {
-        const auto steps = counts(order);
-        std::array<double, 3> err{};
-        for (std::size_t i = 0; i < 3; ++i)
-            err[i] =
-                state_error(run_body(body, x0, 10.0, std::size_t(steps[i]), order), exact.at(10.0));
-        EXPECT_NEAR(order_of(err, steps, "free_body_order_" + std::to_string(order)), order, 0.1);
-    }
+    const body_state exact = lie::free_symmetric_motion(body, x0).at(10.0);
+    expect_orders("free_body", body, x0, 10.0, 0.1,
+                  [&](const body_state& x) { return state_error(x, exact); });
 }
 
 // The symmetric heavy top against the closed-form θ(t) (Goldstein §5.7) over one nutation
@@ -62,15 +66,9 @@ TEST(LgviOrder, SymmetricTopAgainstClosedFormNutation) {
     const body_state x0 = top_start(top);
     const auto nut = lie::nutation_of(top, x0);
     const double t = 1.5 * nut.period();
-    for (const int order : {2, 4, 6}) {
-        const auto steps = counts(order);
-        std::array<double, 3> err{};
-        for (std::size_t i = 0; i < 3; ++i) {
-            const body_state x = run_body(top, x0, t, std::size_t(steps[i]), order);
-            err[i] = std::abs(std::acos(x.R(2, 2)) - nut.theta(t));
-        }
-        EXPECT_NEAR(order_of(err, steps, "top_order_" + std::to_string(order)), order, 0.15);
-    }
+    expect_orders("top", top, x0, t, 0.15, [&](const body_state& x) {
+        return std::abs(std::acos(x.R(2, 2)) - nut.theta(t));
+    });
 }
 
 // Through the vertical: p_φ = p_ψ (1 + 1e-7) makes the axis pass within θ_min ≈ 5e-7 rad of
@@ -87,16 +85,9 @@ TEST(LgviOrder, TopThroughTheVerticalKeepsItsOrder) {
     RecordProperty("theta_min", sci(nut.theta_min()));
     ASSERT_LT(nut.theta_min(), 2e-6);
     const double t = 2.25 * nut.period();
-    for (const int order : {2, 4, 6}) {
-        const auto steps = counts(order);
-        std::array<double, 3> err{};
-        for (std::size_t i = 0; i < 3; ++i) {
-            const body_state x = run_body(top, x0, t, std::size_t(steps[i]), order);
-            err[i] = std::abs(x.R(2, 2) - std::cos(nut.theta(t)));
-        }
-        EXPECT_NEAR(order_of(err, steps, "through_vertical_order_" + std::to_string(order)), order,
-                    0.2);
-    }
+    expect_orders("through_vertical", top, x0, t, 0.2, [&](const body_state& x) {
+        return std::abs(x.R(2, 2) - std::cos(nut.theta(t)));
+    });
 }
 
 // The 3D pendulum swinging in a plane (about its principal axis e₁, centre of mass 1 m below
@@ -109,17 +100,11 @@ TEST(LgviOrder, PlanarSwingOfThe3dPendulumIsThePendulum) {
     x0.R = so3::exp(vec3(q0, 0, 0));
     const pendulum::exact_solution exact(2.0, std::sqrt(9.81 / 2.0), q0, 0.0);
     const auto ref = exact.at(t);
-    for (const int order : {2, 4, 6}) {
-        const auto steps = counts(order);
-        std::array<double, 3> err{};
-        for (std::size_t i = 0; i < 3; ++i) {
-            const body_state x = run_body(body, x0, t, std::size_t(steps[i]), order);
-            const double q = std::atan2(x.R(2, 1), x.R(1, 1)); // R = R_x(q)
-            err[i] = std::max(std::abs(q - ref.q(0)), std::abs(x.pi(0) - ref.p(0)) / 2.0);
-            EXPECT_LT(std::abs(x.pi(1)) + std::abs(x.pi(2)), 1e-13); // stays in its plane
-        }
-        EXPECT_NEAR(order_of(err, steps, "pendulum_order_" + std::to_string(order)), order, 0.1);
-    }
+    expect_orders("pendulum", body, x0, t, 0.1, [&](const body_state& x) {
+        EXPECT_LT(std::abs(x.pi(1)) + std::abs(x.pi(2)), 1e-13); // stays in its plane
+        const double q = std::atan2(x.R(2, 1), x.R(1, 1));       // R = R_x(q)
+        return std::max(std::abs(q - ref.q(0)), std::abs(x.pi(0) - ref.p(0)) / 2.0);
+    });
 }
 
 // An asymmetric top with an off-axis centre of mass (no closed form): against the order-6
@@ -129,12 +114,6 @@ TEST(LgviOrder, AsymmetricTopAgainstFineReference) {
     const body_state x0 = euler_start(top, 0.9, 0.2, -0.4, 0.3, 1.0, 5.0);
     const double t = 2.0;
     const body_state ref = run_body(top, x0, t, 6400, 6);
-    for (const int order : {2, 4, 6}) {
-        const auto steps = counts(order);
-        std::array<double, 3> err{};
-        for (std::size_t i = 0; i < 3; ++i)
-            err[i] = state_error(run_body(top, x0, t, std::size_t(steps[i]), order), ref);
-        EXPECT_NEAR(order_of(err, steps, "asymmetric_top_order_" + std::to_string(order)), order,
-                    0.15);
-    }
+    expect_orders("asymmetric_top", top, x0, t, 0.15,
+                  [&](const body_state& x) { return state_error(x, ref); });
 }
