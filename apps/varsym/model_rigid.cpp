@@ -52,14 +52,6 @@ lie::mat3 parse_inertia(const std::string& text, const lie::vec3& fallback) {
     return j;
 }
 
-lie::vec3 parse_vec3(const std::string& text, const char* option, const lie::vec3& fallback) {
-    const std::vector<double> v = parse_number_list(text);
-    if (v.empty()) return fallback;
-    if (v.size() != 3)
-        throw usage_error(std::string(option) + " needs 3 values, got " + std::to_string(v.size()));
-    return {v[0], v[1], v[2]};
-}
-
 /// The attitude of --q0: Euler angles (θ, φ, ψ) or a unit quaternion (w, x, y, z).
 lie::mat3 initial_attitude(const std::vector<double>& q0, const rigid_defaults& d) {
     if (q0.empty()) return so3::from_euler(d.euler[0], d.euler[1], d.euler[2]);
@@ -83,18 +75,11 @@ lie::body_state initial_body_state(const run_setup& s, const lie::rigid_body& b,
     if (!s.p0.empty() && !s.v0.empty()) throw usage_error("give --p0 or --v0, not both");
     lie::body_state x;
     x.R = initial_attitude(s.q0, d);
-    const char* option = s.p0.empty() ? "--v0" : "--p0";
-    const std::vector<double>& given = s.p0.empty() ? s.v0 : s.p0;
-    if (given.empty()) {
-        x.pi = b.inertia() * d.omega;
-    } else if (given.size() != 3) {
-        throw usage_error(std::string(option) +
-                          " needs 3 values (the body-frame components), got " +
-                          std::to_string(given.size()));
-    } else {
-        const lie::vec3 v(given[0], given[1], given[2]);
-        x.pi = s.p0.empty() ? lie::vec3(b.inertia() * v) : v;
-    }
+    if (!s.p0.empty())
+        x.pi = initial_vector(s.p0, "--p0", 3, "Pi in the body frame", {});
+    else
+        x.pi = b.inertia() *
+               lie::vec3(initial_vector(s.v0, "--v0", 3, "Omega in the body frame", d.omega));
     return x;
 }
 
@@ -140,7 +125,9 @@ model make_rigid_model(const std::string& name, const std::string& summary,
                               "variational integrator; choose its order with --order 2, 4 or 6");
         const lie::mat3 j = parse_inertia(opt->inertia, d.inertia);
         const lie::vec3 com =
-            name == "rigid-body" ? lie::vec3::Zero() : parse_vec3(opt->com, "--com", d.com);
+            name == "rigid-body" ? lie::vec3::Zero()
+                                 : lie::vec3(initial_vector(parse_number_list(opt->com), "--com", 3,
+                                                            "x,y,z of the centre of mass", d.com));
         const double weight = name == "rigid-body" ? 0.0
                               : opt->weight >= 0   ? opt->weight
                                                    : d.weight;

@@ -71,6 +71,24 @@ class run_log {
         if (bound_ > 0.0 && !(err <= bound_)) energy_out_of_bounds(j, t, err);
     }
 
+    /// Whether the row of step j is written: every --every steps and the last (--every 0: the
+    /// last only).
+    [[nodiscard]] bool row_due(std::size_t j) const {
+        const auto every = static_cast<std::size_t>(s_.every);
+        return every == 0 ? j == plan_.steps : (j % every == 0 || j == plan_.steps);
+    }
+    /// What every run does after step j: the energy watch at each written row and every 256
+    /// steps (an energy costs about a step), a checkpoint when one is due, and a stop on a
+    /// pending signal. energy() and save() are called only when needed.
+    template <class Energy, class Save>
+    void after_step(std::size_t j, double t, bool written, Energy&& energy, Save&& save,
+                    const run_summary& stats) {
+        if (energy_watched() && (written || (j & 255U) == 0)) check_energy(j, t, energy());
+        if (due(j)) this->save(j, save(), stats);
+        if (const int sig = pending_signal(); sig != 0 && j < plan_.steps)
+            stop_by_signal(sig, j, save(), stats);
+    }
+
   private:
     using clock = std::chrono::steady_clock;
     [[noreturn]] void energy_out_of_bounds(std::size_t j, double t, double err);
@@ -111,13 +129,11 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
                        Extras&& extras) {
     const int d = static_cast<int>(x.q.size());
     run_log log(s, plan, d, "step,t," + state_columns(d) + extra_header + "\n");
-    const auto every = static_cast<std::size_t>(s.every);
     const std::size_t n = plan.steps;
     std::string line;
     /// Writes the row of step j if it is one to write; says whether it did.
     auto row = [&](std::size_t j, double t, const phase_state<D>& y) {
-        const bool write = every == 0 ? j == n : (j % every == 0 || j == n);
-        if (!write) return false;
+        if (!log.row_due(j)) return false;
         line = std::to_string(j);
         line += ',';
         append_number(line, t);
@@ -171,13 +187,10 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
         try {
             integrate_from(stepper, r, n, [&](const run_state<D>& y) {
                 const std::size_t j = y.step;
-                const bool written = row(j, y.time(h), y.x);
-                // The energy watch: at each row and every 256 steps (an energy costs a step).
-                if (log.energy_watched() && (written || (j & 255U) == 0))
-                    log.check_energy(j, y.time(h), stepper.system().energy(y.x));
-                if (log.due(j)) log.save(j, save_state(y), y.stats);
-                if (const int sig = pending_signal(); sig != 0 && j < n)
-                    log.stop_by_signal(sig, j, save_state(y), y.stats);
+                log.after_step(
+                    j, y.time(h), row(j, y.time(h), y.x),
+                    [&] { return stepper.system().energy(y.x); }, [&] { return save_state(y); },
+                    y.stats);
             });
         } catch (const step_failure& e) {
             set_signal_polling(false);

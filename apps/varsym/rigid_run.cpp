@@ -79,10 +79,10 @@ void run_rigid_body(const run_setup& setup, const rigid_run& r, double default_t
     run_log log(s, plan, 9, header + "\n", 3);
 
     lie::lgvi stepper(b, plan.h, r.order, s.newton);
-    const std::size_t every = static_cast<std::size_t>(s.every), n = plan.steps;
+    const std::size_t n = plan.steps;
     std::string line;
     auto row = [&](std::size_t j, double t, const lie::body_state& x) {
-        if (!(every == 0 ? j == n : (j % every == 0 || j == n))) return false;
+        if (!log.row_due(j)) return false;
         line = std::to_string(j);
         const auto q = so3::quaternion(x.R);
         const lie::vec3 omega = b.omega(x.pi), l = lie::rigid_body::spatial_momentum(x);
@@ -138,12 +138,9 @@ void run_rigid_body(const run_setup& setup, const rigid_run& r, double default_t
         ++stats.steps;
         stats.newton_iterations += rep.iterations;
         stats.newton_iterations_max = std::max(stats.newton_iterations_max, rep.iterations);
-        const bool written = row(j, t, x);
-        if (log.energy_watched() && (written || (j & 255U) == 0))
-            log.check_energy(j, t, b.energy(x));
-        if (log.due(j)) log.save(j, save(x, stepper), stats);
-        if (const int sig = pending_signal(); sig != 0 && j < n)
-            log.stop_by_signal(sig, j, save(x, stepper), stats);
+        log.after_step(
+            j, t, row(j, t, x), [&] { return b.energy(x); }, [&] { return save(x, stepper); },
+            stats);
     }
     set_signal_polling(false);
     log.finish(save(x, stepper), stats);
