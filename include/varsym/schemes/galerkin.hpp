@@ -46,12 +46,20 @@ using columns = Eigen::Matrix<double, D, dynamic, D == 1 ? Eigen::RowMajor : Eig
 } // namespace detail
 
 /// One step solves, for the increments X_l = Q_l − q_j (l = 1 … s; X_0 = 0), the s·d equations
-///   h p_j + Σ_l A_0l M X_l − h² Σ_k w_k ℓ_0(c_k) ∇V(q_k) = 0     (p_j = −∂L_d/∂Q_0)
-///           Σ_l A_il M X_l − h² Σ_k w_k ℓ_i(c_k) ∇V(q_k) = 0     (∂L_d/∂Q_i = 0, 0 < i < s)
+///   p_j + (1/h) Σ_l A_0l M X_l − h Σ_k w_k ℓ_0(c_k) ∇V(q_k) = 0     (p_j = −∂L_d/∂Q_0)
+///         (1/h) Σ_l A_il M X_l − h Σ_k w_k ℓ_i(c_k) ∇V(q_k) = 0     (∂L_d/∂Q_i = 0, 0 < i < s)
 /// with q_k = q_j + Σ_l ℓ_l(c_k) X_l, by Newton with the exact Jacobian
-///   A_il M − h² Σ_k w_k ℓ_i(c_k) ℓ_l(c_k) ∇²V(q_k).
+///   (1/h) A_il M − h Σ_k w_k ℓ_i(c_k) ℓ_l(c_k) ∇²V(q_k).
 /// Then q_{j+1} = q_j + X_s and p_{j+1} = ∂L_d/∂Q_s, which (the equations summed over i, with
 /// Σ_i A_il = 0 and Σ_i ℓ_i = 1) is p_j − h Σ_k w_k ∇V(q_k).
+///
+/// Round-off. The step is exactly symplectic only if these equations are exactly the derivatives
+/// of one L_d, so the coefficients are tableau::kinetic and tableau::wphi (A_0l and ℓ_0 derived
+/// from the other rows, in long double, applied as double + low part) and the weights w_k in the
+/// momentum update are applied the same way; the step size enters as h and 1/h, never as a
+/// separately rounded h². With plainly rounded tables the identities above miss by an ulp, always
+/// the same way, and the energy drifts linearly in time (docs/design.md, "Round-off that tilts the
+/// map").
 ///
 /// The rule and degree are chosen at run time, so one compiled stepper serves every member; its
 /// storage is bounded by max_degree and sized in the constructor, so a step allocates nothing
@@ -65,21 +73,26 @@ class stepper {
     using system_type = System;
 
     stepper(System sys, double h, rule_kind kind, int degree, const newton_options& opt = {})
-        : sys_(std::move(sys)), h_(h), opt_(opt), tab_(tableau::make(kind, degree)) {
+        : stepper(std::move(sys), h, tableau::make(kind, degree), opt) {}
+
+    /// The member whose tables are `tab` (as tableau::make built them, or altered by a test).
+    stepper(System sys, double h, tableau tab, const newton_options& opt = {})
+        : sys_(std::move(sys)), h_(h), opt_(opt), tab_(std::move(tab)) {
         const int s = tab_.degree, r = static_cast<int>(tab_.quad.size()), d = sys_.dimension();
         s_ = s;
         r_ = r;
         n_ = s * d;
         // In matrix form, with X = [X_1 … X_s] (d × s) and G = [∇V(q_1) … ∇V(q_r)] (d × r):
-        //   residual R = M X Aᵀ − h² G Uᵀ + h p_j e_0ᵀ,   points Q = q_j 1ᵀ + X V,
-        //   Jacobian J = A ⊗ M − h² Σ_k (U_k V_kᵀ) ⊗ ∇²V(q_k),
-        // with A_il = A(i, l), U_ik = w_k ℓ_i(c_k) (i < s), V_lk = ℓ_l(c_k) (l ≥ 1).
-        a_ = tab_.stiffness.block(0, 1, s, s);
-        u_.resize(s, r);
+        //   residual R = (1/h) M X Aᵀ − h G Uᵀ + p_j e_0ᵀ,   points Q = q_j 1ᵀ + X V,
+        //   Jacobian J = (1/h) A ⊗ M − h Σ_k (U_k V_kᵀ) ⊗ ∇²V(q_k),
+        // with A_il = A(i, l), U_ik = w_k ℓ_i(c_k) (i < s), V_lk = ℓ_l(c_k) (l ≥ 1); A and U are
+        // applied as double + low part (tableau::kinetic, tableau::wphi).
+        a_ = tab_.kinetic.hi;
+        a_lo_ = tab_.kinetic.lo;
+        u_ = tab_.wphi.hi;
+        u_lo_ = tab_.wphi.lo;
         v_.resize(s, r);
         for (int k = 0; k < r; ++k) {
-            for (int i = 0; i < s; ++i)
-                u_(i, k) = tab_.quad.weights[k] * tab_.phi(i, k);
             for (int l = 0; l < s; ++l)
                 v_(l, k) = tab_.phi(l + 1, k);
             // Newton evaluates ∇V and ∇²V only where a point enters the solved equations
@@ -90,11 +103,13 @@ class stepper {
             at_start_[k] = tab_.quad.nodes[k] == 0.0;
             at_end_[k] = tab_.quad.nodes[k] == 1.0;
             weight_[k] = tab_.quad.weights[k];
+            weight_lo_[k] = tab_.weights_lo[static_cast<std::size_t>(k)];
         }
         for (int l = 0; l < s; ++l)
             control_[l] = tab_.control[l + 1];
         xm_.setZero(d, s);
         mx_.setZero(d, s);
+        gu_.setZero(d, s);
         grads_.setZero(d, r);
         hess_.assign(static_cast<std::size_t>(r), mat<dim>::Zero(d, d));
         curvature_.setZero(r);
@@ -153,22 +168,23 @@ class stepper {
         // new x.q, whose ∇V is kept as the next step's ∇V(q_j); a point at c_k = 0 is q_j.
         q_j_ = x.q;
         sum_.add_q(x, xm_.col(s - 1));
+        // Σ_k w_k ∇V(q_k) with w_k as double + low part, then times −h.
         dp_.setZero();
         bool has_end = false;
         for (int k = 0; k < r_; ++k) {
-            const double c = h * weight_[k];
             if (at_end_[k]) {
                 acc_ = v.gradient(x.q); // ∇V(q_{j+1}); acc_ is free until the next predictor
-                dp_ -= c * acc_;
+                add_weighted(k, acc_);
                 has_end = true;
             } else if (at_start_[k]) {
-                dp_ -= c * grad_j_;
+                add_weighted(k, grad_j_);
             } else {
                 qk_ = q_j_;
                 qk_.noalias() += xm_.lazyProduct(v_.col(k));
-                dp_ -= c * v.gradient(qk_);
+                add_weighted(k, v.gradient(qk_));
             }
         }
+        dp_ *= -h;
         if (has_end) grad_j_ = acc_;
         cache_valid_ = has_end;
         sum_.add_p(x, dp_);
@@ -177,6 +193,11 @@ class stepper {
     }
 
   private:
+    void add_weighted(int k, const vec<dim>& g) {
+        dp_ += weight_[k] * g;
+        dp_ += weight_lo_[k] * g;
+    }
+
     static constexpr int max_unknowns = dim == dynamic ? dynamic : dim * max_degree;
     static constexpr int max_points = max_degree + 1;
     static constexpr int detail_small_limit = varsym::detail::small_solve_limit;
@@ -184,10 +205,9 @@ class stepper {
     using stage_matrix = detail::columns<dim, max_degree>;
     using point_matrix = detail::columns<dim, max_points>;
 
-    /// The residual R = M X Aᵀ − h² G Uᵀ + h p_j e_0ᵀ and its Jacobian at the current X.
+    /// The residual R = (1/h) M X Aᵀ − h G Uᵀ + p_j e_0ᵀ and its Jacobian at the current X.
     void assemble(const phase_state<dim>& x) {
         const auto& v = sys_.potential();
-        const double h2 = h_ * h_;
         const int s = s_, d = sys_.dimension();
         for (int k = 0; k < r_; ++k) {
             if (at_start_[k])
@@ -210,10 +230,14 @@ class stepper {
         // Coefficient-based (lazy) products: these blocks have at most max_degree + 1 columns,
         // where Eigen's run-time choice of a blocked product costs more than the product.
         rm.noalias() = mx_.lazyProduct(a_.transpose());
-        rm.noalias() -= h2 * grads_.lazyProduct(u_.transpose());
-        rm.col(0) += h_ * x.p;
+        rm.noalias() += mx_.lazyProduct(a_lo_.transpose());
+        rm *= hinv_;
+        gu_.noalias() = grads_.lazyProduct(u_.transpose());
+        gu_.noalias() += grads_.lazyProduct(u_lo_.transpose());
+        rm.noalias() -= h_ * gu_;
+        rm.col(0) += x.p;
         if (d == 1) {
-            // d = 1: J = m A − h² U diag(∇²V(q_k)) Vᵀ.
+            // d = 1: J = (m/h) A − h U diag(∇²V(q_k)) Vᵀ.
             curvature_.setZero();
             for (int a = 0; a < n_active_; ++a)
                 curvature_(active_[a]) = hess_[active_[a]](0, 0);
@@ -222,7 +246,7 @@ class stepper {
                     double c = 0.0;
                     for (int a = 0; a < n_active_; ++a)
                         c += u_(i, active_[a]) * curvature_(active_[a]) * v_(l, active_[a]);
-                    jac_(i, l) = mass_entry() * a_(i, l) - h2 * c;
+                    jac_(i, l) = hinv_ * mass_entry() * a_(i, l) - h_ * c;
                 }
             return;
         }
@@ -231,13 +255,13 @@ class stepper {
                 auto block = block_of<dim>(jac_, i, l, d);
                 if constexpr (scalar_mass<System>) {
                     block.setZero();
-                    block.diagonal().setConstant(a_(i, l) * sys_.mass());
+                    block.diagonal().setConstant(hinv_ * a_(i, l) * sys_.mass());
                 } else {
-                    block = a_(i, l) * sys_.mass();
+                    block = (hinv_ * a_(i, l)) * sys_.mass();
                 }
                 for (int a = 0; a < n_active_; ++a) {
                     const int k = active_[a];
-                    const double c = h2 * u_(i, k) * v_(l, k);
+                    const double c = h_ * u_(i, k) * v_(l, k);
                     if (c != 0.0) block -= c * hess_[k];
                 }
             }
@@ -251,18 +275,18 @@ class stepper {
     }
 
     System sys_;
-    double h_;
+    double h_, hinv_ = 1.0 / h_;
     newton_options opt_;
     tableau tab_;
     int s_ = 0, r_ = 0, n_ = 0;
-    detail::bounded_matrix<max_degree, max_degree> a_;
-    detail::bounded_matrix<max_degree, max_points> u_, v_;
+    detail::bounded_matrix<max_degree, max_degree> a_, a_lo_;
+    detail::bounded_matrix<max_degree, max_points> u_, u_lo_, v_;
     std::array<int, max_points> active_{};
     int n_active_ = 0;
     std::array<bool, max_points> at_start_{}, at_end_{};
-    std::array<double, max_points> weight_{};
+    std::array<double, max_points> weight_{}, weight_lo_{};
     std::array<double, max_degree> control_{};
-    stage_matrix xm_, mx_;
+    stage_matrix xm_, mx_, gu_;
     point_matrix grads_;
     std::vector<mat<dim>> hess_;
     detail::bounded_vector<max_points> curvature_;

@@ -46,11 +46,15 @@ class stepper {
         vec<dim> delta = minv * (0.5 * h * x.p - 0.125 * h * h * sys_.potential().gradient(x.q));
         // M q̄ + (h²/4) ∇V(q̄) = M q_j + (h/2) p_j  (eq. systeme-dynamique-discret-ordre-2, reduced),
         // solved for δ = q̄ − q_j:  M δ + (h²/4) ∇V(q_j + δ) = (h/2) p_j
+        const double c = 0.25 * h * h;
         const newton_report rep =
-            solve_stage_increment(sys_, 0.25 * h * h, x.q, vec<dim>(0.5 * h * x.p), delta, opt_);
+            solve_stage_increment(sys_, c, x.q, vec<dim>(0.5 * h * x.p), delta, opt_);
         if (!rep.converged) return rep;
-        // q_{j+1} = 2 q̄ − q_j, p_{j+1} = p_j − h ∇V(q̄)  (eq. systeme-dynamique-discret-ordre-2)
-        const vec<dim> dp = -h * sys_.potential().gradient(x.q + delta);
+        // q_{j+1} = 2 q̄ − q_j, p_{j+1} = p_j − h ∇V(q̄)  (eq. systeme-dynamique-discret-ordre-2),
+        // with h written (c/(h/4)) from the stage equation's own rounded c = fl(h²/4): the step is
+        // then exactly the map of one discrete Lagrangian (docs/design.md, "Round-off that tilts
+        // the map").
+        const vec<dim> dp = -(c * sys_.potential().gradient(x.q + delta)) / (0.25 * h);
         sum_.add_q(x, 2.0 * delta);
         sum_.add_p(x, dp);
         return rep;

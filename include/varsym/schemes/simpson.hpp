@@ -28,6 +28,19 @@ double discrete_lagrangian(const System& sys, double h, const vec<System::dim>& 
            h / 6.0 * (v.value(ql) + 4.0 * v.value(qm) + v.value(qr));
 }
 
+/// M⁻¹ g for a separable system, to the last bit that a division or one refinement step gives:
+/// a product with the rounded M⁻¹ alone would be the same tilt of every step.
+template <class System>
+vec<System::dim> solve_mass(const System& sys, const vec<System::dim>& g) {
+    if constexpr (scalar_mass<System>) {
+        return g / sys.mass();
+    } else {
+        vec<System::dim> y = sys.inverse_mass() * g;
+        y += sys.inverse_mass() * (g - sys.mass() * y);
+        return y;
+    }
+}
+
 /// One step of eqs. equation-milieu-intervalle and simpson-hamilton in their reduced form
 /// (docs/design.md, "Reduced steps"): one D×D Newton solve for the midpoint q_m = q_{j+½}, then
 /// explicit updates. Increments are accumulated with compensated summation
@@ -59,17 +72,22 @@ class stepper {
         // Predictor: q_m − q_j ≈ (h/2) M⁻¹p − (h²/8) M⁻¹∇V(q).
         vec<dim> delta = minv * (0.5 * h * x.p - 0.125 * h * h * grad_);
         // M q_m + (h²/24) ∇V(q_m) = M q_j + (h/2) p_j − (h²/12) ∇V(q_j)
-        // (eqs. equation-milieu-intervalle + simpson-hamilton, reduced), solved for δ = q_m − q_j
-        const vec<dim> r = 0.5 * h * x.p - (h * h / 12.0) * grad_;
-        const newton_report rep = solve_stage_increment(sys_, h * h / 24.0, x.q, r, delta, opt_);
+        // (eqs. equation-milieu-intervalle + simpson-hamilton, reduced), solved for δ = q_m − q_j.
+        // Every later coefficient is derived from c = fl(h²/24) and e = h/2 by operations on the
+        // data, never as a separately rounded constant, so that the step is exactly the map of
+        // one discrete Lagrangian (docs/design.md, "Round-off that tilts the map"): h²/12 = 2c,
+        // h²/4 = 6c, h/6 = 2c/e.
+        const double c = h * h / 24.0, e = 0.5 * h;
+        const vec<dim> r = e * x.p - (2.0 * c) * grad_;
+        const newton_report rep = solve_stage_increment(sys_, c, x.q, r, delta, opt_);
         if (!rep.converged) return rep;
         stage_ = x.q + delta;
         const vec<dim> grad_m = v.gradient(stage_);
-        // q_{j+1} = q_j + h M⁻¹ p_j − (h²/6) M⁻¹ (∇V_j + 2 ∇V_m)   (eq. simpson-hamilton, 2nd line)
-        sum_.add_q(x, minv * (h * x.p - (h * h / 6.0) * (grad_ + 2.0 * grad_m)));
+        // q_{j+1} − q_j = 2 δ − (h²/4) M⁻¹ ∇V_m   (eq. simpson-hamilton with the midpoint row)
+        sum_.add_q(x, 2.0 * delta - 6.0 * solve_mass(sys_, vec<dim>(c * grad_m)));
         const vec<dim> grad_r = v.gradient(x.q);
         // p_{j+1} = p_j − (h/6) (∇V_j + 4 ∇V_m + ∇V_{j+1})   (eq. simpson-hamilton, 1st line)
-        sum_.add_p(x, -(h / 6.0) * (grad_ + 4.0 * grad_m + grad_r));
+        sum_.add_p(x, -(2.0 * (c * (grad_ + 4.0 * grad_m + grad_r))) / e);
         grad_ = grad_r;
         cached_q_ = x.q;
         cache_valid_ = true;

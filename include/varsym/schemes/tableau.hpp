@@ -4,6 +4,7 @@
 // (variational.hpp). See docs/design.md, "The family".
 #pragma once
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -29,6 +30,30 @@ struct tableau {
     Eigen::MatrixXd phi;         ///< (s+1) × r: ℓ_i(c_k)
     Eigen::MatrixXd dphi;        ///< (s+1) × r: ℓ_i'(c_k)
     Eigen::MatrixXd stiffness;   ///< (s+1) × (s+1): A_il
+    /// What rounding to double left out of dphi (entry minus its double): the general engine's
+    /// velocities use dphi + dphi_lo, ℓ_i'(c_k) to ~1e-19.
+    Eigen::MatrixXd dphi_lo;
+
+    /// A table as a double plus what rounding left out of it (hi + lo holds the long double
+    /// value to ~1e-19 relative); applied as hi·x + lo·x.
+    struct split {
+        Eigen::MatrixXd hi, lo;
+    };
+    /// The coefficients of a step's equations i = 0 … s−1 in the increments X_l = Q_l − q_j
+    /// (l = 1 … s), for the discrete Lagrangian whose points q_k = q_j + Σ_{l≥1} phi(l, k) X_l
+    /// use phi as stored (docs/design.md, "Round-off that tilts the map"):
+    ///   kinetic (s × s): A_il for l ≥ 1, with row 0 = −Σ_{i≥1} A_il (row sums of A are zero);
+    ///   wphi (s × r):  w_k ℓ_i(c_k), with ℓ_0(c_k) = 1 − Σ_{l≥1} phi(l, k);
+    ///   wdphi (s × r): w_k ℓ_i'(c_k), with ℓ_0'(c_k) = −Σ_{l≥1} ℓ_l'(c_k);
+    ///   weights_lo: w_k − quad.weights[k].
+    /// Built in double-double from the long double tables, so the identities the step relies on
+    /// (the equations summed give p_{j+1} = p_j − h Σ_k w_k ∇V(q_k)) hold to ~1e-31 for the
+    /// values as applied, not to the ulp of each entry (long double alone leaves ~1e-19 |A|,
+    /// still a drift of ~1e-15 per period at gauss-4, h = T/40). With
+    /// plainly rounded tables they miss by ~1e-16 relative, always the same way, and the energy
+    /// drifts linearly (+2.6e-9 over 10⁵ pendulum periods at gauss-6, h = T/20).
+    split kinetic, wphi, wdphi;
+    std::vector<double> weights_lo;
 
     /// Builds the tables in long double (64-bit mantissa) and rounds each entry once to double,
     /// so that their errors stay at half an ulp: the scheme's period is then right to ~1 ulp.
@@ -60,7 +85,8 @@ struct tableau {
         matrix_ld weights = matrix_ld::Zero(r, r);
         for (Eigen::Index k = 0; k < r; ++k)
             weights(k, k) = quad.weights[k];
-        const matrix_ld stiffness = dphi * weights * dphi.transpose();
+        matrix_ld stiffness = dphi * weights * dphi.transpose();
+        stiffness = (0.5L * (stiffness + stiffness.transpose())).eval(); // exactly symmetric
 
         tableau t;
         t.degree = s;
@@ -71,9 +97,84 @@ struct tableau {
         t.phi = phi.cast<double>();
         t.dphi = dphi.cast<double>();
         t.stiffness = stiffness.cast<double>();
+        t.dphi_lo = (dphi - t.dphi.cast<LD>()).cast<double>();
+        t.make_step_coefficients(stiffness, dphi, quad.weights);
         return t;
     }
     [[nodiscard]] int order() const { return 2 * degree; }
+
+  private:
+    /// A double-double h + l (Dekker): sums and products of the tables' long double values to
+    /// ~1e-32, so that the derived entries below satisfy their identities far below an ulp.
+    struct dd {
+        double h = 0, l = 0;
+        static dd of(long double x) {
+            const double h = static_cast<double>(x);
+            return {h, static_cast<double>(x - h)}; // exact: 64 bits fit in two doubles
+        }
+        static dd normalized(double s, double e) {
+            const double h = s + e;
+            return {h, e - (h - s)};
+        }
+        friend dd operator+(dd x, dd y) {
+            const double s = x.h + y.h, v = s - x.h;
+            const double e = (x.h - (s - v)) + (y.h - v); // two_sum: s + e = x.h + y.h exactly
+            return normalized(s, e + x.l + y.l);
+        }
+        friend dd operator-(dd x) { return {-x.h, -x.l}; }
+        friend dd operator*(dd x, dd y) {
+            const double p = x.h * y.h;
+            const double e = std::fma(x.h, y.h, -p); // two_prod: p + e = x.h y.h exactly
+            return normalized(p, e + (x.h * y.l + x.l * y.h));
+        }
+    };
+
+    template <class LDMatrix, class LDWeights>
+    void make_step_coefficients(const LDMatrix& a_ld, const LDMatrix& dphi_ld, const LDWeights& w) {
+        const int s = degree;
+        const auto r = static_cast<Eigen::Index>(w.size());
+        std::vector<dd> a(static_cast<std::size_t>(s * s)), u(static_cast<std::size_t>(s * r)),
+            g(static_cast<std::size_t>(s * r));
+        const auto idx = [s](Eigen::Index i, Eigen::Index j) {
+            return static_cast<std::size_t>(j * s + i);
+        };
+        for (int l = 1; l <= s; ++l) {
+            dd column;
+            for (int i = 1; i <= s; ++i)
+                column = column + dd::of(a_ld(i, l));
+            a[idx(0, l - 1)] = -column;
+            for (int i = 1; i < s; ++i)
+                a[idx(i, l - 1)] = dd::of(a_ld(i, l));
+        }
+        weights_lo.resize(static_cast<std::size_t>(r));
+        for (Eigen::Index k = 0; k < r; ++k) {
+            const dd wk = dd::of(w[k]);
+            dd value{1.0, 0.0}, slope;
+            for (int l = 1; l <= s; ++l) {
+                value = value + -dd{phi(l, k), 0.0};    // ℓ_l(c_k) as the points use it
+                slope = slope + -dd::of(dphi_ld(l, k)); // ℓ_l'(c_k) as dphi + dphi_lo holds it
+            }
+            u[idx(0, k)] = wk * value;
+            g[idx(0, k)] = wk * slope;
+            for (int i = 1; i < s; ++i) {
+                u[idx(i, k)] = wk * dd{phi(i, k), 0.0};
+                g[idx(i, k)] = wk * dd::of(dphi_ld(i, k));
+            }
+            weights_lo[static_cast<std::size_t>(k)] = wk.l;
+        }
+        auto split_of = [&](const std::vector<dd>& m, Eigen::Index cols) {
+            split out{Eigen::MatrixXd(s, cols), Eigen::MatrixXd(s, cols)};
+            for (Eigen::Index j = 0; j < cols; ++j)
+                for (int i = 0; i < s; ++i) {
+                    out.hi(i, j) = m[idx(i, j)].h;
+                    out.lo(i, j) = m[idx(i, j)].l;
+                }
+            return out;
+        };
+        kinetic = split_of(a, s);
+        wphi = split_of(u, r);
+        wdphi = split_of(g, r);
+    }
 };
 
 /// Number of quadrature points of a member: s + 1 for Lobatto, s for Gauss.

@@ -12,7 +12,12 @@
 //   p_{j+1} = ∂L_d/∂Q_s = p_j + h Σ_k w_k L_q(k)     (the F_i summed: Σ_i φ_ik = 1, Σ_i ψ_ik = 0)
 // solved for the increments X_l = Q_l − q_j (l = 1 … s) by Newton with the Jacobian blocks
 //   ∂F_i/∂X_l = Σ_k w_k (h φ_ik φ_lk L_qq + φ_ik ψ_lk L_qv + ψ_ik φ_lk L_vq + ψ_ik ψ_lk L_vv / h).
-// For L = ½ q̇ᵀMq̇ − V(q) these are the separable path's equations (galerkin.hpp) divided by h.
+// The coefficients w_k φ_ik, w_k ψ_ik, w_k are tableau::wphi, wdphi, weights (+ weights_lo), with
+// φ_0k and ψ_0k derived from the other rows and applied as double + low part, and the velocities
+// use ψ as dphi + dphi_lo: then the identities above hold far below an ulp, the step is exactly
+// the map of one L_d, and rounding does not tilt the energy (galerkin.hpp; docs/design.md,
+// "Round-off that tilts the map"). For L = ½ q̇ᵀMq̇ − V(q) these are the separable path's
+// equations divided by h.
 #pragma once
 
 #include <utility>
@@ -94,8 +99,11 @@ class stepper {
         // not depend on has L_q = 0 exactly, so its momentum is conserved to the last bit.
         evaluate_points(x.q);
         dp_.setZero();
-        for (int k = 0; k < r_; ++k)
-            dp_ += (h * tab_.quad.weights[k]) * terms_[k].lq;
+        for (int k = 0; k < r_; ++k) {
+            dp_ += tab_.quad.weights[k] * terms_[k].lq;
+            dp_ += tab_.weights_lo[static_cast<std::size_t>(k)] * terms_[k].lq;
+        }
+        dp_ *= h;
         if (!dp_.allFinite()) {
             rep.converged = false;
             rep.residual = std::numeric_limits<double>::quiet_NaN();
@@ -135,6 +143,8 @@ class stepper {
                 qk_ += tab_.phi(l + 1, k) * x_.col(l);
                 vk_ += tab_.dphi(l + 1, k) * x_.col(l);
             }
+            for (int l = 0; l < s_; ++l)
+                vk_ += tab_.dphi_lo(l + 1, k) * x_.col(l);
             vk_ /= h_;
             evaluate(sys_.lagrangian(), qk_, vk_, terms_[k]);
         }
@@ -143,19 +153,21 @@ class stepper {
     /// The residual F (rows i = 0 … s−1) and its Jacobian in the increments.
     void assemble(const vec<dim>& p) {
         const double h = h_;
+        const auto &u = tab_.wphi, &g = tab_.wdphi;
         res_.setZero();
         jac_.setZero();
         for (int k = 0; k < r_; ++k) {
-            const double w = tab_.quad.weights[k];
             const lagrangian_terms<dim>& t = terms_[k];
             for (int i = 0; i < s_; ++i) {
-                const double fi = tab_.phi(i, k), gi = tab_.dphi(i, k);
-                block_of<dim>(res_, i, d_) += w * (h * fi * t.lq + gi * t.lv);
+                auto row = block_of<dim>(res_, i, d_);
+                row += (h * u.hi(i, k)) * t.lq + g.hi(i, k) * t.lv;
+                row += (h * u.lo(i, k)) * t.lq + g.lo(i, k) * t.lv;
+                const double fi = u.hi(i, k), gi = g.hi(i, k);
                 for (int l = 0; l < s_; ++l) {
                     const double fl = tab_.phi(l + 1, k), gl = tab_.dphi(l + 1, k);
                     auto block = block_of<dim>(jac_, i, l, d_);
-                    block += (w * h * fi * fl) * t.lqq + (w * fi * gl) * t.lqv;
-                    block += (w * gi * fl) * t.lqv.transpose() + (w * gi * gl / h) * t.lvv;
+                    block += (h * fi * fl) * t.lqq + (fi * gl) * t.lqv;
+                    block += (gi * fl) * t.lqv.transpose() + (gi * gl / h) * t.lvv;
                 }
             }
         }

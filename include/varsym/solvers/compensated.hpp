@@ -13,6 +13,11 @@ namespace varsym {
 template <int D>
 class compensated_update {
   public:
+    compensated_update() {
+        if constexpr (D != dynamic) // defined values, though unread until the first add_q
+            for (auto* v : {&cq_, &cp_, &q_, &p_})
+                v->setZero();
+    }
     void add_q(phase_state<D>& x, const vec<D>& dq) {
         if (!valid_ || x.q != q_ || x.p != p_) {
             cq_.setZero(x.q.size());
