@@ -50,10 +50,12 @@ inline std::span<const double> composition_steps(int order) {
 }
 
 /// One-step map of a rigid body: the order-2 LGVI (R3)–(R6), composed to order 4 or 6.
-/// Deterministic in (R, Π, carries): a checkpointed run resumes bit for bit.
-class lgvi {
+/// Deterministic in (R, Π, carries): a checkpointed run resumes bit for bit. (A template only so
+/// that a file which includes this header without using it compiles none of it: use `lgvi`.)
+template <int Unused = 0>
+class basic_lgvi {
   public:
-    lgvi(const rigid_body& body, double h, int order = 2, newton_options opt = {})
+    basic_lgvi(const rigid_body& body, double h, int order = 2, newton_options opt = {})
         : body_(body), h_(h), order_(order), steps_(composition_steps(order)), opt_(opt) {
         if (!(std::isfinite(h) && h > 0.0))
             throw std::invalid_argument("the time step must be finite and positive");
@@ -95,10 +97,10 @@ class lgvi {
             }
         }
         total.converged = true;
-        x.R = y.R.cast<double>();
-        x.pi = y.pi.cast<double>();
-        low_r_ = (y.R - x.R.cast<wide>()).cast<double>();
-        low_pi_ = (y.pi - x.pi.cast<wide>()).cast<double>();
+        x.R = y.R.template cast<double>();
+        x.pi = y.pi.template cast<double>();
+        low_r_ = (y.R - x.R.template cast<wide>()).template cast<double>();
+        low_pi_ = (y.pi - x.pi.template cast<wide>()).template cast<double>();
         last_ = x;
         valid_ = true;
         return total;
@@ -131,10 +133,10 @@ class lgvi {
     /// One step of the order-2 map with step size τ.
     newton_report substep(double tau, wide_state& x) const {
         const mat3& j = body_.inertia();
-        const mat3 r_k = x.R.cast<double>();
+        const mat3 r_k = x.R.template cast<double>();
         const vec3 m0 = body_.moment(r_k);
-        const wvec3 mu_w = x.pi + wide(0.5 * tau) * m0.cast<wide>(); // μ_k                (R4)
-        const vec3 mu = mu_w.cast<double>();
+        const wvec3 mu_w = x.pi + wide(0.5 * tau) * m0.template cast<wide>(); // μ_k (R4)
+        const vec3 mu = mu_w.template cast<double>();
         vec3 f = 0.5 * tau * body_.omega(mu); // the linearised (R6): 2 J f = τ μ
         newton_report rep;
         double previous = std::numeric_limits<double>::infinity();
@@ -167,8 +169,9 @@ class lgvi {
         // F_k = I + G in extended precision (orthogonal to its round-off for every f).
         const wmat3 g = so3::cayley_increment<wide>(f.cast<wide>());
         x.R += x.R * g; // R_{k+1} = R_k F_k                                              (R5)
-        const vec3 m1 = body_.moment(x.R.cast<double>());
-        x.pi += g.transpose() * mu_w + wide(0.5 * tau) * (m0 + m1).cast<wide>(); // Π_{k+1} (R5)
+        const vec3 m1 = body_.moment(x.R.template cast<double>());
+        x.pi += g.transpose() * mu_w +
+                wide(0.5 * tau) * (m0 + m1).template cast<wide>(); // Π_{k+1} (R5)
         return rep;
     }
 
@@ -182,5 +185,7 @@ class lgvi {
     body_state last_;
     bool valid_ = false;
 };
+
+using lgvi = basic_lgvi<>;
 
 } // namespace varsym::lie

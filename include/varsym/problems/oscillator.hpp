@@ -26,8 +26,10 @@ struct potential {
 using system = separable_system<dynamic, potential>;
 
 /// The system, refusing a K that is not symmetric positive definite (a non-positive frequency)
-/// or whose size differs from M's.
-inline system make_system(const Eigen::MatrixXd& m, const Eigen::MatrixXd& k) {
+/// or whose size differs from M's. (This and basic_exact_solution are templates only so that a
+/// file including this header without using them compiles none of their Eigen solvers.)
+template <int Unused = 0>
+system make_system(const Eigen::MatrixXd& m, const Eigen::MatrixXd& k) {
     if (k.rows() != m.rows() || k.cols() != m.cols())
         throw std::invalid_argument("mass and stiffness matrices must have the same size");
     if (!k.allFinite() || !k.isApprox(k.transpose(), 1e-14))
@@ -41,10 +43,11 @@ inline system make_system(const Eigen::MatrixXd& m, const Eigen::MatrixXd& k) {
 
 /// q(t), p(t) from (q₀, p₀) by the modes Φ (ΦᵀMΦ = I, ΦᵀKΦ = diag ω²): η = Φᵀ M q,
 /// η(t) = η₀ cos ωt + (η̇₀/ω) sin ωt with η̇₀ = Φᵀ p₀, and q = Φ η, p = M Φ η̇.
-class exact_solution {
+template <int Unused = 0>
+class basic_exact_solution {
   public:
-    exact_solution(const Eigen::MatrixXd& m, const Eigen::MatrixXd& k,
-                   const phase_state<dynamic>& x0)
+    basic_exact_solution(const Eigen::MatrixXd& m, const Eigen::MatrixXd& k,
+                         const phase_state<dynamic>& x0)
         : m_(m) {
         const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(k, m);
         if (eig.info() != Eigen::Success || eig.eigenvalues().minCoeff() <= 0.0)
@@ -69,5 +72,7 @@ class exact_solution {
     Eigen::MatrixXd m_, modes_;
     Eigen::VectorXd omega_, eta0_, rate0_;
 };
+
+using exact_solution = basic_exact_solution<>;
 
 } // namespace varsym::oscillator

@@ -148,6 +148,12 @@ class basic_exact_solution {
         return {}; // unreachable
     }
 
+    /// state(t) as a phase-space state in double precision.
+    [[nodiscard]] phase_state<1> at(Real t) const {
+        const point x = state(t);
+        return {vec<1>{static_cast<double>(x.q)}, vec<1>{static_cast<double>(x.p)}};
+    }
+
   private:
     Real m_, omega_;
     Real k2_ = 0, k_ = 0, kappa_ = 0;
@@ -156,14 +162,7 @@ class basic_exact_solution {
     regime kind_ = regime::rest;
 };
 
-/// The exact solution in double precision, as phase-space states.
-class exact_solution : public basic_exact_solution<double> {
-  public:
-    using basic_exact_solution<double>::basic_exact_solution;
-    [[nodiscard]] phase_state<1> at(double t) const {
-        const auto x = state(t);
-        return {vec<1>{x.q}, vec<1>{x.p}};
-    }
-};
+/// The exact solution in double precision (at(t) gives phase-space states).
+using exact_solution = basic_exact_solution<double>;
 
 } // namespace varsym::pendulum
