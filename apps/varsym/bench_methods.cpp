@@ -2,10 +2,12 @@
 // varsym's schemes and Boost.Odeint's symplectic steppers on each.
 #include "bench_methods.hpp"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <stdexcept>
 
@@ -17,6 +19,8 @@
 #include "varsym/integrate.hpp"
 #include "varsym/problems/kepler.hpp"
 #include "varsym/problems/pendulum.hpp"
+#include "varsym/problems/solar_system.hpp"
+#include "varsym/schemes/composition.hpp"
 #include "varsym/schemes/scheme_kind.hpp"
 #include "varsym/schemes/variational.hpp"
 
@@ -122,28 +126,73 @@ void add_odeint_methods(bench_problem& b, std::array<double, D> q0, std::array<d
         std::type_identity<odeint::symplectic_rkn_sb3a_m4_mclachlan<state>>{});
 }
 
-} // namespace
+const std::vector<std::pair<std::string, composition::method>>& compositions() {
+    static const std::vector<std::pair<std::string, composition::method>> list{
+        {"yoshida-6", composition::method::yoshida6},
+        {"kahan-li-6", composition::method::kahan_li6},
+        {"kahan-li-8", composition::method::kahan_li8}};
+    return list;
+}
 
-bench_problem pendulum_bench(const std::vector<std::string>& specs) {
-    const double omega = 2.0 * std::numbers::pi, q0 = std::numbers::pi / 2;
-    const auto sys = pendulum::make_system(1.0, omega);
-    const pendulum::exact_solution exact(1.0, omega, q0, 0.0);
-    bench_problem b{"pendulum", exact.period(), {}, {}};
-    b.error = [exact, omega](const bench_run& r, double t) {
-        const auto x = exact.at(t);
-        return std::max(std::abs(r.q(0) - x.q(0)), std::abs(r.p(0) - x.p(0)) / omega);
-    };
-    for (const std::string& label : specs) {
+/// The selected varsym schemes and compositions on one separable system from x0.
+template <class System, class Energy>
+void add_varsym_methods(bench_problem& b, const bench_selection& selection, const System& sys,
+                        const phase_state<System::dim>& x0, const Energy& energy) {
+    for (const std::string& label : selection.schemes) {
         const scheme_spec spec = parse_spec(label);
         b.methods.push_back(
             {spec.label(), spec.order(), false, [=](std::size_t n, double h, bool observe) {
-                 const phase_state<1> x0{vec<1>{q0}, vec<1>{0.0}};
                  return with_stepper(spec, sys, h, {}, [&](auto& st) {
-                     return run_stepper(st, x0, n, observe,
-                                        [&](const phase_state<1>& y) { return sys.energy(y); });
+                     return run_stepper(st, x0, n, observe, energy);
                  });
              }});
     }
+    for (const std::string& name : selection.compositions) {
+        const auto it = std::find_if(compositions().begin(), compositions().end(),
+                                     [&](const auto& c) { return c.first == name; });
+        if (it == compositions().end())
+            throw usage_error("unknown composition '" + name + "' in --compositions");
+        const composition::method m = it->second;
+        b.methods.push_back(
+            {name, composition::make(m).order, false, [=](std::size_t n, double h, bool observe) {
+                 composition::stepper st(sys, h, m);
+                 return run_stepper(st, x0, n, observe, energy);
+             }});
+    }
+}
+
+} // namespace
+
+const std::vector<std::string>& composition_names() {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> v;
+        for (const auto& c : compositions())
+            v.push_back(c.first);
+        return v;
+    }();
+    return names;
+}
+
+std::string pendulum_name(double q0) {
+    if (q0 == std::numbers::pi / 2) return "pendulum";
+    char name[40];
+    std::snprintf(name, sizeof name, "pendulum-%g", q0);
+    return name;
+}
+
+bench_problem pendulum_bench(const bench_selection& selection, double q0) {
+    const double omega = 2.0 * std::numbers::pi;
+    const auto sys = pendulum::make_system(1.0, omega);
+    using LD = long double;
+    const pendulum::basic_exact_solution<LD> exact(1, omega, q0, 0); // the system's own ω
+    bench_problem b{pendulum_name(q0), static_cast<double>(exact.period()), {}, {}};
+    b.error = [exact, omega](const bench_run& r, LD t) {
+        const auto x = exact.state(t);
+        return static_cast<double>(
+            std::max(std::abs(r.q(0) - x.q), std::abs(r.p(0) - x.p) / omega));
+    };
+    add_varsym_methods(b, selection, sys, phase_state<1>{vec<1>{q0}, vec<1>{0.0}},
+                       [sys](const phase_state<1>& y) { return sys.energy(y); });
     add_odeint_methods<1>(
         b, {q0}, {0.0},
         [omega](const std::array<double, 1>& q, std::array<double, 1>& a) {
@@ -156,25 +205,17 @@ bench_problem pendulum_bench(const std::vector<std::string>& specs) {
     return b;
 }
 
-bench_problem kepler_bench(const std::vector<std::string>& specs) {
+bench_problem kepler_bench(const bench_selection& selection) {
     const kepler::orbit orbit(0.6, 1.0);
     const auto sys = kepler::make_system();
     bench_problem b{"kepler", orbit.period(), {}, {}};
-    b.error = [orbit](const bench_run& r, double t) {
+    b.error = [orbit](const bench_run& r, long double t) {
         const auto x = orbit.at(t);
         return std::max((r.q - x.q).lpNorm<Eigen::Infinity>(),
                         (r.p - x.p).lpNorm<Eigen::Infinity>());
     };
-    for (const std::string& label : specs) {
-        const scheme_spec spec = parse_spec(label);
-        b.methods.push_back(
-            {spec.label(), spec.order(), false, [=](std::size_t n, double h, bool observe) {
-                 return with_stepper(spec, sys, h, {}, [&](auto& st) {
-                     return run_stepper(st, orbit.at(0.0), n, observe,
-                                        [&](const phase_state<2>& y) { return sys.energy(y); });
-                 });
-             }});
-    }
+    add_varsym_methods(b, selection, sys, orbit.at(0.0),
+                       [sys](const phase_state<2>& y) { return sys.energy(y); });
     const auto x0 = orbit.at(0.0);
     add_odeint_methods<2>(
         b, {x0.q(0), x0.q(1)}, {x0.p(0), x0.p(1)},
@@ -184,6 +225,42 @@ bench_problem kepler_bench(const std::vector<std::string>& specs) {
         },
         [](const std::array<double, 2>& q, const std::array<double, 2>& p) {
             return 0.5 * (p[0] * p[0] + p[1] * p[1]) - 1.0 / std::sqrt(q[0] * q[0] + q[1] * q[1]);
+        });
+    return b;
+}
+
+bench_problem solar_bench(const bench_selection& selection, double days) {
+    constexpr int d = solar_system::dim;
+    const auto sys = solar_system::make_system();
+    const Eigen::VectorXd reference = solar_reference_positions(days);
+    bench_problem b{"solar", 4332.59, {}, {}};
+    b.total = days;
+    b.error = [reference](const bench_run& r, long double) {
+        return (r.q - reference).lpNorm<Eigen::Infinity>();
+    };
+    add_varsym_methods(b, selection, sys, solar_system::initial_state(),
+                       [sys](const phase_state<d>& y) { return sys.energy(y); });
+    // odeint's steppers take unit masses: their "momenta" are the velocities.
+    std::array<double, d> q0{}, v0{}, m{};
+    for (int i = 0; i < d; ++i) {
+        const auto& body = solar_system::bodies[static_cast<std::size_t>(i / 3)];
+        q0[static_cast<std::size_t>(i)] = body.q[static_cast<std::size_t>(i % 3)];
+        v0[static_cast<std::size_t>(i)] = body.v[static_cast<std::size_t>(i % 3)];
+        m[static_cast<std::size_t>(i)] = body.mass;
+    }
+    const nbody::gravity<d> v = sys.potential();
+    add_odeint_methods<d>(
+        b, q0, v0,
+        [v, m](const std::array<double, d>& q, std::array<double, d>& a) {
+            const vec<d> g = v.gradient(Eigen::Map<const vec<d>>(q.data()));
+            for (std::size_t i = 0; i < a.size(); ++i)
+                a[i] = -g(static_cast<Eigen::Index>(i)) / m[i];
+        },
+        [v, m](const std::array<double, d>& q, const std::array<double, d>& w) {
+            double kinetic = 0.0;
+            for (std::size_t i = 0; i < w.size(); ++i)
+                kinetic += 0.5 * m[i] * w[i] * w[i];
+            return kinetic + v.value(Eigen::Map<const vec<d>>(q.data()));
         });
     return b;
 }

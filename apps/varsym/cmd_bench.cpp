@@ -3,7 +3,9 @@
 // iterations, ratios to odeint's stepper of the same order, and the work–precision diagram.
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 #include <memory>
+#include <numbers>
 
 #include "bench_methods.hpp"
 #include "cli_common.hpp"
@@ -15,12 +17,16 @@ namespace varsym::cli {
 namespace {
 
 struct bench_options {
-    std::vector<std::string> problems{"pendulum", "kepler"};
+    std::vector<std::string> problems{"pendulum", "kepler", "solar"};
     std::vector<std::string> schemes{"newmark",   "simpson",   "lobatto-3", "lobatto-4",
                                      "lobatto-5", "lobatto-6", "gauss-2",   "gauss-3",
                                      "gauss-4",   "gauss-5",   "gauss-6"};
+    std::vector<std::string> compositions{"yoshida-6", "kahan-li-8"};
+    std::vector<double> q0{std::numbers::pi / 2, 2.5};
     std::vector<int> steps{25, 50, 100, 200, 400, 800};
     std::vector<int> kepler_steps{100, 200, 400, 800, 1600, 3200};
+    std::vector<int> solar_steps{20, 40, 80, 160, 320, 640};
+    double days = 200000;
     double periods = 1000;
     double orbits = 100;
     int repetitions = 5;
@@ -48,13 +54,15 @@ std::vector<row> measure(const bench_problem& b, const std::vector<int>& steps, 
     std::vector<row> rows;
     for (const bench_method& m : b.methods)
         for (int n_per : steps) {
-            const double h = b.period / n_per;
-            const auto n = static_cast<std::size_t>(std::llround(n_per * periods));
+            // A problem with a reference at one time (b.total) runs exactly to it.
+            const auto n = static_cast<std::size_t>(
+                std::llround(n_per * (b.total > 0 ? b.total / b.period : periods)));
+            const double h = b.total > 0 ? b.total / static_cast<double>(n) : b.period / n_per;
             row r{b.name, m.name, peer_of(m), m.order, n_per};
             // One observed run (energy error, Newton statistics; it is also the warm-up), then
             // `reps` timed runs without observer: the median time per step.
             const bench_run observed = m.run(n, h, true);
-            r.error = b.error(observed, static_cast<double>(n) * h);
+            r.error = b.error(observed, static_cast<long double>(n) * h);
             r.energy_error = observed.energy_error;
             r.newton = observed.newton_mean;
             std::vector<double> ns;
@@ -90,24 +98,58 @@ std::string csv(const std::vector<row>& rows) {
     return s;
 }
 
+/// For each problem and method, the least µs per period among the runs whose error is at most
+/// each of 1e-6, 1e-8, 1e-10, 1e-12 ("-" where no run reached it).
+std::string cheapest(const std::vector<row>& rows) {
+    constexpr double targets[] = {1e-6, 1e-8, 1e-10, 1e-12};
+    char buf[200];
+    std::string s = "\nCheapest us per period at an error of at most:\n";
+    std::snprintf(buf, sizeof buf, "%-14s %-25s %10s %10s %10s %10s\n", "problem", "method", "1e-6",
+                  "1e-8", "1e-10", "1e-12");
+    s += buf;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        if (i > 0 && rows[i].problem == rows[i - 1].problem && rows[i].method == rows[i - 1].method)
+            continue;
+        std::snprintf(buf, sizeof buf, "%-14s %-25s", rows[i].problem.c_str(),
+                      rows[i].method.c_str());
+        s += buf;
+        for (double target : targets) {
+            double best = std::numeric_limits<double>::infinity();
+            for (const row& r : rows)
+                if (r.problem == rows[i].problem && r.method == rows[i].method && r.error <= target)
+                    best = std::min(best, r.us_period);
+            if (std::isinf(best))
+                std::snprintf(buf, sizeof buf, " %10s", "-");
+            else
+                std::snprintf(buf, sizeof buf, " %10.2f", best);
+            s += buf;
+        }
+        s += '\n';
+    }
+    return s;
+}
+
 std::string text(const std::vector<row>& rows, const bench_options& o) {
-    char buf[400];
+    char buf[800];
     std::snprintf(
         buf, sizeof buf,
-        "Pendulum: q0 = pi/2, omega = 2 pi, %g nonlinear periods; Kepler: e = 0.6, a = 1, %g "
-        "orbits.\n"
+        "Pendulum: omega = 2 pi, from q0 at rest (pendulum: q0 = pi/2; pendulum-X: q0 = X), %g\n"
+        "nonlinear periods; Kepler: e = 0.6, a = 1, %g orbits; solar: outer solar system, %g "
+        "days,\n"
+        "N steps per Jupiter period (4332.6 days), error max |dq| in AU.\n"
         "error: final max(|dq|, |dp|/omega) (Kepler: max(|dq|, |dp|)); dE: max relative energy\n"
         "error; ns/step: median of %d timed runs after a warm-up; ratios to the peer (odeint's\n"
         "stepper of the same order, or its best 4th-order one, sb3a_mclachlan).\n",
-        o.periods, o.orbits, o.repetitions);
+        o.periods, o.orbits, o.days, o.repetitions);
     std::string s = buf;
     std::string problem;
     for (const row& r : rows) {
         if (r.problem != problem) {
             problem = r.problem;
-            std::snprintf(buf, sizeof buf, "\n%-9s %-25s %5s %5s %10s %10s %9s %10s %6s %9s %10s\n",
-                          "problem", "method", "order", "N", "error", "dE", "ns/step", "us/period",
-                          "Newton", "ns ratio", "err ratio");
+            std::snprintf(buf, sizeof buf,
+                          "\n%-14s %-25s %5s %5s %10s %10s %9s %10s %6s %9s %10s\n", "problem",
+                          "method", "order", "N", "error", "dE", "ns/step", "us/period", "Newton",
+                          "ns ratio", "err ratio");
             s += buf;
         }
         char ns_ratio[32] = "", error_ratio[32] = "";
@@ -116,12 +158,12 @@ std::string text(const std::vector<row>& rows, const bench_options& o) {
             std::snprintf(error_ratio, sizeof error_ratio, "%.2e", r.error_ratio);
         }
         std::snprintf(buf, sizeof buf,
-                      "%-9s %-25s %5d %5d %10.3e %10.3e %9.1f %10.2f %6.2f %9s %10s\n",
+                      "%-14s %-25s %5d %5d %10.3e %10.3e %9.1f %10.2f %6.2f %9s %10s\n",
                       r.problem.c_str(), r.method.c_str(), r.order, r.steps, r.error,
                       r.energy_error, r.ns, r.us_period, r.newton, ns_ratio, error_ratio);
         s += buf;
     }
-    return s;
+    return s + cheapest(rows);
 }
 
 /// Work–precision diagram: final error against µs per period, log–log, one curve per method,
@@ -170,25 +212,45 @@ void bench(const bench_options& o) {
         check_pictures(o.plot);
         std::vector<std::string> suffixes;
         for (const std::string& p : o.problems)
-            suffixes.push_back("-" + p + ".csv");
+            if (p == "pendulum")
+                for (double q0 : o.q0)
+                    suffixes.push_back("-" + pendulum_name(q0) + ".csv");
+            else
+                suffixes.push_back("-" + p + ".csv");
         add_figure_files(roles, suffixes, o.plot);
     }
     roles.check();
+    for (const double q0 : o.q0)
+        if (!(q0 > 0.0 && q0 < std::numbers::pi))
+            throw usage_error("--q0 must be between 0 and pi rad (exclusive), got " +
+                              std::to_string(q0));
     for (const double runs : {o.periods, o.orbits})
         for (const int n : o.steps)
             if (std::llround(n * runs) < 1 || n * runs > 1e10)
                 throw usage_error("--periods/--orbits times steps per period must give between 1 "
                                   "and 1e10 steps a run");
+    if (!(o.days >= 1.0 && o.days <= 1e7))
+        throw usage_error("--days must be between 1 and 1e7 (the long double reference takes "
+                          "about 3.5 us a day)");
     output_file out(o.output); // before the work: a conflict is refused at once
     std::vector<row> rows;
     std::vector<std::string> problems;
-    for (const std::string& p : o.problems) {
-        const bool pendulum = p == "pendulum";
-        const bench_problem b = pendulum ? pendulum_bench(o.schemes) : kepler_bench(o.schemes);
-        const auto r = measure(b, pendulum ? o.steps : o.kepler_steps,
-                               pendulum ? o.periods : o.orbits, o.repetitions);
+    bench_selection selection{o.schemes, {}};
+    for (const std::string& c : o.compositions)
+        if (c != "none") selection.compositions.push_back(c);
+    auto run = [&](const bench_problem& b, const std::vector<int>& steps, double runs) {
+        const auto r = measure(b, steps, runs, o.repetitions);
         rows.insert(rows.end(), r.begin(), r.end());
-        problems.push_back(p);
+        problems.push_back(b.name);
+    };
+    for (const std::string& p : o.problems) {
+        if (p == "pendulum")
+            for (double q0 : o.q0)
+                run(pendulum_bench(selection, q0), o.steps, o.periods);
+        else if (p == "kepler")
+            run(kepler_bench(selection), o.kepler_steps, o.orbits);
+        else
+            run(solar_bench(selection, o.days), o.solar_steps, 0.0);
     }
     out.write(o.format == "csv" ? csv(rows) : text(rows, o));
     file_roles others;
@@ -206,24 +268,45 @@ void add_bench_command(CLI::App& app, action& todo) {
         "Work-precision benchmark: varsym's schemes against Boost.Odeint's symplectic steppers");
     cmd->footer(
         "\nOne process runs every method on the same problems and step counts: the pendulum\n"
-        "(q0 = pi/2, omega = 2 pi, m = 1) over --periods nonlinear periods and the Kepler orbit\n"
-        "(e = 0.6) over --orbits orbits. For each method and N it reports the final error\n"
-        "against the exact solution, the max relative energy error, ns per step (median of\n"
+        "(omega = 2 pi, m = 1) from each --q0 at rest over --periods nonlinear periods, and the\n"
+        "Kepler orbit (e = 0.6) over --orbits orbits, and the outer solar system (Hairer, Lubich\n"
+        "& Wanner, sec. I.2.4: d = 18, AU and days) over --days days against a long double\n"
+        "reference, N counting steps per Jupiter period. For each method and N it reports the "
+        "final\n"
+        "error against the exact solution at the time integrated (N h, in long double), the\n"
+        "max relative energy error, ns per step (median of\n"
         "--repetitions timed runs after one observed run that also warms up), mean Newton\n"
         "iterations per step, and ratios of ns/step and error to odeint's stepper of the same\n"
         "order. Times are for this machine at this moment: compare ratios, not absolute times.\n"
         "Odeint's steppers: velocity_verlet (order 2), symplectic_rkn_sb3a_mclachlan and\n"
-        "symplectic_rkn_sb3a_m4_mclachlan (order 4). On Kepler the Lobatto and Gauss members\n"
-        "run on the general engine with hand derivatives.\n\n"
+        "symplectic_rkn_sb3a_m4_mclachlan (order 4); explicit compositions of Stormer-Verlet:\n"
+        "Yoshida's order 6 (9 stages) and Kahan & Li's orders 6 (9) and 8 (17 stages). On\n"
+        "Kepler the Lobatto and Gauss members run on the general engine with hand derivatives.\n"
+        "The text table ends with the cheapest us per period at errors 1e-6 to 1e-12.\n\n"
         "Examples:\n"
         "  varsym bench                                  # everything (a few minutes)\n"
         "  varsym bench --problems pendulum --plot wp.png --format csv -o wp-table.csv\n"
         "  varsym bench --schemes simpson,gauss-4 --steps 50,100 --periods 100 --repetitions 3\n");
-    cmd->add_option("--problems", o->problems, "pendulum and/or kepler")
-        ->check(CLI::IsMember({"pendulum", "kepler"}))
+    cmd->add_option("--problems", o->problems, "pendulum, kepler and/or solar")
+        ->check(CLI::IsMember({"pendulum", "kepler", "solar"}))
         ->delimiter(',')
         ->capture_default_str();
     cmd->add_option("--schemes", o->schemes, "varsym schemes: newmark, simpson, lobatto-s, gauss-s")
+        ->delimiter(',')
+        ->capture_default_str();
+    cmd->add_option("--compositions", o->compositions,
+                    "Explicit compositions of Stormer-Verlet run beside them: yoshida-6, "
+                    "kahan-li-6, kahan-li-8, or none")
+        ->check([](const std::string& v) {
+            const auto& names = composition_names();
+            return v == "none" || std::find(names.begin(), names.end(), v) != names.end()
+                       ? std::string()
+                       : "unknown composition '" + v +
+                             "' (yoshida-6, kahan-li-6, kahan-li-8, none)";
+        })
+        ->delimiter(',')
+        ->capture_default_str();
+    cmd->add_option("--q0", o->q0, "Pendulum: initial angles [rad], from rest, each a problem")
         ->delimiter(',')
         ->capture_default_str();
     cmd->add_option("--steps", o->steps, "Pendulum: steps per period N")
@@ -233,6 +316,14 @@ void add_bench_command(CLI::App& app, action& todo) {
     cmd->add_option("--kepler-steps", o->kepler_steps, "Kepler: steps per orbit")
         ->transform(positive_integer)
         ->delimiter(',')
+        ->capture_default_str();
+    cmd->add_option("--solar-steps", o->solar_steps,
+                    "Outer solar system: steps per Jupiter period (4332.6 days)")
+        ->transform(positive_integer)
+        ->delimiter(',')
+        ->capture_default_str();
+    cmd->add_option("--days", o->days, "Outer solar system: days per run")
+        ->transform(positive_number)
         ->capture_default_str();
     cmd->add_option("--periods", o->periods, "Pendulum periods per run")
         ->transform(positive_number)

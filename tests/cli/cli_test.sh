@@ -216,11 +216,26 @@ grep -q 'syntax.toml:1' stderr.txt && ok || bad "syntax message: $(cat stderr.tx
 expect_error 2 "config missing file" run --config nowhere.toml -o out.csv
 
 # --- bench (issue 5): tiny settings; one row per method and N, ratios to odeint's peer ----------
-"$VARSYM" bench --problems pendulum --schemes simpson,gauss-2 --steps 25,50 --periods 2 --repetitions 1 \
-  --format csv > bench.csv 2> stderr.txt &&
+"$VARSYM" bench --problems pendulum --schemes simpson,gauss-2 --compositions none --steps 25,50 \
+  --periods 2 --q0 1.5707963267948966 --repetitions 1 --format csv > bench.csv 2> stderr.txt &&
   [ "$(head -1 bench.csv)" = "problem,method,order,steps_per_period,error,max_rel_energy_error,ns_per_step,us_per_period,newton_per_step,peer,ns_ratio,error_ratio" ] &&
   [ "$(wc -l < bench.csv)" -eq 11 ] && grep -q '^pendulum,simpson,4,50,.*,odeint-sb3a_mclachlan,' bench.csv && ok ||
   bad "bench csv: $(cat bench.csv) $(cat stderr.txt)"
+# A second amplitude is its own problem; a composition is one more method; the text table ends
+# with the cheapest cost at each error level.
+"$VARSYM" bench --problems pendulum --schemes gauss-3 --compositions kahan-li-8 --steps 25,50 \
+  --periods 2 --q0 2.5 --repetitions 1 > bench.txt 2> stderr.txt &&
+  grep -q '^pendulum-2.5 *kahan-li-8 *8 *50 ' bench.txt && grep -q '^Cheapest us per period' bench.txt &&
+  [ "$(grep -c '^pendulum-2.5 ' bench.txt)" -eq 15 ] && ok || bad "bench q0, composition: $(cat bench.txt)" # 10 rows, 5 cheapest
+# The outer solar system against its long double reference: gauss-4 at h ≈ 108 days (40 steps
+# per Jupiter period) over 20 000 days.
+"$VARSYM" bench --problems solar --schemes gauss-4 --compositions none --solar-steps 40 --days 20000 \
+  --repetitions 1 --format csv > solar.csv 2> stderr.txt &&
+  awk -F, '$1 == "solar" && $2 == "gauss-4" { found = 1; exit !($5 < 1e-6) } END { exit !found }' solar.csv &&
+  ok || bad "bench solar: $(cat solar.csv) $(cat stderr.txt)"
+expect_error 2 "bench q0 beyond pi" bench --q0 4 -o out.csv
+expect_error 2 "bench unknown composition" bench --compositions euler -o out.csv
+expect_error 2 "bench zero days" bench --days 0 -o out.csv
 # Simpson's error at N = 50 over 2 periods is Table 1's regime (~1e-6 per period): below 1e-5.
 awk -F, '$2 == "simpson" && $4 == 50 { exit !($5 < 1e-5) }' bench.csv && ok || bad "bench simpson error"
 expect_error 2 "bench zero repetitions" bench --repetitions 0 -o out.csv

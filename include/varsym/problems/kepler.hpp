@@ -83,10 +83,12 @@ class orbit {
 
     /// Position and momentum at time t: mean anomaly M = n t, eccentric anomaly E from Kepler's
     /// equation E − e sin E = M, then x = a (cos E − e), y = b sin E and their time derivatives
-    /// (dE/dt = n / (1 − e cos E)).
-    [[nodiscard]] phase_state<2> at(double t) const {
-        const double two_pi = 2.0 * std::numbers::pi;
-        const double mean = std::fmod(n_ * t, two_pi);
+    /// (dE/dt = n / (1 − e cos E)). M is reduced modulo 2π in long double, so a time given in
+    /// long double (e.g. n h of a long run, which double would round) is kept to ~1e-19.
+    [[nodiscard]] phase_state<2> at(long double t) const {
+        using LD = long double;
+        const double mean =
+            static_cast<double>(std::fmod(static_cast<LD>(n_) * t, 2 * std::numbers::pi_v<LD>));
         const double ecc = eccentric_anomaly(mean);
         const double c = std::cos(ecc), s = std::sin(ecc);
         const double rate = n_ / (1.0 - e_ * c);
