@@ -171,12 +171,15 @@ std::string text(const std::vector<row>& rows, const bench_options& o) {
 figure work_precision(const std::vector<row>& rows, const std::vector<std::string>& problems) {
     figure fig;
     const int panels = static_cast<int>(problems.size());
-    std::string script = script_preamble(640 * panels, 620) + "set datafile separator ','\n" +
+    // Up to two panels a row.
+    const int columns = std::min(panels, 2), lines = (panels + 1) / 2;
+    std::string script = script_preamble(640 * columns, 620 * lines) +
+                         "set datafile separator ','\n" +
                          "set logscale xy\nset format y '10^{%L}'\nset format x '10^{%L}'\n"
                          "set key outside bottom center horizontal maxrows 5 font ',9' noenhanced\n"
                          "set xlabel 'CPU time per period [us]'\nset ylabel 'final error'\n"
-                         "set multiplot layout 1," +
-                         std::to_string(panels) + "\n";
+                         "set multiplot layout " +
+                         std::to_string(lines) + "," + std::to_string(columns) + "\n";
     for (const std::string& p : problems) {
         std::string data, names;
         std::string method;
