@@ -55,7 +55,7 @@ using columns = Eigen::Matrix<double, D, dynamic, D == 1 ? Eigen::RowMajor : Eig
 ///
 /// Round-off. The step is exactly symplectic only if these equations are exactly the derivatives
 /// of one L_d, so the coefficients are tableau::kinetic and tableau::wphi (A_0l and ℓ_0 derived
-/// from the other rows, in long double, applied as double + low part) and the weights w_k in the
+/// from the other rows in double-double, applied as double + low part) and the weights w_k in the
 /// momentum update are applied the same way; the step size enters as h and 1/h, never as a
 /// separately rounded h². With plainly rounded tables the identities above miss by an ulp, always
 /// the same way, and the energy drifts linearly in time (docs/design.md, "Round-off that tilts the
