@@ -287,7 +287,7 @@ void add_bench_command(CLI::App& app, action& todo) {
         "Kepler the Lobatto and Gauss members run on the general engine with hand derivatives.\n"
         "The text table ends with the cheapest us per period at errors 1e-6 to 1e-12.\n\n"
         "Examples:\n"
-        "  varsym bench                                  # everything (a few minutes)\n"
+        "  varsym bench                                  # everything (about 10 minutes)\n"
         "  varsym bench --problems pendulum --plot wp.png --format csv -o wp-table.csv\n"
         "  varsym bench --schemes simpson,gauss-4 --steps 50,100 --periods 100 --repetitions 3\n");
     cmd->add_option("--problems", o->problems, "pendulum, kepler and/or solar")
