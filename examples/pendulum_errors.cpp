@@ -3,7 +3,11 @@
 #include <cstdio>
 #include <numbers>
 
-#include <varsym/problems.hpp>
+// The headers it uses (the umbrella <varsym/varsym.hpp> would do too, and compile more).
+#include <varsym/diagnostics/error_norms.hpp>
+#include <varsym/problems/pendulum.hpp>
+#include <varsym/schemes/newmark.hpp>
+#include <varsym/schemes/simpson.hpp>
 
 int main() {
     using namespace varsym;
