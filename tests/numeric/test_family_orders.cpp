@@ -14,30 +14,19 @@
 #include <numbers>
 #include <vector>
 
+#include "pendulum_period_error.hpp"
 #include "varsym/diagnostics/convergence.hpp"
-#include "varsym/integrate.hpp"
-#include "varsym/problems/pendulum.hpp"
 #include "varsym/schemes/galerkin.hpp"
 
 using namespace varsym;
 using galerkin::rule_kind;
-using LD = long double;
 
 namespace {
 
 double state_error(rule_kind kind, int s, int steps_per_period) {
-    const pendulum::basic_exact_solution<LD> exact(1, 2 * std::numbers::pi_v<LD>,
-                                                   std::numbers::pi_v<LD> / 2, 0);
-    const double h = static_cast<double>(exact.period() / steps_per_period);
+    const double h = static_cast<double>(test::paper_pendulum_exact().period() / steps_per_period);
     galerkin::stepper stepper(pendulum::make_system(1.0, 2 * std::numbers::pi), h, kind, s);
-    phase_state<1> x{vec<1>{std::numbers::pi / 2}, vec<1>{0.0}};
-    LD worst = 0;
-    integrate(stepper, x, 0.0, static_cast<std::size_t>(steps_per_period),
-              [&](std::size_t j, double, const phase_state<1>& y) {
-                  const auto e = exact.state(static_cast<LD>(j) * static_cast<LD>(h));
-                  worst = std::max(worst, std::abs(static_cast<LD>(y.q(0)) - e.q));
-              });
-    return static_cast<double>(worst);
+    return test::period_error(stepper, steps_per_period);
 }
 
 double measured_order(rule_kind kind, int s, const std::vector<double>& steps) {

@@ -7,33 +7,24 @@
 #include <numbers>
 #include <vector>
 
+#include "pendulum_period_error.hpp"
 #include "varsym/diagnostics/convergence.hpp"
 #include "varsym/integrate.hpp"
-#include "varsym/problems/pendulum.hpp"
 #include "varsym/schemes/composition.hpp"
 
 using namespace varsym;
 using composition::method;
-using LD = long double;
 
 namespace {
 
 const pendulum::system sys = pendulum::make_system(1.0, 2 * std::numbers::pi);
 
-/// max |q_j − q(t_j)| over one period of the paper's pendulum (q₀ = π/2) at n steps.
+/// max |q_j − q(t_j)| over one period of the paper's pendulum at n steps (tests/
+/// pendulum_period_error.hpp).
 double period_error(method m, int n) {
-    const pendulum::basic_exact_solution<LD> exact(1, 2 * std::numbers::pi_v<LD>,
-                                                   std::numbers::pi_v<LD> / 2, 0);
-    const double h = static_cast<double>(exact.period() / n);
+    const double h = static_cast<double>(test::paper_pendulum_exact().period() / n);
     composition::stepper stepper(sys, h, m);
-    phase_state<1> x{vec<1>{std::numbers::pi / 2}, vec<1>{0.0}};
-    LD worst = 0;
-    integrate(stepper, x, 0.0, static_cast<std::size_t>(n),
-              [&](std::size_t j, double, const phase_state<1>& y) {
-                  const auto e = exact.state(static_cast<LD>(j) * static_cast<LD>(h));
-                  worst = std::max(worst, std::abs(static_cast<LD>(y.q(0)) - e.q));
-              });
-    return static_cast<double>(worst);
+    return test::period_error(stepper, n);
 }
 
 } // namespace
