@@ -49,6 +49,28 @@ scheme_spec parse_spec(const std::string& label) {
     return {*kind, s};
 }
 
+/// The solver after a '/' in a --schemes entry: ITERATION[+previous] (newton, simplified,
+/// fixed-point), e.g. gauss-4/fixed-point+previous. None: Newton from the Taylor predictor.
+newton_options parse_solver(const std::string& label) {
+    newton_options opt;
+    const auto slash = label.find('/');
+    if (slash == std::string::npos) return opt;
+    std::string solver = label.substr(slash + 1);
+    if (solver.ends_with("+previous")) {
+        opt.predictor = predictor_kind::previous;
+        solver.resize(solver.size() - 9);
+    }
+    if (solver == "simplified")
+        opt.iteration = iteration_kind::simplified;
+    else if (solver == "fixed-point")
+        opt.iteration = iteration_kind::fixed_point;
+    else if (solver != "newton")
+        throw usage_error("--schemes: in " + shown(label) +
+                          ", the solver after '/' must be newton, simplified or fixed-point, "
+                          "optionally followed by +previous");
+    return opt;
+}
+
 /// Runs a varsym stepper: timed loop without observer, or an observed run for the energy.
 template <class Stepper, class Energy>
 bench_run run_stepper(Stepper& stepper, phase_state<Stepper::dim> x, std::size_t n, bool observe,
@@ -139,13 +161,16 @@ template <class System, class Energy>
 void add_varsym_methods(bench_problem& b, const bench_selection& selection, const System& sys,
                         const phase_state<System::dim>& x0, const Energy& energy) {
     for (const std::string& label : selection.schemes) {
-        const scheme_spec spec = parse_spec(label);
-        b.methods.push_back(
-            {spec.label(), spec.order(), false, [=](std::size_t n, double h, bool observe) {
-                 return with_stepper(spec, sys, h, {}, [&](auto& st) {
-                     return run_stepper(st, x0, n, observe, energy);
-                 });
-             }});
+        const scheme_spec spec = parse_spec(label.substr(0, label.find('/')));
+        const newton_options opt = parse_solver(label);
+        const std::string name = label.find('/') == std::string::npos
+                                     ? spec.label()
+                                     : spec.label() + label.substr(label.find('/'));
+        b.methods.push_back({name, spec.order(), false, [=](std::size_t n, double h, bool observe) {
+                                 return with_stepper(spec, sys, h, opt, [&](auto& st) {
+                                     return run_stepper(st, x0, n, observe, energy);
+                                 });
+                             }});
     }
     for (const std::string& name : selection.compositions) {
         const auto it = std::find_if(compositions().begin(), compositions().end(),
@@ -233,7 +258,7 @@ bench_problem solar_bench(const bench_selection& selection, double days) {
     constexpr int d = solar_system::dim;
     const auto sys = solar_system::make_system();
     const Eigen::VectorXd reference = solar_reference_positions(days);
-    bench_problem b{"solar", 4332.59, {}, {}};
+    bench_problem b{"solar", solar_system::jupiter_period, {}, {}};
     b.total = days;
     b.error = [reference](const bench_run& r, long double) {
         return (r.q - reference).lpNorm<Eigen::Infinity>();

@@ -89,6 +89,7 @@ class fields {
     }
     std::vector<std::string> args;
 
+    [[nodiscard]] bool has(const std::string& key) const { return map_.count(key) != 0; }
     const std::string& text(const std::string& key) const {
         const auto it = map_.find(key);
         if (it == map_.end()) damaged("no '" + key + "' line");
@@ -142,6 +143,7 @@ void write_checkpoint(const std::string& path, const checkpoint& ck, bool replac
     put_vector(body, "p", ck.p);
     put_vector(body, "carry_q", ck.carry_q);
     put_vector(body, "carry_p", ck.carry_p);
+    put_vector(body, "history", ck.history);
     body += "newton_iterations " + std::to_string(ck.newton_iterations) + '\n';
     body += "newton_iterations_max " + std::to_string(ck.newton_iterations_max) + '\n';
     body += "crc32 " + crc_of(body) + '\n';
@@ -196,6 +198,7 @@ checkpoint read_checkpoint(const std::string& path) {
     ck.p = f.numbers("p");
     ck.carry_q = f.numbers("carry_q");
     ck.carry_p = f.numbers("carry_p");
+    if (f.has("history")) ck.history = f.numbers("history"); // absent: written before it was kept
     ck.newton_iterations = f.integer<std::int64_t>("newton_iterations");
     ck.newton_iterations_max = f.integer<int>("newton_iterations_max");
     if (h.size() != 1 || ck.q.empty() || ck.p.empty() || ck.carry_q.size() != ck.q.size() ||

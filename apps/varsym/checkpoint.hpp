@@ -16,10 +16,12 @@ inline constexpr const char* varsym_version = VARSYM_VERSION_STRING;
 
 /// The complete state of a run after step `step` of `steps`.
 ///
-/// The steppers' next step depends on (q, p) and on the carries of the compensated summation
-/// (solvers/compensated.hpp) only: every predictor starts from (q_j, p_j) alone and every cached
-/// ∇V(q_j) is recomputed from q_j to the same bits. So (q, p, carries) and the run's options
-/// (its arguments) make a resumed run bit-for-bit the run that never stopped.
+/// The steppers' next step depends on (q, p), on the carries of the compensated summation
+/// (solvers/compensated.hpp) and on the stepper's history (run_state::history: the previous
+/// step's increments for --predictor previous, the kept Jacobian's point for --iteration
+/// simplified; empty otherwise); every cached ∇V(q_j) and kept Jacobian is recomputed to the
+/// same bits. So these and the run's options (its arguments) make a resumed run bit-for-bit the
+/// run that never stopped.
 struct checkpoint {
     std::string version = varsym_version;
     std::vector<std::string> args; ///< the arguments of `varsym run` (config file expanded)
@@ -30,7 +32,7 @@ struct checkpoint {
     double h = 0.0;                ///< time step (checked bit for bit on resume)
     std::uint64_t csv_bytes = 0;   ///< length of the CSV holding the rows of steps 0 … step
     std::uint32_t csv_crc32 = 0;   ///< CRC-32 of those csv_bytes bytes (FILE.part is the run's)
-    std::vector<double> q, p, carry_q, carry_p;
+    std::vector<double> q, p, carry_q, carry_p, history;
     std::int64_t newton_iterations = 0; ///< Newton statistics of steps 1 … step
     int newton_iterations_max = 0;
 };

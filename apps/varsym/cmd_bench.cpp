@@ -283,8 +283,9 @@ void add_bench_command(CLI::App& app, action& todo) {
         "order. Times are for this machine at this moment: compare ratios, not absolute times.\n"
         "Odeint's steppers: velocity_verlet (order 2), symplectic_rkn_sb3a_mclachlan and\n"
         "symplectic_rkn_sb3a_m4_mclachlan (order 4); explicit compositions of Stormer-Verlet:\n"
-        "Yoshida's order 6 (9 stages) and Kahan & Li's orders 6 (9) and 8 (17 stages). On\n"
-        "Kepler the Lobatto and Gauss members run on the general engine with hand derivatives.\n"
+        "Yoshida's order 6 (9 stages) and Kahan & Li's orders 6 (9) and 8 (17 stages). A scheme\n"
+        "may name its solver after '/': newton (the default), simplified or fixed-point, and\n"
+        "+previous to start from the previous step (e.g. gauss-4/fixed-point+previous).\n"
         "The text table ends with the cheapest us per period at errors 1e-6 to 1e-12.\n\n"
         "Examples:\n"
         "  varsym bench                                  # everything (about 10 minutes)\n"
@@ -294,7 +295,8 @@ void add_bench_command(CLI::App& app, action& todo) {
         ->check(CLI::IsMember({"pendulum", "kepler", "solar"}))
         ->delimiter(',')
         ->capture_default_str();
-    cmd->add_option("--schemes", o->schemes, "varsym schemes: newmark, simpson, lobatto-s, gauss-s")
+    cmd->add_option("--schemes", o->schemes,
+                    "varsym schemes: newmark, simpson, lobatto-s, gauss-s[/SOLVER[+previous]]")
         ->delimiter(',')
         ->capture_default_str();
     cmd->add_option("--compositions", o->compositions,

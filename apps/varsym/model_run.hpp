@@ -19,7 +19,7 @@ namespace varsym::cli {
 
 /// What a checkpoint keeps of a stepper and its state.
 struct saved_state {
-    std::vector<double> q, p, carry_q, carry_p;
+    std::vector<double> q, p, carry_q, carry_p, history;
 };
 
 /// The default bound of the energy watch (run_log.cpp): from the scheme's order and h·ω at the
@@ -116,7 +116,7 @@ class run_log {
 template <int D>
 saved_state save_state(const run_state<D>& r) {
     auto list = [](const auto& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
-    return {list(r.x.q), list(r.x.p), list(r.carry_q), list(r.carry_p)};
+    return {list(r.x.q), list(r.x.p), list(r.carry_q), list(r.carry_p), r.history};
 }
 
 /// Streams `step,t,<state columns><extra header>` rows for plan.steps steps from x, written every
@@ -175,6 +175,7 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
             r.x = phase_state<D>{as_vec(ck->q), as_vec(ck->p)};
             r.carry_q = as_vec(ck->carry_q);
             r.carry_p = as_vec(ck->carry_p);
+            r.history = ck->history;
             r.step = ck->step;
             r.stats.steps = ck->step;
             r.stats.newton_iterations = ck->newton_iterations;

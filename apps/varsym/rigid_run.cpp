@@ -32,7 +32,7 @@ lie::mat3 matrix_of(const std::vector<double>& v) {
 
 saved_state save(const lie::body_state& x, const lie::lgvi& stepper) {
     const auto list = [](const lie::vec3& v) { return std::vector<double>{v(0), v(1), v(2)}; };
-    return {rows_of(x.R), list(x.pi), rows_of(stepper.carry_R()), list(stepper.carry_pi())};
+    return {rows_of(x.R), list(x.pi), rows_of(stepper.carry_R()), list(stepper.carry_pi()), {}};
 }
 
 /// The angle of the rotation taking a to b [rad].

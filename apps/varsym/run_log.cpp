@@ -107,6 +107,7 @@ void run_log::write_checkpoint_to(const std::string& path, std::size_t j, const 
     ck.p = x.p;
     ck.carry_q = x.carry_q;
     ck.carry_p = x.carry_p;
+    ck.history = x.history;
     ck.newton_iterations = sum.newton_iterations;
     ck.newton_iterations_max = sum.newton_iterations_max;
     write_checkpoint(path, ck, replace);

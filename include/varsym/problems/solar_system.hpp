@@ -51,6 +51,9 @@ inline constexpr std::array<body, 6> bodies{{
 
 inline constexpr int dim = 3 * static_cast<int>(bodies.size());
 
+/// Jupiter's orbital period in days (the scale `varsym bench` counts steps per).
+inline constexpr double jupiter_period = 4332.59;
+
 using system = separable_system<dim, nbody::gravity<dim>>;
 
 inline std::vector<double> masses() {

@@ -1,5 +1,6 @@
 // varsym/run/state.hpp: the state of a run that a library user keeps, saves and resumes: (q, p),
-// the compensated-summation carries, the step index and the Newton statistics. A stepper put
+// the compensated-summation carries, the stepper's history (the previous step, for a predictor
+// that continues it), the step index and the Newton statistics. A stepper put
 // back into a saved run_state continues bit for bit as the uninterrupted run would have.
 #pragma once
 
@@ -7,6 +8,7 @@
 #include <cstddef>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 #include "varsym/integrate.hpp"
 #include "varsym/stepper.hpp"
@@ -21,6 +23,9 @@ struct run_state {
     std::size_t step = 0;    ///< j: x is the state at t_j = t0 + j h
     double t0 = 0.0;         ///< the time of step 0
     run_summary stats;       ///< Newton statistics of steps 1 … j
+    /// What else the stepper's next step depends on (galerkin::stepper::save_history: the
+    /// previous step's increments, a kept Jacobian's point); empty for most steppers and options.
+    std::vector<double> history;
 
     /// A run that starts at x at time t0, with no carries.
     static run_state start(const phase_state<D>& x, double t0 = 0.0) {
@@ -35,18 +40,30 @@ struct run_state {
     [[nodiscard]] double time(double h) const { return t0 + static_cast<double>(step) * h; }
 };
 
-/// Copies the stepper's carries into s (s.x, s.step and s.stats are kept by integrate_from).
+/// A stepper whose next step may also depend on its previous ones, and that hands that history
+/// over as numbers and takes it back.
+template <class S>
+concept history_stepper = requires(const S& cs, S& s, std::vector<double>& out,
+                                   const phase_state<S::dim>& x) {
+    cs.save_history(out);
+    s.restore_history(x, out);
+};
+
+/// Copies the stepper's carries and history into s (s.x, s.step and s.stats are kept by
+/// integrate_from).
 template <resumable_stepper S>
 void snapshot(S& stepper, run_state<S::dim>& s) {
     s.carry_q = stepper.summation().carry_q();
     s.carry_p = stepper.summation().carry_p();
+    if constexpr (history_stepper<S>) stepper.save_history(s.history);
 }
 
-/// Puts the stepper's compensated summation back into the state s was saved in, so that its
-/// next step from s.x is the step the saved run would have taken.
+/// Puts the stepper's compensated summation and history back into the state s was saved in, so
+/// that its next step from s.x is the step the saved run would have taken.
 template <resumable_stepper S>
 void restore(S& stepper, const run_state<S::dim>& s) {
     stepper.summation().restore(s.x, s.carry_q, s.carry_p);
+    if constexpr (history_stepper<S>) stepper.restore_history(s.x, s.history);
 }
 
 /// Calls an observer that returns bool (true: stop the run) or nothing (never stops).

@@ -10,12 +10,16 @@
 // (the paper's eq. LLhh is the case lobatto, s = 2; docs/design.md, "The family").
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
+#include "varsym/schemes/storage.hpp"
 #include "varsym/schemes/tableau.hpp"
 #include "varsym/solvers/compensated.hpp"
 #include "varsym/solvers/newton.hpp"
@@ -23,35 +27,23 @@
 
 namespace varsym::galerkin {
 
-namespace detail {
-/// A run-time-sized matrix bounded by MaxR × MaxC: stored inside the object (Eigen's fixed
-/// maximum sizes) when both bounds are known and the block is small, else on the heap, sized
-/// once by the stepper's constructor. Either way a step allocates nothing.
-template <int MaxR, int MaxC>
-constexpr bool inline_storage = MaxR != dynamic&& MaxC != dynamic&& MaxR* MaxC <= 1024;
-template <int MaxR, int MaxC>
-using bounded_matrix = std::conditional_t<
-    inline_storage<MaxR, MaxC>,
-    Eigen::Matrix<double, dynamic, dynamic,
-                  (MaxR == 1 && MaxC != 1) ? Eigen::RowMajor : Eigen::ColMajor, MaxR, MaxC>,
-    Eigen::MatrixXd>;
-template <int MaxN>
-using bounded_vector =
-    std::conditional_t<inline_storage<MaxN, 1>, Eigen::Matrix<double, dynamic, 1, 0, MaxN, 1>,
-                       Eigen::VectorXd>;
-/// d × k blocks of k ≤ MaxK columns (stage increments, gradients at the quadrature points).
-template <int D, int MaxK>
-using columns = Eigen::Matrix<double, D, dynamic, D == 1 ? Eigen::RowMajor : Eigen::ColMajor, D,
-                              D == dynamic ? dynamic : MaxK>;
-} // namespace detail
-
 /// One step solves, for the increments X_l = Q_l − q_j (l = 1 … s; X_0 = 0), the s·d equations
 ///   p_j + (1/h) Σ_l A_0l M X_l − h Σ_k w_k ℓ_0(c_k) ∇V(q_k) = 0     (p_j = −∂L_d/∂Q_0)
 ///         (1/h) Σ_l A_il M X_l − h Σ_k w_k ℓ_i(c_k) ∇V(q_k) = 0     (∂L_d/∂Q_i = 0, 0 < i < s)
-/// with q_k = q_j + Σ_l ℓ_l(c_k) X_l, by Newton with the exact Jacobian
+/// with q_k = q_j + Σ_l ℓ_l(c_k) X_l, whose Jacobian is
 ///   (1/h) A_il M − h Σ_k w_k ℓ_i(c_k) ℓ_l(c_k) ∇²V(q_k).
 /// Then q_{j+1} = q_j + X_s and p_{j+1} = ∂L_d/∂Q_s, which (the equations summed over i, with
 /// Σ_i A_il = 0 and Σ_i ℓ_i = 1) is p_j − h Σ_k w_k ∇V(q_k).
+///
+/// The iteration (newton_options::iteration): Newton with that Jacobian at every iterate (the
+/// default); simplified Newton, with ∇²V at one point for every q_k, factorised once and kept
+/// across steps while the updates contract by contraction_limit or faster; or the fixed point
+/// with the free particle's Jacobian (1/h) A ⊗ M, which needs no ∇²V and solves with A⁻¹ and
+/// M⁻¹. The last two converge linearly and stop only at the round-off floor (no model predicts
+/// their stop: a stop biased to one side tilts the map as a rounded table does). If they
+/// diverge or run out of iterations, the step is solved again by Newton. The start
+/// (newton_options::predictor): Taylor from (q_j, p_j), or the previous step's polynomial
+/// continued (tableau::extrapolation), state that save_history hands to a checkpoint.
 ///
 /// Round-off. The step is exactly symplectic only if these equations are exactly the derivatives
 /// of one L_d, so the coefficients are tableau::kinetic and tableau::wphi (A_0l and ℓ_0 derived
@@ -65,7 +57,7 @@ using columns = Eigen::Matrix<double, D, dynamic, D == 1 ? Eigen::RowMajor : Eig
 /// storage is bounded by max_degree and sized in the constructor, so a step allocates nothing
 /// (for a compile-time d; a run-time d allocates only what the system's own gradient and
 /// Hessian return). with_stepper runs lobatto-2 and gauss-1 on the reduced Simpson and Newmark
-/// steppers instead, which solve d × d rather than 2d × 2d.
+/// steppers instead, which solve d × d rather than 2d × 2d (always by Newton).
 template <separable System>
 class stepper {
   public:
@@ -91,6 +83,8 @@ class stepper {
         a_lo_ = tab_.kinetic.lo;
         u_ = tab_.wphi.hi;
         u_lo_ = tab_.wphi.lo;
+        ainv_ = tab_.kinetic.hi.inverse();
+        extrapolation_t_ = tab_.extrapolation.transpose();
         v_.resize(s, r);
         for (int k = 0; k < r; ++k) {
             for (int l = 0; l < s; ++l)
@@ -107,17 +101,23 @@ class stepper {
         }
         for (int l = 0; l < s; ++l)
             control_[l] = tab_.control[l + 1];
-        xm_.setZero(d, s);
-        mx_.setZero(d, s);
-        gu_.setZero(d, s);
+        for (auto* m : {&xm_, &mx_, &gu_, &previous_})
+            m->setZero(d, s);
         grads_.setZero(d, r);
         hess_.assign(static_cast<std::size_t>(r), mat<dim>::Zero(d, d));
         curvature_.setZero(r);
-        for (auto* v : {&grad_j_, &cached_q_, &q_j_, &qk_, &vel_, &acc_, &dp_})
+        for (auto* v : {&grad_j_, &cached_q_, &q_j_, &qk_, &vel_, &acc_, &dp_, &q_bar_})
             v->setZero(d);
         res_.setZero(n_);
         delta_.setZero(n_);
         jac_.setZero(n_, n_);
+        if (opt_.iteration == iteration_kind::simplified) jinv_.setZero(n_, n_);
+        if constexpr (!scalar_mass<System>) {
+            const auto& m = sys_.mass();
+            diagonal_mass_ = m.isDiagonal(0.0);
+            mass_diagonal_ = m.diagonal();
+            inverse_mass_diagonal_ = sys_.inverse_mass().diagonal();
+        }
         lu_ = Eigen::PartialPivLU<jacobian_type>(n_);
     }
 
@@ -127,43 +127,67 @@ class stepper {
     /// The compensated summation of the increments, whose carries a checkpoint keeps.
     [[nodiscard]] compensated_update<dim>& summation() { return sum_; }
 
+    /// What the next step depends on beyond (q, p) and the carries: with predictor `previous`,
+    /// whether a previous step is there to continue and its increments X (d·s numbers); with
+    /// iteration `simplified`, whether a Jacobian is kept and the point q̄ it was taken at (d).
+    /// Empty with the default options. run_state::history keeps it for a checkpoint.
+    void save_history(std::vector<double>& out) const {
+        out.clear();
+        if (opt_.predictor == predictor_kind::previous) {
+            out.push_back(continuable_ ? 1.0 : 0.0);
+            out.insert(out.end(), previous_.data(), previous_.data() + previous_.size());
+        }
+        if (opt_.iteration == iteration_kind::simplified) {
+            out.push_back(jac_kept_ ? 1.0 : 0.0);
+            out.insert(out.end(), q_bar_.data(), q_bar_.data() + q_bar_.size());
+        }
+    }
+    /// Puts back what save_history gave after the step that ended at x: the next step from x is
+    /// then the one that run would have taken; an empty history starts afresh. Throws
+    /// std::invalid_argument on another wrong length.
+    void restore_history(const phase_state<dim>& x, const std::vector<double>& in) {
+        continuable_ = jac_kept_ = false;
+        if (in.empty()) return;
+        const auto ps = static_cast<std::size_t>(previous_.size());
+        const auto d = static_cast<std::size_t>(sys_.dimension());
+        const bool prev = opt_.predictor == predictor_kind::previous;
+        const bool simp = opt_.iteration == iteration_kind::simplified;
+        const std::size_t want = (prev ? 1 + ps : 0) + (simp ? 1 + d : 0);
+        if (in.size() != want)
+            throw std::invalid_argument("the saved history has " + std::to_string(in.size()) +
+                                        " numbers where this stepper's options keep " +
+                                        std::to_string(want));
+        std::size_t at = 0;
+        if (prev) {
+            continuable_ = in[at++] != 0.0;
+            std::copy(in.begin() + static_cast<std::ptrdiff_t>(at),
+                      in.begin() + static_cast<std::ptrdiff_t>(at + ps), previous_.data());
+            at += ps;
+        }
+        if (simp) {
+            const bool kept = in[at++] != 0.0;
+            std::copy(in.begin() + static_cast<std::ptrdiff_t>(at), in.end(), q_bar_.data());
+            jac_kept_ = false;
+            if (kept) factor(q_bar_);
+        }
+        cached_q_ = x.q;
+        cache_valid_ = false;
+    }
+
     newton_report step(phase_state<dim>& x) {
         const auto& v = sys_.potential();
         const double h = h_;
-        const int s = s_, d = sys_.dimension();
+        const int s = s_;
+        const bool continues = continuable_ && cached_q_ == x.q;
         if (!cache_valid_ || cached_q_ != x.q) grad_j_ = v.gradient(x.q);
-        // Predictor: Taylor to second order, X_l ≈ d_l h M⁻¹p − (d_l h)²/2 M⁻¹∇V(q_j).
-        vel_.noalias() = sys_.inverse_mass() * x.p;
-        acc_.noalias() = sys_.inverse_mass() * grad_j_;
-        for (int l = 0; l < s; ++l) {
-            const double tl = control_[l] * h;
-            xm_.col(l) = tl * vel_ - (0.5 * tl * tl) * acc_;
+        newton_report rep = solve(x, opt_.iteration, continues);
+        if (!rep.converged && opt_.iteration != iteration_kind::newton) {
+            const int spent = rep.iterations;
+            rep = solve(x, iteration_kind::newton, false);
+            rep.iterations += spent;
         }
-        newton_options opt = opt_;
-        opt.typical = xm_.template lpNorm<Eigen::Infinity>();
-        opt.reference = x.q.template lpNorm<Eigen::Infinity>();
-        newton_monitor monitor(opt);
-        newton_report rep;
-        while (true) {
-            assemble(x);
-            rep.residual = res_.template lpNorm<Eigen::Infinity>();
-            if (monitor.exhausted()) return rep;
-            [[maybe_unused]] const bool small = varsym::detail::solve_small(
-                n_, jac_.data(), jac_.outerStride(), res_.data(), delta_.data());
-            // Eigen's LU only where n can exceed the small solve's limit (not compiled for d = 1).
-            if constexpr (max_unknowns == dynamic || max_unknowns > detail_small_limit) {
-                if (!small) {
-                    lu_.compute(jac_);
-                    delta_.noalias() = lu_.solve(res_);
-                }
-            }
-            const double step = delta_.template lpNorm<Eigen::Infinity>();
-            rep.iterations = monitor.iterations() + 1;
-            if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
-            xm_ -= Eigen::Map<const stage_matrix>(delta_.data(), d, s);
-            if (monitor.converged(step, xm_.template lpNorm<Eigen::Infinity>())) break;
-        }
-        rep.converged = true;
+        continuable_ = false;
+        if (!rep.converged) return rep;
         // p_{j+1} − p_j = −h Σ_k w_k ∇V(q_k) at the converged points. A point at c_k = 1 is the
         // new x.q, whose ∇V is kept as the next step's ∇V(q_j); a point at c_k = 0 is q_j.
         q_j_ = x.q;
@@ -179,8 +203,7 @@ class stepper {
             } else if (at_start_[k]) {
                 add_weighted(k, grad_j_);
             } else {
-                qk_ = q_j_;
-                qk_.noalias() += xm_.lazyProduct(v_.col(k));
+                detail::add_combination(qk_, q_j_, xm_, v_.col(k));
                 add_weighted(k, v.gradient(qk_));
             }
         }
@@ -189,6 +212,10 @@ class stepper {
         cache_valid_ = has_end;
         sum_.add_p(x, dp_);
         cached_q_ = x.q;
+        if (opt_.predictor == predictor_kind::previous) {
+            previous_ = xm_;
+            continuable_ = true;
+        }
         return rep;
     }
 
@@ -200,13 +227,128 @@ class stepper {
 
     static constexpr int max_unknowns = dim == dynamic ? dynamic : dim * max_degree;
     static constexpr int max_points = max_degree + 1;
-    static constexpr int detail_small_limit = varsym::detail::small_solve_limit;
+    static constexpr bool needs_lu =
+        max_unknowns == dynamic || max_unknowns > varsym::detail::small_solve_limit;
     using jacobian_type = detail::bounded_matrix<max_unknowns, max_unknowns>;
     using stage_matrix = detail::columns<dim, max_degree>;
     using point_matrix = detail::columns<dim, max_points>;
 
-    /// The residual R = (1/h) M X Aᵀ − h G Uᵀ + p_j e_0ᵀ and its Jacobian at the current X.
-    void assemble(const phase_state<dim>& x) {
+    /// The starting guess: the previous step's polynomial continued, or Taylor to second order,
+    /// X_l ≈ d_l h M⁻¹p − (d_l h)²/2 M⁻¹∇V(q_j).
+    void predict(const phase_state<dim>& x, bool continues) {
+        if (continues) {
+            detail::times_transpose(xm_, previous_, extrapolation_t_);
+            return;
+        }
+        apply_inverse_mass(vel_, x.p);
+        apply_inverse_mass(acc_, grad_j_);
+        for (int l = 0; l < s_; ++l) {
+            const double tl = control_[l] * h_;
+            xm_.col(l) = tl * vel_ - (0.5 * tl * tl) * acc_;
+        }
+    }
+
+    /// Solves the step's equations by `kind` from the predictor. A simplified Newton whose kept
+    /// Jacobian fails is refreshed at q_j and restarted once; one that contracted slower than
+    /// contraction_limit is refreshed at the next step.
+    newton_report solve(const phase_state<dim>& x, iteration_kind kind, bool continues) {
+        const bool simplified = kind == iteration_kind::simplified;
+        bool fresh = false;
+        if (simplified && !jac_kept_) {
+            factor(x.q);
+            fresh = true;
+        }
+        newton_report rep = iterate(x, kind, continues);
+        if (simplified && !fresh && !rep.converged) {
+            const int spent = rep.iterations;
+            factor(x.q);
+            rep = iterate(x, kind, continues);
+            rep.iterations += spent;
+        }
+        if (simplified) jac_kept_ = rep.converged && rate_ <= opt_.contraction_limit;
+        return rep;
+    }
+
+    newton_report iterate(const phase_state<dim>& x, iteration_kind kind, bool continues) {
+        const int s = s_, d = sys_.dimension();
+        predict(x, continues);
+        newton_options opt = opt_;
+        opt.typical = xm_.template lpNorm<Eigen::Infinity>();
+        opt.reference = x.q.template lpNorm<Eigen::Infinity>();
+        const bool newton = kind == iteration_kind::newton;
+        newton_monitor monitor(opt, !newton);
+        newton_report rep;
+        rate_ = 0.0;
+        while (true) {
+            residual(x, newton);
+            rep.residual = res_.template lpNorm<Eigen::Infinity>();
+            if (monitor.exhausted()) return rep;
+            if (kind == iteration_kind::fixed_point) {
+                // (1/h) M Δ Aᵀ = R: Δ = h M⁻¹ R A⁻ᵀ.
+                Eigen::Map<stage_matrix> dm(delta_.data(), d, s);
+                detail::times_transpose(gu_, Eigen::Map<const stage_matrix>(res_.data(), d, s),
+                                        ainv_);
+                if constexpr (scalar_mass<System>)
+                    dm = (h_ / sys_.mass()) * gu_;
+                else
+                    apply_inverse_mass(dm, h_ * gu_);
+            } else if (!newton) {
+                delta_.noalias() = jinv_ * res_;
+            } else {
+                jacobian();
+                linear_solve();
+            }
+            const double step = delta_.template lpNorm<Eigen::Infinity>();
+            rep.iterations = monitor.iterations() + 1;
+            if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
+            xm_ -= Eigen::Map<const stage_matrix>(delta_.data(), d, s);
+            if (monitor.converged(step, xm_.template lpNorm<Eigen::Infinity>())) break;
+            if (!newton && monitor.iterations() > 1) {
+                rate_ = std::max(rate_, monitor.rate());
+                if (monitor.rate() >= 1.0) return rep; // diverging: Newton takes over
+            }
+        }
+        rep.converged = true;
+        return rep;
+    }
+
+    /// delta = J⁻¹ res, J in jac_: the small solve, or Eigen's LU where n can exceed its limit
+    /// (not compiled for d = 1).
+    void linear_solve() {
+        [[maybe_unused]] const bool small = varsym::detail::solve_small(
+            n_, jac_.data(), jac_.outerStride(), res_.data(), delta_.data());
+        if constexpr (needs_lu) {
+            if (!small) {
+                lu_.compute(jac_);
+                delta_.noalias() = lu_.solve(res_);
+            }
+        }
+    }
+
+    /// The simplified Newton's Jacobian, with ∇²V(q̄) at every point, inverted once.
+    void factor(const vec<dim>& q_bar) {
+        q_bar_ = q_bar;
+        const mat<dim> hbar = sys_.potential().hessian(q_bar_);
+        for (int a = 0; a < n_active_; ++a)
+            hess_[active_[a]] = hbar;
+        jacobian();
+        if (n_ <= varsym::detail::small_solve_limit) {
+            for (int c = 0; c < n_; ++c) {
+                res_.setZero();
+                res_(c) = 1.0;
+                varsym::detail::solve_small(n_, jac_.data(), jac_.outerStride(), res_.data(),
+                                            jinv_.col(c).data());
+            }
+        } else if constexpr (needs_lu) {
+            lu_.compute(jac_);
+            jinv_ = lu_.inverse();
+        }
+        jac_kept_ = true;
+    }
+
+    /// The residual R = (1/h) M X Aᵀ − h G Uᵀ + p_j e_0ᵀ at the current X; with `hessians`, also
+    /// ∇²V at the moving points for jacobian().
+    void residual(const phase_state<dim>& x, bool hessians) {
         const auto& v = sys_.potential();
         const int s = s_, d = sys_.dimension();
         for (int k = 0; k < r_; ++k) {
@@ -217,27 +359,36 @@ class stepper {
         }
         for (int a = 0; a < n_active_; ++a) {
             const int k = active_[a];
-            qk_ = x.q;
-            qk_.noalias() += xm_.lazyProduct(v_.col(k));
+            detail::add_combination(qk_, x.q, xm_, v_.col(k));
             grads_.col(k) = v.gradient(qk_);
-            hess_[k] = v.hessian(qk_);
+            if (hessians) hess_[k] = v.hessian(qk_);
         }
         Eigen::Map<stage_matrix> rm(res_.data(), d, s);
         if constexpr (scalar_mass<System>)
             mx_ = sys_.mass() * xm_;
+        else if (diagonal_mass_)
+            mx_.noalias() = mass_diagonal_.asDiagonal() * xm_;
         else
             mx_.noalias() = sys_.mass() * xm_;
         // Coefficient-based (lazy) products: these blocks have at most max_degree + 1 columns,
         // where Eigen's run-time choice of a blocked product costs more than the product.
-        rm.noalias() = mx_.lazyProduct(a_.transpose());
-        rm.noalias() += mx_.lazyProduct(a_lo_.transpose());
+        // The low parts' products are summed apart and added once (each low term added to the
+        // running sum of the high ones would mostly be rounded away).
+        detail::times_transpose(rm, mx_, a_);
+        detail::times_transpose(gu_, mx_, a_lo_);
+        rm += gu_;
         rm *= hinv_;
-        gu_.noalias() = grads_.lazyProduct(u_.transpose());
-        gu_.noalias() += grads_.lazyProduct(u_lo_.transpose());
+        detail::times_transpose(gu_, grads_, u_);
+        detail::times_transpose(mx_, grads_, u_lo_);
+        gu_ += mx_;
         rm.noalias() -= h_ * gu_;
         rm.col(0) += x.p;
+    }
+
+    /// J = (1/h) A ⊗ M − h Σ_k (U_k V_kᵀ) ⊗ hess_[k] into jac_.
+    void jacobian() {
+        const int s = s_, d = sys_.dimension();
         if (d == 1) {
-            // d = 1: J = (m/h) A − h U diag(∇²V(q_k)) Vᵀ.
             curvature_.setZero();
             for (int a = 0; a < n_active_; ++a)
                 curvature_(active_[a]) = hess_[active_[a]](0, 0);
@@ -267,6 +418,17 @@ class stepper {
             }
     }
 
+    /// out = M⁻¹ in; a diagonal M (an N-body system's) as its diagonal, not a d × d product.
+    template <class Out, class In>
+    void apply_inverse_mass(Out&& out, const In& in) const {
+        if constexpr (scalar_mass<System>)
+            out = sys_.inverse_mass() * in;
+        else if (diagonal_mass_)
+            out.noalias() = inverse_mass_diagonal_.asDiagonal() * in;
+        else
+            out.noalias() = sys_.inverse_mass() * in;
+    }
+
     [[nodiscard]] double mass_entry() const {
         if constexpr (scalar_mass<System>)
             return sys_.mass();
@@ -279,21 +441,27 @@ class stepper {
     newton_options opt_;
     tableau tab_;
     int s_ = 0, r_ = 0, n_ = 0;
-    detail::bounded_matrix<max_degree, max_degree> a_, a_lo_;
+    detail::bounded_matrix<max_degree, max_degree> a_, a_lo_, ainv_, extrapolation_t_;
     detail::bounded_matrix<max_degree, max_points> u_, u_lo_, v_;
     std::array<int, max_points> active_{};
     int n_active_ = 0;
     std::array<bool, max_points> at_start_{}, at_end_{};
     std::array<double, max_points> weight_{}, weight_lo_{};
     std::array<double, max_degree> control_{};
-    stage_matrix xm_, mx_, gu_;
+    stage_matrix xm_, mx_, gu_, previous_;
     point_matrix grads_;
     std::vector<mat<dim>> hess_;
     detail::bounded_vector<max_points> curvature_;
-    vec<dim> grad_j_, cached_q_, q_j_, qk_, vel_, acc_, dp_;
+    vec<dim> grad_j_, cached_q_, q_j_, qk_, vel_, acc_, dp_, q_bar_;
+    bool diagonal_mass_ = false;
+    vec<dim> mass_diagonal_, inverse_mass_diagonal_;
     bool cache_valid_ = false;
+    bool continuable_ =
+        false;              ///< previous_ holds the increments of the step that ended at cached_q_
+    bool jac_kept_ = false; ///< jinv_ holds the simplified Jacobian at q_bar_, inverted
+    double rate_ = 0.0;     ///< the largest contraction rate of the last linear iteration
     detail::bounded_vector<max_unknowns> res_, delta_;
-    jacobian_type jac_;
+    jacobian_type jac_, jinv_;
     Eigen::PartialPivLU<jacobian_type> lu_;
     compensated_update<dim> sum_;
 };

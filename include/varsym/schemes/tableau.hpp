@@ -54,6 +54,10 @@ struct tableau {
     /// over 10⁵ pendulum periods at gauss-6, h = T/20).
     split kinetic, wphi, wdphi;
     std::vector<double> weights_lo;
+    /// The previous step's polynomial continued over the next step, in increments (s × s):
+    /// X_next = X_prev E with E(m−1, l−1) = ℓ_m(1 + d_l) − [m = s] (m, l = 1 … s), since
+    /// q(t_j + d_l h) − q_j = Σ_m ℓ_m(1 + d_l) X_prev,m − X_prev,s. A starting guess only.
+    Eigen::MatrixXd extrapolation;
 
     /// Builds the tables in long double (64-bit mantissa) and rounds each entry once to double,
     /// so that their errors stay at half an ulp: the scheme's period is then right to ~1 ulp.
@@ -82,6 +86,15 @@ struct tableau {
                 dphi(i, k) = slope;
             }
         if (kind == rule_kind::lobatto) phi.setIdentity(); // c_k = d_k: ℓ_i(c_k) = δ_ik exactly
+        matrix_ld extrapolation(s, s);
+        for (int m = 1; m <= s; ++m)
+            for (int l = 1; l <= s; ++l) {
+                const LD x = 1 + control[l];
+                LD value = 1;
+                for (int n = 0; n <= s; ++n)
+                    if (n != m) value *= (x - control[n]) / (control[m] - control[n]);
+                extrapolation(m - 1, l - 1) = value - (m == s ? 1 : 0);
+            }
         matrix_ld weights = matrix_ld::Zero(r, r);
         for (Eigen::Index k = 0; k < r; ++k)
             weights(k, k) = quad.weights[k];
@@ -98,6 +111,7 @@ struct tableau {
         t.dphi = dphi.cast<double>();
         t.stiffness = stiffness.cast<double>();
         t.dphi_lo = (dphi - t.dphi.cast<LD>()).cast<double>();
+        t.extrapolation = extrapolation.cast<double>();
         t.make_step_coefficients(stiffness, dphi, quad.weights);
         return t;
     }

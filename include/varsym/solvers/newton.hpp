@@ -9,6 +9,22 @@
 
 namespace varsym {
 
+/// How the family stepper (schemes/galerkin.hpp) iterates on a step's equations; every choice
+/// solves the same equations to round-off (the other steppers always use Newton).
+enum class iteration_kind {
+    newton,      ///< exact Jacobian, evaluated and factorised at every iterate
+    simplified,  ///< Jacobian at one point, factorised once and kept across steps while the
+                 ///< iterations contract fast (contraction_limit), refreshed at q_j when not
+    fixed_point, ///< the free particle's Jacobian (1/h) A ⊗ M: no second derivatives at all
+};
+
+/// Where the iteration starts.
+enum class predictor_kind {
+    taylor,   ///< second-order Taylor from (q_j, p_j): stateless
+    previous, ///< the previous step's polynomial extrapolated: O(h^(s+1)), but state a resumed
+              ///< run must restore (run_state::history)
+};
+
 /// When Newton stops. The default asks for machine precision: the update must fall below
 /// `tolerance` relative to max(|x|, typical) in the max norm. `typical` is the size the unknown
 /// is expected to have (solvers set it from their starting guess when they solve for small
@@ -20,6 +36,11 @@ struct newton_options {
     /// Size of the value the unknown is an increment of (|q_j| when solving for q − q_j), or 0.
     /// Updates that stall below round-off of that value cannot matter once it is added.
     double reference = 0.0;
+    iteration_kind iteration = iteration_kind::newton;
+    predictor_kind predictor = predictor_kind::taylor;
+    /// simplified: the kept Jacobian is refreshed when an iteration's update shrinks by less
+    /// than this factor (the observed contraction rate).
+    double contraction_limit = 0.125;
 };
 
 /// What one Newton solve did. `iterations` counts linear solves (one per Jacobian).
@@ -33,19 +54,22 @@ struct newton_report {
 /// max-norm |δ_k| to an unknown of max-norm |x|, with scale = tol · max(|x|, typical), it
 /// reports convergence when
 ///  - |δ_k| ≤ scale, or
-///  - the quadratic model predicts the next update below scale (|δ_k|³/|δ_{k−1}|² ≤ scale),
+///  - the quadratic model predicts the next update below scale (|δ_k|³/|δ_{k−1}|² ≤ scale; not
+///    for a linearly converging iteration, `linear`, whose stop must not depend on a model),
 ///  - or the updates stop decreasing once already tiny: the round-off floor, |δ_k| ≥ |δ_{k−1}|/2
 ///    with |δ_k| ≤ 64 ε max(|x|, typical, reference), whatever the tolerance asked for.
 class newton_monitor {
   public:
-    explicit newton_monitor(const newton_options& opt) : opt_(opt) {}
+    explicit newton_monitor(const newton_options& opt, bool linear = false)
+        : opt_(opt), linear_(linear) {}
     bool converged(double step, double size) {
         ++iterations_;
+        rate_ = step / previous_;
         const double magnitude = std::max(opt_.typical, size);
         const double scale = opt_.tolerance * magnitude;
         const bool tiny = step <= scale;
         const bool predicted =
-            iterations_ > 1 && step * step * step <= scale * previous_ * previous_;
+            !linear_ && iterations_ > 1 && step * step * step <= scale * previous_ * previous_;
         const bool floor = iterations_ > 1 && step >= 0.5 * previous_ &&
                            step <= 64.0 * std::numeric_limits<double>::epsilon() *
                                        std::max(magnitude, opt_.reference);
@@ -54,9 +78,13 @@ class newton_monitor {
     }
     [[nodiscard]] int iterations() const { return iterations_; }
     [[nodiscard]] bool exhausted() const { return iterations_ >= opt_.max_iterations; }
+    /// |δ_k|/|δ_{k−1}| of the last update that did not converge (0 before the second).
+    [[nodiscard]] double rate() const { return iterations_ > 1 ? rate_ : 0.0; }
 
   private:
     newton_options opt_;
+    bool linear_ = false;
+    double rate_ = 0.0;
     int iterations_ = 0;
     double previous_ = std::numeric_limits<double>::infinity();
 };

@@ -1,0 +1,187 @@
+// tests/schemes/test_iteration.cpp: the family stepper's iterations and predictors
+// (newton_options::iteration, ::predictor). The reference is the stepper's own full Newton
+// with the Taylor predictor: every variant must solve the same equations to the same round-off
+// floor, so from the same state its step may differ only by round-off (the bound,
+// 1e-13 relative to the state, is ~500 ulp). Negative controls show that the comparison sees a
+// step stopped early and that a resume without the history is not bit for bit.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+#include "varsym/problems/kepler.hpp"
+#include "varsym/problems/pendulum.hpp"
+#include "varsym/problems/solar_system.hpp"
+#include "varsym/run/state.hpp"
+#include "varsym/schemes/galerkin.hpp"
+
+using namespace varsym;
+using galerkin::rule_kind;
+
+namespace {
+
+struct variant {
+    iteration_kind iteration;
+    predictor_kind predictor;
+};
+const std::vector<variant> variants = {{iteration_kind::newton, predictor_kind::previous},
+                                       {iteration_kind::simplified, predictor_kind::taylor},
+                                       {iteration_kind::simplified, predictor_kind::previous},
+                                       {iteration_kind::fixed_point, predictor_kind::taylor},
+                                       {iteration_kind::fixed_point, predictor_kind::previous}};
+
+newton_options options_of(const variant& v) {
+    newton_options o;
+    o.iteration = v.iteration;
+    o.predictor = v.predictor;
+    return o;
+}
+
+/// Steps n times with `opt` from x0; before each step, Newton (Taylor start) steps from the same
+/// state. Returns the largest difference of the two steps relative to max(1, |q|, |p|), and the
+/// mean iterations per step of `opt`.
+template <class System>
+std::pair<double, double> step_difference(const System& sys, phase_state<System::dim> x, double h,
+                                          rule_kind kind, int s, const newton_options& opt, int n) {
+    galerkin::stepper<System> tried(sys, h, kind, s, opt), newton(sys, h, kind, s, {});
+    double worst = 0.0, iterations = 0.0;
+    for (int j = 0; j < n; ++j) {
+        phase_state<System::dim> y = x;
+        EXPECT_TRUE(newton.step(y).converged);
+        const newton_report rep = tried.step(x);
+        EXPECT_TRUE(rep.converged);
+        iterations += rep.iterations;
+        const double scale = std::max(
+            {1.0, x.q.template lpNorm<Eigen::Infinity>(), x.p.template lpNorm<Eigen::Infinity>()});
+        worst = std::max({worst, (x.q - y.q).template lpNorm<Eigen::Infinity>() / scale,
+                          (x.p - y.p).template lpNorm<Eigen::Infinity>() / scale});
+    }
+    return {worst, iterations / n};
+}
+
+template <class System>
+void expect_same_steps(const char* name, const System& sys, const phase_state<System::dim>& x0,
+                       double h, int n) {
+    for (rule_kind kind : {rule_kind::gauss, rule_kind::lobatto})
+        for (int s = kind == rule_kind::gauss ? 2 : 3; s <= 6; ++s)
+            for (const variant& v : variants) {
+                const auto [diff, its] = step_difference(sys, x0, h, kind, s, options_of(v), n);
+                EXPECT_LE(diff, 1e-13)
+                    << name << (kind == rule_kind::gauss ? " gauss-" : " lobatto-") << s
+                    << " iteration " << static_cast<int>(v.iteration) << " predictor "
+                    << static_cast<int>(v.predictor);
+            }
+}
+
+} // namespace
+
+TEST(Iteration, EveryVariantTakesNewtonsSteps) {
+    // The pendulum from q0 = π/2 at 20 steps per period, Kepler e = 0.6 at 100 steps per orbit
+    // (through pericentre, where the step is hardest), and the outer solar system at 40 steps
+    // per Jupiter period (d = 18).
+    const double pendulum_period =
+        pendulum::exact_solution(1.0, 2 * std::numbers::pi, std::numbers::pi / 2, 0.0).period();
+    expect_same_steps("pendulum", pendulum::make_system(1.0, 2 * std::numbers::pi),
+                      phase_state<1>{vec<1>{std::numbers::pi / 2}, vec<1>{0.0}},
+                      pendulum_period / 20, 60);
+    const kepler::orbit orbit(0.6, 1.0);
+    expect_same_steps("kepler", kepler::make_system(), orbit.at(0.0L), orbit.period() / 100, 120);
+    expect_same_steps("solar", solar_system::make_system(), solar_system::initial_state(),
+                      solar_system::jupiter_period / 40, 40);
+}
+
+TEST(Iteration, ComparisonSeesAStepStoppedEarly) {
+    // Negative control: the fixed point told to stop at a 1e-6 update leaves the step's
+    // equations unsolved by far more than the bound above.
+    newton_options loose = options_of({iteration_kind::fixed_point, predictor_kind::taylor});
+    loose.tolerance = 1e-6;
+    const kepler::orbit orbit(0.6, 1.0);
+    const auto [diff, its] = step_difference(kepler::make_system(), orbit.at(0.0L),
+                                             orbit.period() / 100, rule_kind::gauss, 4, loose, 50);
+    EXPECT_GT(diff, 1e-13);
+}
+
+TEST(Iteration, PreviousStepPredictorSavesIterations) {
+    // The previous step's polynomial continued is O(h^(s+1)) where Taylor is O(h³): the linear
+    // iterations need fewer sweeps from it (a predictor silently not used would fail this).
+    const kepler::orbit orbit(0.6, 1.0);
+    for (iteration_kind it : {iteration_kind::simplified, iteration_kind::fixed_point}) {
+        const auto sys = kepler::make_system();
+        const double h = orbit.period() / 200;
+        const auto taylor = step_difference(sys, orbit.at(0.0L), h, rule_kind::gauss, 5,
+                                            options_of({it, predictor_kind::taylor}), 200);
+        const auto previous = step_difference(sys, orbit.at(0.0L), h, rule_kind::gauss, 5,
+                                              options_of({it, predictor_kind::previous}), 200);
+        EXPECT_LT(previous.second, taylor.second - 0.5) << static_cast<int>(it);
+    }
+}
+
+TEST(Iteration, DivergingFixedPointFallsBackToNewton) {
+    // The oscillator at h ω = 3: the fixed point's iteration matrix, O((h ω)²), has a rate above
+    // 1, so it diverges; the step is then Newton's, at the cost of the iterations spent.
+    const separable_system<1, test::harmonic> sys(mat<1>{1.0}, test::harmonic{1.0});
+    const phase_state<1> x0{vec<1>{1.0}, vec<1>{0.0}};
+    galerkin::stepper newton(sys, 3.0, rule_kind::gauss, 3);
+    galerkin::stepper fixed(sys, 3.0, rule_kind::gauss, 3,
+                            options_of({iteration_kind::fixed_point, predictor_kind::taylor}));
+    phase_state<1> a = x0, b = x0;
+    const newton_report ra = newton.step(a), rb = fixed.step(b);
+    ASSERT_TRUE(ra.converged);
+    ASSERT_TRUE(rb.converged);
+    EXPECT_GT(rb.iterations, ra.iterations + 1); // the diverging sweeps, then Newton's
+    EXPECT_NEAR(b.q(0), a.q(0), 1e-14);
+    EXPECT_NEAR(b.p(0), a.p(0), 1e-14);
+}
+
+TEST(Iteration, ExtrapolationContinuesPolynomialsOfDegreeS) {
+    // q(t) = t^k on the previous step [0, 1] (k ≤ s), increments X_m = q(d_m) − q(0), continued
+    // to 1 + d_l: exact, so Σ_m E(m, l) X_m = q(1 + d_l) − q(1), to round-off of entries of
+    // size up to ~1e3.
+    for (rule_kind kind : {rule_kind::gauss, rule_kind::lobatto})
+        for (int s = 1; s <= 6; ++s) {
+            const galerkin::tableau t = galerkin::tableau::make(kind, s);
+            for (int k = 0; k <= s; ++k)
+                for (int l = 1; l <= s; ++l) {
+                    double sum = 0.0;
+                    for (int m = 1; m <= s; ++m)
+                        sum += t.extrapolation(m - 1, l - 1) *
+                               (std::pow(t.control[m], k) - std::pow(0.0, k));
+                    const double exact = std::pow(1.0 + t.control[l], k) - 1.0;
+                    EXPECT_NEAR(sum, exact, 1e-11 * std::pow(2.0, k))
+                        << "s = " << s << ", k = " << k << ", l = " << l;
+                }
+        }
+}
+
+TEST(Iteration, HistoryMakesAResumeBitForBit) {
+    // gauss-4 on Kepler with the previous-step predictor and a kept Jacobian: 300 steps straight,
+    // or 137, a run_state saved and restored into a new stepper, and the rest.
+    const kepler::orbit orbit(0.6, 1.0);
+    const auto sys = kepler::make_system();
+    const double h = orbit.period() / 100;
+    const newton_options opt = options_of({iteration_kind::simplified, predictor_kind::previous});
+    auto make = [&] { return galerkin::stepper(sys, h, rule_kind::gauss, 4, opt); };
+    auto quiet = [](const auto&) {};
+    auto straight = make();
+    auto a = run_state<2>::start(orbit.at(0.0L));
+    ASSERT_TRUE(integrate_from(straight, a, 300, quiet));
+    auto first = make();
+    auto b = run_state<2>::start(orbit.at(0.0L));
+    integrate_from(first, b, 137, quiet);
+    EXPECT_EQ(b.history.size(), 1U + 2 * 4 + 1 + 2);
+    for (bool with_history : {true, false}) {
+        auto c = b;
+        if (!with_history) c.history.clear();
+        auto second = make();
+        restore(second, c);
+        integrate_from(second, c, 300, quiet);
+        const bool same = a.x.q == c.x.q && a.x.p == c.x.p &&
+                          a.stats.newton_iterations == c.stats.newton_iterations;
+        // Negative control: without the history the run restarts its predictor and Jacobian,
+        // which changes its iterations and its last bits.
+        EXPECT_EQ(same, with_history) << (with_history ? "with" : "without") << " history";
+    }
+}
