@@ -49,13 +49,10 @@ scheme_spec parse_spec(const std::string& label) {
     return {*kind, s};
 }
 
-/// The solver after a '/' in a --schemes entry: ITERATION[+previous] (newton, simplified,
-/// fixed-point), e.g. gauss-4/fixed-point+previous. None: Newton from the Taylor predictor.
-newton_options parse_solver(const std::string& label) {
+/// A solver name: ITERATION[+previous] (newton, simplified, fixed-point), as after the '/' in a
+/// --schemes entry (gauss-4/fixed-point+previous) or in --solver.
+newton_options parse_solver(std::string solver, const std::string& where) {
     newton_options opt;
-    const auto slash = label.find('/');
-    if (slash == std::string::npos) return opt;
-    std::string solver = label.substr(slash + 1);
     if (solver.ends_with("+previous")) {
         opt.predictor = predictor_kind::previous;
         solver.resize(solver.size() - 9);
@@ -65,8 +62,7 @@ newton_options parse_solver(const std::string& label) {
     else if (solver == "fixed-point")
         opt.iteration = iteration_kind::fixed_point;
     else if (solver != "newton")
-        throw usage_error("--schemes: in " + shown(label) +
-                          ", the solver after '/' must be newton, simplified or fixed-point, "
+        throw usage_error(where + ": the solver must be newton, simplified or fixed-point, " +
                           "optionally followed by +previous");
     return opt;
 }
@@ -161,11 +157,14 @@ template <class System, class Energy>
 void add_varsym_methods(bench_problem& b, const bench_selection& selection, const System& sys,
                         const phase_state<System::dim>& x0, const Energy& energy) {
     for (const std::string& label : selection.schemes) {
-        const scheme_spec spec = parse_spec(label.substr(0, label.find('/')));
-        const newton_options opt = parse_solver(label);
-        const std::string name = label.find('/') == std::string::npos
-                                     ? spec.label()
-                                     : spec.label() + label.substr(label.find('/'));
+        const auto slash = label.find('/');
+        const scheme_spec spec = parse_spec(label.substr(0, slash));
+        const newton_options opt =
+            slash == std::string::npos
+                ? parse_solver(selection.solver, "--solver")
+                : parse_solver(label.substr(slash + 1), "--schemes: in " + shown(label));
+        const std::string name =
+            slash == std::string::npos ? spec.label() : spec.label() + label.substr(slash);
         b.methods.push_back({name, spec.order(), false, [=](std::size_t n, double h, bool observe) {
                                  return with_stepper(spec, sys, h, opt, [&](auto& st) {
                                      return run_stepper(st, x0, n, observe, energy);

@@ -42,6 +42,9 @@ struct bench_problem {
 /// compositions of Störmer–Verlet (yoshida-6, kahan-li-6, kahan-li-8).
 struct bench_selection {
     std::vector<std::string> schemes, compositions;
+    /// The solver of the family members that do not name one (SCHEME/SOLVER): newton,
+    /// simplified or fixed-point, optionally +previous.
+    std::string solver = "newton";
 };
 
 /// The pendulum from q₀ at rest (ω = 2π, m = 1; named "pendulum" at the paper's q₀ = π/2,

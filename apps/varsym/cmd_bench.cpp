@@ -22,6 +22,7 @@ struct bench_options {
                                      "lobatto-5", "lobatto-6", "gauss-2",   "gauss-3",
                                      "gauss-4",   "gauss-5",   "gauss-6"};
     std::vector<std::string> compositions{"yoshida-6", "kahan-li-8"};
+    std::string solver = "fixed-point+previous";
     std::vector<double> q0{std::numbers::pi / 2, 2.5};
     std::vector<int> steps{25, 50, 100, 200, 400, 800};
     std::vector<int> kepler_steps{100, 200, 400, 800, 1600, 3200};
@@ -238,7 +239,7 @@ void bench(const bench_options& o) {
     output_file out(o.output); // before the work: a conflict is refused at once
     std::vector<row> rows;
     std::vector<std::string> problems;
-    bench_selection selection{o.schemes, {}};
+    bench_selection selection{o.schemes, {}, o.solver};
     for (const std::string& c : o.compositions)
         if (c != "none") selection.compositions.push_back(c);
     auto run = [&](const bench_problem& b, const std::vector<int>& steps, double runs) {
@@ -283,9 +284,9 @@ void add_bench_command(CLI::App& app, action& todo) {
         "order. Times are for this machine at this moment: compare ratios, not absolute times.\n"
         "Odeint's steppers: velocity_verlet (order 2), symplectic_rkn_sb3a_mclachlan and\n"
         "symplectic_rkn_sb3a_m4_mclachlan (order 4); explicit compositions of Stormer-Verlet:\n"
-        "Yoshida's order 6 (9 stages) and Kahan & Li's orders 6 (9) and 8 (17 stages). A scheme\n"
-        "may name its solver after '/': newton (the default), simplified or fixed-point, and\n"
-        "+previous to start from the previous step (e.g. gauss-4/fixed-point+previous).\n"
+        "Yoshida's order 6 (9 stages) and Kahan & Li's orders 6 (9) and 8 (17 stages). The\n"
+        "family's members solve their steps by --solver, or by the solver named after '/'\n"
+        "(e.g. --schemes gauss-4/newton,gauss-4 compares Newton with the default).\n"
         "The text table ends with the cheapest us per period at errors 1e-6 to 1e-12.\n\n"
         "Examples:\n"
         "  varsym bench                                  # everything (about 10 minutes)\n"
@@ -298,6 +299,11 @@ void add_bench_command(CLI::App& app, action& todo) {
     cmd->add_option("--schemes", o->schemes,
                     "varsym schemes: newmark, simpson, lobatto-s, gauss-s[/SOLVER[+previous]]")
         ->delimiter(',')
+        ->capture_default_str();
+    cmd->add_option("--solver", o->solver,
+                    "How lobatto-s (s >= 3) and gauss-s (s >= 2) solve their steps unless named "
+                    "in --schemes: newton, simplified or fixed-point, +previous to start from "
+                    "the previous step (simpson and newmark always use Newton on d x d)")
         ->capture_default_str();
     cmd->add_option("--compositions", o->compositions,
                     "Explicit compositions of Stormer-Verlet run beside them: yoshida-6, "

@@ -40,8 +40,8 @@ namespace varsym::galerkin {
 /// across steps while the updates contract by contraction_limit or faster; or the fixed point
 /// with the free particle's Jacobian (1/h) A ⊗ M, which needs no ∇²V and solves with A⁻¹ and
 /// M⁻¹. The last two converge linearly and stop only at the round-off floor (no model predicts
-/// their stop: a stop biased to one side tilts the map as a rounded table does). If they
-/// diverge or run out of iterations, the step is solved again by Newton. The start
+/// their stop: a stop biased to one side tilts the map as a rounded table does). If an update
+/// shrinks by less than half (diverging, or too slow), the step is solved again by Newton. The start
 /// (newton_options::predictor): Taylor from (q_j, p_j), or the previous step's polynomial
 /// continued (tableau::extrapolation), state that save_history hands to a checkpoint.
 ///
@@ -305,7 +305,8 @@ class stepper {
             if (monitor.converged(step, xm_.template lpNorm<Eigen::Infinity>())) break;
             if (!newton && monitor.iterations() > 1) {
                 rate_ = std::max(rate_, monitor.rate());
-                if (monitor.rate() >= 1.0) return rep; // diverging: Newton takes over
+                // Diverging, or so slow that Newton is cheaper: Newton takes over.
+                if (monitor.rate() > 0.5) return rep;
             }
         }
         rep.converged = true;
