@@ -22,7 +22,7 @@ struct bench_options {
                                      "lobatto-5", "lobatto-6", "gauss-2",   "gauss-3",
                                      "gauss-4",   "gauss-5",   "gauss-6"};
     std::vector<std::string> compositions{"yoshida-6", "kahan-li-8"};
-    std::string solver = "fixed-point+previous";
+    std::string solver = "fixed-point";
     std::vector<double> q0{std::numbers::pi / 2, 2.5};
     std::vector<int> steps{25, 50, 100, 200, 400, 800};
     std::vector<int> kepler_steps{100, 200, 400, 800, 1600, 3200};

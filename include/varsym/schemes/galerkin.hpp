@@ -41,8 +41,8 @@ namespace varsym::galerkin {
 /// with the free particle's Jacobian (1/h) A ⊗ M, which needs no ∇²V and solves with A⁻¹ and
 /// M⁻¹. The last two converge linearly and stop only at the round-off floor (no model predicts
 /// their stop: a stop biased to one side tilts the map as a rounded table does). If an update
-/// shrinks by less than half (diverging, or too slow), the step is solved again by Newton. The start
-/// (newton_options::predictor): Taylor from (q_j, p_j), or the previous step's polynomial
+/// shrinks by less than half (diverging, or too slow), the step is solved again by Newton. The
+/// start (newton_options::predictor): Taylor from (q_j, p_j), or the previous step's polynomial
 /// continued (tableau::extrapolation), state that save_history hands to a checkpoint.
 ///
 /// Round-off. The step is exactly symplectic only if these equations are exactly the derivatives
@@ -251,173 +251,18 @@ class stepper {
     /// Solves the step's equations by `kind` from the predictor. A simplified Newton whose kept
     /// Jacobian fails is refreshed at q_j and restarted once; one that contracted slower than
     /// contraction_limit is refreshed at the next step.
-    newton_report solve(const phase_state<dim>& x, iteration_kind kind, bool continues) {
-        const bool simplified = kind == iteration_kind::simplified;
-        bool fresh = false;
-        if (simplified && !jac_kept_) {
-            factor(x.q);
-            fresh = true;
-        }
-        newton_report rep = iterate(x, kind, continues);
-        if (simplified && !fresh && !rep.converged) {
-            const int spent = rep.iterations;
-            factor(x.q);
-            rep = iterate(x, kind, continues);
-            rep.iterations += spent;
-        }
-        if (simplified) jac_kept_ = rep.converged && rate_ <= opt_.contraction_limit;
-        return rep;
-    }
-
-    newton_report iterate(const phase_state<dim>& x, iteration_kind kind, bool continues) {
-        const int s = s_, d = sys_.dimension();
-        predict(x, continues);
-        newton_options opt = opt_;
-        opt.typical = xm_.template lpNorm<Eigen::Infinity>();
-        opt.reference = x.q.template lpNorm<Eigen::Infinity>();
-        const bool newton = kind == iteration_kind::newton;
-        newton_monitor monitor(opt, !newton);
-        newton_report rep;
-        rate_ = 0.0;
-        while (true) {
-            residual(x, newton);
-            rep.residual = res_.template lpNorm<Eigen::Infinity>();
-            if (monitor.exhausted()) return rep;
-            if (kind == iteration_kind::fixed_point) {
-                // (1/h) M Δ Aᵀ = R: Δ = h M⁻¹ R A⁻ᵀ.
-                Eigen::Map<stage_matrix> dm(delta_.data(), d, s);
-                detail::times_transpose(gu_, Eigen::Map<const stage_matrix>(res_.data(), d, s),
-                                        ainv_);
-                if constexpr (scalar_mass<System>)
-                    dm = (h_ / sys_.mass()) * gu_;
-                else
-                    apply_inverse_mass(dm, h_ * gu_);
-            } else if (!newton) {
-                delta_.noalias() = jinv_ * res_;
-            } else {
-                jacobian();
-                linear_solve();
-            }
-            const double step = delta_.template lpNorm<Eigen::Infinity>();
-            rep.iterations = monitor.iterations() + 1;
-            if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
-            xm_ -= Eigen::Map<const stage_matrix>(delta_.data(), d, s);
-            if (monitor.converged(step, xm_.template lpNorm<Eigen::Infinity>())) break;
-            if (!newton && monitor.iterations() > 1) {
-                rate_ = std::max(rate_, monitor.rate());
-                // Diverging, or so slow that Newton is cheaper: Newton takes over.
-                if (monitor.rate() > 0.5) return rep;
-            }
-        }
-        rep.converged = true;
-        return rep;
-    }
-
+    newton_report solve(const phase_state<dim>& x, iteration_kind kind, bool continues);
+    newton_report iterate(const phase_state<dim>& x, iteration_kind kind, bool continues);
     /// delta = J⁻¹ res, J in jac_: the small solve, or Eigen's LU where n can exceed its limit
     /// (not compiled for d = 1).
-    void linear_solve() {
-        [[maybe_unused]] const bool small = varsym::detail::solve_small(
-            n_, jac_.data(), jac_.outerStride(), res_.data(), delta_.data());
-        if constexpr (needs_lu) {
-            if (!small) {
-                lu_.compute(jac_);
-                delta_.noalias() = lu_.solve(res_);
-            }
-        }
-    }
-
+    void linear_solve();
     /// The simplified Newton's Jacobian, with ∇²V(q̄) at every point, inverted once.
-    void factor(const vec<dim>& q_bar) {
-        q_bar_ = q_bar;
-        const mat<dim> hbar = sys_.potential().hessian(q_bar_);
-        for (int a = 0; a < n_active_; ++a)
-            hess_[active_[a]] = hbar;
-        jacobian();
-        if (n_ <= varsym::detail::small_solve_limit) {
-            for (int c = 0; c < n_; ++c) {
-                res_.setZero();
-                res_(c) = 1.0;
-                varsym::detail::solve_small(n_, jac_.data(), jac_.outerStride(), res_.data(),
-                                            jinv_.col(c).data());
-            }
-        } else if constexpr (needs_lu) {
-            lu_.compute(jac_);
-            jinv_ = lu_.inverse();
-        }
-        jac_kept_ = true;
-    }
-
+    void factor(const vec<dim>& q_bar);
     /// The residual R = (1/h) M X Aᵀ − h G Uᵀ + p_j e_0ᵀ at the current X; with `hessians`, also
     /// ∇²V at the moving points for jacobian().
-    void residual(const phase_state<dim>& x, bool hessians) {
-        const auto& v = sys_.potential();
-        const int s = s_, d = sys_.dimension();
-        for (int k = 0; k < r_; ++k) {
-            if (at_start_[k])
-                grads_.col(k) = grad_j_;
-            else
-                grads_.col(k).setZero();
-        }
-        for (int a = 0; a < n_active_; ++a) {
-            const int k = active_[a];
-            detail::add_combination(qk_, x.q, xm_, v_.col(k));
-            grads_.col(k) = v.gradient(qk_);
-            if (hessians) hess_[k] = v.hessian(qk_);
-        }
-        Eigen::Map<stage_matrix> rm(res_.data(), d, s);
-        if constexpr (scalar_mass<System>)
-            mx_ = sys_.mass() * xm_;
-        else if (diagonal_mass_)
-            mx_.noalias() = mass_diagonal_.asDiagonal() * xm_;
-        else
-            mx_.noalias() = sys_.mass() * xm_;
-        // Coefficient-based (lazy) products: these blocks have at most max_degree + 1 columns,
-        // where Eigen's run-time choice of a blocked product costs more than the product.
-        // The low parts' products are summed apart and added once (each low term added to the
-        // running sum of the high ones would mostly be rounded away).
-        detail::times_transpose(rm, mx_, a_);
-        detail::times_transpose(gu_, mx_, a_lo_);
-        rm += gu_;
-        rm *= hinv_;
-        detail::times_transpose(gu_, grads_, u_);
-        detail::times_transpose(mx_, grads_, u_lo_);
-        gu_ += mx_;
-        rm.noalias() -= h_ * gu_;
-        rm.col(0) += x.p;
-    }
-
+    void residual(const phase_state<dim>& x, bool hessians);
     /// J = (1/h) A ⊗ M − h Σ_k (U_k V_kᵀ) ⊗ hess_[k] into jac_.
-    void jacobian() {
-        const int s = s_, d = sys_.dimension();
-        if (d == 1) {
-            curvature_.setZero();
-            for (int a = 0; a < n_active_; ++a)
-                curvature_(active_[a]) = hess_[active_[a]](0, 0);
-            for (int i = 0; i < s; ++i)
-                for (int l = 0; l < s; ++l) {
-                    double c = 0.0;
-                    for (int a = 0; a < n_active_; ++a)
-                        c += u_(i, active_[a]) * curvature_(active_[a]) * v_(l, active_[a]);
-                    jac_(i, l) = hinv_ * mass_entry() * a_(i, l) - h_ * c;
-                }
-            return;
-        }
-        for (int i = 0; i < s; ++i)
-            for (int l = 0; l < s; ++l) {
-                auto block = block_of<dim>(jac_, i, l, d);
-                if constexpr (scalar_mass<System>) {
-                    block.setZero();
-                    block.diagonal().setConstant(hinv_ * a_(i, l) * sys_.mass());
-                } else {
-                    block = (hinv_ * a_(i, l)) * sys_.mass();
-                }
-                for (int a = 0; a < n_active_; ++a) {
-                    const int k = active_[a];
-                    const double c = h_ * u_(i, k) * v_(l, k);
-                    if (c != 0.0) block -= c * hess_[k];
-                }
-            }
-    }
+    void jacobian();
 
     /// out = M⁻¹ in; a diagonal M (an N-body system's) as its diagonal, not a d × d product.
     template <class Out, class In>
@@ -468,3 +313,5 @@ class stepper {
 };
 
 } // namespace varsym::galerkin
+
+#include "varsym/schemes/galerkin_solve.hpp"
