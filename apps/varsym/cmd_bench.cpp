@@ -289,7 +289,7 @@ void add_bench_command(CLI::App& app, action& todo) {
         "(e.g. --schemes gauss-4/newton,gauss-4 compares Newton with the default).\n"
         "The text table ends with the cheapest us per period at errors 1e-6 to 1e-12.\n\n"
         "Examples:\n"
-        "  varsym bench                                  # everything (about 10 minutes)\n"
+        "  varsym bench                                  # everything (about 3 minutes)\n"
         "  varsym bench --problems pendulum --plot wp.png --format csv -o wp-table.csv\n"
         "  varsym bench --schemes simpson,gauss-4 --steps 50,100 --periods 100 --repetitions 3\n");
     cmd->add_option("--problems", o->problems, "pendulum, kepler and/or solar")

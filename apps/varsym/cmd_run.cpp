@@ -6,7 +6,6 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
-#include <map>
 #include <memory>
 #include <string>
 
@@ -228,22 +227,27 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
                     "Newton iterations allowed per step before the run stops with an error")
         ->transform(positive_integer)
         ->capture_default_str();
-    cmd->add_option("--iteration", s.newton.iteration,
-                    "How lobatto-s (s >= 3) and gauss-s (s >= 2) solve a step: newton (exact "
-                    "Jacobian each iteration), simplified (one Jacobian kept across steps) or "
-                    "fixed-point (no second derivatives; non-stiff problems). All stop at the "
-                    "same round-off floor; the last two fall back to newton where they diverge")
-        ->transform(CLI::CheckedTransformer(
-            std::map<std::string, iteration_kind>{{"newton", iteration_kind::newton},
-                                                  {"simplified", iteration_kind::simplified},
-                                                  {"fixed-point", iteration_kind::fixed_point}}))
-        ->default_str("newton");
-    cmd->add_option("--predictor", s.newton.predictor,
-                    "Where a step's iteration starts: taylor (from q and p) or previous (the "
-                    "previous step's polynomial continued: fewer iterations; kept in checkpoints)")
-        ->transform(CLI::CheckedTransformer(std::map<std::string, predictor_kind>{
-            {"taylor", predictor_kind::taylor}, {"previous", predictor_kind::previous}}))
-        ->default_str("taylor");
+    cmd->add_option_function<std::string>(
+           "--iteration",
+           [&s](const std::string& v) {
+               s.newton.iteration = v == "fixed-point"  ? iteration_kind::fixed_point
+                                    : v == "simplified" ? iteration_kind::simplified
+                                                        : iteration_kind::newton;
+           },
+           "How lobatto-s (s >= 3) and gauss-s (s >= 2) solve a step: newton (exact Jacobian "
+           "each iteration; default), simplified (one Jacobian kept across steps) or "
+           "fixed-point (no second derivatives; non-stiff problems). All stop at the same "
+           "round-off floor; the last two hand a step to newton where they diverge")
+        ->check(CLI::IsMember({"newton", "simplified", "fixed-point"}));
+    cmd->add_option_function<std::string>(
+           "--predictor",
+           [&s](const std::string& v) {
+               s.newton.predictor =
+                   v == "previous" ? predictor_kind::previous : predictor_kind::taylor;
+           },
+           "Where a step's iteration starts: taylor (from q and p; default) or previous (the "
+           "previous step's polynomial continued: fewer iterations; kept in checkpoints)")
+        ->check(CLI::IsMember({"taylor", "previous"}));
     cmd->add_option("--max-energy-error", s.max_energy_error,
                     "Stop the run (exit 4, keeping its rows) when the relative energy error "
                     "|E-E0|/|E0| passes this bound; 0: never. Default: 100 (h omega)^order at "

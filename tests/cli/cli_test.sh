@@ -10,6 +10,10 @@ expect_error 2 "negative steps" run --steps-per-period -5 -o out.csv
 expect_error 2 "fractional steps" run --steps-per-period 2.5 -o out.csv
 expect_error 2 "zero periods" run --periods 0 -o out.csv
 expect_error 2 "negative periods" run --periods -1 -o out.csv
+expect_error 2 "unknown iteration" run --iteration chord -o out.csv
+expect_error 2 "unknown predictor" run --predictor cubic -o out.csv
+expect_error 2 "unknown bench solver" bench --solver chord --problems kepler
+expect_error 2 "unknown solver after a scheme" bench --schemes gauss-4/chord --problems kepler
 expect_error 2 "zero mass" run --mass 0 -o out.csv
 expect_error 2 "negative mass" run --mass -2 -o out.csv
 expect_error 2 "zero omega" run --omega 0 -o out.csv
