@@ -240,8 +240,8 @@ class stepper {
             detail::times_transpose(xm_, previous_, extrapolation_t_);
             return;
         }
-        apply_inverse_mass(vel_, x.p);
-        apply_inverse_mass(acc_, grad_j_);
+        apply_mass<true>(vel_, x.p);
+        apply_mass<true>(acc_, grad_j_);
         for (int l = 0; l < s_; ++l) {
             const double tl = control_[l] * h_;
             xm_.col(l) = tl * vel_ - (0.5 * tl * tl) * acc_;
@@ -264,15 +264,16 @@ class stepper {
     /// J = (1/h) A ⊗ M − h Σ_k (U_k V_kᵀ) ⊗ hess_[k] into jac_.
     void jacobian();
 
-    /// out = M⁻¹ in; a diagonal M (an N-body system's) as its diagonal, not a d × d product.
-    template <class Out, class In>
-    void apply_inverse_mass(Out&& out, const In& in) const {
+    /// out = M in, or M⁻¹ in: a diagonal M (an N-body system's) as its diagonal, not a d × d
+    /// product.
+    template <bool inverse, class Out, class In>
+    void apply_mass(Out&& out, const In& in) const {
         if constexpr (scalar_mass<System>)
-            out = sys_.inverse_mass() * in;
+            out = (inverse ? sys_.inverse_mass() : sys_.mass()) * in;
         else if (diagonal_mass_)
-            out.noalias() = inverse_mass_diagonal_.asDiagonal() * in;
+            out.noalias() = (inverse ? inverse_mass_diagonal_ : mass_diagonal_).asDiagonal() * in;
         else
-            out.noalias() = sys_.inverse_mass() * in;
+            out.noalias() = (inverse ? sys_.inverse_mass() : sys_.mass()) * in;
     }
 
     [[nodiscard]] double mass_entry() const {

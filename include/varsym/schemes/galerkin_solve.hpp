@@ -53,7 +53,7 @@ newton_report stepper<System>::iterate(const phase_state<dim>& x, iteration_kind
             if constexpr (scalar_mass<System>)
                 dm = (h_ / sys_.mass()) * gu_;
             else
-                apply_inverse_mass(dm, h_ * gu_);
+                apply_mass<true>(dm, h_ * gu_);
         } else if (!newton) {
             delta_.noalias() = jinv_ * res_;
         } else {
@@ -125,12 +125,7 @@ void stepper<System>::residual(const phase_state<dim>& x, bool hessians) {
         if (hessians) hess_[k] = v.hessian(qk_);
     }
     Eigen::Map<stage_matrix> rm(res_.data(), d, s);
-    if constexpr (scalar_mass<System>)
-        mx_ = sys_.mass() * xm_;
-    else if (diagonal_mass_)
-        mx_.noalias() = mass_diagonal_.asDiagonal() * xm_;
-    else
-        mx_.noalias() = sys_.mass() * xm_;
+    apply_mass<false>(mx_, xm_);
     // Products as column axpys (detail::times_transpose): blocks of at most max_degree + 1
     // columns, where Eigen's blocked or lazy products cost more than the arithmetic.
     // The low parts' products are summed apart and added once (each low term added to the
