@@ -7,6 +7,7 @@
 #include "varsym/problems/double_pendulum.hpp"
 #include "varsym/problems/heavy_top.hpp"
 #include "varsym/problems/kepler.hpp"
+#include "varsym/problems/linked_pendulum.hpp"
 #include "varsym/problems/oscillator.hpp"
 #include "varsym/problems/paper.hpp"
 #include "varsym/problems/pendulum.hpp"

@@ -1,0 +1,119 @@
+// varsym/problems/linked_pendulum.hpp: the planar pendulum of n links (an unactuated serial
+// arm), a Lagrangian whose mass matrix depends on q, with derivatives both by hand and through
+// automatic differentiation (the general engine's benchmark at d = n; docs/autodiff.md).
+//
+// Units and conventions: link i (i = 0 … n−1, from the pivot) has length l_i and a point mass
+// m_i at its far end; θ_i is its angle from the downward vertical (counter-clockwise), ω_i = θ̇_i;
+// g is the gravitational acceleration. With μ_k = Σ_{j≥k} m_j (the mass carried by link k),
+//   L = ½ Σ_ij a_ij cos(θ_i − θ_j) ω_i ω_j + Σ_i b_i cos θ_i,
+//   a_ij = l_i l_j μ_max(i,j),  b_i = g l_i μ_i
+// (n = 2 is problems/double_pendulum.hpp). The energy is conserved.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "varsym/systems/lagrangian.hpp"
+
+namespace varsym::linked_pendulum {
+
+/// The Lagrangian for N links (N fixed at compile time), L written once for any scalar type
+/// (automatic derivatives), with gradient() and derivatives() by hand beside it.
+template <int N>
+struct lagrangian {
+    static constexpr int dim = N;
+    mat<N> a; ///< a_ij = l_i l_j μ_max(i,j)
+    vec<N> b; ///< b_i = g l_i μ_i
+
+    /// Links of masses m and lengths l (N each, positive) under gravity g ≥ 0.
+    lagrangian(const std::vector<double>& m, const std::vector<double>& l, double g) {
+        if (static_cast<int>(m.size()) != N || static_cast<int>(l.size()) != N)
+            throw std::invalid_argument("a linked pendulum of " + std::to_string(N) +
+                                        " links needs " + std::to_string(N) +
+                                        " masses and lengths");
+        for (int i = 0; i < N; ++i)
+            if (!(std::isfinite(m[i]) && m[i] > 0.0 && std::isfinite(l[i]) && l[i] > 0.0))
+                throw std::invalid_argument("link masses and lengths must be positive");
+        if (!(std::isfinite(g) && g >= 0.0))
+            throw std::invalid_argument("gravity must be finite and >= 0");
+        vec<N> mu;
+        double carried = 0.0;
+        for (int i = N - 1; i >= 0; --i)
+            mu(i) = carried += m[i];
+        for (int i = 0; i < N; ++i) {
+            b(i) = g * l[i] * mu(i);
+            for (int j = 0; j < N; ++j)
+                a(i, j) = l[i] * l[j] * mu(std::max(i, j));
+        }
+    }
+
+    template <class T>
+    T operator()(const tvec<T, N>& q, const tvec<T, N>& v) const {
+        using std::cos;
+        T l(0.0);
+        for (int i = 0; i < N; ++i) {
+            l += (0.5 * a(i, i)) * v(i) * v(i) + b(i) * cos(q(i));
+            for (int j = i + 1; j < N; ++j)
+                l += a(i, j) * cos(q(i) - q(j)) * v(i) * v(j);
+        }
+        return l;
+    }
+
+    /// L, ∂L/∂q and ∂L/∂q̇ by hand: with c_kj = cos(θ_k − θ_j), s_kj = sin(θ_k − θ_j),
+    ///   ∂L/∂ω_k = Σ_j a_kj c_kj ω_j,  ∂L/∂θ_k = −ω_k Σ_j a_kj s_kj ω_j − b_k sin θ_k.
+    void gradient(const vec<N>& q, const vec<N>& v, lagrangian_terms<N>& t) const {
+        mat<N> c, s;
+        trig(q, c, s);
+        t.lv.noalias() = a.cwiseProduct(c) * v;
+        const vec<N> sw = a.cwiseProduct(s) * v;
+        t.value = 0.5 * v.dot(t.lv) + b.dot(q.array().cos().matrix());
+        t.lq = -v.cwiseProduct(sw) - b.cwiseProduct(q.array().sin().matrix());
+    }
+
+    /// gradient() and the second derivatives by hand:
+    ///   ∂²L/∂ω_k∂ω_j = a_kj c_kj,
+    ///   ∂²L/∂θ_k∂ω_m = −δ_km Σ_j a_kj s_kj ω_j − ω_k a_km s_km,
+    ///   ∂²L/∂θ_k∂θ_m = a_km c_km ω_k ω_m (m ≠ k),  −ω_k Σ_{j≠k} a_kj c_kj ω_j − b_k cos θ_k (m =
+    ///   k).
+    void derivatives(const vec<N>& q, const vec<N>& v, lagrangian_terms<N>& t) const {
+        mat<N> c, s;
+        trig(q, c, s);
+        const mat<N> ac = a.cwiseProduct(c), as = a.cwiseProduct(s);
+        t.lv.noalias() = ac * v;
+        const vec<N> sw = as * v;
+        t.value = 0.5 * v.dot(t.lv) + b.dot(q.array().cos().matrix());
+        t.lq = -v.cwiseProduct(sw) - b.cwiseProduct(q.array().sin().matrix());
+        t.lvv = ac;
+        t.lqv = -(v.asDiagonal() * as);
+        t.lqv.diagonal() -= sw;
+        t.lqq = v.asDiagonal() * ac * v.asDiagonal();
+        const vec<N> cw = ac * v; // includes j = k: a_kk ω_k
+        for (int k = 0; k < N; ++k)
+            t.lqq(k, k) = -v(k) * (cw(k) - ac(k, k) * v(k)) - b(k) * std::cos(q(k));
+    }
+
+  private:
+    /// c_ij = cos(θ_i − θ_j) and s_ij = sin(θ_i − θ_j) from 2N sines and cosines.
+    static void trig(const vec<N>& q, mat<N>& c, mat<N>& s) {
+        const vec<N> cq = q.array().cos().matrix(), sq = q.array().sin().matrix();
+        c.noalias() = cq * cq.transpose() + sq * sq.transpose();
+        s.noalias() = sq * cq.transpose() - cq * sq.transpose();
+    }
+};
+
+/// The same Lagrangian without its hand derivatives: the general engine differentiates it
+/// automatically (to compare the two in tests and benchmarks).
+template <int N>
+struct automatic {
+    static constexpr int dim = N;
+    lagrangian<N> l;
+    template <class T>
+    T operator()(const tvec<T, N>& q, const tvec<T, N>& v) const {
+        return l(q, v);
+    }
+};
+
+} // namespace varsym::linked_pendulum
