@@ -4,6 +4,7 @@
 // paper's full Newton systems, Lobatto IIIA–IIIB) in varsym/reference/.
 #pragma once
 
+#include "varsym/autodiff/reverse.hpp"
 #include "varsym/autodiff/second_order.hpp"
 #include "varsym/diagnostics/convergence.hpp"
 #include "varsym/diagnostics/error_norms.hpp"

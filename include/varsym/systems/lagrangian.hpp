@@ -12,6 +12,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "varsym/autodiff/reverse.hpp"
 #include "varsym/autodiff/second_order.hpp"
 #include "varsym/systems/separable.hpp"
 #include "varsym/types.hpp"
@@ -54,7 +55,55 @@ concept lagrangian_with_derivatives = lagrangian<L> &&
     l.derivatives(q, q, t);
 };
 
+/// A Lagrangian that also gives its first derivatives alone by hand, in
+/// gradient(q, v, terms) filling lq and lv (value need not be set): what the linear iterations
+/// of the general engine evaluate at every sweep (without it they call derivatives()).
+template <class L>
+concept lagrangian_with_gradient = lagrangian_with_derivatives<L> &&
+    requires(const L& l, const vec<L::dim>& q, lagrangian_terms<L::dim>& t) {
+    l.gradient(q, q, t);
+};
+
 namespace detail {
+/// L's first derivatives in one pass of ad::first_order<2D>: 2D + 1 numbers per operation.
+template <class L>
+void differentiate_first(const L& l, const vec<L::dim>& q, const vec<L::dim>& v,
+                         lagrangian_terms<L::dim>& t) {
+    constexpr int D = L::dim, N = 2 * D;
+    using J = ad::first_order<N>;
+    tvec<J, D> qj, vj;
+    for (int i = 0; i < D; ++i) {
+        qj(i) = J(q(i), N, i);
+        vj(i) = J(v(i), N, D + i);
+    }
+    const J r = l(qj, vj);
+    t.value = r.value();
+    t.lq = r.derivatives().template head<D>();
+    t.lv = r.derivatives().template tail<D>();
+}
+
+/// L's first derivatives by reverse mode: one recording of L on the thread's tape and one sweep
+/// back, at a cost that does not grow with D.
+template <class L>
+void differentiate_reverse(const L& l, const vec<L::dim>& q, const vec<L::dim>& v,
+                           lagrangian_terms<L::dim>& t) {
+    constexpr int D = L::dim;
+    ad::tape& tape = ad::tape::local();
+    tape.clear();
+    tvec<ad::reverse, D> qj, vj;
+    for (int i = 0; i < D; ++i)
+        qj(i) = ad::reverse::variable(q(i));
+    for (int i = 0; i < D; ++i)
+        vj(i) = ad::reverse::variable(v(i));
+    const ad::reverse r = l(qj, vj);
+    t.value = r.value();
+    tape.sweep(r.index());
+    for (int i = 0; i < D; ++i) {
+        t.lq(i) = tape.adjoint(qj(i).index());
+        t.lv(i) = tape.adjoint(vj(i).index());
+    }
+}
+
 /// All of L's second derivatives in one pass of ad::second_order<2D>.
 template <class L>
 void differentiate_at_once(const L& l, const vec<L::dim>& q, const vec<L::dim>& v,
@@ -130,6 +179,32 @@ void evaluate(const L& l, const vec<L::dim>& q, const vec<L::dim>& v, lagrangian
             detail::differentiate_at_once(l, q, v, t);
         else
             detail::differentiate_in_blocks<B>(l, q, v, t);
+    }
+}
+
+/// evaluate_gradient differentiates L of dimension D by forward mode up to this D, by reverse
+/// mode above it.
+inline constexpr int reverse_mode_above = 8;
+
+/// Fills lq and lv of `t` (and value with automatic derivatives; the other members are left as
+/// they are, or filled too when L gives only derivatives()): by hand, or by first-order
+/// automatic differentiation in the 2D variables (forward or reverse mode).
+template <lagrangian L>
+void evaluate_gradient(const L& l, const vec<L::dim>& q, const vec<L::dim>& v,
+                       lagrangian_terms<L::dim>& t) {
+    if constexpr (lagrangian_with_gradient<L>) {
+        l.gradient(q, v, t);
+    } else if constexpr (lagrangian_with_derivatives<L>) {
+        l.derivatives(q, v, t);
+    } else {
+        static_assert(L::dim != dynamic, "automatic derivatives need a compile-time dimension");
+        // Forward mode costs 2D + 1 numbers per operation, reverse mode a constant but larger
+        // one (a tape entry and a sweep back): measured, forward wins up to D = 8
+        // (docs/autodiff.md).
+        if constexpr (L::dim <= reverse_mode_above)
+            detail::differentiate_first(l, q, v, t);
+        else
+            detail::differentiate_reverse(l, q, v, t);
     }
 }
 
@@ -216,6 +291,14 @@ template <separable Separable>
 struct separable_lagrangian {
     static constexpr int dim = Separable::dim;
     Separable sys;
+    bool diagonal = is_diagonal(sys); ///< the mass matrix is (then M q̇ is a product of vectors)
+
+    static bool is_diagonal(const Separable& s) {
+        if constexpr (scalar_mass<Separable>)
+            return true;
+        else
+            return s.mass().isDiagonal(0.0);
+    }
 
     [[nodiscard]] int dimension() const { return sys.dimension(); }
     double operator()(const vec<dim>& q, const vec<dim>& v) const {
@@ -223,6 +306,15 @@ struct separable_lagrangian {
             return 0.5 * sys.mass() * v.squaredNorm() - sys.potential().value(q);
         else
             return 0.5 * v.dot(sys.mass() * v) - sys.potential().value(q);
+    }
+    void gradient(const vec<dim>& q, const vec<dim>& v, lagrangian_terms<dim>& t) const {
+        t.lq = -sys.potential().gradient(q);
+        if constexpr (scalar_mass<Separable>)
+            t.lv = sys.mass() * v;
+        else if (diagonal)
+            t.lv = sys.mass().diagonal().cwiseProduct(v);
+        else
+            t.lv.noalias() = sys.mass() * v;
     }
     void derivatives(const vec<dim>& q, const vec<dim>& v, lagrangian_terms<dim>& t) const {
         t.value = (*this)(q, v);
