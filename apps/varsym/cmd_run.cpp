@@ -234,10 +234,11 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
                                     : v == "simplified" ? iteration_kind::simplified
                                                         : iteration_kind::newton;
            },
-           "How lobatto-s (s >= 3) and gauss-s (s >= 2) solve a step: newton (exact Jacobian "
-           "each iteration; default), simplified (one Jacobian kept across steps) or "
-           "fixed-point (no second derivatives; non-stiff problems). All stop at the same "
-           "round-off floor; the last two hand a step to newton where they diverge")
+           "How lobatto-s (s >= 3) and gauss-s (s >= 2), and every scheme of double-pendulum and "
+           "heavy-top, solve a step: newton (exact Jacobian each iteration; default), simplified "
+           "(one Jacobian kept across steps; first derivatives only in its sweeps) or "
+           "fixed-point (the Jacobian's mass term alone; non-stiff problems). All stop at the "
+           "same round-off floor; the last two hand a step to newton where they diverge")
         ->check(CLI::IsMember({"newton", "simplified", "fixed-point"}));
     cmd->add_option_function<std::string>(
            "--predictor",
@@ -246,7 +247,8 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
                    v == "previous" ? predictor_kind::previous : predictor_kind::taylor;
            },
            "Where a step's iteration starts: taylor (from q and p; default) or previous (the "
-           "previous step's polynomial continued: fewer iterations; kept in checkpoints)")
+           "previous step's polynomial continued: fewer iterations; kept in checkpoints; "
+           "separable models only)")
         ->check(CLI::IsMember({"taylor", "previous"}));
     cmd->add_option("--max-energy-error", s.max_energy_error,
                     "Stop the run (exit 4, keeping its rows) when the relative energy error "

@@ -38,6 +38,9 @@ phase_state<L::dim> initial_state(const lagrangian_system<L>& sys, const run_set
 
 template <class L>
 auto general_runner(const run_setup& s, const lagrangian_system<L>& sys, double h) {
+    if (s.newton.predictor != predictor_kind::taylor)
+        throw usage_error("--predictor previous is for the separable models (the family "
+                          "stepper); this model runs the general engine: use --predictor taylor");
     return [&s, &sys, h](auto&& f) {
         general::stepper<L> stepper(sys, h, s.spec, s.newton);
         return f(stepper);

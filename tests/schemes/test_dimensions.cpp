@@ -4,7 +4,8 @@
 // Newmark), the family (run-time degree) and the general engine (derivatives by hand); the
 // general engine's automatic derivatives (fixed d) run at d = 18 and 60. A fixed d = 60 on
 // every path is not compiled: it cost about 25 s of the suite's build and tested nothing the
-// fixed 18 and the run-time 60 do not.
+// fixed 18 and the run-time 60 do not. At 18 and 60 the first derivatives come from reverse
+// mode, and the simplified iteration on them is checked against Newton.
 // References: the conservation laws of the continuous system that a variational integrator keeps
 // (total momentum, by the discrete Noether theorem, to round-off; angular momentum to the
 // Newton tolerance; energy bounded), and the agreement of independent paths that compute the
@@ -124,11 +125,27 @@ void automatic_derivatives(int bodies, int n) {
     EXPECT_LE((by_ad.lqq - by_hand.lqq).template lpNorm<Eigen::Infinity>(), 1e-17);
     EXPECT_LE((by_ad.lvv - by_hand.lvv).template lpNorm<Eigen::Infinity>(), 1e-18);
     EXPECT_EQ(by_ad.lqv.template lpNorm<Eigen::Infinity>(), 0.0);
+    // First derivatives alone (reverse mode above d = 8): the same, to a few ulps.
+    lagrangian_terms<D> first;
+    evaluate_gradient(ad_lag{c.start.masses}, c.x0.q, v, first);
+    ASSERT_GT(by_hand.lq.template lpNorm<Eigen::Infinity>(), 1e-6); // not vacuous
+    EXPECT_LE((first.lq - by_hand.lq).template lpNorm<Eigen::Infinity>(), 1e-17);
+    EXPECT_LE((first.lv - by_hand.lv).template lpNorm<Eigen::Infinity>(), 1e-18);
+    EXPECT_NEAR(first.value, by_hand.value, 1e-15);
     EXPECT_LE(test::max_difference(
                   general::stepper<ad_lag>(lagrangian_system<ad_lag>({c.start.masses}), h,
                                            scheme_kind::simpson),
                   general::stepper<lag>(lagrangian_system<lag>({c.sys}), h, scheme_kind::simpson),
                   c.x0, n),
+              gap_tol);
+    // The simplified iteration on AD gradients against Newton on the hand derivatives.
+    newton_options simplified;
+    simplified.iteration = iteration_kind::simplified;
+    EXPECT_LE(test::max_difference(
+                  general::stepper<ad_lag>(lagrangian_system<ad_lag>({c.start.masses}), h,
+                                           scheme_kind::simpson, simplified),
+                  general::stepper<lag>(lagrangian_system<lag>({c.sys}), h, scheme_kind::simpson),
+                  c.x0, 5 * n),
               gap_tol);
 }
 

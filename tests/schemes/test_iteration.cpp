@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "compare_steppers.hpp"
 #include "varsym/problems/kepler.hpp"
 #include "varsym/problems/pendulum.hpp"
 #include "varsym/problems/solar_system.hpp"
@@ -159,30 +160,14 @@ TEST(Iteration, ExtrapolationContinuesPolynomialsOfDegreeS) {
 
 TEST(Iteration, HistoryMakesAResumeBitForBit) {
     // gauss-4 on Kepler with the previous-step predictor and a kept Jacobian: 300 steps straight,
-    // or 137, a run_state saved and restored into a new stepper, and the rest.
+    // or 137, a run_state saved and restored into a new stepper, and the rest. Without the
+    // history the run restarts its predictor and Jacobian, which changes its iterations and
+    // its last bits (the negative control in test::expect_resume_needs_history).
     const kepler::orbit orbit(0.6, 1.0);
     const auto sys = kepler::make_system();
     const double h = orbit.period() / 100;
     const newton_options opt = options_of({iteration_kind::simplified, predictor_kind::previous});
     auto make = [&] { return galerkin::stepper(sys, h, rule_kind::gauss, 4, opt); };
-    auto quiet = [](const auto&) {};
-    auto straight = make();
-    auto a = run_state<2>::start(orbit.at(0.0L));
-    ASSERT_TRUE(integrate_from(straight, a, 300, quiet));
-    auto first = make();
-    auto b = run_state<2>::start(orbit.at(0.0L));
-    integrate_from(first, b, 137, quiet);
-    EXPECT_EQ(b.history.size(), 1U + 2 * 4 + 1 + 2);
-    for (bool with_history : {true, false}) {
-        auto c = b;
-        if (!with_history) c.history.clear();
-        auto second = make();
-        restore(second, c);
-        integrate_from(second, c, 300, quiet);
-        const bool same = a.x.q == c.x.q && a.x.p == c.x.p &&
-                          a.stats.newton_iterations == c.stats.newton_iterations;
-        // Negative control: without the history the run restarts its predictor and Jacobian,
-        // which changes its iterations and its last bits.
-        EXPECT_EQ(same, with_history) << (with_history ? "with" : "without") << " history";
-    }
+    const auto history = test::expect_resume_needs_history(make, orbit.at(0.0L), 300, 137);
+    EXPECT_EQ(history.size(), 1U + 2 * 4 + 1 + 2);
 }

@@ -18,6 +18,12 @@
 // the map of one L_d, and rounding does not tilt the energy (galerkin.hpp; docs/design.md,
 // "Round-off that tilts the map"). For L = ½ q̇ᵀMq̇ − V(q) these are the separable path's
 // equations divided by h.
+//
+// Newton evaluates second derivatives at every point of every iteration. The linear iterations
+// (newton_options::iteration simplified or fixed_point; variational_solve.hpp) evaluate only
+// first derivatives in their sweeps, against one Jacobian kept across steps: with automatic
+// derivatives that is the difference between O((2d)²) and O(2d) per operation of L
+// (docs/autodiff.md).
 #pragma once
 
 #include <utility>
@@ -31,8 +37,10 @@
 
 namespace varsym::general {
 
-/// One step of the scheme for the system's Lagrangian. The state is (q, p); steps are
-/// independent of any history (the Newton start is a Taylor predictor from (q_j, p_j) alone),
+/// One step of the scheme for the system's Lagrangian. The state is (q, p); the iteration starts
+/// from a Taylor predictor from (q_j, p_j) alone (predictor `previous` is the family stepper's
+/// only). With Newton (the default) steps depend on nothing else; with a linear iteration they
+/// also depend on the kept Jacobian, which save_history / restore_history hand to a checkpoint,
 /// so a run restarted from a saved state continues exactly as it would have.
 /// All work arrays are sized in the constructor: for a compile-time d a step allocates nothing;
 /// d may also be `dynamic` (known at run time), with the derivatives given by hand.
@@ -57,14 +65,13 @@ class stepper {
             t.lqv.setZero(d_, d_);
             t.lvv.setZero(d_, d_);
         }
-        qk_.setZero(d_);
-        vk_.setZero(d_);
-        dp_.setZero(d_);
-        dq_.setZero(d_);
+        for (auto* v : {&qk_, &vk_, &dp_, &dq_, &acc_, &lq0_, &lv0_, &q_bar_, &v_bar_})
+            v->setZero(d_);
         res_.setZero(s_ * d_);
         delta_.setZero(s_ * d_);
         jac_.setZero(s_ * d_, s_ * d_);
         lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(s_ * d_);
+        if (linear()) jinv_.setZero(s_ * d_, s_ * d_);
     }
 
     [[nodiscard]] double step_size() const { return h_; }
@@ -73,31 +80,30 @@ class stepper {
     [[nodiscard]] auto& summation() { return sum_; }
     [[nodiscard]] const galerkin::tableau& table() const { return tab_; }
 
+    /// With a linear iteration: whether a Jacobian is kept and the point (q̄, v̄) it was taken
+    /// at (1 + 2d numbers); empty with Newton. run_state::history keeps it for a checkpoint.
+    void save_history(std::vector<double>& out) const;
+    /// Puts back what save_history gave (an empty history starts afresh): the next step is then
+    /// the one the saved run would have taken. Throws std::invalid_argument on a wrong length.
+    void restore_history(const phase_state<dim>& x, const std::vector<double>& in);
+
     newton_report step(phase_state<dim>& x) {
         const double h = h_;
-        predict(x);
-        newton_options opt = opt_;
-        opt.typical = x_.template lpNorm<Eigen::Infinity>();
-        opt.reference = x.q.template lpNorm<Eigen::Infinity>();
-        newton_monitor monitor(opt);
         newton_report rep;
-        while (true) {
-            evaluate_points(x.q);
-            assemble(x.p);
-            rep.residual = res_.template lpNorm<Eigen::Infinity>();
-            if (monitor.exhausted()) return rep;
-            lu_.compute(jac_);
-            delta_.noalias() = lu_.solve(res_);
-            const double step = delta_.template lpNorm<Eigen::Infinity>();
-            rep.iterations = monitor.iterations() + 1;
-            if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
-            for (int l = 0; l < s_; ++l)
-                x_.col(l) -= block_of<dim>(delta_, l, d_);
-            if (monitor.converged(step, x_.template lpNorm<Eigen::Infinity>())) break;
+        if (linear()) {
+            rep = solve_linear(x);
+            if (!rep.converged) { // diverged or too slow even with a fresh Jacobian
+                const int spent = rep.iterations;
+                rep = solve_newton(x);
+                rep.iterations += spent;
+            }
+        } else {
+            rep = solve_newton(x);
         }
+        if (!rep.converged) return rep;
         // p_{j+1} − p_j = h Σ_k w_k L_q(k) at the converged increments. A coordinate that L does
         // not depend on has L_q = 0 exactly, so its momentum is conserved to the last bit.
-        evaluate_points(x.q);
+        evaluate_points(x.q, false);
         dp_.setZero();
         for (int k = 0; k < r_; ++k) {
             dp_ += tab_.quad.weights[k] * terms_[k].lq;
@@ -117,6 +123,19 @@ class stepper {
     }
 
   private:
+    [[nodiscard]] bool linear() const { return opt_.iteration != iteration_kind::newton; }
+
+    newton_report solve_newton(const phase_state<dim>& x) {
+        predict(x);
+        return iterate(x, true);
+    }
+
+    // The iterations and the linear ones' kept Jacobian (variational_solve.hpp).
+    newton_report solve_linear(const phase_state<dim>& x);
+    newton_report iterate(const phase_state<dim>& x, bool newton);
+    void refresh(const lagrangian_terms<dim>& t);
+    void predict_kept(const phase_state<dim>& x);
+
     /// Taylor predictor X_l ≈ τ_l v + ½ τ_l² a, τ_l = d_l h, with v from ∂L/∂q̇(q, v) = p and
     /// a from the Euler–Lagrange equations L_vv a = L_q − L_vq v at (q_j, v).
     void predict(const phase_state<dim>& x) {
@@ -125,6 +144,8 @@ class stepper {
         evaluate(sys_.lagrangian(), x.q, vk_, t);
         vec<dim> v = solve_symmetric<dim>(t.lvv, x.p - t.lv);
         evaluate(sys_.lagrangian(), x.q, v, t);
+        q_bar_ = x.q; // terms_[0] now holds the derivatives at (q̄, v̄)
+        v_bar_ = v;
         v += solve_symmetric<dim>(t.lvv, x.p - t.lv);
         const vec<dim> a = solve_symmetric<dim>(t.lvv, t.lq - t.lqv.transpose() * v);
         for (int l = 0; l < s_; ++l) {
@@ -134,8 +155,9 @@ class stepper {
         if (!x_.allFinite()) x_.setZero();
     }
 
-    /// L and its derivatives at every quadrature point (q_k, v_k) for the current increments.
-    void evaluate_points(const vec<dim>& q) {
+    /// L and its first (and, if `second`, second) derivatives at every quadrature point
+    /// (q_k, v_k) for the current increments.
+    void evaluate_points(const vec<dim>& q, bool second) {
         for (int k = 0; k < r_; ++k) {
             qk_ = q;
             vk_.setZero();
@@ -146,22 +168,26 @@ class stepper {
             for (int l = 0; l < s_; ++l)
                 vk_ += tab_.dphi_lo(l + 1, k) * x_.col(l);
             vk_ /= h_;
-            evaluate(sys_.lagrangian(), qk_, vk_, terms_[k]);
+            if (second)
+                evaluate(sys_.lagrangian(), qk_, vk_, terms_[k]);
+            else
+                evaluate_gradient(sys_.lagrangian(), qk_, vk_, terms_[k]);
         }
     }
 
-    /// The residual F (rows i = 0 … s−1) and its Jacobian in the increments.
-    void assemble(const vec<dim>& p) {
+    /// The residual F (rows i = 0 … s−1) and, if `jacobian`, its Jacobian in the increments.
+    void assemble(const vec<dim>& p, bool jacobian) {
         const double h = h_;
         const auto &u = tab_.wphi, &g = tab_.wdphi;
         res_.setZero();
-        jac_.setZero();
+        if (jacobian) jac_.setZero();
         for (int k = 0; k < r_; ++k) {
             const lagrangian_terms<dim>& t = terms_[k];
             for (int i = 0; i < s_; ++i) {
                 auto row = block_of<dim>(res_, i, d_);
                 row += (h * u.hi(i, k)) * t.lq + g.hi(i, k) * t.lv;
                 row += (h * u.lo(i, k)) * t.lq + g.lo(i, k) * t.lv;
+                if (!jacobian) continue;
                 const double fi = u.hi(i, k), gi = g.hi(i, k);
                 for (int l = 0; l < s_; ++l) {
                     const double fl = tab_.phi(l + 1, k), gl = tab_.dphi(l + 1, k);
@@ -180,12 +206,19 @@ class stepper {
     galerkin::tableau tab_;
     int s_ = 0, r_ = 0, d_ = 0;
     Eigen::Matrix<double, dim, Eigen::Dynamic> x_;
-    vec<dim> qk_, vk_, dp_, dq_;
+    vec<dim> qk_, vk_, dp_, dq_, acc_, lq0_,
+        lv0_; // lq0_, lv0_: L_q, L_v at (q_j, v) in predict_kept
     std::vector<lagrangian_terms<dim>> terms_;
     Eigen::VectorXd res_, delta_;
-    Eigen::MatrixXd jac_;
+    Eigen::MatrixXd jac_, jinv_; // jinv_: the kept Jacobian's inverse (linear iterations)
     Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+    vec<dim> q_bar_, v_bar_;     // where the kept Jacobian was taken
+    Eigen::LDLT<mat<dim>> mbar_; // ∂²L/∂q̇² there, factorised: the kept predictor's mass matrix
+    bool kept_ = false;
+    double rate_ = 0.0; // the slowest contraction of the last linear iteration
     compensated_update<dim> sum_;
 };
 
 } // namespace varsym::general
+
+#include "varsym/schemes/variational_solve.hpp"

@@ -9,8 +9,10 @@
 
 namespace varsym {
 
-/// How the family stepper (schemes/galerkin.hpp) iterates on a step's equations; every choice
-/// solves the same equations to round-off (the other steppers always use Newton).
+/// How the family stepper (schemes/galerkin.hpp) and the general engine (schemes/variational.hpp)
+/// iterate on a step's equations; every choice solves the same equations to round-off (the
+/// other steppers always use Newton). In the general engine `fixed_point` is the simplified
+/// iteration with the Jacobian's ∂²L/∂q̇² term alone.
 enum class iteration_kind {
     newton,      ///< exact Jacobian, evaluated and factorised at every iterate
     simplified,  ///< Jacobian at one point, factorised once and kept across steps while the
@@ -22,7 +24,7 @@ enum class iteration_kind {
 enum class predictor_kind {
     taylor,   ///< second-order Taylor from (q_j, p_j): stateless
     previous, ///< the previous step's polynomial extrapolated: O(h^(s+1)), but state a resumed
-              ///< run must restore (run_state::history)
+              ///< run must restore (run_state::history); family stepper only
 };
 
 /// When Newton stops. The default asks for machine precision: the update must fall below
@@ -64,8 +66,11 @@ class newton_monitor {
         : opt_(opt), linear_(linear) {}
     bool converged(double step, double size) {
         ++iterations_;
-        rate_ = step / previous_;
         const double magnitude = std::max(opt_.typical, size);
+        // A ratio of updates near round-off measures the noise, not the iteration.
+        if (step >
+            1024.0 * std::numeric_limits<double>::epsilon() * std::max(magnitude, opt_.reference))
+            rate_ = step / previous_;
         const double scale = opt_.tolerance * magnitude;
         const bool tiny = step <= scale;
         const bool predicted =
@@ -78,7 +83,8 @@ class newton_monitor {
     }
     [[nodiscard]] int iterations() const { return iterations_; }
     [[nodiscard]] bool exhausted() const { return iterations_ >= opt_.max_iterations; }
-    /// |δ_k|/|δ_{k−1}| of the last update that did not converge (0 before the second).
+    /// |δ_k|/|δ_{k−1}| of the last update above round-off (1024 ε of the unknown's size): the
+    /// observed contraction; 0 before there is one.
     [[nodiscard]] double rate() const { return iterations_ > 1 ? rate_ : 0.0; }
 
   private:

@@ -1,0 +1,169 @@
+// varsym/schemes/variational_solve.hpp: the general engine's linear iterations (variational.hpp).
+//
+// simplified: the Jacobian of the step's equations (variational.hpp) with L's second
+// derivatives at one point (q̄, v̄) = (q_j, the predicted q̇_j) in every quadrature term;
+// fixed_point: only its ∂²L/∂q̇² term, (1/h) A ⊗ L_vv(q̄, v̄), the free particle's. Either is
+// inverted once and kept across steps while each update shrinks at least 1/contraction_limit
+// times; the sweeps evaluate L's first derivatives only. They stop at the same round-off floor
+// as Newton (newton_monitor, linear), and hand the step to Newton when an update shrinks by less
+// than half even with a fresh Jacobian. docs/design.md, "Solving the step".
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "varsym/schemes/variational.hpp"
+
+namespace varsym::general {
+
+template <lagrangian L>
+void stepper<L>::save_history(std::vector<double>& out) const {
+    out.clear();
+    if (!linear()) return;
+    out.push_back(kept_ ? 1.0 : 0.0);
+    out.insert(out.end(), q_bar_.data(), q_bar_.data() + d_);
+    out.insert(out.end(), v_bar_.data(), v_bar_.data() + d_);
+}
+
+template <lagrangian L>
+void stepper<L>::restore_history(const phase_state<dim>&, const std::vector<double>& in) {
+    kept_ = false;
+    if (in.empty()) return;
+    const auto want = static_cast<std::size_t>(linear() ? 1 + 2 * d_ : 0);
+    if (in.size() != want)
+        throw std::invalid_argument("the saved history has " + std::to_string(in.size()) +
+                                    " numbers where this stepper's options keep " +
+                                    std::to_string(want));
+    std::copy(in.begin() + 1, in.begin() + 1 + d_, q_bar_.data());
+    std::copy(in.begin() + 1 + d_, in.end(), v_bar_.data());
+    if (in[0] != 0.0) {
+        evaluate(sys_.lagrangian(), q_bar_, v_bar_, terms_[0]);
+        refresh(terms_[0]);
+    }
+}
+
+template <lagrangian L>
+newton_report stepper<L>::solve_linear(const phase_state<dim>& x) {
+    bool fresh = false;
+    if (kept_) {
+        predict_kept(x);
+    } else {
+        predict(x); // the full Taylor predictor leaves the derivatives at (q̄, v̄) in terms_[0]
+        refresh(terms_[0]);
+        fresh = true;
+    }
+    newton_report rep = iterate(x, false);
+    if (!rep.converged && !fresh) {
+        const int spent = rep.iterations;
+        predict(x);
+        refresh(terms_[0]);
+        rep = iterate(x, false);
+        rep.iterations += spent;
+    }
+    kept_ = rep.converged && rate_ <= opt_.contraction_limit;
+    return rep;
+}
+
+/// Newton (a Jacobian from every point's second derivatives at every iterate) or a linear
+/// iteration (the kept inverse, first derivatives only), from the predicted increments.
+template <lagrangian L>
+newton_report stepper<L>::iterate(const phase_state<dim>& x, bool newton) {
+    newton_options opt = opt_;
+    opt.typical = x_.template lpNorm<Eigen::Infinity>();
+    opt.reference = x.q.template lpNorm<Eigen::Infinity>();
+    newton_monitor monitor(opt, !newton);
+    newton_report rep;
+    rate_ = 0.0;
+    while (true) {
+        evaluate_points(x.q, newton);
+        assemble(x.p, newton);
+        rep.residual = res_.template lpNorm<Eigen::Infinity>();
+        if (monitor.exhausted()) return rep;
+        if (newton) {
+            lu_.compute(jac_);
+            delta_.noalias() = lu_.solve(res_);
+        } else {
+            delta_.noalias() = jinv_ * res_;
+        }
+        const double step = delta_.template lpNorm<Eigen::Infinity>();
+        rep.iterations = monitor.iterations() + 1;
+        if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
+        for (int l = 0; l < s_; ++l)
+            x_.col(l) -= block_of<dim>(delta_, l, d_);
+        if (monitor.converged(step, x_.template lpNorm<Eigen::Infinity>())) break;
+        if (!newton && monitor.iterations() > 1) {
+            rate_ = std::max(rate_, monitor.rate());
+            if (monitor.rate() > 0.5) return rep; // diverging, or slower than Newton
+        }
+    }
+    rep.converged = true;
+    return rep;
+}
+
+/// Builds and inverts the kept Jacobian from the second derivatives in t (taken at (q̄, v̄)).
+template <lagrangian L>
+void stepper<L>::refresh(const lagrangian_terms<dim>& t) {
+    const bool free = opt_.iteration == iteration_kind::fixed_point;
+    for (auto& point : terms_) {
+        if (&point == &t) continue;
+        point.lvv = t.lvv;
+        point.lqq = t.lqq;
+        point.lqv = t.lqv;
+    }
+    if (free) {
+        for (auto& point : terms_) {
+            point.lqq.setZero();
+            point.lqv.setZero();
+        }
+    }
+    mbar_.compute(t.lvv);
+    // assemble() also writes a residual; only its Jacobian is used here.
+    assemble(vec<dim>::Zero(d_), true);
+    lu_.compute(jac_);
+    jinv_ = lu_.inverse();
+    kept_ = true;
+}
+
+/// The Taylor predictor of variational.hpp with the kept ∂²L/∂q̇² (of q̄, v̄), M̄, in place of the
+/// one at q_j: q̇ from ∂L/∂q̇(q_j, q̇) = p_j by the iteration q̇ += M̄⁻¹(p_j − ∂L/∂q̇) (one
+/// evaluation where M̄ is exact, as for a constant mass matrix; up to four where it has moved),
+/// and L_vq q̇ by a forward difference of L_v along q̇: first derivatives only. (A start to the
+/// iteration: its accuracy changes the sweeps, not the step.)
+template <lagrangian L>
+void stepper<L>::predict_kept(const phase_state<dim>& x) {
+    lagrangian_terms<dim>& t = terms_[0];
+    const auto& lag = sys_.lagrangian();
+    vk_.setZero();
+    evaluate_gradient(lag, x.q, vk_, t);
+    vk_ = mbar_.solve(x.p - t.lv);
+    for (int it = 0; it < 4; ++it) {
+        evaluate_gradient(lag, x.q, vk_, t);
+        lq0_ = t.lq;
+        lv0_ = t.lv;
+        dq_ = vk_; // the q̇ of this evaluation
+        acc_ = mbar_.solve(x.p - lv0_);
+        vk_ += acc_;
+        if (!(acc_.template lpNorm<Eigen::Infinity>() >
+              1e-8 * vk_.template lpNorm<Eigen::Infinity>()))
+            break;
+    }
+    acc_ = lq0_; // L_vv a = L_q − L_vq q̇ (the Euler–Lagrange equations)
+    const double speed = dq_.template lpNorm<Eigen::Infinity>();
+    if (speed > 0.0) {
+        const double eta = 1.5e-8 * std::max(1.0, x.q.template lpNorm<Eigen::Infinity>()) / speed;
+        qk_ = x.q + eta * dq_;
+        evaluate_gradient(lag, qk_, dq_, t);
+        acc_ -= (t.lv - lv0_) / eta;
+    }
+    acc_ = mbar_.solve(acc_);
+    for (int l = 0; l < s_; ++l) {
+        const double tau = tab_.control[l + 1] * h_;
+        x_.col(l) = tau * vk_ + (0.5 * tau * tau) * acc_;
+    }
+    if (!x_.allFinite()) x_.setZero();
+}
+
+} // namespace varsym::general
