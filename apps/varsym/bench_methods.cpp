@@ -61,7 +61,9 @@ newton_options parse_solver(std::string solver, const std::string& where) {
         opt.iteration = iteration_kind::simplified;
     else if (solver == "fixed-point")
         opt.iteration = iteration_kind::fixed_point;
-    else if (solver != "newton")
+    else if (solver == "newton")
+        opt.iteration = iteration_kind::newton;
+    else
         throw usage_error(where + ": the solver must be newton, simplified or fixed-point, " +
                           "optionally followed by +previous");
     return opt;

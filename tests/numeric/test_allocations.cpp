@@ -137,9 +137,14 @@ TEST(Allocations, LargeFixedDimensionStepsWithoutAllocating) {
 }
 
 TEST(Allocations, GeneralEngineStepsWithoutAllocating) {
-    // Automatic derivatives (double pendulum, d = 2) and derivatives by hand (the pendulum).
-    general::stepper dp(double_pendulum::make_system({}), 1e-3, {scheme_kind::lobatto, 3});
-    EXPECT_EQ(allocations_in_steps(dp, phase_state<2>{vec<2>{1.0, 0.5}, vec<2>{0.0, 0.1}}), 0);
+    // Automatic derivatives (double pendulum, d = 2), by the default simplified iteration (its
+    // kept Jacobian refreshed now and then) and by Newton, and derivatives by hand (the pendulum).
+    for (auto kind : {iteration_kind::simplified, iteration_kind::newton}) {
+        newton_options opt;
+        opt.iteration = kind;
+        general::stepper dp(double_pendulum::make_system({}), 1e-3, {scheme_kind::lobatto, 3}, opt);
+        EXPECT_EQ(allocations_in_steps(dp, phase_state<2>{vec<2>{1.0, 0.5}, vec<2>{0.0, 0.1}}), 0);
+    }
     using lag = separable_lagrangian<pendulum::system>;
     general::stepper<lag> g(lagrangian_system<lag>({sys}), h, {scheme_kind::gauss, 5});
     EXPECT_EQ(allocations_in_steps(g, x0), 0);

@@ -38,7 +38,8 @@ newton_options options(iteration_kind kind, double tolerance = 0.0) {
 template <class L>
 double worst_gap(const lagrangian_system<L>& sys, double h, scheme_spec spec, phase_state<L::dim> x,
                  int n, const newton_options& opt) {
-    general::stepper<L> newton(sys, h, spec), variant(sys, h, spec, opt);
+    general::stepper<L> newton(sys, h, spec, options(iteration_kind::newton)),
+        variant(sys, h, spec, opt);
     double worst = 0.0;
     for (int j = 0; j < n; ++j) {
         phase_state<L::dim> y = x;
@@ -124,6 +125,33 @@ TEST(GeneralIteration, SweepsEvaluateFirstDerivativesOnly) {
             EXPECT_GE(c.gradients, 3 * 2 * n); // ≥ 3 sweeps × 2 points per step
         }
     }
+}
+
+TEST(GeneralIteration, DefaultIsSimplifiedForAutomaticDerivatives) {
+    // `automatic`: the simplified iteration for Kepler's L by AD, Newton for it by hand. The
+    // default run repeats the explicit one to the bit and to the iteration count.
+    auto run = [](auto sys, const newton_options& opt, long& iterations) {
+        general::stepper s(sys, orbit.period() / 100, {scheme_kind::gauss, 4}, opt);
+        phase_state<2> x = orbit.at(0.0);
+        iterations = 0;
+        for (int j = 0; j < 50; ++j)
+            iterations += s.step(x).iterations;
+        return x;
+    };
+    const lagrangian_system<kepler::lagrangian> ad({});
+    const lagrangian_system<counting> hand({});
+    long n_default = 0, n_simplified = 0, n_newton = 0;
+    const auto a = run(ad, {}, n_default),
+               b = run(ad, options(iteration_kind::simplified), n_simplified);
+    run(ad, options(iteration_kind::newton), n_newton);
+    EXPECT_TRUE(a.q == b.q && a.p == b.p);
+    EXPECT_EQ(n_default, n_simplified);
+    EXPECT_NE(n_default, n_newton); // the counts tell the two apart (2 per step against ~5)
+    long h_default = 0, h_newton = 0;
+    run(hand, {}, h_default);
+    run(hand, options(iteration_kind::newton), h_newton);
+    EXPECT_EQ(h_default, h_newton);
+    EXPECT_EQ(h_newton, 2 * 50);
 }
 
 TEST(GeneralIteration, DivergenceHandsTheStepToNewton) {

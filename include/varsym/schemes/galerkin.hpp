@@ -70,6 +70,7 @@ class stepper {
     /// The member whose tables are `tab` (as tableau::make built them, or altered by a test).
     stepper(System sys, double h, tableau tab, const newton_options& opt = {})
         : sys_(std::move(sys)), h_(h), opt_(opt), tab_(std::move(tab)) {
+        if (opt_.iteration == iteration_kind::automatic) opt_.iteration = iteration_kind::newton;
         const int s = tab_.degree, r = static_cast<int>(tab_.quad.size()), d = sys_.dimension();
         s_ = s;
         r_ = r;

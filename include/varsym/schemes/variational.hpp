@@ -39,7 +39,9 @@ namespace varsym::general {
 
 /// One step of the scheme for the system's Lagrangian. The state is (q, p); the iteration starts
 /// from a Taylor predictor from (q_j, p_j) alone (predictor `previous` is the family stepper's
-/// only). With Newton (the default) steps depend on nothing else; with a linear iteration they
+/// only). The default iteration (`automatic`) is Newton for a Lagrangian with derivatives by
+/// hand and the simplified iteration for automatic derivatives (docs/autodiff.md). With Newton
+/// steps depend on nothing else; with a linear iteration they
 /// also depend on the kept Jacobian, which save_history / restore_history hand to a checkpoint,
 /// so a run restarted from a saved state continues exactly as it would have.
 /// All work arrays are sized in the constructor: for a compile-time d a step allocates nothing;
@@ -53,6 +55,9 @@ class stepper {
     stepper(system_type sys, double h, const scheme_spec& spec, const newton_options& opt = {})
         : sys_(std::move(sys)), h_(h), opt_(opt),
           tab_(galerkin::tableau::make(family_member(spec).first, family_member(spec).second)) {
+        if (opt_.iteration == iteration_kind::automatic)
+            opt_.iteration = lagrangian_with_derivatives<L> ? iteration_kind::newton
+                                                            : iteration_kind::simplified;
         s_ = tab_.degree;
         r_ = static_cast<int>(tab_.quad.size());
         d_ = sys_.dimension();

@@ -123,7 +123,13 @@ void stepper<L>::refresh(const lagrangian_terms<dim>& t) {
     // assemble() also writes a residual; only its Jacobian is used here.
     assemble(vec<dim>::Zero(d_), true);
     lu_.compute(jac_);
-    jinv_ = lu_.inverse();
+    // Column by column through the work vectors: lu_.inverse() would allocate a temporary.
+    for (Eigen::Index c = 0; c < res_.size(); ++c) {
+        res_.setZero();
+        res_(c) = 1.0;
+        delta_.noalias() = lu_.solve(res_);
+        jinv_.col(c) = delta_;
+    }
     kept_ = true;
 }
 

@@ -14,6 +14,8 @@ namespace varsym {
 /// other steppers always use Newton). In the general engine `fixed_point` is the simplified
 /// iteration with the Jacobian's ∂²L/∂q̇² term alone.
 enum class iteration_kind {
+    automatic,   ///< the default: newton, except simplified in the general engine when L's
+                 ///< derivatives are automatic (its Hessians cost (2d + 1)² per operation of L)
     newton,      ///< exact Jacobian, evaluated and factorised at every iterate
     simplified,  ///< Jacobian at one point, factorised once and kept across steps while the
                  ///< iterations contract fast (contraction_limit), refreshed at q_j when not
@@ -38,7 +40,7 @@ struct newton_options {
     /// Size of the value the unknown is an increment of (|q_j| when solving for q − q_j), or 0.
     /// Updates that stall below round-off of that value cannot matter once it is added.
     double reference = 0.0;
-    iteration_kind iteration = iteration_kind::newton;
+    iteration_kind iteration = iteration_kind::automatic;
     predictor_kind predictor = predictor_kind::taylor;
     /// simplified: the kept Jacobian is refreshed when an iteration's update shrinks by less
     /// than this factor (the observed contraction rate).
