@@ -40,10 +40,10 @@ namespace varsym::general {
 /// One step of the scheme for the system's Lagrangian. The state is (q, p); the iteration starts
 /// from a Taylor predictor from (q_j, p_j) alone (predictor `previous` is the family stepper's
 /// only). The default iteration (`automatic`) is Newton for a Lagrangian with derivatives by
-/// hand and the simplified iteration for automatic derivatives (docs/autodiff.md). With Newton
-/// steps depend on nothing else; with a linear iteration they
-/// also depend on the kept Jacobian, which save_history / restore_history hand to a checkpoint,
-/// so a run restarted from a saved state continues exactly as it would have.
+/// hand and the simplified iteration for automatic derivatives (docs/autodiff.md). With Newton,
+/// steps depend on nothing else; with a linear iteration they also depend on the kept Jacobian,
+/// which save_history / restore_history hand to a checkpoint, so a run restarted from a saved
+/// state continues exactly as it would have.
 /// All work arrays are sized in the constructor: for a compile-time d a step allocates nothing;
 /// d may also be `dynamic` (known at run time), with the derivatives given by hand.
 template <lagrangian L>

@@ -6,7 +6,7 @@
 // inverted once and kept across steps while each update shrinks at least 1/contraction_limit
 // times; the sweeps evaluate L's first derivatives only. They stop at the same round-off floor
 // as Newton (newton_monitor, linear), and hand the step to Newton when an update shrinks by less
-// than half even with a fresh Jacobian. docs/design.md, "Solving the step".
+// than half even with a fresh Jacobian. docs/design.md, "The general engine".
 #pragma once
 
 #include <algorithm>
