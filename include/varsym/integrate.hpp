@@ -65,6 +65,8 @@ template <stepper Stepper>
 double advance(Stepper& stepper, phase_state<Stepper::dim>& x, double t0, std::size_t j,
                run_summary& sum) {
     const double h = stepper.step_size();
+    if constexpr (requires { stepper.set_time(t0); }) // a forced step depends on t_{j−1}
+        stepper.set_time(t0 + static_cast<double>(j - 1) * h);
     const newton_report rep = stepper.step(x);
     const double t = t0 + static_cast<double>(j) * h;
     if (!rep.converged) throw step_failure(j, t - h, t, rep);

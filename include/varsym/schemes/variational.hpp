@@ -24,6 +24,13 @@
 // first derivatives in their sweeps, against one Jacobian kept across steps: with automatic
 // derivatives that is the difference between O((2d)²) and O(2d) per operation of L
 // (docs/autodiff.md).
+//
+// Forces (the discrete Lagrange–d'Alembert principle; Marsden & West 2001, §3.2): a generalized
+// force f(q, q̇, t) adds h Σ_k w_k φ_ik f(q_k, v_k, t_j + c_k h) to equation i, i.e. f joins L_q
+// at every quadrature point, and ∂f/∂q, ∂f/∂q̇ join the Jacobian beside L_qq and L_qv (not
+// beside L_vq: f is not differentiated in q̇ by the principle). Then
+//   p_{j+1} = p_j + h Σ_k w_k (L_q(k) + f_k),
+// and the step's work h Σ_k w_k f_k·v_k is kept (last_work) for the energy balance.
 #pragma once
 
 #include <utility>
@@ -33,6 +40,7 @@
 #include "varsym/schemes/scheme_kind.hpp"
 #include "varsym/solvers/compensated.hpp"
 #include "varsym/solvers/newton.hpp"
+#include "varsym/systems/forcing.hpp"
 #include "varsym/systems/lagrangian.hpp"
 
 namespace varsym::general {
@@ -46,14 +54,25 @@ namespace varsym::general {
 /// state continues exactly as it would have.
 /// All work arrays are sized in the constructor: for a compile-time d a step allocates nothing;
 /// d may also be `dynamic` (known at run time), with the derivatives given by hand.
-template <lagrangian L>
+/// With a force F (systems/forcing.hpp) the step is the forced one; its time t_j is set by
+/// set_time (the drivers of integrate.hpp do) and advances by h per step otherwise.
+template <lagrangian L, class F = unforced>
 class stepper {
   public:
     static constexpr int dim = L::dim;
+    static constexpr bool forced = !std::is_same_v<F, unforced>;
+    static_assert(force_for<F, L::dim>(), "the force must be a generalized_force "
+                                          "(systems/forcing.hpp) of the Lagrangian's dimension");
     using system_type = lagrangian_system<L>;
+    using force_type = F;
 
     stepper(system_type sys, double h, const scheme_spec& spec, const newton_options& opt = {})
-        : sys_(std::move(sys)), h_(h), opt_(opt),
+        requires(!forced)
+        : stepper(std::move(sys), F{}, h, spec, opt) {}
+
+    stepper(system_type sys, F force, double h, const scheme_spec& spec,
+            const newton_options& opt = {})
+        : sys_(std::move(sys)), force_(std::move(force)), h_(h), opt_(opt),
           tab_(galerkin::tableau::make(family_member(spec).first, family_member(spec).second)) {
         if (opt_.iteration == iteration_kind::automatic)
             opt_.iteration = lagrangian_with_derivatives<L> ? iteration_kind::newton
@@ -70,6 +89,14 @@ class stepper {
             t.lqv.setZero(d_, d_);
             t.lvv.setZero(d_, d_);
         }
+        if constexpr (forced) {
+            fterms_.resize(static_cast<std::size_t>(r_));
+            for (auto& t : fterms_) {
+                t.f.setZero(d_);
+                t.fq.setZero(d_, d_);
+                t.fv.setZero(d_, d_);
+            }
+        }
         for (auto* v : {&qk_, &vk_, &dp_, &dq_, &acc_, &lq0_, &lv0_, &q_bar_, &v_bar_})
             v->setZero(d_);
         res_.setZero(s_ * d_);
@@ -84,9 +111,16 @@ class stepper {
     /// The compensated summation of the increments, whose carries a checkpoint keeps.
     [[nodiscard]] auto& summation() { return sum_; }
     [[nodiscard]] const galerkin::tableau& table() const { return tab_; }
+    [[nodiscard]] const F& force() const { return force_; }
+    /// The time t_j of the next step's start (used by forces; a conservative step ignores it).
+    [[nodiscard]] double time() const { return t_; }
+    void set_time(double t) { t_ = t; }
+    /// The work of the forces over the last step, h Σ_k w_k f_k·q̇_k (0 without forces): the
+    /// energy balance E_{j+1} − E_j ≈ W_j holds to the scheme's order.
+    [[nodiscard]] double last_work() const { return work_; }
 
     /// With a linear iteration: whether a Jacobian is kept and the point (q̄, v̄) it was taken
-    /// at (1 + 2d numbers); empty with Newton. run_state::history keeps it for a checkpoint.
+    /// at (1 + 2d numbers, and its time if forced); empty with Newton. run_state::history keeps it for a checkpoint.
     void save_history(std::vector<double>& out) const;
     /// Puts back what save_history gave (an empty history starts afresh): the next step is then
     /// the one the saved run would have taken. Throws std::invalid_argument on a wrong length.
@@ -123,6 +157,8 @@ class stepper {
         dq_ = x_.col(s_ - 1);
         sum_.add_q(x, dq_);
         sum_.add_p(x, dp_);
+        work_ *= h;
+        t_ += h;
         rep.converged = true;
         return rep;
     }
@@ -149,8 +185,10 @@ class stepper {
         evaluate(sys_.lagrangian(), x.q, vk_, t);
         vec<dim> v = solve_symmetric<dim>(t.lvv, x.p - t.lv);
         evaluate(sys_.lagrangian(), x.q, v, t);
-        q_bar_ = x.q; // terms_[0] now holds the derivatives at (q̄, v̄)
+        if constexpr (forced) add_force(0, x.q, v, t_, true);
+        q_bar_ = x.q; // terms_[0] (and fterms_[0]) now hold the derivatives at (q̄, v̄)
         v_bar_ = v;
+        t_bar_ = t_;
         v += solve_symmetric<dim>(t.lvv, x.p - t.lv);
         const vec<dim> a = solve_symmetric<dim>(t.lvv, t.lq - t.lqv.transpose() * v);
         for (int l = 0; l < s_; ++l) {
@@ -163,6 +201,7 @@ class stepper {
     /// L and its first (and, if `second`, second) derivatives at every quadrature point
     /// (q_k, v_k) for the current increments.
     void evaluate_points(const vec<dim>& q, bool second) {
+        work_ = 0.0;
         for (int k = 0; k < r_; ++k) {
             qk_ = q;
             vk_.setZero();
@@ -177,7 +216,20 @@ class stepper {
                 evaluate(sys_.lagrangian(), qk_, vk_, terms_[k]);
             else
                 evaluate_gradient(sys_.lagrangian(), qk_, vk_, terms_[k]);
+            if constexpr (forced) {
+                add_force(k, qk_, vk_, t_ + tab_.quad.nodes[static_cast<std::size_t>(k)] * h_,
+                          second);
+                work_ += tab_.quad.weights[static_cast<std::size_t>(k)] *
+                         fterms_[static_cast<std::size_t>(k)].f.dot(vk_);
+            }
         }
+    }
+
+    /// f at point k joins L_q there (and its Jacobians are evaluated if `jacobian`).
+    void add_force(int k, const vec<dim>& q, const vec<dim>& v, double t, bool jacobian) {
+        auto& f = fterms_[static_cast<std::size_t>(k)];
+        evaluate_force(force_, q, v, t, f, jacobian);
+        terms_[static_cast<std::size_t>(k)].lq += f.f;
     }
 
     /// The residual F (rows i = 0 … s−1) and, if `jacobian`, its Jacobian in the increments.
@@ -199,6 +251,10 @@ class stepper {
                     auto block = block_of<dim>(jac_, i, l, d_);
                     block += (h * fi * fl) * t.lqq + (fi * gl) * t.lqv;
                     block += (gi * fl) * t.lqv.transpose() + (gi * gl / h) * t.lvv;
+                    if constexpr (forced) {
+                        const force_terms<dim>& f = fterms_[static_cast<std::size_t>(k)];
+                        block += (h * fi * fl) * f.fq + (fi * gl) * f.fv;
+                    }
                 }
             }
         }
@@ -206,6 +262,7 @@ class stepper {
     }
 
     system_type sys_;
+    [[no_unique_address]] F force_;
     double h_;
     newton_options opt_;
     galerkin::tableau tab_;
@@ -214,6 +271,8 @@ class stepper {
     vec<dim> qk_, vk_, dp_, dq_, acc_, lq0_,
         lv0_; // lq0_, lv0_: L_q, L_v at (q_j, v) in predict_kept
     std::vector<lagrangian_terms<dim>> terms_;
+    std::vector<force_terms<dim>> fterms_; // the force at each quadrature point (if forced)
+    double t_ = 0.0, work_ = 0.0, t_bar_ = 0.0; // t_bar_: the time of (q̄, v̄), if forced
     Eigen::VectorXd res_, delta_;
     Eigen::MatrixXd jac_, jinv_; // jinv_: the kept Jacobian's inverse (linear iterations)
     Eigen::PartialPivLU<Eigen::MatrixXd> lu_;

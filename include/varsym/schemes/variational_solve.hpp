@@ -19,34 +19,37 @@
 
 namespace varsym::general {
 
-template <lagrangian L>
-void stepper<L>::save_history(std::vector<double>& out) const {
+template <lagrangian L, class F>
+void stepper<L, F>::save_history(std::vector<double>& out) const {
     out.clear();
     if (!linear()) return;
     out.push_back(kept_ ? 1.0 : 0.0);
     out.insert(out.end(), q_bar_.data(), q_bar_.data() + d_);
     out.insert(out.end(), v_bar_.data(), v_bar_.data() + d_);
+    if constexpr (forced) out.push_back(t_bar_);
 }
 
-template <lagrangian L>
-void stepper<L>::restore_history(const phase_state<dim>&, const std::vector<double>& in) {
+template <lagrangian L, class F>
+void stepper<L, F>::restore_history(const phase_state<dim>&, const std::vector<double>& in) {
     kept_ = false;
     if (in.empty()) return;
-    const auto want = static_cast<std::size_t>(linear() ? 1 + 2 * d_ : 0);
+    const auto want = static_cast<std::size_t>(linear() ? 1 + 2 * d_ + (forced ? 1 : 0) : 0);
     if (in.size() != want)
         throw std::invalid_argument("the saved history has " + std::to_string(in.size()) +
                                     " numbers where this stepper's options keep " +
                                     std::to_string(want));
     std::copy(in.begin() + 1, in.begin() + 1 + d_, q_bar_.data());
-    std::copy(in.begin() + 1 + d_, in.end(), v_bar_.data());
+    std::copy(in.begin() + 1 + d_, in.begin() + 1 + 2 * d_, v_bar_.data());
+    if constexpr (forced) t_bar_ = in.back();
     if (in[0] != 0.0) {
         evaluate(sys_.lagrangian(), q_bar_, v_bar_, terms_[0]);
+        if constexpr (forced) add_force(0, q_bar_, v_bar_, t_bar_, true);
         refresh(terms_[0]);
     }
 }
 
-template <lagrangian L>
-newton_report stepper<L>::solve_linear(const phase_state<dim>& x) {
+template <lagrangian L, class F>
+newton_report stepper<L, F>::solve_linear(const phase_state<dim>& x) {
     bool fresh = false;
     if (kept_) {
         predict_kept(x);
@@ -69,8 +72,8 @@ newton_report stepper<L>::solve_linear(const phase_state<dim>& x) {
 
 /// Newton (a Jacobian from every point's second derivatives at every iterate) or a linear
 /// iteration (the kept inverse, first derivatives only), from the predicted increments.
-template <lagrangian L>
-newton_report stepper<L>::iterate(const phase_state<dim>& x, bool newton) {
+template <lagrangian L, class F>
+newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
     newton_options opt = opt_;
     opt.typical = x_.template lpNorm<Eigen::Infinity>();
     opt.reference = x.q.template lpNorm<Eigen::Infinity>();
@@ -104,8 +107,8 @@ newton_report stepper<L>::iterate(const phase_state<dim>& x, bool newton) {
 }
 
 /// Builds and inverts the kept Jacobian from the second derivatives in t (taken at (q̄, v̄)).
-template <lagrangian L>
-void stepper<L>::refresh(const lagrangian_terms<dim>& t) {
+template <lagrangian L, class F>
+void stepper<L, F>::refresh(const lagrangian_terms<dim>& t) {
     const bool free = opt_.iteration == iteration_kind::fixed_point;
     for (auto& point : terms_) {
         if (&point == &t) continue;
@@ -117,6 +120,17 @@ void stepper<L>::refresh(const lagrangian_terms<dim>& t) {
         for (auto& point : terms_) {
             point.lqq.setZero();
             point.lqv.setZero();
+        }
+    }
+    if constexpr (forced) { // the force's Jacobians at (q̄, v̄), in fterms_[0] (predict)
+        for (auto& point : fterms_) {
+            if (free) {
+                point.fq.setZero();
+                point.fv.setZero();
+            } else if (&point != &fterms_[0]) {
+                point.fq = fterms_[0].fq;
+                point.fv = fterms_[0].fv;
+            }
         }
     }
     mbar_.compute(t.lvv);
@@ -138,8 +152,8 @@ void stepper<L>::refresh(const lagrangian_terms<dim>& t) {
 /// evaluation where M̄ is exact, as for a constant mass matrix; up to four where it has moved),
 /// and L_vq q̇ by a forward difference of L_v along q̇: first derivatives only. (A start to the
 /// iteration: its accuracy changes the sweeps, not the step.)
-template <lagrangian L>
-void stepper<L>::predict_kept(const phase_state<dim>& x) {
+template <lagrangian L, class F>
+void stepper<L, F>::predict_kept(const phase_state<dim>& x) {
     lagrangian_terms<dim>& t = terms_[0];
     const auto& lag = sys_.lagrangian();
     vk_.setZero();
@@ -147,6 +161,7 @@ void stepper<L>::predict_kept(const phase_state<dim>& x) {
     vk_ = mbar_.solve(x.p - t.lv);
     for (int it = 0; it < 4; ++it) {
         evaluate_gradient(lag, x.q, vk_, t);
+        if constexpr (forced) add_force(0, x.q, vk_, t_, false);
         lq0_ = t.lq;
         lv0_ = t.lv;
         dq_ = vk_; // the q̇ of this evaluation

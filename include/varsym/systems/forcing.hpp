@@ -1,0 +1,242 @@
+// varsym/systems/forcing.hpp: generalized forces f(q, q̇, t) (non-conservative forces, joint
+// torques, controls), which the general engine adds by the discrete Lagrange–d'Alembert
+// principle (schemes/variational.hpp; docs/mechanisms.md). Like a Lagrangian, a force is written
+// once, templated on the scalar type, and differentiated automatically, or gives its derivatives
+// by hand. Built in: Rayleigh damping, a PD controller tracking a reference trajectory (with
+// optional gravity compensation), a prescribed force schedule u(t), and sums of these.
+#pragma once
+
+#include <algorithm>
+#include <concepts>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "varsym/autodiff/second_order.hpp"
+#include "varsym/systems/lagrangian.hpp"
+#include "varsym/types.hpp"
+
+namespace varsym {
+
+/// A force's value and Jacobians at one point: fq(i, j) = ∂f_i/∂q_j, fv(i, j) = ∂f_i/∂q̇_j.
+template <int D>
+struct force_terms {
+    vec<D> f;
+    mat<D> fq, fv;
+};
+
+/// What a generalized force must provide: `static constexpr int dim` (as its Lagrangian's) and
+/// `template <class T> tvec<T, D> operator()(const tvec<T, D>& q, const tvec<T, D>& v, double t)
+/// const` returning the force conjugate to q (units of ∂L/∂q: N, N·m for an angle), callable
+/// with T = double and the automatic-differentiation scalars (return a tvec<T, D>, not an Eigen
+/// expression of local variables).
+template <class F>
+concept generalized_force = requires { F::dim; } && requires(const F& f, const vec<F::dim>& q,
+                                                             double t) {
+    { f(q, q, t) } -> std::convertible_to<vec<F::dim>>;
+};
+
+/// A force that also gives its value and Jacobians by hand in derivatives(q, v, t, terms), then
+/// used instead of differentiation (a force of run-time dimension must).
+template <class F>
+concept force_with_derivatives = generalized_force<F> &&
+    requires(const F& f, const vec<F::dim>& q, double t, force_terms<F::dim>& r) {
+    f.derivatives(q, q, t, r);
+};
+
+/// The default force of the general engine: none (the conservative scheme, unchanged).
+struct unforced {};
+
+/// Whether F is `unforced` or a generalized force of dimension D.
+template <class F, int D>
+constexpr bool force_for() {
+    if constexpr (std::is_same_v<F, unforced>)
+        return true;
+    else if constexpr (generalized_force<F>)
+        return F::dim == D;
+    else
+        return false;
+}
+
+/// Fills r with f(q, v, t) and, if `jacobian`, its Jacobians (by hand when the force gives them,
+/// else by forward-mode automatic differentiation in the 2D variables (q, v)). r's members are
+/// sized by the caller. A force with derivatives by hand always fills all three.
+template <generalized_force F>
+void evaluate_force(const F& f, const vec<F::dim>& q, const vec<F::dim>& v, double t,
+                    force_terms<F::dim>& r, bool jacobian) {
+    constexpr int D = F::dim;
+    if constexpr (force_with_derivatives<F>) {
+        f.derivatives(q, v, t, r);
+    } else if (!jacobian) {
+        r.f = f(q, v, t);
+    } else {
+        static_assert(D != dynamic, "automatic derivatives need a compile-time dimension: give a "
+                                    "force of run-time dimension derivatives(q, v, t, terms)");
+        constexpr int N = 2 * D;
+        using J = ad::first_order<N>;
+        tvec<J, D> qj, vj;
+        for (int i = 0; i < D; ++i) {
+            qj(i) = J(q(i), N, i);
+            vj(i) = J(v(i), N, D + i);
+        }
+        const tvec<J, D> out = f(qj, vj, t);
+        for (int i = 0; i < D; ++i) {
+            r.f(i) = out(i).value();
+            r.fq.row(i) = out(i).derivatives().template head<D>().transpose();
+            r.fv.row(i) = out(i).derivatives().template tail<D>().transpose();
+        }
+    }
+}
+
+/// Rayleigh damping f = −C q̇, C symmetric positive semi-definite [N·s/m, or N·m·s/rad for an
+/// angle]. It dissipates: f·q̇ = −q̇ᵀCq̇ ≤ 0.
+template <int D>
+struct rayleigh_damping {
+    static constexpr int dim = D;
+    mat<D> c;
+
+    explicit rayleigh_damping(mat<D> coefficients) : c(std::move(coefficients)) {
+        if (!c.allFinite() || !c.isApprox(c.transpose()))
+            throw std::invalid_argument("the damping matrix must be finite and symmetric");
+    }
+    /// Diagonal damping (one coefficient per coordinate; each ≥ 0).
+    static rayleigh_damping diagonal(const vec<D>& coefficients) {
+        if ((coefficients.array() < 0.0).any())
+            throw std::invalid_argument("damping coefficients must be >= 0");
+        return rayleigh_damping(mat<D>(coefficients.asDiagonal()));
+    }
+    [[nodiscard]] int dimension() const { return static_cast<int>(c.rows()); }
+    vec<D> operator()(const vec<D>&, const vec<D>& v, double) const { return -(c * v); }
+    void derivatives(const vec<D>& q, const vec<D>& v, double, force_terms<D>& r) const {
+        r.f.noalias() = -(c * v);
+        r.fq.setZero(q.size(), q.size());
+        r.fv = -c;
+    }
+};
+
+/// A prescribed force u(t) that depends on time only (a torque schedule, an external load):
+/// f = u(t). Its Jacobians are zero.
+template <int D>
+struct prescribed_force {
+    static constexpr int dim = D;
+    std::function<vec<D>(double)> u;
+    int size = D == dynamic ? 0 : D;
+
+    [[nodiscard]] int dimension() const { return size; }
+    vec<D> operator()(const vec<D>&, const vec<D>&, double t) const { return u(t); }
+    void derivatives(const vec<D>& q, const vec<D>&, double t, force_terms<D>& r) const {
+        r.f = u(t);
+        if (r.f.size() != q.size())
+            throw std::invalid_argument("the prescribed force has " +
+                                        std::to_string(r.f.size()) + " components for " +
+                                        std::to_string(q.size()) + " coordinates");
+        r.fq.setZero(q.size(), q.size());
+        r.fv.setZero(q.size(), q.size());
+    }
+
+    /// u(t) interpolated linearly in a table: times increasing, values[k] the force at times[k];
+    /// constant (the first or last row) outside the table.
+    static prescribed_force piecewise_linear(std::vector<double> times, std::vector<vec<D>> values) {
+        if (times.empty() || times.size() != values.size())
+            throw std::invalid_argument("a force schedule needs as many rows of values as times "
+                                        "(and at least one)");
+        if (!std::is_sorted(times.begin(), times.end()) ||
+            std::adjacent_find(times.begin(), times.end()) != times.end())
+            throw std::invalid_argument("the times of a force schedule must increase");
+        prescribed_force f;
+        f.size = static_cast<int>(values.front().size());
+        f.u = [times = std::move(times), values = std::move(values)](double t) -> vec<D> {
+            if (t <= times.front()) return values.front();
+            if (t >= times.back()) return values.back();
+            const auto k = static_cast<std::size_t>(
+                std::upper_bound(times.begin(), times.end(), t) - times.begin());
+            const double a = (t - times[k - 1]) / (times[k] - times[k - 1]);
+            return (1.0 - a) * values[k - 1] + a * values[k];
+        };
+        return f;
+    }
+};
+
+/// Joint torques of a PD controller tracking a reference trajectory r(t):
+///   f = K_p (r(t) − q) + K_d (ṙ(t) − q̇) + τ_g(q),
+/// with gravity compensation τ_g(q) = −∂L/∂q(q, 0) (the torque that holds the system at rest at
+/// q, for a kinetic energy quadratic in q̇) when built with compensate(). Gains K_p [N·m/rad],
+/// K_d [N·m·s/rad].
+template <int D>
+struct pd_controller {
+    static constexpr int dim = D;
+    mat<D> kp, kd;
+    /// The reference: fills r(t) and ṙ(t).
+    std::function<void(double, vec<D>&, vec<D>&)> reference;
+    /// Gravity compensation: fills τ_g(q) and ∂τ_g/∂q (empty: none).
+    std::function<void(const vec<D>&, vec<D>&, mat<D>&)> compensation;
+
+    [[nodiscard]] int dimension() const { return static_cast<int>(kp.rows()); }
+
+    /// Adds the compensation −∂L/∂q(q, 0) of the Lagrangian l (by hand or automatic derivatives).
+    template <lagrangian L>
+    pd_controller& compensate(L l) {
+        compensation = [l = std::move(l)](const vec<D>& q, vec<D>& tau, mat<D>& dtau) {
+            lagrangian_terms<D> t;
+            evaluate(l, q, vec<D>::Zero(q.size()), t);
+            tau = -t.lq;
+            dtau = -t.lqq;
+        };
+        return *this;
+    }
+
+    vec<D> operator()(const vec<D>& q, const vec<D>& v, double t) const {
+        force_terms<D> r;
+        derivatives(q, v, t, r);
+        return r.f;
+    }
+    void derivatives(const vec<D>& q, const vec<D>& v, double t, force_terms<D>& r) const {
+        vec<D> ref = vec<D>::Zero(q.size()), rate = vec<D>::Zero(q.size());
+        if (reference) reference(t, ref, rate);
+        r.f.noalias() = kp * (ref - q);
+        r.f.noalias() += kd * (rate - v);
+        r.fq = -kp;
+        r.fv = -kd;
+        if (compensation) {
+            vec<D> tau;
+            mat<D> dtau;
+            compensation(q, tau, dtau);
+            r.f += tau;
+            r.fq += dtau;
+        }
+    }
+};
+
+/// The sum of several forces of one dimension (e.g. damping and a controller).
+template <generalized_force... F>
+struct force_sum {
+    static constexpr int dim = std::get<0>(std::tuple{F::dim...});
+    std::tuple<F...> parts;
+
+    explicit force_sum(F... f) : parts(std::move(f)...) {}
+
+    vec<dim> operator()(const vec<dim>& q, const vec<dim>& v, double t) const {
+        vec<dim> f = vec<dim>::Zero(q.size());
+        std::apply([&](const auto&... p) { ((f += vec<dim>(p(q, v, t))), ...); }, parts);
+        return f;
+    }
+    void derivatives(const vec<dim>& q, const vec<dim>& v, double t, force_terms<dim>& r) const {
+        force_terms<dim> part{r}; // sized like r
+        r.f.setZero(q.size());
+        r.fq.setZero(q.size(), q.size());
+        r.fv.setZero(q.size(), q.size());
+        std::apply(
+            [&](const auto&... p) {
+                ((evaluate_force(p, q, v, t, part, true), r.f += part.f, r.fq += part.fq,
+                  r.fv += part.fv),
+                 ...);
+            },
+            parts);
+    }
+};
+
+} // namespace varsym
