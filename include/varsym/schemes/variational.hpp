@@ -127,7 +127,6 @@ class stepper {
     void restore_history(const phase_state<dim>& x, const std::vector<double>& in);
 
     newton_report step(phase_state<dim>& x) {
-        const double h = h_;
         newton_report rep;
         if (linear()) {
             rep = solve_linear(x);
@@ -140,30 +139,41 @@ class stepper {
             rep = solve_newton(x);
         }
         if (!rep.converged) return rep;
-        // p_{j+1} − p_j = h Σ_k w_k L_q(k) at the converged increments. A coordinate that L does
-        // not depend on has L_q = 0 exactly, so its momentum is conserved to the last bit.
+        if (!momentum_change(x)) return failed(rep);
+        commit(x);
+        return rep;
+    }
+
+  protected:
+    // What the constrained stepper (constrained.hpp) builds on.
+
+    /// dp_ = p_{j+1} − p_j = h Σ_k w_k (L_q(k) + f_k) at the converged increments; false if not
+    /// finite. A coordinate that L does not depend on has L_q = 0 exactly, so its momentum is
+    /// conserved to the last bit.
+    bool momentum_change(const phase_state<dim>& x) {
         evaluate_points(x.q, false);
         dp_.setZero();
         for (int k = 0; k < r_; ++k) {
             dp_ += tab_.quad.weights[k] * terms_[k].lq;
             dp_ += tab_.weights_lo[static_cast<std::size_t>(k)] * terms_[k].lq;
         }
-        dp_ *= h;
-        if (!dp_.allFinite()) {
-            rep.converged = false;
-            rep.residual = std::numeric_limits<double>::quiet_NaN();
-            return rep;
-        }
+        dp_ *= h_;
+        return dp_.allFinite();
+    }
+    /// q_{j+1} = q_j + X_s and p_{j+1} = p_j + dp_ (compensated); the clock and work advance.
+    void commit(phase_state<dim>& x) {
         dq_ = x_.col(s_ - 1);
         sum_.add_q(x, dq_);
         sum_.add_p(x, dp_);
-        work_ *= h;
-        t_ += h;
-        rep.converged = true;
+        work_ *= h_;
+        t_ += h_;
+    }
+    static newton_report failed(newton_report rep) {
+        rep.converged = false;
+        rep.residual = std::numeric_limits<double>::quiet_NaN();
         return rep;
     }
 
-  private:
     [[nodiscard]] bool linear() const { return opt_.iteration != iteration_kind::newton; }
 
     newton_report solve_newton(const phase_state<dim>& x) {

@@ -1,0 +1,230 @@
+// varsym/schemes/constrained.hpp: the general engine with holonomic constraints g(q) = 0
+// (systems/constraints.hpp), for every member of the family; with a force too, if given.
+//
+// The discrete action of a step, L_d(Q_0 … Q_s) (variational.hpp), is augmented by −Σ λᵀg(Q_n)
+// at the control points that carry state (Marsden & West 2001, §3.5; docs/mechanisms.md). With
+// G_i = ∂g/∂q(Q_i), Q_0 = q_j, the step solves, for X_l = Q_l − q_j (l = 1 … s) and the impulses
+// Λ_0 … Λ_{s−1},
+//   F_0 − G_0ᵀΛ_0 = 0,   F_i − G_iᵀΛ_i = 0 (0 < i < s),   g(Q_l) = 0 (l = 1 … s),
+// with F_i the unconstrained equations (forces included); then
+//   p̃ = p_j + h Σ_k w_k (L_q(k) + f_k) − Σ_{i<s} G_iᵀΛ_i      (= ∂L_d/∂Q_s − G_iᵀΛ_i terms)
+//   p_{j+1} = p̃ − G_sᵀμ  with  G_s q̇_{j+1} = 0,  ∂L/∂q̇(q_{j+1}, q̇_{j+1}) = p_{j+1},
+// the projection onto the hidden constraint that RATTLE makes (its lowest member, s = 1 with the
+// midpoint rule, is the RATTLE-type variational integrator). Newton solves the saddle-point
+// system
+//   [ J − diag(0, H_1 … H_{s−1})   −diag(G_0ᵀ … G_{s−1}ᵀ) ] [δX]   [F − GᵀΛ]
+//   [ diag(G_1 … G_s)               0                     ] [δΛ] = [g     ],
+// H_i = Σ_a Λ_ia ∇²g_a(Q_i), with its exact Jacobian, once per step; the iteration is always
+// Newton (the linear iterations of variational_solve.hpp are for unconstrained systems).
+#pragma once
+
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "varsym/schemes/variational.hpp"
+#include "varsym/systems/constraints.hpp"
+
+namespace varsym::general {
+
+template <lagrangian L, holonomic_constraint C, class F = unforced>
+class constrained_stepper : public stepper<L, F> {
+    using base = stepper<L, F>;
+
+  public:
+    static constexpr int dim = L::dim, count = C::count;
+    static_assert(C::dim == L::dim, "the constraints must be on the Lagrangian's coordinates");
+    using jacobian_type = constraint_jacobian<dim, count>;
+
+    constrained_stepper(lagrangian_system<L> sys, C c, double h, const scheme_spec& spec,
+                        const newton_options& opt = {})
+        requires(!base::forced)
+        : constrained_stepper(std::move(sys), std::move(c), F{}, h, spec, opt) {}
+
+    constrained_stepper(lagrangian_system<L> sys, C c, F f, double h, const scheme_spec& spec,
+                        const newton_options& opt = {})
+        : base(std::move(sys), std::move(f), h, spec, newton_only(opt)), c_(std::move(c)) {
+        const int s = this->s_, d = this->d_, n = s * (d + count);
+        lam_.setZero(count, s);
+        g_.assign(static_cast<std::size_t>(s + 1), vec<count>::Zero());
+        jc_.assign(static_cast<std::size_t>(s + 1), jacobian_type::Zero(count, d));
+        mu_.setZero();
+        hc_.setZero(d, d);
+        k_.setZero(n, n);
+        rk_.setZero(n);
+        dk_.setZero(n);
+        klu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+    }
+
+    [[nodiscard]] const C& constraint() const { return c_; }
+
+    /// Impulses of the last step: Λ_0 … Λ_{s−1} (columns) and the projection's μ. Their sum over
+    /// a step divided by h is the mean constraint force λ̄ (units of L_q · 1/G).
+    [[nodiscard]] const Eigen::Matrix<double, count, Eigen::Dynamic>& impulses() const {
+        return lam_;
+    }
+    [[nodiscard]] vec<count> mean_multiplier() const {
+        return (lam_.rowwise().sum() + mu_) / this->h_;
+    }
+
+    /// max_a |g_a(q)|.
+    [[nodiscard]] double residual(const vec<dim>& q) const {
+        return c_(q).template lpNorm<Eigen::Infinity>();
+    }
+    /// max_a |(G(q) q̇)_a| with q̇ from p: the hidden constraint, zero for a momentum on the
+    /// manifold's cotangent space.
+    [[nodiscard]] double hidden_residual(const phase_state<dim>& x) const {
+        vec<count> g;
+        jacobian_type jac(count, x.q.size());
+        evaluate_constraint(c_, x.q, g, jac);
+        return (jac * this->sys_.velocity(x.q, x.p)).template lpNorm<Eigen::Infinity>();
+    }
+
+    /// Refuses initial data that the step would not keep: dependent constraints (naming the
+    /// rows), a position off g = 0 by more than `tolerance` relative to max(|q|, 1)·|G|, or a
+    /// velocity not tangent to it by more than `tolerance` relative to |G|·|q̇|. Throws
+    /// std::invalid_argument with the residual.
+    void check_initial(const phase_state<dim>& x, double tolerance = 1e-12) const {
+        vec<count> g;
+        jacobian_type jac(count, x.q.size());
+        evaluate_constraint(c_, x.q, g, jac);
+        check_independent<dim, count>(jac, "at the initial state");
+        const double scale = jac.template lpNorm<Eigen::Infinity>();
+        const double off = g.template lpNorm<Eigen::Infinity>();
+        char buf[200];
+        if (!(off <= tolerance * scale * std::max(1.0, x.q.template lpNorm<Eigen::Infinity>()))) {
+            std::snprintf(buf, sizeof buf,
+                          "the initial position is off the constraints: max |g(q0)| = %.3g; "
+                          "give a consistent state, or project it onto the constraints",
+                          off);
+            throw std::invalid_argument(buf);
+        }
+        const vec<dim> v = this->sys_.velocity(x.q, x.p);
+        const double tangent = (jac * v).template lpNorm<Eigen::Infinity>();
+        if (!(tangent <= tolerance * scale * v.template lpNorm<Eigen::Infinity>())) {
+            std::snprintf(buf, sizeof buf,
+                          "the initial velocity is not tangent to the constraints: max |G q0'| "
+                          "= %.3g; give a consistent state, or project it onto the constraints",
+                          tangent);
+            throw std::invalid_argument(buf);
+        }
+    }
+
+    /// (q, p) moved onto the constraints: q by Gauss–Newton along Gᵀ, p by the hidden
+    /// constraint's projection (the nearest tangent momentum in the mass matrix's metric).
+    [[nodiscard]] phase_state<dim> project(phase_state<dim> x) const {
+        project_position(c_, x.q);
+        vec<count> g;
+        jacobian_type jac(count, x.q.size());
+        evaluate_constraint(c_, x.q, g, jac);
+        check_independent<dim, count>(jac, "at the projected initial state");
+        vec<dim> v = this->sys_.velocity(x.q, x.p);
+        const vec<count> mu = tangent_momentum(this->sys_.lagrangian(), x.q, x.p, jac, v);
+        x.p -= jac.transpose() * mu;
+        return x;
+    }
+
+    newton_report step(phase_state<dim>& x);
+
+  private:
+    static newton_options newton_only(newton_options opt) {
+        opt.iteration = iteration_kind::newton;
+        return opt;
+    }
+    void assemble_constrained(const phase_state<dim>& x);
+
+    C c_;
+    Eigen::Matrix<double, count, Eigen::Dynamic> lam_; // Λ_0 … Λ_{s−1}
+    vec<count> mu_;                                    // the projection's impulse
+    std::vector<vec<count>> g_;                        // g(Q_0 … Q_s)
+    std::vector<jacobian_type> jc_;                    // G(Q_0 … Q_s)
+    mat<dim> hc_;
+    Eigen::MatrixXd k_;
+    Eigen::VectorXd rk_, dk_;
+    Eigen::PartialPivLU<Eigen::MatrixXd> klu_;
+};
+
+template <lagrangian L, holonomic_constraint C, class F>
+newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
+    const int s = this->s_, d = this->d_;
+    auto& X = this->x_;
+    this->predict(x);
+    lam_.setZero();
+    evaluate_constraint(c_, x.q, g_[0], jc_[0]);
+    newton_options opt = this->opt_;
+    opt.typical = X.template lpNorm<Eigen::Infinity>();
+    opt.reference = x.q.template lpNorm<Eigen::Infinity>();
+    newton_monitor monitor(opt);
+    newton_report rep;
+    while (true) {
+        this->evaluate_points(x.q, true);
+        this->assemble(x.p, true);
+        assemble_constrained(x);
+        rep.residual = rk_.template lpNorm<Eigen::Infinity>();
+        if (monitor.exhausted()) return rep;
+        klu_.compute(k_);
+        dk_.noalias() = klu_.solve(rk_);
+        const double update = dk_.head(s * d).template lpNorm<Eigen::Infinity>();
+        rep.iterations = monitor.iterations() + 1;
+        if (!dk_.allFinite() || !std::isfinite(rep.residual)) return base::failed(rep);
+        for (int l = 0; l < s; ++l)
+            X.col(l) -= dk_.segment(l * d, d);
+        for (int i = 0; i < s; ++i)
+            lam_.col(i) -= dk_.segment(s * d + i * count, count);
+        if (monitor.converged(update, X.template lpNorm<Eigen::Infinity>())) break;
+    }
+    // p̃ − p_j, then the projection onto the hidden constraint at q_{j+1}.
+    if (!this->momentum_change(x)) return base::failed(rep);
+    for (int i = 1; i <= s; ++i) {
+        this->qk_ = x.q + X.col(i - 1);
+        evaluate_constraint(c_, this->qk_, g_[static_cast<std::size_t>(i)],
+                            jc_[static_cast<std::size_t>(i)]);
+    }
+    for (int i = 0; i < s; ++i)
+        this->dp_.noalias() -= jc_[static_cast<std::size_t>(i)].transpose() * lam_.col(i);
+    this->qk_ = x.q + X.col(s - 1);
+    this->acc_ = x.p + this->dp_;   // p̃
+    this->vk_ = X.col(s - 1) / this->h_; // a start for q̇_{j+1}
+    try {
+        mu_ = tangent_momentum(this->sys_.lagrangian(), this->qk_, this->acc_,
+                               jc_[static_cast<std::size_t>(s)], this->vk_);
+    } catch (const std::domain_error&) {
+        return base::failed(rep);
+    }
+    this->dp_.noalias() -= jc_[static_cast<std::size_t>(s)].transpose() * mu_;
+    if (!this->dp_.allFinite()) return base::failed(rep);
+    this->commit(x);
+    rep.converged = true;
+    return rep;
+}
+
+/// The saddle-point residual and Jacobian (the header comment) from the unconstrained ones that
+/// assemble() left in res_ and jac_.
+template <lagrangian L, holonomic_constraint C, class F>
+void constrained_stepper<L, C, F>::assemble_constrained(const phase_state<dim>& x) {
+    const int s = this->s_, d = this->d_, sd = s * d;
+    const auto& X = this->x_;
+    k_.setZero();
+    k_.topLeftCorner(sd, sd) = this->jac_;
+    rk_.head(sd) = this->res_;
+    for (int l = 1; l <= s; ++l) { // g(Q_l) = 0, rows sd + (l−1)m, columns of X_l
+        const auto n = static_cast<std::size_t>(l);
+        this->qk_ = x.q + X.col(l - 1);
+        evaluate_constraint(c_, this->qk_, g_[n], jc_[n]);
+        rk_.segment(sd + (l - 1) * count, count) = g_[n];
+        k_.block(sd + (l - 1) * count, (l - 1) * d, count, d) = jc_[n];
+    }
+    for (int i = 0; i < s; ++i) { // − G_iᵀΛ_i in equation i
+        const auto& jac = jc_[static_cast<std::size_t>(i)];
+        rk_.segment(i * d, d).noalias() -= jac.transpose() * lam_.col(i);
+        k_.block(i * d, sd + i * count, d, count) = -jac.transpose();
+        if (i == 0) continue; // G_0 is at q_j, which the step does not move
+        this->qk_ = x.q + X.col(i - 1);
+        constraint_curvature(c_, this->qk_, vec<count>(lam_.col(i)), hc_);
+        k_.block(i * d, (i - 1) * d, d, d) -= hc_;
+    }
+}
+
+} // namespace varsym::general

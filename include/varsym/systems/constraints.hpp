@@ -1,0 +1,169 @@
+// varsym/systems/constraints.hpp: holonomic constraints g(q) = 0 (m equations on the
+// configuration), written once, templated on the scalar type like a Lagrangian, with their
+// Jacobian G = ∂g/∂q and the curvature term Σ_a λ_a ∇²g_a by automatic differentiation or by
+// hand; checks of independence (rank of G) and of initial data, and the projections that put
+// (q, p) on the constraint manifold and its hidden (velocity) constraint G(q) q̇ = 0.
+// The constrained stepper is schemes/constrained.hpp; docs/mechanisms.md.
+#pragma once
+
+#include <cmath>
+#include <concepts>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Dense>
+
+#include "varsym/autodiff/second_order.hpp"
+#include "varsym/systems/lagrangian.hpp"
+#include "varsym/types.hpp"
+
+namespace varsym {
+
+/// What a set of holonomic constraints must provide: `static constexpr int dim` (the
+/// Lagrangian's), `static constexpr int count` (m ≥ 1) and
+/// `template <class T> tvec<T, count> operator()(const tvec<T, dim>& q) const`, the residuals
+/// g(q) (zero on the manifold), callable with double and the automatic-differentiation scalars.
+/// A constraint may give its derivatives by hand instead: jacobian(q, G) (G: m × dim) and
+/// curvature(q, λ, H) (H = Σ_a λ_a ∇²g_a, dim × dim).
+template <class C>
+concept holonomic_constraint = requires {
+    C::dim;
+    C::count;
+} && (C::count >= 1) && requires(const C& c, const vec<C::dim>& q) {
+    { c(q) } -> std::convertible_to<vec<C::count>>;
+};
+
+template <class C>
+concept constraint_with_derivatives = holonomic_constraint<C> &&
+    requires(const C& c, const vec<C::dim>& q, const vec<C::count>& l,
+             Eigen::Matrix<double, C::count, C::dim>& g, mat<C::dim>& h) {
+    c.jacobian(q, g);
+    c.curvature(q, l, h);
+};
+
+/// G = ∂g/∂q (m × d), the rows of the constraint forces Gᵀλ.
+template <int D, int M>
+using constraint_jacobian = Eigen::Matrix<double, M, D>;
+
+/// g(q) and G(q): by hand, or by forward-mode automatic differentiation in the d coordinates.
+template <holonomic_constraint C>
+void evaluate_constraint(const C& c, const vec<C::dim>& q, vec<C::count>& g,
+                         constraint_jacobian<C::dim, C::count>& jac) {
+    constexpr int D = C::dim, M = C::count;
+    if constexpr (constraint_with_derivatives<C>) {
+        g = c(q);
+        c.jacobian(q, jac);
+    } else {
+        static_assert(D != dynamic, "automatic derivatives need a compile-time dimension: give "
+                                    "the constraint jacobian() and curvature() by hand");
+        using J = ad::first_order<D>;
+        tvec<J, D> qj;
+        for (int i = 0; i < D; ++i)
+            qj(i) = J(q(i), D, i);
+        const tvec<J, M> out = c(qj);
+        for (int a = 0; a < M; ++a) {
+            g(a) = out(a).value();
+            jac.row(a) = out(a).derivatives().transpose();
+        }
+    }
+}
+
+/// H = Σ_a λ_a ∇²g_a(q) = ∂(Gᵀλ)/∂q: the constraint forces' part of the step's Jacobian.
+template <holonomic_constraint C>
+void constraint_curvature(const C& c, const vec<C::dim>& q, const vec<C::count>& lambda,
+                          mat<C::dim>& h) {
+    constexpr int D = C::dim, M = C::count;
+    if constexpr (constraint_with_derivatives<C>) {
+        c.curvature(q, lambda, h);
+    } else {
+        using J = ad::second_order<D>;
+        tvec<J, D> qj;
+        for (int i = 0; i < D; ++i)
+            qj(i) = ad::variable<D>(q(i), i);
+        const tvec<J, M> out = c(qj);
+        J sum = lambda(0) * out(0);
+        for (int a = 1; a < M; ++a)
+            sum += lambda(a) * out(a);
+        vec<D> grad;
+        ad::unpack<D>(sum, grad, h);
+    }
+}
+
+/// Refuses a constraint Jacobian whose rows are dependent (redundant constraints), naming each
+/// row that is a combination of the rows before it (numbered from 1), at relative tolerance
+/// 1e-10 of the largest singular value.
+template <int D, int M>
+void check_independent(const constraint_jacobian<D, M>& jac, const std::string& where) {
+    const double top = Eigen::JacobiSVD<Eigen::MatrixXd>(jac).singularValues()(0);
+    std::string dependent;
+    for (int rows = 1; rows <= jac.rows(); ++rows) {
+        const Eigen::MatrixXd part = jac.topRows(rows);
+        const auto sv = Eigen::JacobiSVD<Eigen::MatrixXd>(part).singularValues();
+        if (!(sv(rows - 1) > 1e-10 * top)) {
+            dependent += (dependent.empty() ? "" : ", ") + std::to_string(rows);
+            if (rows == 1) break; // a zero first row: everything after is measured against it
+        }
+    }
+    if (!dependent.empty())
+        throw std::invalid_argument("the constraints are dependent " + where + ": row(s) " +
+                                    dependent +
+                                    " of the constraint Jacobian are combinations of the rows "
+                                    "before them; remove the redundant constraints");
+}
+
+/// The hidden constraint's projection: the momentum p − Gᵀμ nearest p (in the metric of the
+/// mass matrix) whose velocity is tangent to the manifold, G(q) q̇ = 0, with q̇ from
+/// ∂L/∂q̇(q, q̇) = p − Gᵀμ. Newton on (q̇, μ) with the saddle-point matrix [[L_vv, Gᵀ], [G, 0]]:
+/// one iteration when L is quadratic in q̇ (a second confirms it). Returns μ; v holds q̇ on
+/// entry (a start) and on return. Throws std::domain_error if the matrix is singular.
+template <lagrangian L, int M>
+vec<M> tangent_momentum(const L& l, const vec<L::dim>& q, const vec<L::dim>& p,
+                        const constraint_jacobian<L::dim, M>& jac, vec<L::dim>& v) {
+    const int d = static_cast<int>(q.size()), m = M;
+    lagrangian_terms<L::dim> t;
+    vec<M> mu = vec<M>::Zero();
+    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(d + m, d + m);
+    Eigen::VectorXd r(d + m);
+    for (int it = 0; it < 20; ++it) {
+        evaluate(l, q, v, t);
+        k.topLeftCorner(d, d) = t.lvv;
+        k.topRightCorner(d, m) = jac.transpose();
+        k.bottomLeftCorner(m, d) = jac;
+        r.head(d) = t.lv + jac.transpose() * mu - p;
+        r.tail(m) = jac * v;
+        const Eigen::FullPivLU<Eigen::MatrixXd> lu(k);
+        if (!lu.isInvertible())
+            throw std::domain_error("the mass matrix is singular on the constraint manifold, or "
+                                    "the constraint Jacobian has dependent rows");
+        const Eigen::VectorXd delta = lu.solve(r);
+        v -= delta.head(d);
+        mu -= delta.tail(m);
+        const double size = std::max(v.template lpNorm<Eigen::Infinity>(), 1e-300);
+        if (!v.allFinite()) break;
+        if (it > 0 && delta.head(d).template lpNorm<Eigen::Infinity>() <= 1e-14 * size) return mu;
+    }
+    throw std::domain_error("could not make the momentum tangent to the constraints");
+}
+
+/// Moves q onto g(q) = 0 along the rows of G (Gauss–Newton, q ← q − Gᵀ(GGᵀ)⁻¹g); throws
+/// std::domain_error if it does not converge to round-off.
+template <holonomic_constraint C>
+void project_position(const C& c, vec<C::dim>& q) {
+    vec<C::count> g;
+    constraint_jacobian<C::dim, C::count> jac(C::count, q.size());
+    for (int it = 0; it < 50; ++it) {
+        evaluate_constraint(c, q, g, jac);
+        const mat<C::count> ggt = jac * jac.transpose();
+        const vec<C::count> y = ggt.ldlt().solve(g);
+        const vec<C::dim> dq = jac.transpose() * y;
+        q -= dq;
+        if (!q.allFinite()) break;
+        if (dq.template lpNorm<Eigen::Infinity>() <=
+            4e-16 * std::max(1.0, q.template lpNorm<Eigen::Infinity>()))
+            return;
+    }
+    throw std::domain_error("could not project the initial position onto the constraints");
+}
+
+} // namespace varsym
