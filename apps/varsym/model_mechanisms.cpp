@@ -49,7 +49,7 @@ auto general_runner(const run_setup& s, const lagrangian_system<L>& sys, double 
 
 } // namespace
 
-model make_double_pendulum_model() {
+model make_double_pendulum_model(std::shared_ptr<mechanism_options> o) {
     auto par = std::make_shared<double_pendulum::lagrangian>();
     model m;
     m.name = "double-pendulum";
@@ -63,29 +63,22 @@ model make_double_pendulum_model() {
         "  energy), --v0 (0, 0) or --p0. Conserved: energy. No exact solution, no period:\n"
         "  default --time 10 --steps 10000.";
     m.options = {"--masses", "--lengths", "--gravity", "--joint-stiffness"};
-    auto masses = std::make_shared<std::vector<double>>(),
-         lengths = std::make_shared<std::vector<double>>();
-    m.add_options = [par, masses, lengths](CLI::App& cmd) {
-        cmd.add_option("--masses", *masses, "double-pendulum: m1,m2 [kg]")
-            ->transform(positive_number)
-            ->expected(2)
-            ->delimiter(',');
-        cmd.add_option("--lengths", *lengths, "double-pendulum: l1,l2 [m]")
-            ->transform(positive_number)
-            ->expected(2)
-            ->delimiter(',');
-        cmd.add_option("--gravity", par->g, "double-pendulum: g [m/s^2]")
-            ->transform(non_negative_number)
-            ->capture_default_str();
+    m.add_options = [par, o](CLI::App& cmd) {
+        add_mechanism_options(cmd, *o); // once, for every mechanism
         cmd.add_option("--joint-stiffness", par->k,
                        "double-pendulum: joint spring stiffness k [N m/rad]")
             ->transform(non_negative_number)
             ->capture_default_str();
     };
-    m.run = [par, masses, lengths](const run_setup& s) {
+    m.run = [par, o](const run_setup& s) {
         double_pendulum::lagrangian l = *par;
-        if (!masses->empty()) l.m1 = (*masses)[0], l.m2 = (*masses)[1];
-        if (!lengths->empty()) l.l1 = (*lengths)[0], l.l2 = (*lengths)[1];
+        l.g = o->gravity;
+        for (auto [list, option] : {std::pair{&o->masses, "--masses"}, {&o->lengths, "--lengths"}})
+            if (!list->empty() && list->size() != 2)
+                throw usage_error(std::string("double-pendulum: ") + option +
+                                  " needs 2 values, got " + std::to_string(list->size()));
+        if (!o->masses.empty()) l.m1 = o->masses[0], l.m2 = o->masses[1];
+        if (!o->lengths.empty()) l.l1 = o->lengths[0], l.l2 = o->lengths[1];
         const auto sys = double_pendulum::make_system(l);
         const double half_pi = std::numbers::pi / 2;
         const auto x0 = initial_state(sys, s, "th1, th2", vec<2>{half_pi, half_pi}, vec<2>::Zero());

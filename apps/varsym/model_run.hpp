@@ -119,6 +119,16 @@ saved_state save_state(const run_state<D>& r) {
     return {list(r.x.q), list(r.x.p), list(r.carry_q), list(r.carry_p), r.history};
 }
 
+/// What the energy watch follows: E, or E − W for a stepper with forces (W, the forces' work
+/// since the start, makes E − W constant up to the scheme's error).
+template <class Stepper, int D>
+double watched_energy(const Stepper& stepper, const phase_state<D>& x) {
+    if constexpr (requires { stepper.total_work(); })
+        return stepper.system().energy(x) - stepper.total_work();
+    else
+        return stepper.system().energy(x);
+}
+
 /// Streams `step,t,<state columns><extra header>` rows for plan.steps steps from x, written every
 /// s.every steps and at the end. `with_stepper(f)` calls f(stepper); `extras(t, x, line)` appends
 /// the model's columns (each preceded by a comma) to a row. A resumed run (s.resume) starts from
@@ -190,7 +200,7 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
                 const std::size_t j = y.step;
                 log.after_step(
                     j, y.time(h), row(j, y.time(h), y.x),
-                    [&] { return stepper.system().energy(y.x); }, [&] { return save_state(y); },
+                    [&] { return watched_energy(stepper, y.x); }, [&] { return save_state(y); },
                     y.stats);
             });
         } catch (const step_failure& e) {

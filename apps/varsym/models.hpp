@@ -57,10 +57,28 @@ struct model {
 /// the options a command line sets): one set per parsed command line, none shared.
 std::vector<model> make_models();
 
+/// The parameters the mechanisms share (double-pendulum, arm, four-bar, slider-crank,
+/// spherical-pendulum): each model reads the ones it lists and says how many values it needs.
+struct mechanism_options {
+    std::vector<double> masses, lengths, inertias; ///< empty: the model's default
+    std::vector<double> damping, kp, kd, target;   ///< the arm's joints
+    double gravity = 9.81;
+    double torque = 0.0;    ///< on the crank (four-bar, slider-crank)
+    double move_time = 2.0; ///< the arm's move to its target
+    bool no_compensation = false;
+    bool project = false; ///< move inconsistent initial data onto the constraints
+};
+/// Registers mechanism_options' options (once, for all the mechanisms).
+void add_mechanism_options(CLI::App& cmd, mechanism_options& o);
+
 model make_pendulum_model();
 model make_oscillator_model();
 model make_kepler_model();
-model make_double_pendulum_model();
+model make_double_pendulum_model(std::shared_ptr<mechanism_options> o);
+model make_arm_model(std::shared_ptr<mechanism_options> o);
+model make_four_bar_model(std::shared_ptr<mechanism_options> o);
+model make_slider_crank_model(std::shared_ptr<mechanism_options> o);
+model make_spherical_pendulum_model(std::shared_ptr<mechanism_options> o);
 model make_heavy_top_model();
 model make_chain_model();
 /// `rigid-body`, `top` and `pendulum-3d` (model_rigid.cpp), which share their parameters.

@@ -6,7 +6,7 @@
 // m_i at its far end; θ_i is its angle from the downward vertical (counter-clockwise), ω_i = θ̇_i;
 // g is the gravitational acceleration. With μ_k = Σ_{j≥k} m_j (the mass carried by link k),
 //   L = ½ Σ_ij a_ij cos(θ_i − θ_j) ω_i ω_j + Σ_i b_i cos θ_i,
-//   a_ij = l_i l_j μ_max(i,j),  b_i = g l_i μ_i
+//   a_ij = l_i l_j μ_max(i,j) + δ_ij J_i,  b_i = g l_i μ_i  (J_i: an optional rotational inertia)
 // (n = 2 is problems/double_pendulum.hpp). The energy is conserved.
 #pragma once
 
@@ -20,43 +20,62 @@
 
 namespace varsym::linked_pendulum {
 
-/// The Lagrangian for N links (N fixed at compile time), L written once for any scalar type
-/// (automatic derivatives), with gradient() and derivatives() by hand beside it.
+/// The Lagrangian for N links (N fixed at compile time, or `dynamic`: the number of masses
+/// given), L written once for any scalar type (automatic derivatives), with gradient() and
+/// derivatives() by hand beside it.
 template <int N>
 struct lagrangian {
     static constexpr int dim = N;
-    mat<N> a; ///< a_ij = l_i l_j μ_max(i,j)
+    mat<N> a; ///< a_ij = l_i l_j μ_max(i,j) (+ J_i on the diagonal)
     vec<N> b; ///< b_i = g l_i μ_i
 
-    /// Links of masses m and lengths l (N each, positive) under gravity g ≥ 0.
-    lagrangian(const std::vector<double>& m, const std::vector<double>& l, double g) {
-        if (static_cast<int>(m.size()) != N || static_cast<int>(l.size()) != N)
-            throw std::invalid_argument("a linked pendulum of " + std::to_string(N) +
-                                        " links needs " + std::to_string(N) +
-                                        " masses and lengths");
-        for (int i = 0; i < N; ++i)
+    /// Links of masses m and lengths l (positive, N each) under gravity g ≥ 0; optionally a
+    /// rotational inertia J_i ≥ 0 of each link [kg m²] besides its end mass (its kinetic energy
+    /// ½ J_i θ̇_i²: a link's inertia about its centre of mass, or a joint's rotor).
+    lagrangian(const std::vector<double>& m, const std::vector<double>& l, double g,
+               const std::vector<double>& inertia = {}) {
+        const int n = N == dynamic ? static_cast<int>(m.size()) : N;
+        if (n < 1 || static_cast<int>(m.size()) != n || static_cast<int>(l.size()) != n)
+            throw std::invalid_argument("a linked pendulum of " + std::to_string(n) +
+                                        " links needs " + std::to_string(n) +
+                                        " masses and lengths, got " + std::to_string(m.size()) +
+                                        " and " + std::to_string(l.size()));
+        if (!inertia.empty() && static_cast<int>(inertia.size()) != n)
+            throw std::invalid_argument("give one moment of inertia per link (" +
+                                        std::to_string(n) + "), got " +
+                                        std::to_string(inertia.size()));
+        for (int i = 0; i < n; ++i)
             if (!(std::isfinite(m[i]) && m[i] > 0.0 && std::isfinite(l[i]) && l[i] > 0.0))
                 throw std::invalid_argument("link masses and lengths must be positive");
+        for (double j : inertia)
+            if (!(std::isfinite(j) && j >= 0.0))
+                throw std::invalid_argument("link moments of inertia must be >= 0");
         if (!(std::isfinite(g) && g >= 0.0))
             throw std::invalid_argument("gravity must be finite and >= 0");
-        vec<N> mu;
+        vec<N> mu(n);
+        a.resize(n, n);
+        b.resize(n);
         double carried = 0.0;
-        for (int i = N - 1; i >= 0; --i)
+        for (int i = n - 1; i >= 0; --i)
             mu(i) = carried += m[i];
-        for (int i = 0; i < N; ++i) {
+        for (int i = 0; i < n; ++i) {
             b(i) = g * l[i] * mu(i);
-            for (int j = 0; j < N; ++j)
+            for (int j = 0; j < n; ++j)
                 a(i, j) = l[i] * l[j] * mu(std::max(i, j));
+            if (!inertia.empty()) a(i, i) += inertia[i];
         }
     }
+
+    [[nodiscard]] int dimension() const { return static_cast<int>(b.size()); }
 
     template <class T>
     T operator()(const tvec<T, N>& q, const tvec<T, N>& v) const {
         using std::cos;
         T l(0.0);
-        for (int i = 0; i < N; ++i) {
+        const int n = dimension();
+        for (int i = 0; i < n; ++i) {
             l += (0.5 * a(i, i)) * v(i) * v(i) + b(i) * cos(q(i));
-            for (int j = i + 1; j < N; ++j)
+            for (int j = i + 1; j < n; ++j)
                 l += a(i, j) * cos(q(i) - q(j)) * v(i) * v(j);
         }
         return l;
@@ -91,7 +110,7 @@ struct lagrangian {
         t.lqv.diagonal() -= sw;
         t.lqq = v.asDiagonal() * ac * v.asDiagonal();
         const vec<N> cw = ac * v; // includes j = k: a_kk ω_k
-        for (int k = 0; k < N; ++k)
+        for (int k = 0; k < dimension(); ++k)
             t.lqq(k, k) = -v(k) * (cw(k) - ac(k, k) * v(k)) - b(k) * std::cos(q(k));
     }
 

@@ -33,6 +33,7 @@
 // and the step's work h Σ_k w_k f_k·v_k is kept (last_work) for the energy balance.
 #pragma once
 
+#include <cmath>
 #include <utility>
 #include <vector>
 
@@ -118,9 +119,13 @@ class stepper {
     /// The work of the forces over the last step, h Σ_k w_k f_k·q̇_k (0 without forces): the
     /// energy balance E_{j+1} − E_j ≈ W_j holds to the scheme's order.
     [[nodiscard]] double last_work() const { return work_; }
+    /// The work of the forces since the start (or the restored history): Σ_j W_j, summed with
+    /// compensation. E(t_j) − E(t_0) − total_work() is the energy balance's error.
+    [[nodiscard]] double total_work() const { return total_work_ + work_carry_; }
 
     /// With a linear iteration: whether a Jacobian is kept and the point (q̄, v̄) it was taken
-    /// at (1 + 2d numbers, and its time if forced); empty with Newton. run_state::history keeps it for a checkpoint.
+    /// at (1 + 2d numbers); with a force, then that point's time and the total work with its
+    /// carry (3 numbers); empty for a conservative Newton stepper. run_state::history keeps it for a checkpoint.
     void save_history(std::vector<double>& out) const;
     /// Puts back what save_history gave (an empty history starts afresh): the next step is then
     /// the one the saved run would have taken. Throws std::invalid_argument on a wrong length.
@@ -167,6 +172,11 @@ class stepper {
         sum_.add_p(x, dp_);
         work_ *= h_;
         t_ += h_;
+        // total_work_ += work_, compensated (Neumaier): long runs add many small works.
+        const double sum = total_work_ + work_;
+        work_carry_ += std::abs(total_work_) >= std::abs(work_) ? (total_work_ - sum) + work_
+                                                                : (work_ - sum) + total_work_;
+        total_work_ = sum;
     }
     static newton_report failed(newton_report rep) {
         rep.converged = false;
@@ -283,6 +293,7 @@ class stepper {
     std::vector<lagrangian_terms<dim>> terms_;
     std::vector<force_terms<dim>> fterms_; // the force at each quadrature point (if forced)
     double t_ = 0.0, work_ = 0.0, t_bar_ = 0.0; // t_bar_: the time of (q̄, v̄), if forced
+    double total_work_ = 0.0, work_carry_ = 0.0;
     Eigen::VectorXd res_, delta_;
     Eigen::MatrixXd jac_, jinv_; // jinv_: the kept Jacobian's inverse (linear iterations)
     Eigen::PartialPivLU<Eigen::MatrixXd> lu_;

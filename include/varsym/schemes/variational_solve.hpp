@@ -22,25 +22,32 @@ namespace varsym::general {
 template <lagrangian L, class F>
 void stepper<L, F>::save_history(std::vector<double>& out) const {
     out.clear();
-    if (!linear()) return;
-    out.push_back(kept_ ? 1.0 : 0.0);
-    out.insert(out.end(), q_bar_.data(), q_bar_.data() + d_);
-    out.insert(out.end(), v_bar_.data(), v_bar_.data() + d_);
-    if constexpr (forced) out.push_back(t_bar_);
+    if (linear()) {
+        out.push_back(kept_ ? 1.0 : 0.0);
+        out.insert(out.end(), q_bar_.data(), q_bar_.data() + d_);
+        out.insert(out.end(), v_bar_.data(), v_bar_.data() + d_);
+    }
+    if constexpr (forced) out.insert(out.end(), {t_bar_, total_work_, work_carry_});
 }
 
 template <lagrangian L, class F>
 void stepper<L, F>::restore_history(const phase_state<dim>&, const std::vector<double>& in) {
     kept_ = false;
+    total_work_ = work_carry_ = 0.0;
     if (in.empty()) return;
-    const auto want = static_cast<std::size_t>(linear() ? 1 + 2 * d_ + (forced ? 1 : 0) : 0);
+    const auto want = static_cast<std::size_t>((linear() ? 1 + 2 * d_ : 0) + (forced ? 3 : 0));
     if (in.size() != want)
         throw std::invalid_argument("the saved history has " + std::to_string(in.size()) +
                                     " numbers where this stepper's options keep " +
                                     std::to_string(want));
+    if constexpr (forced) {
+        t_bar_ = in[want - 3];
+        total_work_ = in[want - 2];
+        work_carry_ = in[want - 1];
+    }
+    if (!linear()) return;
     std::copy(in.begin() + 1, in.begin() + 1 + d_, q_bar_.data());
     std::copy(in.begin() + 1 + d_, in.begin() + 1 + 2 * d_, v_bar_.data());
-    if constexpr (forced) t_bar_ = in.back();
     if (in[0] != 0.0) {
         evaluate(sys_.lagrangian(), q_bar_, v_bar_, terms_[0]);
         if constexpr (forced) add_force(0, q_bar_, v_bar_, t_bar_, true);
