@@ -10,6 +10,7 @@
 #include <concepts>
 #include <cstdio>
 #include <stdexcept>
+#include <limits>
 #include <string>
 
 #include <Eigen/Dense>
@@ -125,6 +126,7 @@ vec<M> tangent_momentum(const L& l, const vec<L::dim>& q, const vec<L::dim>& p,
     vec<M> mu = vec<M>::Zero();
     Eigen::MatrixXd k = Eigen::MatrixXd::Zero(d + m, d + m);
     Eigen::VectorXd r(d + m);
+    double previous = std::numeric_limits<double>::infinity();
     for (int it = 0; it < 20; ++it) {
         evaluate(l, q, v, t);
         k.topLeftCorner(d, d) = t.lvv;
@@ -139,9 +141,14 @@ vec<M> tangent_momentum(const L& l, const vec<L::dim>& q, const vec<L::dim>& p,
         const Eigen::VectorXd delta = lu.solve(r);
         v -= delta.head(d);
         mu -= delta.tail(m);
-        const double size = std::max(v.template lpNorm<Eigen::Infinity>(), 1e-300);
         if (!v.allFinite()) break;
-        if (it > 0 && delta.head(d).template lpNorm<Eigen::Infinity>() <= 1e-14 * size) return mu;
+        // Done at 1e-14 relative, or at the round-off floor (updates that stop shrinking: near
+        // rest q̇ is tiny and its updates are round-off of p, not of q̇).
+        const double step = delta.head(d).template lpNorm<Eigen::Infinity>();
+        if (it > 0 && (step <= 1e-14 * v.template lpNorm<Eigen::Infinity>() ||
+                       step >= 0.5 * previous))
+            return mu;
+        previous = step;
     }
     throw std::domain_error("could not make the momentum tangent to the constraints");
 }
