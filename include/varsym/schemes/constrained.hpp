@@ -128,6 +128,11 @@ class constrained_stepper : public stepper<L, F> {
 
     newton_report step(phase_state<dim>& x);
 
+    /// ∂(q_{j+1}, p_{j+1})/∂(q_j, p_j) (2d × 2d) of the step just taken from `from`, through the
+    /// saddle-point system and the projection (constrained_sensitivity.hpp). Symplectic on the
+    /// tangent space of the constraint manifold's cotangent bundle.
+    void step_jacobian(const phase_state<dim>& from, Eigen::MatrixXd& out);
+
   private:
     static newton_options newton_only(newton_options opt) {
         opt.iteration = iteration_kind::newton;
@@ -228,3 +233,5 @@ void constrained_stepper<L, C, F>::assemble_constrained(const phase_state<dim>& 
 }
 
 } // namespace varsym::general
+
+#include "varsym/schemes/constrained_sensitivity.hpp"

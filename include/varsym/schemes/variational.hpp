@@ -131,6 +131,12 @@ class stepper {
     /// the one the saved run would have taken. Throws std::invalid_argument on a wrong length.
     void restore_history(const phase_state<dim>& x, const std::vector<double>& in);
 
+    /// The Jacobian ∂(q_{j+1}, p_{j+1})/∂(q_j, p_j) (2d × 2d, (q, p) order) of the step just
+    /// taken from `from` = (q_j, p_j), by the implicit function theorem on its equations
+    /// (variational_sensitivity.hpp). Call it after a converged step(), with the state that step
+    /// started from. Symplectic without forces: Jᵀ Ω J = Ω.
+    void step_jacobian(const phase_state<dim>& from, Eigen::MatrixXd& out);
+
     newton_report step(phase_state<dim>& x) {
         newton_report rep;
         if (linear()) {
@@ -178,6 +184,8 @@ class stepper {
                                                                 : (work_ - sum) + total_work_;
         total_work_ = sum;
     }
+    void add_state_derivative(Eigen::MatrixXd& b) const;
+    void add_momentum_derivative(const Eigen::MatrixXd& dx, Eigen::MatrixXd& out) const;
     static newton_report failed(newton_report rep) {
         rep.converged = false;
         rep.residual = std::numeric_limits<double>::quiet_NaN();
@@ -306,4 +314,5 @@ class stepper {
 
 } // namespace varsym::general
 
+#include "varsym/schemes/variational_sensitivity.hpp"
 #include "varsym/schemes/variational_solve.hpp"
