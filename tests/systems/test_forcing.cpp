@@ -319,3 +319,56 @@ TEST(StepJacobian, ConservativeStepIsSymplectic) {
         RecordProperty("symplectic_defect_" + spec.label(), test::sci(worst));
     }
 }
+
+namespace {
+// Joint torques u with a cross term in q, and a damping that changes with time (so that the
+// force's Jacobians depend on t: the step's Jacobian must take them at the step's own times).
+struct torque_input {
+    static constexpr int dim = 2, controls = 2;
+    template <class T>
+    tvec<T, 2> operator()(const tvec<T, 2>& q, const tvec<T, 2>& v, double t,
+                          const tvec<T, 2>& u) const {
+        const double c = 0.3 + 0.2 * std::sin(3.0 * t);
+        return tvec<T, 2>(u(0) - c * v(0) + 0.1 * u(1) * q(1), u(1) - c * v(1));
+    }
+};
+} // namespace
+
+TEST(StepJacobian, ControlSensitivityMatchesFiniteDifferences) {
+    // ∂(q_{j+1}, p_{j+1})/∂(q_j, p_j) and ∂/∂u_j against central differences (ε = 1e-5), gauss-2,
+    // h = 0.05, from t = 0.7 (the damping's rate there is 0.6 cos 2.1 ≠ 0).
+    const auto sys = double_pendulum::make_system({});
+    using force = controlled<torque_input>;
+    newton_options opt;
+    opt.iteration = iteration_kind::newton;
+    const vec<2> u0{0.4, -0.2};
+    auto make = [&](const vec<2>& u) {
+        general::stepper<double_pendulum::lagrangian, force> st(sys, force{}, 0.05,
+                                                                {scheme_kind::gauss, 2}, opt);
+        st.force().u = u;
+        st.set_time(0.7);
+        return st;
+    };
+    const phase_state<2> x{vec<2>{0.8, -0.3}, vec<2>{0.5, 0.1}};
+    auto st = make(u0);
+    phase_state<2> y = x;
+    ASSERT_TRUE(st.step(y).converged);
+    Eigen::MatrixXd j, ju;
+    st.step_jacobian(x, j, &ju);
+    const Eigen::MatrixXd fd = finite_difference_jacobian<2>([&] { return make(u0); }, x, 1e-5);
+    EXPECT_LE((j - fd).lpNorm<Eigen::Infinity>(), 1e-8 * fd.lpNorm<Eigen::Infinity>());
+    Eigen::MatrixXd fdu(4, 2);
+    for (int c = 0; c < 2; ++c) {
+        vec<2> up = u0, um = u0;
+        up(c) += 1e-5;
+        um(c) -= 1e-5;
+        phase_state<2> a = x, b = x;
+        auto sa = make(up), sb = make(um);
+        ASSERT_TRUE(sa.step(a).converged && sb.step(b).converged);
+        fdu.col(c) << (a.q - b.q) / 2e-5, (a.p - b.p) / 2e-5;
+    }
+    EXPECT_LE((ju - fdu).lpNorm<Eigen::Infinity>(), 1e-8 * fdu.lpNorm<Eigen::Infinity>());
+    EXPECT_GT(fdu.lpNorm<Eigen::Infinity>(), 1e-3); // the input moves the state
+    RecordProperty("jacobian_vs_fd_time_dependent", test::sci((j - fd).lpNorm<Eigen::Infinity>()));
+    RecordProperty("control_jacobian_vs_fd", test::sci((ju - fdu).lpNorm<Eigen::Infinity>()));
+}

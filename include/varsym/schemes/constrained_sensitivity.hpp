@@ -17,10 +17,12 @@ void constrained_stepper<L, C, F>::step_jacobian(const phase_state<dim>& from,
                                                  Eigen::MatrixXd& out) {
     const int s = this->s_, d = this->d_, sd = s * d, n = s * (d + count), m = count;
     const auto& X = this->x_;
-    const double work = this->work_;
+    const double work = this->work_, now = this->t_;
+    this->t_ = this->t_step_; // the forces at the step's own times
     this->evaluate_points(from.q, true);
     this->assemble(from.p, true);
     this->work_ = work;
+    this->t_ = now;
     evaluate_constraint(c_, from.q, g_[0], jc_[0]);
     assemble_constrained(from); // K at the converged (X, Λ); G(Q_1 … Q_s)
     Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, 2 * d);
@@ -44,7 +46,7 @@ void constrained_stepper<L, C, F>::step_jacobian(const phase_state<dim>& from,
     j.topLeftCorner(d, d).setIdentity();
     j.topRows(d) += dx.bottomRows(d);
     j.bottomRightCorner(d, d).setIdentity();
-    this->add_momentum_derivative(dx, j);
+    this->add_momentum_derivative(dx, j, true);
     Eigen::MatrixXd dqi = Eigen::MatrixXd::Zero(d, 2 * d);
     for (int i = 0; i < s; ++i) {
         dqi.setZero();

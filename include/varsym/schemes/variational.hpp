@@ -113,6 +113,8 @@ class stepper {
     [[nodiscard]] auto& summation() { return sum_; }
     [[nodiscard]] const galerkin::tableau& table() const { return tab_; }
     [[nodiscard]] const F& force() const { return force_; }
+    /// The force, to change between steps (a controlled<…> force's input u).
+    [[nodiscard]] F& force() { return force_; }
     /// The time t_j of the next step's start (used by forces; a conservative step ignores it).
     [[nodiscard]] double time() const { return t_; }
     void set_time(double t) { t_ = t; }
@@ -135,7 +137,10 @@ class stepper {
     /// taken from `from` = (q_j, p_j), by the implicit function theorem on its equations
     /// (variational_sensitivity.hpp). Call it after a converged step(), with the state that step
     /// started from. Symplectic without forces: Jᵀ Ω J = Ω.
-    void step_jacobian(const phase_state<dim>& from, Eigen::MatrixXd& out);
+    /// With a controlled<…> force, `controls` also receives ∂(q_{j+1}, p_{j+1})/∂u_j
+    /// (2d × M) for the input u_j held over that step.
+    void step_jacobian(const phase_state<dim>& from, Eigen::MatrixXd& out,
+                       Eigen::MatrixXd* controls = nullptr);
 
     newton_report step(phase_state<dim>& x) {
         newton_report rep;
@@ -177,6 +182,7 @@ class stepper {
         sum_.add_q(x, dq_);
         sum_.add_p(x, dp_);
         work_ *= h_;
+        t_step_ = t_;
         t_ += h_;
         // total_work_ += work_, compensated (Neumaier): long runs add many small works.
         const double sum = total_work_ + work_;
@@ -185,7 +191,9 @@ class stepper {
         total_work_ = sum;
     }
     void add_state_derivative(Eigen::MatrixXd& b) const;
-    void add_momentum_derivative(const Eigen::MatrixXd& dx, Eigen::MatrixXd& out) const;
+    void add_momentum_derivative(const Eigen::MatrixXd& dx, Eigen::MatrixXd& out,
+                                 bool state) const;
+    void control_jacobian(const phase_state<dim>& from, Eigen::MatrixXd& out);
     static newton_report failed(newton_report rep) {
         rep.converged = false;
         rep.residual = std::numeric_limits<double>::quiet_NaN();
@@ -302,6 +310,7 @@ class stepper {
     std::vector<force_terms<dim>> fterms_; // the force at each quadrature point (if forced)
     double t_ = 0.0, work_ = 0.0, t_bar_ = 0.0; // t_bar_: the time of (q̄, v̄), if forced
     double total_work_ = 0.0, work_carry_ = 0.0;
+    double t_step_ = 0.0; // the last step's t_j
     Eigen::VectorXd res_, delta_;
     Eigen::MatrixXd jac_, jinv_; // jinv_: the kept Jacobian's inverse (linear iterations)
     Eigen::PartialPivLU<Eigen::MatrixXd> lu_;

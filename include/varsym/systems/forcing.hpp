@@ -211,6 +211,43 @@ struct pd_controller {
     }
 };
 
+/// A force with a control input u ∈ R^M held over each step (joint torques of a trajectory
+/// optimizer, an LQR input): F gives `static constexpr int dim, controls` and
+/// `template <class T> tvec<T, dim> operator()(q, v, double t, const tvec<T, controls>& u)`.
+/// `controlled<F>` is the generalized force f(q, q̇, t) = F(q, q̇, t, u) with u its member (set it
+/// before each step: stepper.force().u = …), and gives ∂f/∂u by automatic differentiation for
+/// the step's control sensitivity (general::stepper::step_jacobian).
+template <class F>
+struct controlled {
+    static constexpr int dim = F::dim, controls = F::controls;
+    F f;
+    vec<controls> u = vec<controls>::Zero();
+
+    template <class T>
+    tvec<T, dim> operator()(const tvec<T, dim>& q, const tvec<T, dim>& v, double t) const {
+        return f(q, v, t, tvec<T, controls>(u.template cast<T>()));
+    }
+    /// ∂f/∂u at (q, v, t, u) (dim × controls).
+    void input_jacobian(const vec<dim>& q, const vec<dim>& v, double t,
+                        Eigen::Matrix<double, dim, controls>& b) const {
+        using J = ad::first_order<controls>;
+        tvec<J, controls> uj;
+        for (int i = 0; i < controls; ++i)
+            uj(i) = J(u(i), controls, i);
+        const tvec<J, dim> qj = q.template cast<J>(), vj = v.template cast<J>();
+        const tvec<J, dim> out = f(qj, vj, t, uj);
+        for (int i = 0; i < dim; ++i)
+            b.row(i) = out(i).derivatives().transpose();
+    }
+};
+
+/// Whether F gives ∂f/∂u (a controlled<…> force).
+template <class F>
+concept force_with_input = generalized_force<F> && requires(const F& f, const vec<F::dim>& q) {
+    F::controls;
+    f.input_jacobian(q, q, 0.0, std::declval<Eigen::Matrix<double, F::dim, F::controls>&>());
+};
+
 /// The sum of several forces of one dimension (e.g. damping and a controller).
 template <generalized_force... F>
 struct force_sum {
