@@ -39,8 +39,8 @@ void time_steps(benchmark::State& s, Stepper& stepper, State x, double unknowns)
 void arm_step(benchmark::State& s) {
     const auto n = static_cast<std::size_t>(s.range(0));
     const scheme_spec spec = member(s);
-    const arm::lagrangian l(std::vector<double>(n, 1.0), std::vector<double>(n, 1.0 / static_cast<double>(n)),
-                            9.81);
+    const arm::lagrangian l(std::vector<double>(n, 1.0),
+                            std::vector<double>(n, 1.0 / static_cast<double>(n)), 9.81);
     arm::control c;
     c.kp.assign(n, 100.0);
     c.kd.assign(n, 40.0);

@@ -29,8 +29,7 @@ void add_mechanism_options(CLI::App& cmd, mechanism_options& o) {
     cmd.add_option("--gravity", o.gravity, "mechanisms: g [m/s^2]")
         ->transform(non_negative_number)
         ->capture_default_str();
-    list("--damping", o.damping, "arm: viscous damping per joint [N m s/rad]",
-         non_negative_number);
+    list("--damping", o.damping, "arm: viscous damping per joint [N m s/rad]", non_negative_number);
     list("--kp", o.kp, "arm: proportional gain per joint [N m/rad]", non_negative_number);
     list("--kd", o.kd, "arm: derivative gain per joint [N m s/rad]", non_negative_number);
     cmd.add_option("--target", o.target, "arm: target joint angles [rad]")->delimiter(',');
@@ -40,8 +39,9 @@ void add_mechanism_options(CLI::App& cmd, mechanism_options& o) {
         ->capture_default_str();
     cmd.add_flag("--no-gravity-compensation", o.no_compensation,
                  "arm: leave gravity out of the controller");
-    cmd.add_option("--torque", o.torque, "four-bar, slider-crank: constant torque on the crank "
-                                         "[N m]")
+    cmd.add_option("--torque", o.torque,
+                   "four-bar, slider-crank: constant torque on the crank "
+                   "[N m]")
         ->capture_default_str();
     cmd.add_flag("--project", o.project,
                  "constrained mechanisms: move initial data onto the constraints (else "
@@ -65,12 +65,12 @@ model make_arm_model(std::shared_ptr<mechanism_options> o) {
         "  Columns: energy, work (of damping and controller since t = 0), energy_balance\n"
         "  (energy - E0 - work: the scheme's error), tracking_error (max |phi - r(t)|) [rad].\n"
         "  Not conserved: energy; balanced: energy - work. Default --time 5 --steps 5000.";
-    m.options = {"--masses", "--lengths", "--inertias", "--gravity",         "--damping",
+    m.options = {"--masses", "--lengths", "--inertias", "--gravity",   "--damping",
                  "--kp",     "--kd",      "--target",   "--move-time", "--no-gravity-compensation"};
     m.add_options = [](CLI::App&) {}; // shared: add_mechanism_options
     m.run = [o](const run_setup& s) {
-        const std::vector<double> masses = o->masses.empty() ? std::vector<double>{1, 1, 1}
-                                                             : o->masses;
+        const std::vector<double> masses =
+            o->masses.empty() ? std::vector<double>{1, 1, 1} : o->masses;
         const auto n = masses.size();
         std::vector<double> lengths = o->lengths;
         if (lengths.empty()) {
@@ -93,10 +93,10 @@ model make_arm_model(std::shared_ptr<mechanism_options> o) {
         try {
             const arm::lagrangian l(masses, lengths, o->gravity, o->inertias);
             const lagrangian_system<arm::lagrangian> sys(l);
-            const vec<dynamic> q0 = initial_vector(s.q0, "--q0", d, "the link angles",
-                                                   vec<dynamic>::Zero(d));
-            const vec<dynamic> v0 = initial_vector(s.v0, "--v0", d, "the link rates",
-                                                   vec<dynamic>::Zero(d));
+            const vec<dynamic> q0 =
+                initial_vector(s.q0, "--q0", d, "the link angles", vec<dynamic>::Zero(d));
+            const vec<dynamic> v0 =
+                initial_vector(s.v0, "--v0", d, "the link rates", vec<dynamic>::Zero(d));
             if (!s.p0.empty() && !s.v0.empty()) throw usage_error("give --p0 or --v0, not both");
             const vec<dynamic> p0 = s.p0.empty() ? sys.momentum(q0, v0)
                                                  : initial_vector(s.p0, "--p0", d, "momenta", {});
@@ -121,8 +121,8 @@ model make_arm_model(std::shared_ptr<mechanism_options> o) {
                     vec<dynamic> r, rate;
                     c.reference(t, r, rate);
                     const double e = sys.energy(x), w = st.total_work();
-                    append_values(line, {e, w, e - e0 - w,
-                                         (b * x.q - r).lpNorm<Eigen::Infinity>()});
+                    append_values(line,
+                                  {e, w, e - e0 - w, (b * x.q - r).lpNorm<Eigen::Infinity>()});
                 });
         } catch (const std::invalid_argument& e) {
             throw usage_error(std::string("arm: ") + e.what());

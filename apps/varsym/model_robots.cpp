@@ -27,8 +27,8 @@ std::vector<double> or_default(const std::vector<double>& given, std::vector<dou
 }
 void need(const std::vector<double>& v, std::size_t n, const char* option, const char* what) {
     if (v.size() != n)
-        throw usage_error(std::string(option) + " needs " + std::to_string(n) + " values (" +
-                          what + "), got " + std::to_string(v.size()));
+        throw usage_error(std::string(option) + " needs " + std::to_string(n) + " values (" + what +
+                          "), got " + std::to_string(v.size()));
 }
 void newton_only(const run_setup& s, const char* name) {
     if (s.newton.iteration != iteration_kind::automatic &&
@@ -92,8 +92,8 @@ vec<3> loop_rates(const C& c, const vec<3>& q, double rate) {
 /// q0 and q̇0 of a loop: --q0 the crank angle alone (the loop closed by `close`) or all three
 /// coordinates; --v0 the crank rate alone (the others from G q̇ = 0) or all three.
 template <class C, class Close>
-std::pair<vec<3>, vec<3>> loop_start(const run_setup& s, const C& c, Close&& close,
-                                     double crank0, double rate0, const char* names) {
+std::pair<vec<3>, vec<3>> loop_start(const run_setup& s, const C& c, Close&& close, double crank0,
+                                     double rate0, const char* names) {
     vec<3> q;
     if (s.q0.size() <= 1) {
         try {
@@ -154,8 +154,8 @@ model make_four_bar_model(std::shared_ptr<mechanism_options> o) {
             "th1, th2, th3");
         const lagrangian_system<mechanisms::four_bar_lagrangian> sys({p});
         const run_plan plan = plan_steps(s, "four-bar", 0.0, 0, 10.0, 10000);
-        run_constrained(s, plan, *o, sys, loop, crank_torque(o->torque), state_of(sys, s, q, v),
-                        "", [](const auto&, std::string&) {});
+        run_constrained(s, plan, *o, sys, loop, crank_torque(o->torque), state_of(sys, s, q, v), "",
+                        [](const auto&, std::string&) {});
     };
     return m;
 }
@@ -196,8 +196,8 @@ model make_slider_crank_model(std::shared_ptr<mechanism_options> o) {
             s, loop, [&](double th) { return p.assemble(th); }, 0.3, 10.0, "th, phi, x");
         const lagrangian_system<mechanisms::slider_crank_lagrangian> sys({p});
         const run_plan plan = plan_steps(s, "slider-crank", 0.0, 0, 5.0, 10000);
-        run_constrained(s, plan, *o, sys, loop, crank_torque(o->torque), state_of(sys, s, q, v),
-                        "", [](const auto&, std::string&) {});
+        run_constrained(s, plan, *o, sys, loop, crank_torque(o->torque), state_of(sys, s, q, v), "",
+                        [](const auto&, std::string&) {});
     };
     return m;
 }

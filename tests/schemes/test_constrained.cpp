@@ -136,8 +136,8 @@ TEST(Constrained, InitialDataOffTheConstraintsIsRefusedOrProjected) {
     EXPECT_LE(st.hidden_residual(tangent), 1e-15);
     EXPECT_NO_THROW(st.check_initial(on));
     // the projection of the momentum removes only its normal part: the tangential one stays
-    EXPECT_NEAR(tangent.p.dot(vec<2>{std::cos(0.5), std::sin(0.5)}), 1.0 + 0.1 * (std::cos(0.5) + std::sin(0.5)),
-                1e-15);
+    EXPECT_NEAR(tangent.p.dot(vec<2>{std::cos(0.5), std::sin(0.5)}),
+                1.0 + 0.1 * (std::cos(0.5) + std::sin(0.5)), 1e-15);
 }
 
 TEST(Constrained, RedundantConstraintsAreRefusedNamingTheRow) {
@@ -279,8 +279,8 @@ TEST(Constrained, StepJacobianMatchesFiniteDifferencesAndIsSymplecticOnTheManifo
     Eigen::MatrixXd omega = Eigen::MatrixXd::Zero(6, 6);
     omega.topRightCorner(3, 3).setIdentity();
     omega.bottomLeftCorner(3, 3) = -Eigen::Matrix3d::Identity();
-    const double on = (basis.transpose() * (j.transpose() * omega * j - omega) * basis)
-                          .lpNorm<Eigen::Infinity>();
+    const double on =
+        (basis.transpose() * (j.transpose() * omega * j - omega) * basis).lpNorm<Eigen::Infinity>();
     const double off = (j.transpose() * omega * j - omega).lpNorm<Eigen::Infinity>();
     EXPECT_LE(on, 1e-12);
     EXPECT_GT(off, 1e-3);

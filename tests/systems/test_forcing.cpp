@@ -47,8 +47,9 @@ struct damped_drive {
 // The same force from the built-in pieces, with derivatives by hand.
 using built_in = force_sum<rayleigh_damping<1>, prescribed_force<1>>;
 built_in built_in_drive(const damped_drive& d) {
-    return built_in(rayleigh_damping<1>::diagonal(vec<1>{d.c}),
-                    prescribed_force<1>{[d](double t) { return vec<1>{d.f * std::cos(d.omega * t)}; }});
+    return built_in(rayleigh_damping<1>::diagonal(vec<1>{d.c}), prescribed_force<1>{[d](double t) {
+                        return vec<1>{d.f * std::cos(d.omega * t)};
+                    }});
 }
 
 /// The exact (q, p) at time t from (q0, v0) at 0.
@@ -149,7 +150,8 @@ TEST(Forcing, AZeroForceTakesTheConservativeStepsBitForBit) {
     const kepler::orbit orbit(0.6, 1.0);
     const lagrangian_system<kepler::lagrangian> sys({});
     for (auto kind : {iteration_kind::newton, iteration_kind::simplified}) {
-        for (scheme_spec spec : {scheme_spec(scheme_kind::simpson), scheme_spec(scheme_kind::gauss, 3)}) {
+        for (scheme_spec spec :
+             {scheme_spec(scheme_kind::simpson), scheme_spec(scheme_kind::gauss, 3)}) {
             newton_options opt;
             opt.iteration = kind;
             general::stepper<kepler::lagrangian> plain(sys, orbit.period() / 100, spec, opt);
@@ -182,10 +184,12 @@ TEST(Forcing, AForceWithoutTorqueConservesAngularMomentum) {
             EXPECT_TRUE(st.step(x).converged);
             worst = std::max(worst, std::abs(kepler::angular_momentum(x) - l0) / std::abs(l0));
         }
-        EXPECT_LT(sys.energy(x), energy0 - 1e-3) << mode << " " << spec.label(); // the drag did work
+        EXPECT_LT(sys.energy(x), energy0 - 1e-3)
+            << mode << " " << spec.label(); // the drag did work
         return worst;
     };
-    for (scheme_spec spec : {scheme_spec(scheme_kind::simpson), scheme_spec(scheme_kind::gauss, 3)}) {
+    for (scheme_spec spec :
+         {scheme_spec(scheme_kind::simpson), scheme_spec(scheme_kind::gauss, 3)}) {
         const double radial = drift(kepler_drag::radial, spec);
         EXPECT_LE(radial, 2e-14) << spec.label();
         RecordProperty("angular_momentum_drift_radial_drag_" + spec.label(), test::sci(radial));
@@ -213,7 +217,8 @@ TEST(Forcing, EnergyBalanceHoldsToTheSchemesOrder) {
         run_state<2> s = run_state<2>::start({vec<2>{1.0, -0.5}, vec<2>{0.0, 0.0}});
         const double e0 = sys.energy(s.x);
         double w = 0.0;
-        integrate_from(st, s, static_cast<std::size_t>(n), [&](const auto&) { w += st.last_work(); });
+        integrate_from(st, s, static_cast<std::size_t>(n),
+                       [&](const auto&) { w += st.last_work(); });
         *work = w;
         return sys.energy(s.x) - e0 - w;
     };
@@ -227,7 +232,7 @@ TEST(Forcing, EnergyBalanceHoldsToTheSchemesOrder) {
         const double coarse = imbalance(m.spec, 200, &work), fine = imbalance(m.spec, 400, &work);
         SCOPED_TRACE(m.spec.label() + ": imbalance " + test::sci(coarse) + ", " + test::sci(fine) +
                      ", work " + test::sci(work));
-        EXPECT_GT(std::abs(work), 1.0);               // the forces did work
+        EXPECT_GT(std::abs(work), 1.0);                   // the forces did work
         EXPECT_LT(std::abs(fine), 1e-3 * std::abs(work)); // and it is accounted for
         EXPECT_NEAR(std::log2(std::abs(coarse / fine)), m.order, 0.3);
         RecordProperty("energy_balance_order_" + m.spec.label(),
@@ -283,7 +288,8 @@ TEST(StepJacobian, ForcedStepMatchesFiniteDifferences) {
     newton_options opt;
     opt.iteration = iteration_kind::newton;
     auto make = [&] {
-        general::stepper<double_pendulum::lagrangian, force> st(sys, f, 0.02, {scheme_kind::gauss, 3}, opt);
+        general::stepper<double_pendulum::lagrangian, force> st(sys, f, 0.02,
+                                                                {scheme_kind::gauss, 3}, opt);
         st.set_time(0.7);
         return st;
     };
@@ -304,7 +310,8 @@ TEST(StepJacobian, ForcedStepMatchesFiniteDifferences) {
 TEST(StepJacobian, ConservativeStepIsSymplectic) {
     const kepler::orbit orbit(0.6, 1.0);
     const lagrangian_system<kepler::lagrangian> sys({});
-    for (scheme_spec spec : {scheme_spec(scheme_kind::simpson), scheme_spec(scheme_kind::gauss, 3)}) {
+    for (scheme_spec spec :
+         {scheme_spec(scheme_kind::simpson), scheme_spec(scheme_kind::gauss, 3)}) {
         general::stepper<kepler::lagrangian> st(sys, orbit.period() / 50, spec);
         phase_state<2> x = orbit.at(0.0);
         double worst = 0.0;

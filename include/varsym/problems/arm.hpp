@@ -44,8 +44,8 @@ struct minimum_jerk {
     void operator()(double t, vec<dynamic>& r, vec<dynamic>& rate) const {
         const double s = std::clamp(t / duration, 0.0, 1.0);
         const double sigma = s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
-        const double dsigma = (s <= 0.0 || s >= 1.0) ? 0.0
-                                                      : 30.0 * s * s * (1.0 - s) * (1.0 - s) / duration;
+        const double dsigma =
+            (s <= 0.0 || s >= 1.0) ? 0.0 : 30.0 * s * s * (1.0 - s) * (1.0 - s) / duration;
         r = from + (to - from) * sigma;
         rate = (to - from) * dsigma;
     }

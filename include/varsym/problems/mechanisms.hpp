@@ -34,9 +34,13 @@ struct four_bar {
     double m1 = 1.0, m2 = 3.0, m3 = 2.5, g = 9.81;
 
     void validate() const {
-        for (auto [what, x] : {std::pair{"crank length", a}, {"coupler length", b},
-                               {"rocker length", c}, {"ground length", ground},
-                               {"crank mass", m1}, {"coupler mass", m2}, {"rocker mass", m3}})
+        for (auto [what, x] : {std::pair{"crank length", a},
+                               {"coupler length", b},
+                               {"rocker length", c},
+                               {"ground length", ground},
+                               {"crank mass", m1},
+                               {"coupler mass", m2},
+                               {"rocker mass", m3}})
             require_positive(what, x);
         require_gravity(g);
     }
@@ -47,8 +51,8 @@ struct four_bar {
         const double bx = a * std::cos(theta1), by = a * std::sin(theta1);
         const double dx = ground - bx, dy = -by, e = std::hypot(dx, dy);
         if (!(e <= b + c && e >= std::abs(b - c)))
-            throw std::invalid_argument("the four-bar cannot close at this crank angle (|BD| = " +
-                                        std::to_string(e) + ")");
+            throw std::invalid_argument(
+                "the four-bar cannot close at this crank angle (|BD| = " + std::to_string(e) + ")");
         // C on circles |C − B| = b and |C − D| = c: along BD by x, off it by ±y.
         const double x = (b * b - c * c + e * e) / (2 * e), y = std::sqrt(b * b - x * x);
         const double ux = dx / e, uy = dy / e, sgn = elbow_up ? 1.0 : -1.0;
@@ -80,10 +84,9 @@ struct four_bar_lagrangian {
         // coupler centre velocity: a θ1' e⊥(θ1) + (b/2) θ2' e⊥(θ2), e⊥(θ) = (−sin θ, cos θ)
         const T vx = -p.a * s1 * v(0) - (0.5 * p.b) * s2 * v(1);
         const T vy = p.a * c1 * v(0) + (0.5 * p.b) * c2 * v(1);
-        const T kinetic = (p.m1 * p.a * p.a / 6.0) * v(0) * v(0) +
-                          0.5 * p.m2 * (vx * vx + vy * vy) +
-                          (p.m2 * p.b * p.b / 24.0) * v(1) * v(1) +
-                          (p.m3 * p.c * p.c / 6.0) * v(2) * v(2);
+        const T kinetic =
+            (p.m1 * p.a * p.a / 6.0) * v(0) * v(0) + 0.5 * p.m2 * (vx * vx + vy * vy) +
+            (p.m2 * p.b * p.b / 24.0) * v(1) * v(1) + (p.m3 * p.c * p.c / 6.0) * v(2) * v(2);
         const T potential = p.g * (p.m1 * 0.5 * p.a * s1 + p.m2 * (p.a * s1 + 0.5 * p.b * s2) +
                                    p.m3 * 0.5 * p.c * sin(q(2)));
         return kinetic - potential;
@@ -97,12 +100,13 @@ struct slider_crank {
     double r = 0.5, l = 1.5, j = 0.1, m_rod = 1.0, m_slider = 2.0, g = 9.81;
 
     void validate() const {
-        for (auto [what, x] : {std::pair{"crank length", r}, {"rod length", l},
-                               {"crank inertia", j}, {"rod mass", m_rod},
+        for (auto [what, x] : {std::pair{"crank length", r},
+                               {"rod length", l},
+                               {"crank inertia", j},
+                               {"rod mass", m_rod},
                                {"slider mass", m_slider}})
             require_positive(what, x);
-        if (!(l > r))
-            throw std::invalid_argument("the rod must be longer than the crank (l > r)");
+        if (!(l > r)) throw std::invalid_argument("the rod must be longer than the crank (l > r)");
         require_gravity(g);
     }
 
@@ -156,7 +160,7 @@ struct spherical_pendulum {
 
     /// (x, ẋ) at polar angle θ from the downward vertical, azimuth φ, and their rates.
     [[nodiscard]] std::pair<vec<3>, vec<3>> state(double theta, double phi, double theta_dot,
-                                                   double phi_dot) const {
+                                                  double phi_dot) const {
         const double st = std::sin(theta), ct = std::cos(theta), sp = std::sin(phi),
                      cp = std::cos(phi);
         const vec<3> x = length * vec<3>{st * cp, st * sp, -ct};

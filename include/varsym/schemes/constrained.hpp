@@ -39,8 +39,7 @@ class constrained_stepper : public stepper<L, F> {
     using jacobian_type = constraint_jacobian<dim, count>;
 
     constrained_stepper(lagrangian_system<L> sys, C c, double h, const scheme_spec& spec,
-                        const newton_options& opt = {})
-        requires(!base::forced)
+                        const newton_options& opt = {}) requires(!base::forced)
         : constrained_stepper(std::move(sys), std::move(c), F{}, h, spec, opt) {}
 
     constrained_stepper(lagrangian_system<L> sys, C c, F f, double h, const scheme_spec& spec,
@@ -190,7 +189,7 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
     for (int i = 0; i < s; ++i)
         this->dp_.noalias() -= jc_[static_cast<std::size_t>(i)].transpose() * lam_.col(i);
     this->qk_ = x.q + X.col(s - 1);
-    this->acc_ = x.p + this->dp_;   // p̃
+    this->acc_ = x.p + this->dp_;        // p̃
     this->vk_ = X.col(s - 1) / this->h_; // a start for q̇_{j+1}
     try {
         mu_ = tangent_momentum(this->sys_.lagrangian(), this->qk_, this->acc_,

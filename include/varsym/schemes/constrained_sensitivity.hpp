@@ -33,7 +33,8 @@ void constrained_stepper<L, C, F>::step_jacobian(const phase_state<dim>& from,
         this->qk_ = from.q;
         if (i > 0) this->qk_ += X.col(i - 1);
         hi[static_cast<std::size_t>(i)].setZero(d, d);
-        constraint_curvature(c_, this->qk_, vec<count>(lam_.col(i)), hi[static_cast<std::size_t>(i)]);
+        constraint_curvature(c_, this->qk_, vec<count>(lam_.col(i)),
+                             hi[static_cast<std::size_t>(i)]);
         b.block(i * d, 0, d, d) -= hi[static_cast<std::size_t>(i)];
     }
     for (int l = 1; l <= s; ++l)
@@ -52,9 +53,9 @@ void constrained_stepper<L, C, F>::step_jacobian(const phase_state<dim>& from,
         dqi.setZero();
         dqi.leftCols(d).setIdentity();
         if (i > 0) dqi += dx.middleRows((i - 1) * d, d);
-        j.bottomRows(d) -= hi[static_cast<std::size_t>(i)] * dqi +
-                           jc_[static_cast<std::size_t>(i)].transpose() *
-                               dz.middleRows(sd + i * m, m);
+        j.bottomRows(d) -=
+            hi[static_cast<std::size_t>(i)] * dqi +
+            jc_[static_cast<std::size_t>(i)].transpose() * dz.middleRows(sd + i * m, m);
     }
     // The projection at q_{j+1}, with q̇_{j+1} from p_{j+1} = p_j + dp_ (the step's total change).
     const vec<dim> q1 = from.q + X.col(s - 1), p1 = from.p + this->dp_;

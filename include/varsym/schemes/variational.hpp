@@ -67,8 +67,8 @@ class stepper {
     using system_type = lagrangian_system<L>;
     using force_type = F;
 
-    stepper(system_type sys, double h, const scheme_spec& spec, const newton_options& opt = {})
-        requires(!forced)
+    stepper(system_type sys, double h, const scheme_spec& spec,
+            const newton_options& opt = {}) requires(!forced)
         : stepper(std::move(sys), F{}, h, spec, opt) {}
 
     stepper(system_type sys, F force, double h, const scheme_spec& spec,
@@ -127,7 +127,8 @@ class stepper {
 
     /// With a linear iteration: whether a Jacobian is kept and the point (q̄, v̄) it was taken
     /// at (1 + 2d numbers); with a force, then that point's time and the total work with its
-    /// carry (3 numbers); empty for a conservative Newton stepper. run_state::history keeps it for a checkpoint.
+    /// carry (3 numbers); empty for a conservative Newton stepper. run_state::history keeps it for
+    /// a checkpoint.
     void save_history(std::vector<double>& out) const;
     /// Puts back what save_history gave (an empty history starts afresh): the next step is then
     /// the one the saved run would have taken. Throws std::invalid_argument on a wrong length.
@@ -191,8 +192,7 @@ class stepper {
         total_work_ = sum;
     }
     void add_state_derivative(Eigen::MatrixXd& b) const;
-    void add_momentum_derivative(const Eigen::MatrixXd& dx, Eigen::MatrixXd& out,
-                                 bool state) const;
+    void add_momentum_derivative(const Eigen::MatrixXd& dx, Eigen::MatrixXd& out, bool state) const;
     void control_jacobian(const phase_state<dim>& from, Eigen::MatrixXd& out);
     static newton_report failed(newton_report rep) {
         rep.converged = false;
@@ -307,7 +307,7 @@ class stepper {
     vec<dim> qk_, vk_, dp_, dq_, acc_, lq0_,
         lv0_; // lq0_, lv0_: L_q, L_v at (q_j, v) in predict_kept
     std::vector<lagrangian_terms<dim>> terms_;
-    std::vector<force_terms<dim>> fterms_; // the force at each quadrature point (if forced)
+    std::vector<force_terms<dim>> fterms_;      // the force at each quadrature point (if forced)
     double t_ = 0.0, work_ = 0.0, t_bar_ = 0.0; // t_bar_: the time of (q̄, v̄), if forced
     double total_work_ = 0.0, work_carry_ = 0.0;
     double t_step_ = 0.0; // the last step's t_j

@@ -18,7 +18,7 @@ void stepper<L, F>::step_jacobian(const phase_state<dim>& from, Eigen::MatrixXd&
                                   Eigen::MatrixXd* controls) {
     const int d = d_, s = s_, sd = s * d;
     const double work = work_, now = t_;
-    t_ = t_step_; // the forces at the step's own times
+    t_ = t_step_;                  // the forces at the step's own times
     evaluate_points(from.q, true); // second derivatives at the converged increments
     assemble(from.p, true);
     work_ = work; // evaluate_points recomputed it unscaled

@@ -9,8 +9,8 @@
 #include <cmath>
 #include <concepts>
 #include <cstdio>
-#include <stdexcept>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 #include <Eigen/Dense>
@@ -31,7 +31,8 @@ template <class C>
 concept holonomic_constraint = requires {
     C::dim;
     C::count;
-} && (C::count >= 1) && requires(const C& c, const vec<C::dim>& q) {
+}
+&&(C::count >= 1) && requires(const C& c, const vec<C::dim>& q) {
     { c(q) } -> std::convertible_to<vec<C::count>>;
 };
 
@@ -145,8 +146,8 @@ vec<M> tangent_momentum(const L& l, const vec<L::dim>& q, const vec<L::dim>& p,
         // Done at 1e-14 relative, or at the round-off floor (updates that stop shrinking: near
         // rest q̇ is tiny and its updates are round-off of p, not of q̇).
         const double step = delta.head(d).template lpNorm<Eigen::Infinity>();
-        if (it > 0 && (step <= 1e-14 * v.template lpNorm<Eigen::Infinity>() ||
-                       step >= 0.5 * previous))
+        if (it > 0 &&
+            (step <= 1e-14 * v.template lpNorm<Eigen::Infinity>() || step >= 0.5 * previous))
             return mu;
         previous = step;
     }

@@ -35,8 +35,10 @@ struct force_terms {
 /// with T = double and the automatic-differentiation scalars (return a tvec<T, D>, not an Eigen
 /// expression of local variables).
 template <class F>
-concept generalized_force = requires { F::dim; } && requires(const F& f, const vec<F::dim>& q,
-                                                             double t) {
+concept generalized_force = requires {
+    F::dim;
+}
+&&requires(const F& f, const vec<F::dim>& q, double t) {
     { f(q, q, t) } -> std::convertible_to<vec<F::dim>>;
 };
 
@@ -131,16 +133,17 @@ struct prescribed_force {
     void derivatives(const vec<D>& q, const vec<D>&, double t, force_terms<D>& r) const {
         r.f = u(t);
         if (r.f.size() != q.size())
-            throw std::invalid_argument("the prescribed force has " +
-                                        std::to_string(r.f.size()) + " components for " +
-                                        std::to_string(q.size()) + " coordinates");
+            throw std::invalid_argument("the prescribed force has " + std::to_string(r.f.size()) +
+                                        " components for " + std::to_string(q.size()) +
+                                        " coordinates");
         r.fq.setZero(q.size(), q.size());
         r.fv.setZero(q.size(), q.size());
     }
 
     /// u(t) interpolated linearly in a table: times increasing, values[k] the force at times[k];
     /// constant (the first or last row) outside the table.
-    static prescribed_force piecewise_linear(std::vector<double> times, std::vector<vec<D>> values) {
+    static prescribed_force piecewise_linear(std::vector<double> times,
+                                             std::vector<vec<D>> values) {
         if (times.empty() || times.size() != values.size())
             throw std::invalid_argument("a force schedule needs as many rows of values as times "
                                         "(and at least one)");
