@@ -62,11 +62,7 @@ void four_bar_step(benchmark::State& s) {
     general::constrained_stepper<mechanisms::four_bar_lagrangian, mechanisms::four_bar_loop> st(
         sys, loop, 1e-3, spec);
     const vec<3> q = p.assemble(1.0471975511965976);
-    vec<2> g;
-    constraint_jacobian<3, 2> jac;
-    evaluate_constraint(loop, q, g, jac);
-    const vec<2> rest = jac.rightCols<2>().partialPivLu().solve(-jac.col(0) * 2.0);
-    const vec<3> v{2.0, rest(0), rest(1)};
+    const vec<3> v = mechanisms::loop_rates(loop, q, 2.0);
     time_steps(s, st, phase_state<3>{q, sys.momentum(q, v)}, st.table().degree * 5);
 }
 

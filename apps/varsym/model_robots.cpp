@@ -79,16 +79,6 @@ void run_constrained(const run_setup& s, const run_plan& plan, const mechanism_o
         });
 }
 
-/// The dependent rates of a one-degree-of-freedom loop: q̇ with q̇_0 = rate and G q̇ = 0.
-template <class C>
-vec<3> loop_rates(const C& c, const vec<3>& q, double rate) {
-    vec<2> g;
-    constraint_jacobian<3, 2> jac;
-    evaluate_constraint(c, q, g, jac);
-    const vec<2> rest = jac.rightCols<2>().partialPivLu().solve(-jac.col(0) * rate);
-    return {rate, rest(0), rest(1)};
-}
-
 /// q0 and q̇0 of a loop: --q0 the crank angle alone (the loop closed by `close`) or all three
 /// coordinates; --v0 the crank rate alone (the others from G q̇ = 0) or all three.
 template <class C, class Close>
@@ -109,7 +99,7 @@ std::pair<vec<3>, vec<3>> loop_start(const run_setup& s, const C& c, Close&& clo
         need(s.v0, 3, "--v0", names);
         return {q, vec<3>(s.v0[0], s.v0[1], s.v0[2])};
     }
-    return {q, loop_rates(c, q, s.v0.empty() ? rate0 : s.v0[0])};
+    return {q, mechanisms::loop_rates(c, q, s.v0.empty() ? rate0 : s.v0[0])};
 }
 
 prescribed_force<3> crank_torque(double tau) {

@@ -197,11 +197,11 @@ TEST(Forcing, AForceWithoutTorqueConservesAngularMomentum) {
     }
 }
 
-TEST(Forcing, EnergyBalanceHoldsToTheSchemesOrder) {
-    // A double pendulum with joint damping and a PD controller (with gravity compensation)
-    // tracking a moving reference: E_N − E_0 − Σ_j W_j → 0 as h^p.
-    double_pendulum::lagrangian l;
-    const auto sys = double_pendulum::make_system(l);
+namespace {
+// Joint damping and a PD controller (with gravity compensation) tracking a moving reference,
+// on a double pendulum: the energy balance and step Jacobian tests' force.
+using pd_pendulum_force = force_sum<rayleigh_damping<2>, pd_controller<2>>;
+pd_pendulum_force pd_pendulum_force_of(const double_pendulum::lagrangian& l) {
     pd_controller<2> pd;
     pd.kp = mat<2>{{20.0, 0.0}, {0.0, 10.0}};
     pd.kd = mat<2>{{2.0, 0.0}, {0.0, 1.0}};
@@ -210,8 +210,16 @@ TEST(Forcing, EnergyBalanceHoldsToTheSchemesOrder) {
         rate = vec<2>{0.5 * std::cos(t), 0.6 * std::sin(2 * t)};
     };
     pd.compensate(l);
-    using force = force_sum<rayleigh_damping<2>, pd_controller<2>>;
-    const force f(rayleigh_damping<2>::diagonal(vec<2>{0.2, 0.1}), pd);
+    return pd_pendulum_force(rayleigh_damping<2>::diagonal(vec<2>{0.2, 0.1}), pd);
+}
+} // namespace
+
+TEST(Forcing, EnergyBalanceHoldsToTheSchemesOrder) {
+    // A double pendulum with joint damping and a PD controller (with gravity compensation)
+    // tracking a moving reference: E_N − E_0 − Σ_j W_j → 0 as h^p.
+    const auto sys = double_pendulum::make_system({});
+    const pd_pendulum_force f = pd_pendulum_force_of(sys.lagrangian());
+    using force = pd_pendulum_force;
     auto imbalance = [&](scheme_spec spec, int n, double* work) {
         general::stepper<double_pendulum::lagrangian, force> st(sys, f, 4.0 / n, spec);
         run_state<2> s = run_state<2>::start({vec<2>{1.0, -0.5}, vec<2>{0.0, 0.0}});
@@ -273,18 +281,9 @@ double symplectic_defect(const Eigen::MatrixXd& j) {
 TEST(StepJacobian, ForcedStepMatchesFiniteDifferences) {
     // The damped, PD-controlled double pendulum of the energy balance test, gauss-3, h = 0.02;
     // central differences with ε = 1e-5 are accurate to ~ε² |∂³Φ| ~ 1e-9.
-    double_pendulum::lagrangian l;
-    const auto sys = double_pendulum::make_system(l);
-    pd_controller<2> pd;
-    pd.kp = mat<2>{{20.0, 0.0}, {0.0, 10.0}};
-    pd.kd = mat<2>{{2.0, 0.0}, {0.0, 1.0}};
-    pd.reference = [](double t, vec<2>& r, vec<2>& rate) {
-        r = vec<2>{0.5 * std::sin(t), -0.3 * std::cos(2 * t)};
-        rate = vec<2>{0.5 * std::cos(t), 0.6 * std::sin(2 * t)};
-    };
-    pd.compensate(l);
-    using force = force_sum<rayleigh_damping<2>, pd_controller<2>>;
-    const force f(rayleigh_damping<2>::diagonal(vec<2>{0.2, 0.1}), pd);
+    const auto sys = double_pendulum::make_system({});
+    const pd_pendulum_force f = pd_pendulum_force_of(sys.lagrangian());
+    using force = pd_pendulum_force;
     newton_options opt;
     opt.iteration = iteration_kind::newton;
     auto make = [&] {

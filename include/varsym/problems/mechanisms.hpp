@@ -93,6 +93,17 @@ struct four_bar_lagrangian {
     }
 };
 
+/// The rates of a one-degree-of-freedom loop of three coordinates and two constraints (the
+/// four-bar, the slider-crank): q̇ with q̇_0 = rate and G(q) q̇ = 0 (tangent to the loop).
+template <class C>
+vec<3> loop_rates(const C& c, const vec<3>& q, double rate) {
+    vec<2> g;
+    constraint_jacobian<3, 2> jac;
+    evaluate_constraint(c, q, g, jac);
+    const vec<2> rest = jac.rightCols<2>().partialPivLu().solve(-jac.col(0) * rate);
+    return {rate, rest(0), rest(1)};
+}
+
 /// The slider-crank: crank OA (length r, moment of inertia j about O) at angle θ, connecting rod
 /// AB (length l, mass m_rod) at angle φ, slider B (mass m_slider) at x on the x axis.
 /// q = (θ, φ, x), two constraints closing the loop: one degree of freedom.
