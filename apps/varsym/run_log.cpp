@@ -180,9 +180,10 @@ std::string run_log::advice(double omega) const {
 void run_log::fail(const step_failure& e, const saved_state& x, const run_summary& sum,
                    double omega) {
     // The last good state's frequency, or the start's if higher (a state may be near a turning
-    // point, where the local frequency says little).
-    std::string msg =
-        e.diagnosis() + advice(std::isfinite(omega) ? std::max(omega, omega0_) : omega0_);
+    // point, where the local frequency says little); no time-step advice when the stepper named
+    // another cause.
+    std::string msg = e.diagnosis();
+    if (e.cause().empty()) msg += advice(std::isfinite(omega) ? std::max(omega, omega0_) : omega0_);
     if (out_.is_stdout()) throw numerical_error(msg);
     out_.keep_partial();
     std::string note;

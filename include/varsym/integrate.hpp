@@ -17,34 +17,43 @@
 namespace varsym {
 
 /// Thrown when a step's Newton iteration does not converge. The state passed to integrate()
-/// is left at the last good step (index step − 1, time t_from).
+/// is left at the last good step (index step − 1, time t_from). `cause`, where the stepper could
+/// name one (its diagnose(): NaN from the Lagrangian, a force or a constraint, a singular mass
+/// matrix or constraint Jacobian), follows the residual in the message.
 class step_failure : public std::runtime_error {
   public:
-    step_failure(std::size_t step, double t_from, double t_to, const newton_report& rep)
-        : std::runtime_error(describe(step, t_from, t_to, rep) + "; use a smaller time step"),
-          step_(step), time_(t_from), time_to_(t_to), report_(rep) {}
+    step_failure(std::size_t step, double t_from, double t_to, const newton_report& rep,
+                 std::string cause = {})
+        : std::runtime_error(describe(step, t_from, t_to, rep, cause) +
+                             (cause.empty() ? "; use a smaller time step" : "")),
+          step_(step), time_(t_from), time_to_(t_to), report_(rep), cause_(std::move(cause)) {}
     [[nodiscard]] std::size_t step() const { return step_; }
     [[nodiscard]] double time() const { return time_; }
     [[nodiscard]] const newton_report& report() const { return report_; }
+    /// The named cause, or empty when the step was merely too large for the motion (or no
+    /// cause could be found).
+    [[nodiscard]] const std::string& cause() const { return cause_; }
     /// what() without its closing advice, for a caller that has better advice to append.
     [[nodiscard]] std::string diagnosis() const {
-        return describe(step_, time_, time_to_, report_);
+        return describe(step_, time_, time_to_, report_, cause_);
     }
 
   private:
-    static std::string describe(std::size_t step, double t0, double t1, const newton_report& r) {
+    static std::string describe(std::size_t step, double t0, double t1, const newton_report& r,
+                                const std::string& cause) {
         char buf[320];
         std::snprintf(buf, sizeof buf,
                       "Newton's method did not converge in step %zu (t = %.9g -> %.9g): residual "
                       "%.3e after %d iterations%s",
                       step, t0, t1, r.residual, r.iterations,
                       std::isfinite(r.residual) ? "" : " (NaN or infinity)");
-        return buf;
+        return cause.empty() ? std::string(buf) : std::string(buf) + ": " + cause;
     }
     std::size_t step_;
     double time_;
     double time_to_;
     newton_report report_;
+    std::string cause_;
 };
 
 /// Newton statistics of a run.
@@ -60,7 +69,8 @@ struct run_summary {
 
 /// Step j of a run: advances x from t_{j−1} to t_j = t0 + j h and returns t_j, adding the
 /// step's Newton statistics to `sum`. Throws step_failure if Newton does not converge; x is then
-/// left at the last good state. The one step of both integrate and integrate_from.
+/// left at the last good state, and the stepper's diagnose(x), if it has one, names the cause.
+/// The one step of both integrate and integrate_from.
 template <stepper Stepper>
 double advance(Stepper& stepper, phase_state<Stepper::dim>& x, double t0, std::size_t j,
                run_summary& sum) {
@@ -69,7 +79,11 @@ double advance(Stepper& stepper, phase_state<Stepper::dim>& x, double t0, std::s
         stepper.set_time(t0 + static_cast<double>(j - 1) * h);
     const newton_report rep = stepper.step(x);
     const double t = t0 + static_cast<double>(j) * h;
-    if (!rep.converged) throw step_failure(j, t - h, t, rep);
+    if (!rep.converged) {
+        std::string cause; // x is still the step's start
+        if constexpr (requires { stepper.diagnose(x); }) cause = stepper.diagnose(x);
+        throw step_failure(j, t - h, t, rep, std::move(cause));
+    }
     ++sum.steps;
     sum.newton_iterations += rep.iterations;
     sum.newton_iterations_max = std::max(sum.newton_iterations_max, rep.iterations);

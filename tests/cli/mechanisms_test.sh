@@ -84,5 +84,18 @@ expect_error 2 "arm option on four-bar" run --model four-bar --kp 1,1,1 -o out.c
 # A crank torque so large that h = 0.1 cannot follow: exit 3, rows kept.
 expect_error 3 "four-bar diverging" run --model four-bar --torque 1e6 --time 10 --steps 100 -o out.csv
 rm -f out.csv.part
+# The parallelogram four-bar reaches its change point (all links collinear, at t = 1.34 s): the
+# step fails with its cause named (a nearly singular constraint Jacobian), rows kept. The default
+# four-bar, a crank-rocker, turns through the same time (the first check above).
+expect_error 3 "four-bar change point" run --model four-bar --lengths 1,3,1,3 --torque 5 \
+  --time 3 --steps 3000 -o out.csv
+grep -q "the constraint Jacobian is singular or nearly so" stderr.txt &&
+  [ "$(wc -l < out.csv.part)" -gt 1000 ] && ok ||
+  bad "four-bar change point: $(cat stderr.txt)"
+rm -f out.csv.part out.csv.ckpt
+# Starting on the change point is refused (exit 2), naming the singular Jacobian.
+expect_error 2 "four-bar starts collinear" run --model four-bar --lengths 1,3,1,3 --q0 0 -o out.csv
+grep -q "constraint Jacobian is singular at the initial state" stderr.txt && ok ||
+  bad "four-bar collinear start: $(cat stderr.txt)"
 
 finish

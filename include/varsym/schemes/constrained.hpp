@@ -78,7 +78,7 @@ class constrained_stepper : public stepper<L, F> {
         vec<count> g;
         jacobian_type jac(count, x.q.size());
         evaluate_constraint(c_, x.q, g, jac);
-        return (jac * this->sys_.velocity(x.q, x.p)).template lpNorm<Eigen::Infinity>();
+        return (jac * this->sys_.velocity(x.q, x.p, this->t_)).template lpNorm<Eigen::Infinity>();
     }
 
     /// Refuses initial data that the step would not keep: dependent constraints (naming the
@@ -90,6 +90,7 @@ class constrained_stepper : public stepper<L, F> {
         jacobian_type jac(count, x.q.size());
         evaluate_constraint(c_, x.q, g, jac);
         check_independent<dim, count>(jac, "at the initial state");
+        sigma_ref_ = Eigen::JacobiSVD<Eigen::MatrixXd>(jac).singularValues().minCoeff();
         const double scale = jac.template lpNorm<Eigen::Infinity>();
         const double off = g.template lpNorm<Eigen::Infinity>();
         char buf[200];
@@ -100,7 +101,7 @@ class constrained_stepper : public stepper<L, F> {
                           off);
             throw std::invalid_argument(buf);
         }
-        const vec<dim> v = this->sys_.velocity(x.q, x.p);
+        const vec<dim> v = this->sys_.velocity(x.q, x.p, this->t_);
         const double tangent = (jac * v).template lpNorm<Eigen::Infinity>();
         if (!(tangent <= tolerance * scale * v.template lpNorm<Eigen::Infinity>())) {
             std::snprintf(buf, sizeof buf,
@@ -119,13 +120,21 @@ class constrained_stepper : public stepper<L, F> {
         jacobian_type jac(count, x.q.size());
         evaluate_constraint(c_, x.q, g, jac);
         check_independent<dim, count>(jac, "at the projected initial state");
-        vec<dim> v = this->sys_.velocity(x.q, x.p);
-        const vec<count> mu = tangent_momentum(this->sys_.lagrangian(), x.q, x.p, jac, v);
+        sigma_ref_ = Eigen::JacobiSVD<Eigen::MatrixXd>(jac).singularValues().minCoeff();
+        vec<dim> v = this->sys_.velocity(x.q, x.p, this->t_);
+        const vec<count> mu =
+            tangent_momentum(at(this->sys_.lagrangian(), this->t_), x.q, x.p, jac, v);
         x.p -= jac.transpose() * mu;
         return x;
     }
 
     newton_report step(phase_state<dim>& x);
+
+    /// After a step from x that did not converge: its cause where one can be named
+    /// (constrained_failure.hpp): NaN or infinity from the constraint, a singular constraint
+    /// Jacobian (against its smallest singular value at the state check_initial or project saw),
+    /// or the general engine's causes; empty otherwise.
+    std::string diagnose(const phase_state<dim>& x);
 
     /// ∂(q_{j+1}, p_{j+1})/∂(q_j, p_j) (2d × 2d) of the step just taken from `from`, through the
     /// saddle-point system and the projection (constrained_sensitivity.hpp). Symplectic on the
@@ -138,6 +147,7 @@ class constrained_stepper : public stepper<L, F> {
         return opt;
     }
     void assemble_constrained(const phase_state<dim>& x);
+    std::string constraint_problem(const vec<dim>& q, const char* where, double t) const;
 
     C c_;
     Eigen::Matrix<double, count, Eigen::Dynamic> lam_; // Λ_0 … Λ_{s−1}
@@ -145,6 +155,7 @@ class constrained_stepper : public stepper<L, F> {
     std::vector<vec<count>> g_;                        // g(Q_0 … Q_s)
     std::vector<jacobian_type> jc_;                    // G(Q_0 … Q_s)
     mat<dim> hc_;
+    mutable double sigma_ref_ = 0.0; // G's smallest singular value at the checked initial state
     Eigen::MatrixXd k_;
     Eigen::VectorXd rk_, dk_;
     Eigen::PartialPivLU<Eigen::MatrixXd> klu_;
@@ -192,8 +203,8 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
     this->acc_ = x.p + this->dp_;        // p̃
     this->vk_ = X.col(s - 1) / this->h_; // a start for q̇_{j+1}
     try {
-        mu_ = tangent_momentum(this->sys_.lagrangian(), this->qk_, this->acc_,
-                               jc_[static_cast<std::size_t>(s)], this->vk_);
+        mu_ = tangent_momentum(at(this->sys_.lagrangian(), this->t_ + this->h_), this->qk_,
+                               this->acc_, jc_[static_cast<std::size_t>(s)], this->vk_);
     } catch (const std::domain_error&) {
         return base::failed(rep);
     }
@@ -233,4 +244,5 @@ void constrained_stepper<L, C, F>::assemble_constrained(const phase_state<dim>& 
 
 } // namespace varsym::general
 
+#include "varsym/schemes/constrained_failure.hpp"
 #include "varsym/schemes/constrained_sensitivity.hpp"

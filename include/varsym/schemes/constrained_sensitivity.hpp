@@ -59,9 +59,9 @@ void constrained_stepper<L, C, F>::step_jacobian(const phase_state<dim>& from,
     }
     // The projection at q_{j+1}, with q̇_{j+1} from p_{j+1} = p_j + dp_ (the step's total change).
     const vec<dim> q1 = from.q + X.col(s - 1), p1 = from.p + this->dp_;
-    const vec<dim> v1 = this->sys_.velocity(q1, p1);
+    const vec<dim> v1 = this->sys_.velocity(q1, p1, this->t_); // t_ = t_{j+1} after the step
     lagrangian_terms<dim> t;
-    evaluate(this->sys_.lagrangian(), q1, v1, t);
+    evaluate(this->sys_.lagrangian(), q1, v1, this->t_, t);
     const jacobian_type& g1 = jc_[static_cast<std::size_t>(s)];
     mat<dim> hmu(d, d), hv(d, d);
     constraint_curvature(c_, q1, mu_, hmu);

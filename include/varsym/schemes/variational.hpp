@@ -34,6 +34,7 @@
 #pragma once
 
 #include <cmath>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -55,13 +56,16 @@ namespace varsym::general {
 /// state continues exactly as it would have.
 /// All work arrays are sized in the constructor: for a compile-time d a step allocates nothing;
 /// d may also be `dynamic` (known at run time), with the derivatives given by hand.
-/// With a force F (systems/forcing.hpp) the step is the forced one; its time t_j is set by
+/// With a force F (systems/forcing.hpp) the step is the forced one, and a time-dependent
+/// L(q, q̇, t) is evaluated at each quadrature point's time; the step's time t_j is set by
 /// set_time (the drivers of integrate.hpp do) and advances by h per step otherwise.
 template <lagrangian L, class F = unforced>
 class stepper {
   public:
     static constexpr int dim = L::dim;
     static constexpr bool forced = !std::is_same_v<F, unforced>;
+    /// Whether a step depends on its time t_j: a force, or a time-dependent L(q, q̇, t).
+    static constexpr bool timed = forced || time_dependent_lagrangian<L>;
     static_assert(force_for<F, L::dim>(), "the force must be a generalized_force "
                                           "(systems/forcing.hpp) of the Lagrangian's dimension");
     using system_type = lagrangian_system<L>;
@@ -76,8 +80,8 @@ class stepper {
         : sys_(std::move(sys)), force_(std::move(force)), h_(h), opt_(opt),
           tab_(galerkin::tableau::make(family_member(spec).first, family_member(spec).second)) {
         if (opt_.iteration == iteration_kind::automatic)
-            opt_.iteration = lagrangian_with_derivatives<L> ? iteration_kind::newton
-                                                            : iteration_kind::simplified;
+            opt_.iteration = lagrangian_with_derivatives<at_time_t<L>> ? iteration_kind::newton
+                                                                       : iteration_kind::simplified;
         s_ = tab_.degree;
         r_ = static_cast<int>(tab_.quad.size());
         d_ = sys_.dimension();
@@ -115,7 +119,8 @@ class stepper {
     [[nodiscard]] const F& force() const { return force_; }
     /// The force, to change between steps (a controlled<…> force's input u).
     [[nodiscard]] F& force() { return force_; }
-    /// The time t_j of the next step's start (used by forces; a conservative step ignores it).
+    /// The time t_j of the next step's start (used by forces and a time-dependent L; an
+    /// autonomous step ignores it).
     [[nodiscard]] double time() const { return t_; }
     void set_time(double t) { t_ = t; }
     /// The work of the forces over the last step, h Σ_k w_k f_k·q̇_k (0 without forces): the
@@ -127,7 +132,8 @@ class stepper {
 
     /// With a linear iteration: whether a Jacobian is kept and the point (q̄, v̄) it was taken
     /// at (1 + 2d numbers); with a force, then that point's time and the total work with its
-    /// carry (3 numbers); empty for a conservative Newton stepper. run_state::history keeps it for
+    /// carry (3 numbers; also for a time-dependent L, with a work of 0); empty for an autonomous,
+    /// unforced Newton stepper. run_state::history keeps it for
     /// a checkpoint.
     void save_history(std::vector<double>& out) const;
     /// Puts back what save_history gave (an empty history starts afresh): the next step is then
@@ -142,6 +148,12 @@ class stepper {
     /// (2d × M) for the input u_j held over that step.
     void step_jacobian(const phase_state<dim>& from, Eigen::MatrixXd& out,
                        Eigen::MatrixXd* controls = nullptr);
+
+    /// After a step from x that did not converge: its cause where one can be named (NaN or
+    /// infinity from L or the force, a singular or indefinite ∂²L/∂q̇², at the step's start, on
+    /// the predicted motion or at Newton's last iterate), empty otherwise
+    /// (variational_failure.hpp). integrate.hpp's drivers call it.
+    std::string diagnose(const phase_state<dim>& x);
 
     newton_report step(phase_state<dim>& x) {
         newton_report rep;
@@ -202,6 +214,8 @@ class stepper {
 
     [[nodiscard]] bool linear() const { return opt_.iteration != iteration_kind::newton; }
 
+    std::string diagnose_points(const phase_state<dim>& x, const char* where);
+
     newton_report solve_newton(const phase_state<dim>& x) {
         predict(x);
         return iterate(x, true);
@@ -218,9 +232,9 @@ class stepper {
     void predict(const phase_state<dim>& x) {
         lagrangian_terms<dim>& t = terms_[0];
         vk_.setZero();
-        evaluate(sys_.lagrangian(), x.q, vk_, t);
+        evaluate(sys_.lagrangian(), x.q, vk_, t_, t);
         vec<dim> v = solve_symmetric<dim>(t.lvv, x.p - t.lv);
-        evaluate(sys_.lagrangian(), x.q, v, t);
+        evaluate(sys_.lagrangian(), x.q, v, t_, t);
         if constexpr (forced) add_force(0, x.q, v, t_, true);
         q_bar_ = x.q; // terms_[0] (and fterms_[0]) now hold the derivatives at (q̄, v̄)
         v_bar_ = v;
@@ -248,13 +262,13 @@ class stepper {
             for (int l = 0; l < s_; ++l)
                 vk_ += tab_.dphi_lo(l + 1, k) * x_.col(l);
             vk_ /= h_;
+            const double tk = t_ + tab_.quad.nodes[static_cast<std::size_t>(k)] * h_;
             if (second)
-                evaluate(sys_.lagrangian(), qk_, vk_, terms_[k]);
+                evaluate(sys_.lagrangian(), qk_, vk_, tk, terms_[k]);
             else
-                evaluate_gradient(sys_.lagrangian(), qk_, vk_, terms_[k]);
+                evaluate_gradient(sys_.lagrangian(), qk_, vk_, tk, terms_[k]);
             if constexpr (forced) {
-                add_force(k, qk_, vk_, t_ + tab_.quad.nodes[static_cast<std::size_t>(k)] * h_,
-                          second);
+                add_force(k, qk_, vk_, tk, second);
                 work_ += tab_.quad.weights[static_cast<std::size_t>(k)] *
                          fterms_[static_cast<std::size_t>(k)].f.dot(vk_);
             }
@@ -308,7 +322,7 @@ class stepper {
         lv0_; // lq0_, lv0_: L_q, L_v at (q_j, v) in predict_kept
     std::vector<lagrangian_terms<dim>> terms_;
     std::vector<force_terms<dim>> fterms_;      // the force at each quadrature point (if forced)
-    double t_ = 0.0, work_ = 0.0, t_bar_ = 0.0; // t_bar_: the time of (q̄, v̄), if forced
+    double t_ = 0.0, work_ = 0.0, t_bar_ = 0.0; // t_bar_: the time of (q̄, v̄), if timed
     double total_work_ = 0.0, work_carry_ = 0.0;
     double t_step_ = 0.0; // the last step's t_j
     Eigen::VectorXd res_, delta_;
@@ -323,5 +337,6 @@ class stepper {
 
 } // namespace varsym::general
 
+#include "varsym/schemes/variational_failure.hpp"
 #include "varsym/schemes/variational_sensitivity.hpp"
 #include "varsym/schemes/variational_solve.hpp"

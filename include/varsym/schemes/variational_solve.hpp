@@ -27,7 +27,7 @@ void stepper<L, F>::save_history(std::vector<double>& out) const {
         out.insert(out.end(), q_bar_.data(), q_bar_.data() + d_);
         out.insert(out.end(), v_bar_.data(), v_bar_.data() + d_);
     }
-    if constexpr (forced) out.insert(out.end(), {t_bar_, total_work_, work_carry_});
+    if constexpr (timed) out.insert(out.end(), {t_bar_, total_work_, work_carry_});
 }
 
 template <lagrangian L, class F>
@@ -35,12 +35,12 @@ void stepper<L, F>::restore_history(const phase_state<dim>&, const std::vector<d
     kept_ = false;
     total_work_ = work_carry_ = 0.0;
     if (in.empty()) return;
-    const auto want = static_cast<std::size_t>((linear() ? 1 + 2 * d_ : 0) + (forced ? 3 : 0));
+    const auto want = static_cast<std::size_t>((linear() ? 1 + 2 * d_ : 0) + (timed ? 3 : 0));
     if (in.size() != want)
         throw std::invalid_argument("the saved history has " + std::to_string(in.size()) +
                                     " numbers where this stepper's options keep " +
                                     std::to_string(want));
-    if constexpr (forced) {
+    if constexpr (timed) {
         t_bar_ = in[want - 3];
         total_work_ = in[want - 2];
         work_carry_ = in[want - 1];
@@ -49,7 +49,7 @@ void stepper<L, F>::restore_history(const phase_state<dim>&, const std::vector<d
     std::copy(in.begin() + 1, in.begin() + 1 + d_, q_bar_.data());
     std::copy(in.begin() + 1 + d_, in.begin() + 1 + 2 * d_, v_bar_.data());
     if (in[0] != 0.0) {
-        evaluate(sys_.lagrangian(), q_bar_, v_bar_, terms_[0]);
+        evaluate(sys_.lagrangian(), q_bar_, v_bar_, t_bar_, terms_[0]);
         if constexpr (forced) add_force(0, q_bar_, v_bar_, t_bar_, true);
         refresh(terms_[0]);
     }
@@ -164,10 +164,10 @@ void stepper<L, F>::predict_kept(const phase_state<dim>& x) {
     lagrangian_terms<dim>& t = terms_[0];
     const auto& lag = sys_.lagrangian();
     vk_.setZero();
-    evaluate_gradient(lag, x.q, vk_, t);
+    evaluate_gradient(lag, x.q, vk_, t_, t);
     vk_ = mbar_.solve(x.p - t.lv);
     for (int it = 0; it < 4; ++it) {
-        evaluate_gradient(lag, x.q, vk_, t);
+        evaluate_gradient(lag, x.q, vk_, t_, t);
         if constexpr (forced) add_force(0, x.q, vk_, t_, false);
         lq0_ = t.lq;
         lv0_ = t.lv;
@@ -183,7 +183,7 @@ void stepper<L, F>::predict_kept(const phase_state<dim>& x) {
     if (speed > 0.0) {
         const double eta = 1.5e-8 * std::max(1.0, x.q.template lpNorm<Eigen::Infinity>()) / speed;
         qk_ = x.q + eta * dq_;
-        evaluate_gradient(lag, qk_, dq_, t);
+        evaluate_gradient(lag, qk_, dq_, t_, t);
         acc_ -= (t.lv - lv0_) / eta;
     }
     acc_ = mbar_.solve(acc_);

@@ -107,11 +107,16 @@ void check_independent(const constraint_jacobian<D, M>& jac, const std::string& 
             if (rows == 1) break; // a zero first row: everything after is measured against it
         }
     }
+    if (dependent == "1")
+        throw std::invalid_argument("the constraint Jacobian is singular " + where +
+                                    ": its row 1 is zero; start away from a singular "
+                                    "configuration, or remove the constraint");
     if (!dependent.empty())
         throw std::invalid_argument("the constraints are dependent " + where + ": row(s) " +
                                     dependent +
                                     " of the constraint Jacobian are combinations of the rows "
-                                    "before them; remove the redundant constraints");
+                                    "before them; remove the redundant constraints, or start "
+                                    "away from a singular configuration");
 }
 
 /// The hidden constraint's projection: the momentum p − Gᵀμ nearest p (in the metric of the

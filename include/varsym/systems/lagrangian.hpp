@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include <Eigen/Eigenvalues>
@@ -37,16 +38,79 @@ struct lagrangian_terms {
 /// `template <class T> T operator()(const tvec<T, D>& q, const tvec<T, D>& v) const`,
 /// callable with T = double and with the automatic-differentiation scalars (so: `using std::sin;`
 /// before calling sin, and double literals, 2.0 not 2, in arithmetic with T).
+/// A time-dependent Lagrangian L(q, q̇, t) gives instead
+/// `template <class T> T operator()(const tvec<T, D>& q, const tvec<T, D>& v, double t) const`
+/// (t is not differentiated; see time_dependent_lagrangian).
 template <class L>
-concept lagrangian = requires {
+concept lagrangian_shape = requires {
     L::dim;
 }
-&&(L::dim >= 1 || L::dim == dynamic) && requires(const L& l, const tvec<double, L::dim>& q) {
-    { l(q, q) } -> std::convertible_to<double>;
-}
-&&(L::dim != dynamic || requires(const L& l) {
+&&(L::dim >= 1 || L::dim == dynamic) && (L::dim != dynamic || requires(const L& l) {
     { l.dimension() } -> std::convertible_to<int>;
 });
+
+/// A Lagrangian L(q, q̇, t) that depends on time explicitly: callable as l(q, v, t). The engines
+/// evaluate it at each quadrature point's time t_j + c_k h; its energy is not conserved
+/// (dE/dt = −∂L/∂t). Derivatives by hand, if given, take the time too:
+/// derivatives(q, v, t, terms) and optionally gradient(q, v, t, terms).
+template <class L>
+concept time_dependent_lagrangian = lagrangian_shape<L> &&
+    requires(const L& l, const tvec<double, L::dim>& q, double t) {
+    { l(q, q, t) } -> std::convertible_to<double>;
+};
+
+template <class L>
+concept lagrangian = lagrangian_shape<L> &&
+    (time_dependent_lagrangian<L> || requires(const L& l, const tvec<double, L::dim>& q) {
+        { l(q, q) } -> std::convertible_to<double>;
+    });
+
+/// A time-dependent Lagrangian frozen at time t: a time-independent view of L(·, ·, t), with
+/// L's derivatives by hand where it has them. at(l, t) makes one (and is l itself for a
+/// time-independent L); it holds a reference to l.
+template <time_dependent_lagrangian L>
+struct at_time {
+    static constexpr int dim = L::dim;
+    const L& l;
+    double t;
+
+    [[nodiscard]] int dimension() const {
+        if constexpr (dim == dynamic)
+            return l.dimension();
+        else
+            return dim;
+    }
+    template <class T>
+    T operator()(const tvec<T, dim>& q, const tvec<T, dim>& v) const {
+        return l(q, v, t);
+    }
+    template <class Terms>
+    void derivatives(const vec<dim>& q, const vec<dim>& v, Terms& terms) const requires
+        requires(const L& ll, double tt) {
+        ll.derivatives(q, v, tt, terms);
+    }
+    { l.derivatives(q, v, t, terms); }
+    template <class Terms>
+    void gradient(const vec<dim>& q, const vec<dim>& v, Terms& terms) const requires
+        requires(const L& ll, double tt) {
+        ll.gradient(q, v, tt, terms);
+    }
+    { l.gradient(q, v, t, terms); }
+};
+
+/// L at time t as a time-independent Lagrangian: at_time<L>{l, t}, or l itself (a reference)
+/// when L does not depend on time.
+template <lagrangian L>
+decltype(auto) at(const L& l, double t) {
+    if constexpr (time_dependent_lagrangian<L>)
+        return at_time<L>{l, t};
+    else
+        return (l);
+}
+
+/// The type at(l, t) returns, by value: at_time<L> or L.
+template <lagrangian L>
+using at_time_t = std::remove_cvref_t<decltype(at(std::declval<const L&>(), 0.0))>;
 
 /// A Lagrangian that also supplies its derivatives by hand (used instead of differentiation).
 template <class L>
@@ -165,6 +229,8 @@ void differentiate_in_blocks(const L& l, const vec<L::dim>& q, const vec<L::dim>
 template <lagrangian L>
 void evaluate(const L& l, const vec<L::dim>& q, const vec<L::dim>& v, lagrangian_terms<L::dim>& t) {
     constexpr int D = L::dim;
+    static_assert(!time_dependent_lagrangian<L>,
+                  "this Lagrangian depends on time: evaluate(l, q, v, time, terms)");
     if constexpr (lagrangian_with_derivatives<L>) {
         l.derivatives(q, v, t);
     } else {
@@ -192,6 +258,8 @@ inline constexpr int reverse_mode_above = 8;
 template <lagrangian L>
 void evaluate_gradient(const L& l, const vec<L::dim>& q, const vec<L::dim>& v,
                        lagrangian_terms<L::dim>& t) {
+    static_assert(!time_dependent_lagrangian<L>,
+                  "this Lagrangian depends on time: evaluate_gradient(l, q, v, time, terms)");
     if constexpr (lagrangian_with_gradient<L>) {
         l.gradient(q, v, t);
     } else if constexpr (lagrangian_with_derivatives<L>) {
@@ -208,12 +276,25 @@ void evaluate_gradient(const L& l, const vec<L::dim>& q, const vec<L::dim>& v,
     }
 }
 
+/// evaluate and evaluate_gradient at time `time` (ignored by a time-independent L).
+template <lagrangian L>
+void evaluate(const L& l, const vec<L::dim>& q, const vec<L::dim>& v, double time,
+              lagrangian_terms<L::dim>& t) {
+    evaluate(at(l, time), q, v, t);
+}
+template <lagrangian L>
+void evaluate_gradient(const L& l, const vec<L::dim>& q, const vec<L::dim>& v, double time,
+                       lagrangian_terms<L::dim>& t) {
+    evaluate_gradient(at(l, time), q, v, t);
+}
+
 /// A mechanical system given by its Lagrangian: momenta p = ∂L/∂q̇, velocities from momenta,
 /// and the energy E = q̇ᵀp − L (the Hamiltonian), which a time-independent L conserves.
 template <lagrangian L>
 class lagrangian_system {
   public:
     static constexpr int dim = L::dim;
+    static constexpr bool time_dependent = time_dependent_lagrangian<L>;
     using lagrangian_type = L;
 
     explicit lagrangian_system(L l) : l_(std::move(l)) {}
@@ -226,19 +307,25 @@ class lagrangian_system {
     }
     [[nodiscard]] const L& lagrangian() const { return l_; }
 
-    [[nodiscard]] vec<dim> momentum(const vec<dim>& q, const vec<dim>& v) const {
-        lagrangian_terms<dim> t;
-        evaluate(l_, q, v, t);
-        return t.lv;
+    /// p = ∂L/∂q̇(q, v) (at time t, for a time-dependent L: every member below takes a
+    /// trailing time argument, which only a time-independent L may leave out).
+    [[nodiscard]] vec<dim> momentum(const vec<dim>& q, const vec<dim>& v, double t) const {
+        lagrangian_terms<dim> terms;
+        evaluate(l_, q, v, t, terms);
+        return terms.lv;
+    }
+    [[nodiscard]] vec<dim> momentum(const vec<dim>& q, const vec<dim>& v) const
+        requires(!time_dependent) {
+        return momentum(q, v, 0.0);
     }
 
     /// Solves ∂L/∂q̇(q, v) = p for v by Newton (one iteration when L is quadratic in q̇).
     /// Throws std::domain_error if ∂²L/∂q̇² is not positive definite there or Newton fails.
-    [[nodiscard]] vec<dim> velocity(const vec<dim>& q, const vec<dim>& p) const {
+    [[nodiscard]] vec<dim> velocity(const vec<dim>& q, const vec<dim>& p, double time) const {
         vec<dim> v = vec<dim>::Zero(q.size());
         lagrangian_terms<dim> t;
         for (int it = 0; it < 50; ++it) {
-            evaluate(l_, q, v, t);
+            evaluate(l_, q, v, time, t);
             const Eigen::LLT<mat<dim>> llt(t.lvv);
             if (llt.info() != Eigen::Success || !t.lvv.allFinite())
                 throw std::domain_error("the mass matrix d2L/dqdot2 is singular or not positive "
@@ -254,17 +341,24 @@ class lagrangian_system {
         }
         throw std::domain_error("could not solve dL/dqdot = p for the velocity");
     }
+    [[nodiscard]] vec<dim> velocity(const vec<dim>& q, const vec<dim>& p) const
+        requires(!time_dependent) {
+        return velocity(q, p, 0.0);
+    }
 
     /// E(q, p) = q̇ᵀ p − L(q, q̇) with q̇ from velocity(q, p).
-    [[nodiscard]] double energy(const phase_state<dim>& x) const {
-        const vec<dim> v = velocity(x.q, x.p);
-        return v.dot(x.p) - l_(x.q, v);
+    [[nodiscard]] double energy(const phase_state<dim>& x, double t) const {
+        const vec<dim> v = velocity(x.q, x.p, t);
+        return v.dot(x.p) - at(l_, t)(x.q, v);
+    }
+    [[nodiscard]] double energy(const phase_state<dim>& x) const requires(!time_dependent) {
+        return energy(x, 0.0);
     }
 
     /// Refuses a state where ∂²L/∂q̇² is singular, indefinite or not finite, naming the cause.
-    void check_regular(const vec<dim>& q, const vec<dim>& v) const {
+    void check_regular(const vec<dim>& q, const vec<dim>& v, double time) const {
         lagrangian_terms<dim> t;
-        evaluate(l_, q, v, t);
+        evaluate(l_, q, v, time, t);
         if (!t.lvv.allFinite() || !t.lv.allFinite() || !t.lq.allFinite() || !std::isfinite(t.value))
             throw std::invalid_argument(
                 "the Lagrangian or its derivatives are NaN or infinite at the "
@@ -280,56 +374,14 @@ class lagrangian_system {
                                         std::string(range));
         }
     }
+    void check_regular(const vec<dim>& q, const vec<dim>& v) const requires(!time_dependent) {
+        check_regular(q, v, 0.0);
+    }
 
   private:
     L l_;
 };
 
-/// A separable system L = ½ q̇ᵀMq̇ − V(q) seen as a general Lagrangian, with its derivatives by
-/// hand: lets the general engine run any separable system (and tests compare the two paths).
-template <separable Separable>
-struct separable_lagrangian {
-    static constexpr int dim = Separable::dim;
-    Separable sys;
-    bool diagonal = is_diagonal(sys); ///< the mass matrix is (then M q̇ is a product of vectors)
-
-    static bool is_diagonal(const Separable& s) {
-        if constexpr (scalar_mass<Separable>)
-            return true;
-        else
-            return s.mass().isDiagonal(0.0);
-    }
-
-    [[nodiscard]] int dimension() const { return sys.dimension(); }
-    double operator()(const vec<dim>& q, const vec<dim>& v) const {
-        if constexpr (scalar_mass<Separable>)
-            return 0.5 * sys.mass() * v.squaredNorm() - sys.potential().value(q);
-        else
-            return 0.5 * v.dot(sys.mass() * v) - sys.potential().value(q);
-    }
-    void gradient(const vec<dim>& q, const vec<dim>& v, lagrangian_terms<dim>& t) const {
-        t.lq = -sys.potential().gradient(q);
-        if constexpr (scalar_mass<Separable>)
-            t.lv = sys.mass() * v;
-        else if (diagonal)
-            t.lv = sys.mass().diagonal().cwiseProduct(v);
-        else
-            t.lv.noalias() = sys.mass() * v;
-    }
-    void derivatives(const vec<dim>& q, const vec<dim>& v, lagrangian_terms<dim>& t) const {
-        t.value = (*this)(q, v);
-        t.lq = -sys.potential().gradient(q);
-        t.lqq = -sys.potential().hessian(q);
-        t.lqv.setZero(q.size(), q.size());
-        if constexpr (scalar_mass<Separable>) {
-            t.lv = sys.mass() * v;
-            t.lvv.setZero(q.size(), q.size());
-            t.lvv.diagonal().setConstant(sys.mass());
-        } else {
-            t.lv.noalias() = sys.mass() * v;
-            t.lvv = sys.mass();
-        }
-    }
-};
-
 } // namespace varsym
+
+#include "varsym/systems/separable_lagrangian.hpp"
