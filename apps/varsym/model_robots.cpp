@@ -61,7 +61,11 @@ void run_constrained(const run_setup& s, const run_plan& plan, const mechanism_o
         if (o.project) x0 = st.project(x0);
         st.check_initial(x0);
     } catch (const std::exception& e) {
-        throw usage_error(std::string(e.what()) + (o.project ? "" : " (--project)"));
+        // Point to --project where the message suggests projecting (data off the constraints),
+        // not where no projection helps (a singular configuration, dependent constraints).
+        const std::string what = e.what();
+        const bool projectable = what.find("project it onto") != std::string::npos;
+        throw usage_error(what + (projectable && !o.project ? " (--project)" : ""));
     }
     const double e0 = sys.energy(x0);
     std::string header = ",energy,work,energy_balance,constraint_residual,hidden_residual";
