@@ -1,11 +1,13 @@
 // tests/test_support.hpp: small systems and helpers shared by the tests.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <string>
 
+#include "varsym/schemes/scheme_kind.hpp"
 #include "varsym/systems/separable.hpp"
 
 namespace varsym::test {
@@ -56,6 +58,19 @@ struct harmonic {
     [[nodiscard]] vec<1> gradient(const vec<1>& q) const { return vec<1>{k * q(0)}; }
     [[nodiscard]] mat<1> hessian(const vec<1>&) const { return mat<1>{k}; }
 };
+
+/// A member of the family and the order of convergence it must show.
+struct member {
+    scheme_spec spec;
+    double order;
+};
+
+/// Newmark, Simpson, gauss-2, gauss-3 and lobatto-3, of orders 2, 4, 4, 6 and 6.
+inline const std::array<member, 5> five_members{{{scheme_kind::newmark, 2},
+                                                 {scheme_kind::simpson, 4},
+                                                 {{scheme_kind::gauss, 2}, 4},
+                                                 {{scheme_kind::gauss, 3}, 6},
+                                                 {{scheme_kind::lobatto, 3}, 6}}};
 
 /// x in scientific notation with 4 significant digits, for RecordProperty.
 inline std::string sci(double x) {

@@ -19,6 +19,8 @@
 
 using namespace varsym;
 
+using test::member;
+
 namespace {
 
 // A point mass m on a rod of length ℓ, in Cartesian coordinates of dimension D (2: planar, 3:
@@ -86,19 +88,12 @@ struct twice {
     }
 };
 
-struct member {
-    scheme_spec spec;
-    double order;
-};
-
 } // namespace
 
 TEST(Constrained, PlanarPendulumKeepsItsConstraintsAndConvergesToTheExactSolution) {
     // Orders measured between n = 100 and 200 steps to t = 5 (h = 0.05, 0.025): the
     // unconstrained orders 2, 4, 2s for every member measured here.
-    for (const member& m : {member{scheme_kind::newmark, 2}, member{scheme_kind::simpson, 4},
-                            member{{scheme_kind::gauss, 2}, 4}, member{{scheme_kind::gauss, 3}, 6},
-                            member{{scheme_kind::lobatto, 3}, 6}}) {
+    for (const member& m : test::five_members) {
         const run_result coarse = planar_run(m.spec, 100), fine = planar_run(m.spec, 200);
         const double observed = std::log2(coarse.error / fine.error);
         SCOPED_TRACE(m.spec.label() + ": errors " + test::sci(coarse.error) + ", " +
@@ -233,9 +228,7 @@ TEST(Constrained, OrdersWhereTheQuadratureIsNotExact) {
     // Gauss and Lobatto members differ; orders measured between h = 0.05 and 0.025.
     const double kappa = 2.0;
     const phase_state<3> ref = spherical_reference(kappa);
-    for (const member& m : {member{scheme_kind::newmark, 2}, member{scheme_kind::simpson, 4},
-                            member{{scheme_kind::gauss, 2}, 4}, member{{scheme_kind::gauss, 3}, 6},
-                            member{{scheme_kind::lobatto, 3}, 6}}) {
+    for (const member& m : test::five_members) {
         const double coarse = spherical_error(kappa, m.spec, 60, ref),
                      fine = spherical_error(kappa, m.spec, 120, ref);
         const double observed = std::log2(coarse / fine);

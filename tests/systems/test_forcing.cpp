@@ -21,6 +21,8 @@
 
 using namespace varsym;
 
+using test::member;
+
 namespace {
 
 struct spring {
@@ -109,13 +111,7 @@ TEST(Forcing, ExactSolutionOfTheDampedDrivenOscillatorIsSane) {
 }
 
 TEST(Forcing, OrdersOfTheFamilyAreKept) {
-    struct member {
-        scheme_spec spec;
-        double order;
-    };
-    for (const member& m : {member{scheme_kind::newmark, 2}, member{scheme_kind::simpson, 4},
-                            member{{scheme_kind::gauss, 2}, 4}, member{{scheme_kind::gauss, 3}, 6},
-                            member{{scheme_kind::lobatto, 3}, 6}}) {
+    for (const member& m : test::five_members) {
         const double coarse = oscillator_error(m.spec, 100), fine = oscillator_error(m.spec, 200);
         const double observed = std::log2(coarse / fine);
         SCOPED_TRACE(m.spec.label() + ": errors " + test::sci(coarse) + ", " + test::sci(fine));
@@ -229,10 +225,6 @@ TEST(Forcing, EnergyBalanceHoldsToTheSchemesOrder) {
                        [&](const auto&) { w += st.last_work(); });
         *work = w;
         return sys.energy(s.x) - e0 - w;
-    };
-    struct member {
-        scheme_spec spec;
-        double order;
     };
     for (const member& m : {member{scheme_kind::newmark, 2}, member{scheme_kind::simpson, 4},
                             member{{scheme_kind::gauss, 3}, 6}}) {

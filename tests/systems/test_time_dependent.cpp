@@ -23,6 +23,8 @@
 
 using namespace varsym;
 
+using test::member;
+
 namespace {
 
 // L = e^{γt}(½ m q̇² − ½ k (1 + ε cos Ωt) q²): Caldirola–Kanai for ε = 0, Mathieu for γ = 0.
@@ -79,11 +81,6 @@ double caldirola_error(scheme_spec spec, int n) {
                     std::abs(x.p(0) - ref.p(0)) * std::exp(-l.gamma * t_end));
 }
 
-struct member {
-    scheme_spec spec;
-    double order;
-};
-
 } // namespace
 
 TEST(TimeDependent, CaldirolaKanaiReferenceIsSane) {
@@ -99,9 +96,7 @@ TEST(TimeDependent, CaldirolaKanaiReferenceIsSane) {
 TEST(TimeDependent, CaldirolaKanaiOrdersOfTheFamily) {
     // h = 0.1 and 0.05 to t = 10.5 from t = 0.5. Ignoring the time (the undamped oscillator)
     // would leave an O(1) error at both.
-    for (const member& m : {member{scheme_kind::newmark, 2}, member{scheme_kind::simpson, 4},
-                            member{{scheme_kind::gauss, 2}, 4}, member{{scheme_kind::gauss, 3}, 6},
-                            member{{scheme_kind::lobatto, 3}, 6}}) {
+    for (const member& m : test::five_members) {
         const double coarse = caldirola_error(m.spec, 100), fine = caldirola_error(m.spec, 200);
         const double observed = std::log2(coarse / fine);
         SCOPED_TRACE(m.spec.label() + ": errors " + test::sci(coarse) + ", " + test::sci(fine));
