@@ -107,6 +107,7 @@ void check_model_options(const std::vector<model>& models, const model& chosen,
 }
 
 void run(run_options& o, const CLI::App& cmd, const run_context& ctx) {
+    if (cmd.count("--lagrangian") > 0 && cmd.count("--model") == 0) o.model = "lagrangian";
     const auto it = std::find_if(o.models.begin(), o.models.end(),
                                  [&](const model& m) { return m.name == o.model; });
     check_model_options(o.models, *it, cmd);
@@ -176,6 +177,7 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
         "  varsym run --model kepler --eccentricity 0.9 --periods 10 --steps-per-period 400\n"
         "  varsym run --model heavy-top --scheme gauss --degree 3 --periods 5\n"
         "  varsym run --model double-pendulum --time 20 --steps 20000 --every 100 -o arm.csv\n"
+        "  varsym run --lagrangian \"0.5*th_dot**2 + 9.81*cos(th)\" --coordinates th --q0 1\n"
         "  varsym run --config kepler.toml\n"
         "  varsym run --time 1e5 --steps 100000000 --every 10000 -o long.csv --checkpoint "
         "long.ckpt\n"
@@ -237,7 +239,8 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
            "How lobatto-s (s >= 3) and gauss-s (s >= 2), and every scheme of double-pendulum and "
            "heavy-top, solve a step: newton (exact Jacobian each iteration; the default, except "
            "on double-pendulum and heavy-top, whose derivatives are automatic), simplified "
-           "(one Jacobian kept across steps; first derivatives only in its sweeps; their default) or "
+           "(one Jacobian kept across steps; first derivatives only in its sweeps; their default) "
+           "or "
            "fixed-point (the Jacobian's mass term alone; non-stiff problems). All stop at the "
            "same round-off floor; the last two hand a step to newton where they diverge")
         ->check(CLI::IsMember({"newton", "simplified", "fixed-point"}));

@@ -12,13 +12,26 @@
 
 namespace varsym::cli {
 
+namespace {
+thread_local std::string last_message; // NOLINT: what fail() said last, for an embedder
+thread_local bool quiet = false;       // NOLINT
+} // namespace
+
 int fail(int code, std::string message) {
     for (char& c : message)
         if (c == '\n') c = ' ';
     constexpr std::size_t limit = 2000; // one line, even when it quotes a huge value
     if (message.size() > limit) message = message.substr(0, limit) + "... (message cut)";
-    std::cerr << "varsym: error: " << message << '\n';
+    if (!quiet) std::cerr << "varsym: error: " << message << '\n';
+    last_message = std::move(message);
     return code;
+}
+
+const std::string& last_failure() {
+    return last_message;
+}
+void set_quiet_failures(bool on) {
+    quiet = on;
 }
 
 namespace {

@@ -12,6 +12,11 @@ namespace varsym::cli {
 
 /// Prints "varsym: error: MESSAGE" (one line) on standard error and returns code.
 int fail(int code, std::string message);
+/// The message of the last fail() on this thread ("" if none): what the Python package raises.
+const std::string& last_failure();
+/// Whether fail() keeps its line off standard error on this thread (the Python package raises
+/// it instead).
+void set_quiet_failures(bool on);
 
 /// The application with all its subcommands.
 class front_end {

@@ -15,6 +15,7 @@ std::vector<model> make_models() {
                            make_slider_crank_model(mech), make_spherical_pendulum_model(mech)};
     for (model& m : make_rigid_models())
         all.push_back(std::move(m));
+    all.push_back(make_expression_model());
     return all;
 }
 

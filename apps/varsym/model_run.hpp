@@ -121,12 +121,36 @@ saved_state save_state(const run_state<D>& r) {
 
 /// What the energy watch follows: E, or E − W for a stepper with forces (W, the forces' work
 /// since the start, makes E − W constant up to the scheme's error).
-template <class Stepper, int D>
-double watched_energy(const Stepper& stepper, const phase_state<D>& x) {
-    if constexpr (requires { stepper.total_work(); })
-        return stepper.system().energy(x) - stepper.total_work();
+/// Whether a system is time-dependent (its members take the time).
+template <class System>
+inline constexpr bool timed_system = requires {
+    requires System::time_dependent;
+};
+
+/// The energy at state x and time t (t is ignored by a time-independent system).
+template <class System, int D>
+double energy_at(const System& sys, const phase_state<D>& x, double t) {
+    if constexpr (timed_system<System>)
+        return sys.energy(x, t);
     else
-        return stepper.system().energy(x);
+        return sys.energy(x);
+}
+
+/// Whether the system's energy is conserved (not for a Lagrangian that depends on time).
+template <class System>
+bool conserves_energy(const System& sys) {
+    if constexpr (requires { sys.lagrangian().depends_on_time(); })
+        return !sys.lagrangian().depends_on_time();
+    else
+        return !timed_system<System>;
+}
+
+template <class Stepper, int D>
+double watched_energy(const Stepper& stepper, const phase_state<D>& x, double t) {
+    if constexpr (requires { stepper.total_work(); })
+        return energy_at(stepper.system(), x, t) - stepper.total_work();
+    else
+        return energy_at(stepper.system(), x, t);
 }
 
 /// Streams `step,t,<state columns><extra header>` rows for plan.steps steps from x, written every
@@ -163,21 +187,26 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
     with_stepper([&](auto& stepper) {
         auto r = run_state<D>::start(x);
         const double h = stepper.step_size();
-        auto omega_at = [&](const phase_state<D>& y) {
+        auto omega_at = [&](const phase_state<D>& y, double t) {
             try {
-                return highest_frequency(stepper.system(), y);
+                if constexpr (timed_system<std::remove_cvref_t<decltype(stepper.system())>>)
+                    return highest_frequency(stepper.system(), y, t);
+                else
+                    return highest_frequency(stepper.system(), y);
             } catch (const std::exception&) { // no estimate: the messages say so
                 return std::numeric_limits<double>::quiet_NaN();
             }
         };
         // The frequency the step must resolve: the highest at the start, and the orbit's.
-        double omega0 = omega_at(x);
+        double omega0 = omega_at(x, 0.0);
         if (!(omega0 >= 0.0)) omega0 = 0.0;
         if (plan.period > 0.0) omega0 = std::max(omega0, 2.0 * std::numbers::pi / plan.period);
-        log.set_energy_reference(stepper.system().energy(x), omega0,
-                                 s.max_energy_error >= 0.0
-                                     ? s.max_energy_error
-                                     : default_energy_bound(s.order(), h, omega0));
+        // No energy watch where the energy is not conserved (an L that depends on time).
+        const double bound = !conserves_energy(stepper.system()) ? 0.0
+                             : s.max_energy_error >= 0.0
+                                 ? s.max_energy_error
+                                 : default_energy_bound(s.order(), h, omega0);
+        log.set_energy_reference(energy_at(stepper.system(), x, 0.0), omega0, bound);
         if (const checkpoint* ck = log.resumed()) {
             auto as_vec = [d](const std::vector<double>& v) {
                 return vec<D>(Eigen::Map<const vec<D>>(v.data(), d));
@@ -200,12 +229,12 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
                 const std::size_t j = y.step;
                 log.after_step(
                     j, y.time(h), row(j, y.time(h), y.x),
-                    [&] { return watched_energy(stepper, y.x); }, [&] { return save_state(y); },
-                    y.stats);
+                    [&] { return watched_energy(stepper, y.x, y.time(h)); },
+                    [&] { return save_state(y); }, y.stats);
             });
         } catch (const step_failure& e) {
             set_signal_polling(false);
-            log.fail(e, save_state(r), r.stats, omega_at(r.x));
+            log.fail(e, save_state(r), r.stats, omega_at(r.x, r.time(h)));
         }
         set_signal_polling(false);
         log.finish(save_state(r), r.stats);

@@ -83,6 +83,8 @@ model make_heavy_top_model();
 model make_chain_model();
 /// `rigid-body`, `top` and `pendulum-3d` (model_rigid.cpp), which share their parameters.
 std::vector<model> make_rigid_models();
+/// `lagrangian`: the user's L given by --lagrangian (model_expression.cpp).
+model make_expression_model();
 
 /// The most steps one run may take (1e15; the fuzz target lowers it to run actions cheaply).
 extern double max_run_steps;

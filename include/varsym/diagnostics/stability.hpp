@@ -96,15 +96,22 @@ double highest_frequency(const S& sys, const phase_state<S::dim>& x) {
 /// The same for L(q, q̇) at the velocity of (q, p): ∂²L/∂q̇² a = ∂²L/∂q² δq, so λ are the
 /// eigenvalues of (−L_qq, L_vv). Velocity-dependent (gyroscopic) terms are left out: they turn
 /// frequencies but do not raise the largest one beyond this estimate by much.
+/// A time-dependent L is taken at time `time`.
 template <class L>
-double highest_frequency(const lagrangian_system<L>& sys, const phase_state<L::dim>& x) {
+double highest_frequency(const lagrangian_system<L>& sys, const phase_state<L::dim>& x,
+                         double time) {
     constexpr int D = L::dim;
     lagrangian_terms<D> t;
-    evaluate(sys.lagrangian(), x.q, sys.velocity(x.q, x.p), t);
+    evaluate(sys.lagrangian(), x.q, sys.velocity(x.q, x.p, time), time, t);
     const mat<D> k = -t.lqq;
     Eigen::GeneralizedSelfAdjointEigenSolver<mat<D>> eig(k, t.lvv, Eigen::EigenvaluesOnly);
     if (eig.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
     return std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff()));
+}
+template <class L>
+double highest_frequency(const lagrangian_system<L>& sys,
+                         const phase_state<L::dim>& x) requires(!time_dependent_lagrangian<L>) {
+    return highest_frequency(sys, x, 0.0);
 }
 
 } // namespace varsym

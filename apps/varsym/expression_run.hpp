@@ -1,0 +1,56 @@
+// apps/varsym/expression_run.hpp: Lagrangians given as expressions (`varsym run --lagrangian`),
+// and the stepper of the general engine for them, compiled once here and used by the tool and
+// by the Python package (python/src/module.cpp).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "varsym/integrate.hpp"
+#include "varsym/schemes/scheme_kind.hpp"
+#include "varsym/systems/expression_lagrangian.hpp"
+
+namespace varsym::cli {
+
+/// "m=1,g=9.81" as parameters; throws usage_error naming the entry that is not NAME=NUMBER.
+std::vector<expression_parameter> parse_parameters(const std::string& list);
+/// "th1,th2" as names (spaces around a name are dropped); throws usage_error on an empty one.
+std::vector<std::string> parse_names(const std::string& list);
+
+/// A stepper of the general engine for an expression Lagrangian, with the state it advances.
+class expression_stepper {
+  public:
+    /// From (q0, p0) at time t0, steps of size h of scheme `spec`.
+    expression_stepper(const expression_lagrangian& l, double h, const scheme_spec& spec,
+                       const newton_options& opt, const vec<dynamic>& q0, const vec<dynamic>& p0,
+                       double t0 = 0.0);
+    ~expression_stepper();
+    expression_stepper(const expression_stepper&) = delete;
+    expression_stepper& operator=(const expression_stepper&) = delete;
+
+    /// n steps. Throws step_failure (its what() names the step and the cause), leaving the state
+    /// at the last good step.
+    void step(std::size_t n = 1);
+    /// n steps, recording (t, q, p, E) every `every` steps and after the last, appended to the
+    /// vectors (q and p row by row, d per row); the start is recorded first when record_start.
+    /// On a failed step the rows recorded so far are kept, and step_failure is thrown.
+    void run(std::size_t n, std::size_t every, bool record_start, std::vector<double>& t,
+             std::vector<double>& q, std::vector<double>& p, std::vector<double>& energy);
+
+    [[nodiscard]] const vec<dynamic>& q() const;
+    [[nodiscard]] const vec<dynamic>& p() const;
+    [[nodiscard]] double time() const;
+    [[nodiscard]] std::size_t steps() const;
+    [[nodiscard]] double step_size() const;
+    /// The energy q̇ᵀp − L at the current state and time.
+    [[nodiscard]] double energy() const;
+    /// Newton iterations per step so far.
+    [[nodiscard]] double mean_newton_iterations() const;
+
+  private:
+    struct impl;
+    std::unique_ptr<impl> impl_;
+};
+
+} // namespace varsym::cli

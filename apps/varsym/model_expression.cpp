@@ -1,0 +1,215 @@
+// apps/varsym/model_expression.cpp: `varsym run --lagrangian EXPR` (the model `lagrangian`): the
+// user's own Lagrangian, given as an expression, run by the general engine with its symbolic
+// derivatives; and expression_stepper, the same stepper for the Python package.
+#include <charconv>
+#include <memory>
+#include <numbers>
+
+#include "expression_run.hpp"
+#include "model_run.hpp"
+#include "varsym/schemes/variational.hpp"
+
+namespace varsym::cli {
+
+namespace {
+
+using expression_system = lagrangian_system<expression_lagrangian>;
+
+std::string trimmed(const std::string& s) {
+    const auto a = s.find_first_not_of(" \t");
+    if (a == std::string::npos) return {};
+    return s.substr(a, s.find_last_not_of(" \t") - a + 1);
+}
+
+struct expression_options {
+    std::string lagrangian, coordinates = "q", parameters;
+};
+
+} // namespace
+
+std::vector<std::string> parse_names(const std::string& list) {
+    std::vector<std::string> names;
+    std::size_t from = 0;
+    for (;;) {
+        const auto comma = list.find(',', from);
+        const std::string name = trimmed(list.substr(from, comma - from));
+        if (name.empty())
+            throw usage_error("--coordinates: empty name in " + shown(list) +
+                              " (give names separated by commas, e.g. th1,th2)");
+        names.push_back(name);
+        if (comma == std::string::npos) return names;
+        from = comma + 1;
+    }
+}
+
+std::vector<expression_parameter> parse_parameters(const std::string& list) {
+    std::vector<expression_parameter> out;
+    if (trimmed(list).empty()) return out;
+    for (const std::string& entry : parse_names(list)) {
+        const auto eq = entry.find('=');
+        const std::string name = trimmed(entry.substr(0, eq));
+        const std::string value = eq == std::string::npos ? "" : trimmed(entry.substr(eq + 1));
+        double v = 0.0;
+        const char* end = value.data() + value.size();
+        const auto r = std::from_chars(value.data() + (value.starts_with('+') ? 1 : 0), end, v);
+        if (name.empty() || value.empty() || r.ec != std::errc() || r.ptr != end ||
+            !std::isfinite(v))
+            throw usage_error("--parameters: " + shown(entry) +
+                              " is not NAME=NUMBER (e.g. --parameters m=1,g=9.81)");
+        out.push_back({name, v});
+    }
+    return out;
+}
+
+struct expression_stepper::impl {
+    expression_system sys;
+    general::stepper<expression_lagrangian> stepper;
+    phase_state<dynamic> x;
+    double t0;
+    std::size_t j = 0;
+    run_summary stats;
+
+    impl(const expression_lagrangian& l, double h, const scheme_spec& spec,
+         const newton_options& opt, phase_state<dynamic> x0, double t)
+        : sys(l), stepper(sys, h, spec, opt), x(std::move(x0)), t0(t) {}
+};
+
+expression_stepper::expression_stepper(const expression_lagrangian& l, double h,
+                                       const scheme_spec& spec, const newton_options& opt,
+                                       const vec<dynamic>& q0, const vec<dynamic>& p0, double t0)
+    : impl_(std::make_unique<impl>(l, h, spec, opt, phase_state<dynamic>{q0, p0}, t0)) {
+    if (q0.size() != l.dimension() || p0.size() != l.dimension())
+        throw std::invalid_argument("q0 and p0 need " + std::to_string(l.dimension()) +
+                                    " entries each (one per coordinate)");
+    if (!(std::isfinite(h) && h > 0.0))
+        throw std::invalid_argument("the time step must be a finite positive number");
+}
+expression_stepper::~expression_stepper() = default;
+
+void expression_stepper::step(std::size_t n) {
+    for (std::size_t k = 0; k < n; ++k) {
+        impl& m = *impl_;
+        advance(m.stepper, m.x, m.t0, m.j + 1, m.stats);
+        ++m.j;
+    }
+}
+
+void expression_stepper::run(std::size_t n, std::size_t every, bool record_start,
+                             std::vector<double>& t, std::vector<double>& q, std::vector<double>& p,
+                             std::vector<double>& energy) {
+    auto record = [&] {
+        t.push_back(time());
+        q.insert(q.end(), this->q().data(), this->q().data() + this->q().size());
+        p.insert(p.end(), this->p().data(), this->p().data() + this->p().size());
+        energy.push_back(this->energy());
+    };
+    if (record_start) record();
+    for (std::size_t k = 1; k <= n; ++k) {
+        step(1);
+        if ((every != 0 && k % every == 0) || k == n) record();
+    }
+}
+
+const vec<dynamic>& expression_stepper::q() const {
+    return impl_->x.q;
+}
+const vec<dynamic>& expression_stepper::p() const {
+    return impl_->x.p;
+}
+double expression_stepper::time() const {
+    return impl_->t0 + static_cast<double>(impl_->j) * impl_->stepper.step_size();
+}
+std::size_t expression_stepper::steps() const {
+    return impl_->j;
+}
+double expression_stepper::step_size() const {
+    return impl_->stepper.step_size();
+}
+double expression_stepper::energy() const {
+    return impl_->sys.energy(impl_->x, time());
+}
+double expression_stepper::mean_newton_iterations() const {
+    return impl_->stats.mean_newton_iterations();
+}
+
+model make_expression_model() {
+    auto par = std::make_shared<expression_options>();
+    model m;
+    m.name = "lagrangian";
+    m.summary = "your own L(q, qdot, t) given as an expression (--lagrangian), no compiling";
+    m.description =
+        "  --lagrangian EXPR over the coordinates of --coordinates (default: q), their\n"
+        "  velocities NAME_dot, the time t and the parameters of --parameters NAME=VALUE,...\n"
+        "  Python syntax: + - * / ** (or ^), parentheses, sin cos tan exp log sqrt sinh cosh\n"
+        "  tanh asin acos atan, pi, E. E.g. the pendulum:\n"
+        "    --lagrangian \"0.5*m*l**2*th_dot**2 + m*g*l*cos(th)\" --coordinates th\n"
+        "    --parameters m=1,g=9.81,l=1 --q0 1\n"
+        "  Derivatives are exact (symbolic), evaluated as compiled code. Units: the user's.\n"
+        "  Initial state --q0 (0), --v0 (0) or --p0, in the order of --coordinates; columns\n"
+        "  q_i, p_i in that order. Conserved: energy, unless L depends on t (then E(t) is\n"
+        "  written but not watched). No period: default --time 10 --steps 10000.";
+    m.options = {"--lagrangian", "--coordinates", "--parameters"};
+    m.add_options = [par](CLI::App& cmd) {
+        cmd.add_option("--lagrangian", par->lagrangian,
+                       "lagrangian: L as an expression (implies --model lagrangian; see "
+                       "'varsym models')");
+        cmd.add_option("--coordinates", par->coordinates,
+                       "lagrangian: the coordinates' names, comma-separated (velocities: "
+                       "NAME_dot)")
+            ->capture_default_str();
+        cmd.add_option("--parameters", par->parameters,
+                       "lagrangian: parameters of the expression, NAME=VALUE,...");
+    };
+    m.run = [par](const run_setup& s) {
+        if (par->lagrangian.empty())
+            throw usage_error("--model lagrangian needs --lagrangian EXPR (see 'varsym models')");
+        if (s.newton.predictor != predictor_kind::taylor)
+            throw usage_error("--predictor previous is for the separable models; --lagrangian "
+                              "runs the general engine: use --predictor taylor");
+        std::unique_ptr<expression_system> sys;
+        try {
+            sys = std::make_unique<expression_system>(expression_lagrangian(
+                par->lagrangian, parse_names(par->coordinates), parse_parameters(par->parameters)));
+        } catch (const expr::parse_error& e) {
+            throw usage_error(std::string("--lagrangian: ") + e.what());
+        } catch (const std::invalid_argument& e) {
+            throw usage_error(std::string("--lagrangian: ") + e.what());
+        }
+        const expression_lagrangian& l = sys->lagrangian();
+        if (l.depends_on_time() && s.max_energy_error > 0.0)
+            throw usage_error("--max-energy-error: this Lagrangian depends on t, so its energy "
+                              "is not conserved; leave the energy watch out");
+        const int d = l.dimension();
+        std::string names;
+        for (const auto& c : l.coordinates())
+            names += (names.empty() ? "" : ", ") + c;
+        if (!s.p0.empty() && !s.v0.empty()) throw usage_error("give --p0 or --v0, not both");
+        const vec<dynamic> zero = vec<dynamic>::Zero(d);
+        phase_state<dynamic> x0;
+        x0.q = initial_vector(s.q0, "--q0", d, names, zero);
+        const vec<dynamic> v = initial_vector(s.v0, "--v0", d, "the velocities of " + names, zero);
+        try {
+            sys->check_regular(x0.q, v, 0.0);
+            x0.p = s.p0.empty() ? sys->momentum(x0.q, v, 0.0)
+                                : initial_vector(s.p0, "--p0", d, "the momenta of " + names, {});
+            sys->check_regular(x0.q, sys->velocity(x0.q, x0.p, 0.0), 0.0);
+        } catch (const usage_error&) {
+            throw;
+        } catch (const std::exception& e) {
+            throw usage_error(std::string("--lagrangian: ") + e.what());
+        }
+        const run_plan plan = plan_steps(s, "lagrangian", 0.0, 0, 10.0, 10000);
+        stream_trajectory<dynamic>(
+            s, plan, x0, ",energy",
+            [&](auto&& f) {
+                general::stepper<expression_lagrangian> stepper(*sys, plan.h, s.spec, s.newton);
+                return f(stepper);
+            },
+            [&](double t, const phase_state<dynamic>& x, std::string& line) {
+                append_values(line, {sys->energy(x, t)});
+            });
+    };
+    return m;
+}
+
+} // namespace varsym::cli
