@@ -7,7 +7,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 OUT ?= out
 VARSYM = $(BUILD_DIR)/apps/varsym/varsym
 
-.PHONY: all deps configure build tool run test install san-configure test-sanitize \
+.PHONY: all deps configure build tool python run test install san-configure test-sanitize \
   test-sanitize-cli fuzz bench soak clean
 
 all: build
@@ -23,6 +23,11 @@ build: configure
 
 tool: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_tool
+
+# The Python package, in $(BUILD_DIR)/python (PYTHONPATH=$(BUILD_DIR)/python imports it); to
+# install it with pip, see docs/python.md.
+python: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_python
 
 # Installs the headers and the CMake package (find_package(varsym)) under PREFIX.
 PREFIX ?= /usr/local

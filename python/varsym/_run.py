@@ -114,9 +114,10 @@ def run(model=None, **options):
         out = os.path.join(tmp, "run.csv")
         try:
             call(args + ["--output", out])
-        except StepFailure as e:
-            if os.path.exists(out + ".part"):
+        except (StepFailure, EnergyError) as e:
+            if os.path.exists(out + ".part"):  # the rows before the failure
                 e.partial = Trajectory(_read_csv(out + ".part"))
+                e.args = (str(e).replace(out + ".part", "the exception's .partial"),)
             raise
         return Trajectory(_read_csv(out))
 

@@ -22,8 +22,8 @@ class ExpressionError(Error, ValueError):
 class StepFailure(Error, RuntimeError):
     """A step's Newton iteration did not converge (tool exit code 3).
 
-    ``step`` and ``time`` say where; ``partial`` holds the rows computed before it, where a
-    recording run failed (a dict like the one ``Stepper.run`` returns), else None."""
+    ``step`` and ``time`` say where; ``partial`` holds the rows computed before it: a
+    Trajectory from varsym.run, the dict of arrays Stepper.run returns from Stepper.run."""
 
     def __init__(self, message, step=None, time=None, partial=None):
         super().__init__(message)
@@ -33,4 +33,9 @@ class StepFailure(Error, RuntimeError):
 
 
 class EnergyError(Error, RuntimeError):
-    """The energy error passed the bound of the energy watch (tool exit code 4)."""
+    """The energy error passed the bound of the energy watch (tool exit code 4); ``partial``
+    holds the rows before it (a Trajectory)."""
+
+    def __init__(self, message, partial=None):
+        super().__init__(message)
+        self.partial = partial

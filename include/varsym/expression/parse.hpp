@@ -107,7 +107,7 @@ inline int parse(std::string_view text, graph& g,
             if (eat("(")) {
                 const int r = expression();
                 if (!eat(")"))
-                    fail("expected ')' to close the '(' at column " + std::to_string(at + 1), i);
+                    fail("expected ')' to close the '(' of column " + std::to_string(at + 1), i);
                 return r;
             }
             if (std::isdigit(static_cast<unsigned char>(c)) != 0 || c == '.') return number();
