@@ -1,0 +1,56 @@
+"""pip install for the Python package varsym (docs/python.md), without network access:
+
+    /usr/bin/python3 -m venv --system-site-packages ~/.venvs/varsym
+    ~/.venvs/varsym/bin/pip install --no-build-isolation --no-index .
+
+The extension module varsym._core is built by CMake (target varsym_python) in VARSYM_BUILD_DIR
+(default build/pip), against the interpreter that runs pip (its base interpreter, in a venv);
+setuptools installs it with the package's Python files from python/varsym.
+"""
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+from setuptools import Extension, setup
+from setuptools.command.build_ext import build_ext
+
+ROOT = Path(__file__).resolve().parent
+
+
+class CMakeBuild(build_ext):
+    def build_extension(self, ext):
+        build = Path(os.environ.get("VARSYM_BUILD_DIR", ROOT / "build" / "pip")).resolve()
+        if not (build / "CMakeCache.txt").exists():  # a build directory of its own
+            python = getattr(sys, "_base_executable", sys.executable)
+            subprocess.run(["cmake", "-S", str(ROOT), "-B", str(build), "-Wno-dev",
+                            "-DCMAKE_BUILD_TYPE=Release", f"-DPython3_EXECUTABLE={python}",
+                            "-DVARSYM_BUILD_TESTS=OFF", "-DVARSYM_BUILD_BENCH=OFF",
+                            "-DVARSYM_BUILD_EXAMPLES=OFF", "-DVARSYM_INSTALL=OFF"], check=True)
+        subprocess.run(["cmake", "--build", str(build), "--target", "varsym_python", "-j",
+                        str(os.cpu_count() or 2)], check=True)
+        built = sorted((build / "python" / "varsym").glob("_core*.so"))
+        if not built:
+            sys.exit(f"varsym: CMake did not build varsym/_core*.so in {build}")
+        target = Path(self.get_ext_fullpath(ext.name))
+        target.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(built[0], target)
+
+
+VERSION = re.search(r"project\(varsym VERSION ([0-9.]+)",
+                    (ROOT / "CMakeLists.txt").read_text()).group(1)
+
+setup(
+    name="varsym",
+    version=VERSION,
+    description="Variational symplectic integrators for Lagrangian mechanics",
+    packages=["varsym"],
+    package_dir={"": "python"},
+    ext_modules=[Extension("varsym._core", sources=[])],
+    cmdclass={"build_ext": CMakeBuild},
+    python_requires=">=3.9",
+    install_requires=["numpy"],
+    zip_safe=False,
+)
