@@ -9,6 +9,8 @@
 
 #include "varsym/integrate.hpp"
 #include "varsym/schemes/scheme_kind.hpp"
+#include "varsym/schemes/variational.hpp"
+#include "varsym/systems/expression_force.hpp"
 #include "varsym/systems/expression_lagrangian.hpp"
 
 namespace varsym::cli {
@@ -18,13 +20,20 @@ std::vector<expression_parameter> parse_parameters(const std::string& list);
 /// "th1,th2" as names (spaces around a name are dropped); throws usage_error on an empty one.
 std::vector<std::string> parse_names(const std::string& list);
 
-/// A stepper of the general engine for an expression Lagrangian, with the state it advances.
+/// The general engine's stepper for expression Lagrangians and forces: one instantiation for
+/// the tool and the Python package (no force is the zero force, whose cost is its Jacobians'
+/// zeros added at each quadrature point).
+using expression_engine = general::stepper<expression_lagrangian, expression_force>;
+
+/// A stepper of the general engine for an expression Lagrangian and force, with the state it
+/// advances.
 class expression_stepper {
   public:
-    /// From (q0, p0) at time t0, steps of size h of scheme `spec`.
-    expression_stepper(const expression_lagrangian& l, double h, const scheme_spec& spec,
-                       const newton_options& opt, const vec<dynamic>& q0, const vec<dynamic>& p0,
-                       double t0 = 0.0);
+    /// From (q0, p0) at time t0, steps of size h of scheme `spec`, with force f (of L's
+    /// dimension).
+    expression_stepper(const expression_lagrangian& l, const expression_force& f, double h,
+                       const scheme_spec& spec, const newton_options& opt, const vec<dynamic>& q0,
+                       const vec<dynamic>& p0, double t0 = 0.0);
     ~expression_stepper();
     expression_stepper(const expression_stepper&) = delete;
     expression_stepper& operator=(const expression_stepper&) = delete;
@@ -45,6 +54,9 @@ class expression_stepper {
     [[nodiscard]] double step_size() const;
     /// The energy q̇ᵀp − L at the current state and time.
     [[nodiscard]] double energy() const;
+    /// The forces' work since the start (0 without a force): E − E0 − work() is the energy
+    /// balance's error.
+    [[nodiscard]] double work() const;
     /// Newton iterations per step so far.
     [[nodiscard]] double mean_newton_iterations() const;
 

@@ -22,8 +22,26 @@ std::string trimmed(const std::string& s) {
 }
 
 struct expression_options {
-    std::string lagrangian, coordinates = "q", parameters;
+    std::string lagrangian, coordinates = "q", parameters, force;
 };
+
+/// The force of --force: components separated by commas (none: the zero force).
+expression_force make_force(const std::string& text, const expression_lagrangian& l) {
+    if (text.empty()) return expression_force(l.dimension());
+    std::vector<std::string> parts;
+    std::size_t from = 0;
+    for (;;) {
+        const auto comma = text.find(',', from);
+        parts.push_back(text.substr(from, comma - from));
+        if (comma == std::string::npos) break;
+        from = comma + 1;
+    }
+    try {
+        return expression_force(parts, l.coordinates(), l.parameters());
+    } catch (const std::exception& e) {
+        throw usage_error(std::string("--force: ") + e.what());
+    }
+}
 
 } // namespace
 
@@ -63,21 +81,25 @@ std::vector<expression_parameter> parse_parameters(const std::string& list) {
 
 struct expression_stepper::impl {
     expression_system sys;
-    general::stepper<expression_lagrangian> stepper;
+    expression_engine stepper;
     phase_state<dynamic> x;
     double t0;
     std::size_t j = 0;
     run_summary stats;
 
-    impl(const expression_lagrangian& l, double h, const scheme_spec& spec,
-         const newton_options& opt, phase_state<dynamic> x0, double t)
-        : sys(l), stepper(sys, h, spec, opt), x(std::move(x0)), t0(t) {}
+    impl(const expression_lagrangian& l, const expression_force& f, double h,
+         const scheme_spec& spec, const newton_options& opt, phase_state<dynamic> x0, double t)
+        : sys(l), stepper(sys, f, h, spec, opt), x(std::move(x0)), t0(t) {}
 };
 
-expression_stepper::expression_stepper(const expression_lagrangian& l, double h,
-                                       const scheme_spec& spec, const newton_options& opt,
+expression_stepper::expression_stepper(const expression_lagrangian& l, const expression_force& f,
+                                       double h, const scheme_spec& spec, const newton_options& opt,
                                        const vec<dynamic>& q0, const vec<dynamic>& p0, double t0)
-    : impl_(std::make_unique<impl>(l, h, spec, opt, phase_state<dynamic>{q0, p0}, t0)) {
+    : impl_(std::make_unique<impl>(l, f, h, spec, opt, phase_state<dynamic>{q0, p0}, t0)) {
+    if (f.dimension() != l.dimension())
+        throw std::invalid_argument("the force has " + std::to_string(f.dimension()) +
+                                    " components; the Lagrangian " + std::to_string(l.dimension()) +
+                                    " coordinates");
     if (q0.size() != l.dimension() || p0.size() != l.dimension())
         throw std::invalid_argument("q0 and p0 need " + std::to_string(l.dimension()) +
                                     " entries each (one per coordinate)");
@@ -128,6 +150,9 @@ double expression_stepper::step_size() const {
 double expression_stepper::energy() const {
     return impl_->sys.energy(impl_->x, time());
 }
+double expression_stepper::work() const {
+    return impl_->stepper.total_work();
+}
 double expression_stepper::mean_newton_iterations() const {
     return impl_->stats.mean_newton_iterations();
 }
@@ -147,8 +172,10 @@ model make_expression_model() {
         "  Derivatives are exact (symbolic), evaluated as compiled code. Units: the user's.\n"
         "  Initial state --q0 (0), --v0 (0) or --p0, in the order of --coordinates; columns\n"
         "  q_i, p_i in that order. Conserved: energy, unless L depends on t (then E(t) is\n"
-        "  written but not watched). No period: default --time 10 --steps 10000.";
-    m.options = {"--lagrangian", "--coordinates", "--parameters"};
+        "  written but not watched). --force f_1,...,f_d adds a generalized force (same\n"
+        "  names; units of dL/dq_i), e.g. damping -c*th_dot; then the columns work and\n"
+        "  energy_balance (E - E0 - W) follow. No period: default --time 10 --steps 10000.";
+    m.options = {"--lagrangian", "--coordinates", "--parameters", "--force"};
     m.add_options = [par](CLI::App& cmd) {
         cmd.add_option("--lagrangian", par->lagrangian,
                        "lagrangian: L as an expression (implies --model lagrangian; see "
@@ -159,6 +186,9 @@ model make_expression_model() {
             ->capture_default_str();
         cmd.add_option("--parameters", par->parameters,
                        "lagrangian: parameters of the expression, NAME=VALUE,...");
+        cmd.add_option("--force", par->force,
+                       "lagrangian: a generalized force, one expression per coordinate, "
+                       "comma-separated (e.g. -c*th_dot)");
     };
     m.run = [par](const run_setup& s) {
         if (par->lagrangian.empty())
@@ -198,15 +228,22 @@ model make_expression_model() {
         } catch (const std::exception& e) {
             throw usage_error(std::string("--lagrangian: ") + e.what());
         }
+        const expression_force force = make_force(par->force, l);
         const run_plan plan = plan_steps(s, "lagrangian", 0.0, 0, 10.0, 10000);
+        const double e0 = sys->energy(x0, 0.0);
+        const expression_engine* running = nullptr;
         stream_trajectory<dynamic>(
-            s, plan, x0, ",energy",
+            s, plan, x0, force.zero() ? ",energy" : ",energy,work,energy_balance",
             [&](auto&& f) {
-                general::stepper<expression_lagrangian> stepper(*sys, plan.h, s.spec, s.newton);
+                expression_engine stepper(*sys, force, plan.h, s.spec, s.newton);
+                running = &stepper;
                 return f(stepper);
             },
             [&](double t, const phase_state<dynamic>& x, std::string& line) {
-                append_values(line, {sys->energy(x, t)});
+                const double e = sys->energy(x, t);
+                if (force.zero()) return append_values(line, {e});
+                const double w = running->total_work();
+                append_values(line, {e, w, e - e0 - w});
             });
     };
     return m;

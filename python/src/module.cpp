@@ -38,6 +38,14 @@ void check_size(const std::vector<double>& x, int d, const char* what) {
                                     " entries (one per coordinate), got " +
                                     std::to_string(x.size()));
 }
+/// Throws std::invalid_argument("unknown WHAT 'VALUE': CHOICES") (built by append: GCC 12's
+/// -Wrestrict misfires on operator+ chains of std::string here).
+[[noreturn]] void unknown(const char* what, const std::string& value, const char* choices) {
+    std::string m("unknown ");
+    m.append(what).append(" '").append(value).append("': ").append(choices);
+    throw std::invalid_argument(m);
+}
+
 /// A rows × d array from values stored row by row.
 py::array_t<double> rows(const std::vector<double>& v, int d) {
     const auto n = static_cast<py::ssize_t>(v.size()) / d;
@@ -161,9 +169,10 @@ PYBIND11_MODULE(_core, m) {
             py::arg("q"), py::arg("v"), py::arg("t") = 0.0);
 
     py::class_<cli::expression_stepper>(m, "_Stepper")
-        .def(py::init([](const expression_lagrangian& l, double h, const std::string& scheme,
-                         int degree, const std::vector<double>& q0, const std::vector<double>& p0,
-                         double t0) {
+        .def(py::init([](const expression_lagrangian& l, const std::vector<std::string>& force,
+                         double h, const std::string& scheme, int degree,
+                         const std::vector<double>& q0, const std::vector<double>& p0, double t0,
+                         const std::string& iteration) {
                  const auto kind = parse_scheme(scheme);
                  if (!kind)
                      throw std::invalid_argument("unknown scheme '" + scheme +
@@ -172,11 +181,21 @@ PYBIND11_MODULE(_core, m) {
                      degree > 0 ? scheme_spec(*kind, degree) : scheme_spec(*kind);
                  check_size(q0, l.dimension(), "q0");
                  check_size(p0, l.dimension(), "p0");
-                 return std::make_unique<cli::expression_stepper>(l, h, spec, newton_options{},
-                                                                  to_vec(q0), to_vec(p0), t0);
+                 newton_options opt;
+                 if (iteration == "simplified")
+                     opt.iteration = iteration_kind::simplified;
+                 else if (iteration == "fixed-point")
+                     opt.iteration = iteration_kind::fixed_point;
+                 else if (iteration != "newton")
+                     unknown("iteration", iteration, "newton, simplified or fixed-point");
+                 const expression_force f =
+                     force.empty() ? expression_force(l.dimension())
+                                   : expression_force(force, l.coordinates(), l.parameters());
+                 return std::make_unique<cli::expression_stepper>(l, f, h, spec, opt, to_vec(q0),
+                                                                  to_vec(p0), t0);
              }),
-             py::arg("lagrangian"), py::arg("h"), py::arg("scheme"), py::arg("degree"),
-             py::arg("q0"), py::arg("p0"), py::arg("t0"))
+             py::arg("lagrangian"), py::arg("force"), py::arg("h"), py::arg("scheme"),
+             py::arg("degree"), py::arg("q0"), py::arg("p0"), py::arg("t0"), py::arg("iteration"))
         .def(
             "step", [](cli::expression_stepper& s, std::size_t n) { s.step(n); }, py::arg("n") = 1,
             py::call_guard<py::gil_scoped_release>())
@@ -214,6 +233,7 @@ PYBIND11_MODULE(_core, m) {
         .def_property_readonly("steps", &cli::expression_stepper::steps)
         .def_property_readonly("h", &cli::expression_stepper::step_size)
         .def_property_readonly("energy", &cli::expression_stepper::energy)
+        .def_property_readonly("work", &cli::expression_stepper::work)
         .def_property_readonly("mean_newton_iterations",
                                &cli::expression_stepper::mean_newton_iterations);
 }

@@ -102,11 +102,15 @@ class Stepper:
     every)`` records a trajectory. Start from q0 with v0 (default 0) or p0.
 
     scheme: "simpson" (default, the paper's), "newmark", "lobatto" or "gauss" with ``degree``
-    (order 2·degree). Raises StepFailure (``step``, ``time``) when Newton does not converge,
-    leaving the state at the last good step."""
+    (order 2·degree). ``force``: a generalized force, one expression (string or SymPy) per
+    coordinate over the Lagrangian's names, e.g. ``["-c*th_dot"]`` for damping (``work`` then
+    gives the forces' work, so that E − E0 − work is the scheme's energy balance error).
+    ``iteration``: "newton" (default), "simplified" or "fixed-point" (docs/library.md).
+    Raises StepFailure (``step``, ``time``) when Newton does not converge, leaving the state at
+    the last good step."""
 
     def __init__(self, lagrangian, h, scheme="simpson", degree=None, q0=None, v0=None, p0=None,
-                 t0=0.0):
+                 t0=0.0, force=None, iteration="newton"):
         if not isinstance(lagrangian, Lagrangian):
             lagrangian = Lagrangian(lagrangian)
         self.lagrangian = lagrangian
@@ -118,8 +122,10 @@ class Stepper:
             v0 = np.zeros(d) if v0 is None else np.atleast_1d(np.asarray(v0, dtype=float))
             lagrangian._core.check_regular(q0, v0, t0)
             p0 = lagrangian.momentum(q0, v0, t0)
-        self._core = _core._Stepper(lagrangian._core, float(h), scheme, degree or 0, q0,
-                                    np.atleast_1d(np.asarray(p0, dtype=float)), float(t0))
+        force = [_expression_text(f) for f in (force or [])]
+        self._core = _core._Stepper(lagrangian._core, force, float(h), scheme, degree or 0, q0,
+                                    np.atleast_1d(np.asarray(p0, dtype=float)), float(t0),
+                                    iteration)
 
     def step(self, n=1):
         """Takes n steps; returns self."""
@@ -137,4 +143,5 @@ class Stepper:
     h = property(lambda self: self._core.h, doc="the time step")
     steps = property(lambda self: self._core.steps, doc="steps taken")
     energy = property(lambda self: self._core.energy, doc="E = q̇ᵀp − L at (q_j, p_j, t_j)")
+    work = property(lambda self: self._core.work, doc="the forces' work since the start")
     mean_newton_iterations = property(lambda self: self._core.mean_newton_iterations)

@@ -107,6 +107,10 @@ def run(model=None, **options):
             options.setdefault("parameters", lag.parameters)
     elif lag is not None and not isinstance(lag, str):
         options["lagrangian"] = Lagrangian(lag, options.get("coordinates", ("q",))).expression
+    if "force" in options and not isinstance(options["force"], str):
+        from ._lagrangian import _expression_text  # noqa: PLC0415
+
+        options["force"] = [_expression_text(f) for f in options["force"]]
     args = ["run"] + (["--model", model] if model is not None else [])
     for key, value in options.items():
         args += _option(key, value)

@@ -11,6 +11,7 @@
 #include "varsym/problems/double_pendulum.hpp"
 #include "varsym/problems/pendulum.hpp"
 #include "varsym/schemes/variational.hpp"
+#include "varsym/systems/expression_force.hpp"
 #include "varsym/systems/expression_lagrangian.hpp"
 
 namespace varsym {
@@ -145,6 +146,30 @@ TEST(ExpressionDerivatives, EveryFunctionAgainstFiniteDifferences) {
         }
     }
     EXPECT_NEAR(d.value - l(q, v, 0.0), t * q(0), 1e-15); // t enters as written
+}
+
+TEST(ExpressionForce, JacobiansAgainstFiniteDifferences) {
+    // Reference: central differences of the compiled force, step 1e-6 (truncation ~1e-12).
+    const expression_force f({"-c*x_dot + k*sin(y)*t", "-c*y_dot*x**2 + atan(x*y_dot)"}, {"x", "y"},
+                             {{"c", 0.3}, {"k", 2.0}});
+    EXPECT_FALSE(f.zero());
+    const vec<dynamic> q = vec<2>{0.4, -0.7}, v = vec<2>{0.9, 0.3};
+    const double t = 0.5, e = 1e-6;
+    force_terms<dynamic> r;
+    f.derivatives(q, v, t, r);
+    EXPECT_LE((r.f - f(q, v, t)).norm(), 0.0);
+    EXPECT_NEAR(r.f(0), -0.3 * 0.9 + 2.0 * std::sin(-0.7) * t, 1e-15); // the formula itself
+    for (int k = 0; k < 4; ++k) {
+        vec<dynamic> qp = q, qm = q, vp = v, vm = v;
+        (k < 2 ? qp : vp)(k % 2) += e;
+        (k < 2 ? qm : vm)(k % 2) -= e;
+        const vec<dynamic> fd = (f(qp, vp, t) - f(qm, vm, t)) / (2 * e);
+        const vec<dynamic> col = k < 2 ? vec<dynamic>(r.fq.col(k)) : vec<dynamic>(r.fv.col(k - 2));
+        EXPECT_LE((col - fd).norm(), 1e-8) << k;
+    }
+    EXPECT_TRUE(expression_force(2).zero());
+    EXPECT_THROW(expression_force({"-x_dot"}, {"x", "y"}), std::invalid_argument); // one of two
+    EXPECT_THROW(expression_force({"-c*x_dot"}, {"x"}), expr::parse_error);        // unknown c
 }
 
 TEST(ExpressionEngine, SimpsonOnThePendulumConvergesToTheExactSolution) {

@@ -20,17 +20,11 @@
 #include <utility>
 #include <vector>
 
-#include "varsym/expression/parse.hpp"
 #include "varsym/expression/tape.hpp"
+#include "varsym/expression/variables.hpp"
 #include "varsym/systems/lagrangian.hpp"
 
 namespace varsym {
-
-/// A named parameter of an expression and its value.
-struct expression_parameter {
-    std::string name;
-    double value = 0.0;
-};
 
 class expression_lagrangian {
   public:
@@ -41,30 +35,10 @@ class expression_lagrangian {
     /// names something unknown, std::invalid_argument for bad or repeated names.
     expression_lagrangian(std::string text, std::vector<std::string> coordinates,
                           std::vector<expression_parameter> parameters = {})
-        : text_(std::move(text)), coordinates_(std::move(coordinates)),
-          parameters_(std::move(parameters)) {
+        : text_(std::move(text)), vars_(std::move(coordinates), std::move(parameters)) {
         const int d = dimension();
-        if (d == 0) throw std::invalid_argument("a Lagrangian needs at least one coordinate");
-        check_names();
         expr::graph g;
-        std::vector<int> in(static_cast<std::size_t>(2 * d + 1));
-        for (int k = 0; k <= 2 * d; ++k)
-            in[static_cast<std::size_t>(k)] = g.input(k);
-        const int l = expr::parse(text_, g, [&](std::string_view id) -> std::optional<int> {
-            for (int i = 0; i < d; ++i) {
-                if (id == coordinates_[static_cast<std::size_t>(i)])
-                    return in[static_cast<std::size_t>(i)];
-                if (id == coordinates_[static_cast<std::size_t>(i)] + "_dot")
-                    return in[static_cast<std::size_t>(d + i)];
-            }
-            for (const auto& p : parameters_)
-                if (id == p.name) return g.constant(p.value);
-            if (id == "t") {
-                time_dependent_ = true;
-                return in[static_cast<std::size_t>(2 * d)];
-            }
-            return std::nullopt;
-        });
+        const int l = vars_.parse(text_, g);
         // Outputs: L; ∂L/∂q, ∂L/∂q̇; then ∂²L/∂q∂q (i ≤ j), ∂²L/∂q∂q̇ (all), ∂²L/∂q̇∂q̇ (i ≤ j).
         std::vector<int> out{l}, lq(static_cast<std::size_t>(d)), lv(static_cast<std::size_t>(d));
         for (int i = 0; i < d; ++i) {
@@ -73,8 +47,8 @@ class expression_lagrangian {
         }
         out.insert(out.end(), lq.begin(), lq.end());
         out.insert(out.end(), lv.begin(), lv.end());
-        value_ = expr::tape(g, {l}, 2 * d + 1);
-        gradient_ = expr::tape(g, out, 2 * d + 1);
+        value_ = expr::tape(g, {l}, vars_.inputs());
+        gradient_ = expr::tape(g, out, vars_.inputs());
         for (int i = 0; i < d; ++i)
             for (int j = i; j < d; ++j)
                 out.push_back(g.derivative(lq[static_cast<std::size_t>(i)], j));
@@ -84,18 +58,20 @@ class expression_lagrangian {
         for (int i = 0; i < d; ++i)
             for (int j = i; j < d; ++j)
                 out.push_back(g.derivative(lv[static_cast<std::size_t>(i)], d + j));
-        all_ = expr::tape(g, out, 2 * d + 1);
-        input_.assign(static_cast<std::size_t>(2 * d + 1), 0.0);
+        all_ = expr::tape(g, out, vars_.inputs());
+        input_.assign(static_cast<std::size_t>(vars_.inputs()), 0.0);
     }
 
-    [[nodiscard]] int dimension() const { return static_cast<int>(coordinates_.size()); }
+    [[nodiscard]] int dimension() const { return vars_.dimension(); }
     [[nodiscard]] const std::string& text() const { return text_; }
-    [[nodiscard]] const std::vector<std::string>& coordinates() const { return coordinates_; }
+    [[nodiscard]] const std::vector<std::string>& coordinates() const {
+        return vars_.coordinates();
+    }
     [[nodiscard]] const std::vector<expression_parameter>& parameters() const {
-        return parameters_;
+        return vars_.parameters();
     }
     /// Whether the expression names the time t (its energy is then not conserved).
-    [[nodiscard]] bool depends_on_time() const { return time_dependent_; }
+    [[nodiscard]] bool depends_on_time() const { return vars_.uses_time(); }
     /// The length of the compiled code of L and all its derivatives (instructions).
     [[nodiscard]] std::size_t instructions() const { return all_.instructions(); }
 
@@ -143,49 +119,12 @@ class expression_lagrangian {
 
   private:
     std::span<const double> load(const vec<dynamic>& q, const vec<dynamic>& v, double t) const {
-        const int d = dimension();
-        if (q.size() != d || v.size() != d)
-            throw std::invalid_argument("expression_lagrangian: q and v must have " +
-                                        std::to_string(d) + " entries");
-        for (int i = 0; i < d; ++i) {
-            input_[static_cast<std::size_t>(i)] = q(i);
-            input_[static_cast<std::size_t>(d + i)] = v(i);
-        }
-        input_[static_cast<std::size_t>(2 * d)] = t;
+        vars_.load(q, v, t, input_);
         return input_;
-    }
-    void check_names() const {
-        std::vector<std::string> seen;
-        auto take = [&](const std::string& n, const char* what) {
-            const bool identifier =
-                !n.empty() &&
-                (std::isalpha(static_cast<unsigned char>(n[0])) != 0 || n[0] == '_') &&
-                std::all_of(n.begin(), n.end(), [](char c) {
-                    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_';
-                });
-            if (!identifier)
-                throw std::invalid_argument(
-                    std::string(what) + " name '" + n +
-                    "' is not a name (letters, digits, _; not first a digit)");
-            if (n == "pi" || n == "E" || expr::functions().contains(n))
-                throw std::invalid_argument(std::string(what) + " name '" + n +
-                                            "' is taken by a constant or a function");
-            if (std::find(seen.begin(), seen.end(), n) != seen.end())
-                throw std::invalid_argument("the name '" + n + "' is given twice");
-            seen.push_back(n);
-        };
-        for (const auto& c : coordinates_)
-            take(c, "coordinate");
-        for (const auto& c : coordinates_)
-            take(c + "_dot", "velocity");
-        for (const auto& p : parameters_)
-            take(p.name, "parameter");
     }
 
     std::string text_;
-    std::vector<std::string> coordinates_;
-    std::vector<expression_parameter> parameters_;
-    bool time_dependent_ = false;
+    expr::variables vars_;
     expr::tape value_, gradient_, all_;
     mutable std::vector<double> input_;
 };
