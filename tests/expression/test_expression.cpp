@@ -8,6 +8,7 @@
 #include <random>
 #include <string>
 
+#include "varsym/integrate.hpp"
 #include "varsym/problems/double_pendulum.hpp"
 #include "varsym/problems/pendulum.hpp"
 #include "varsym/schemes/variational.hpp"
@@ -68,6 +69,26 @@ TEST(ExpressionParse, ErrorsNameWhatAndWhere) {
     EXPECT_THROW(expression_lagrangian("x_dot", {"sin"}), std::invalid_argument);
     EXPECT_THROW(expression_lagrangian("x_dot", {"x"}, {{"x_dot", 1.0}}), std::invalid_argument);
     EXPECT_THROW(expression_lagrangian("1", {}), std::invalid_argument);
+}
+
+TEST(ExpressionParse, DeepOrLongExpressionsDoNotExhaustTheStack) {
+    // Nesting is bounded (expr::max_depth) and refused with a message, not a stack overflow.
+    const std::string deep = std::string(300, '(') + "x_dot" + std::string(300, ')');
+    EXPECT_THROW(expression_lagrangian(deep, {"x"}), expr::parse_error);
+    const std::string nested = std::string(200, '(') + "x_dot" + std::string(200, ')') + "**2";
+    EXPECT_DOUBLE_EQ(expression_lagrangian(nested, {"x"})(vec<dynamic>::Zero(1),
+                                                          vec<dynamic>::Constant(1, 3.0), 0.0),
+                     9.0);
+    // A sum of 50 000 terms is a chain 50 000 nodes deep: differentiated without recursion.
+    std::string sum = "0.5*x_dot**2";
+    for (int k = 0; k < 50000; ++k)
+        sum += " + 1e-9*sin(x)";
+    const expression_lagrangian l(sum, {"x"});
+    lagrangian_terms<dynamic> d;
+    l.derivatives(vec<dynamic>::Constant(1, 0.5), vec<dynamic>::Constant(1, 2.0), 0.0, d);
+    EXPECT_NEAR(d.lq(0), 5e-5 * std::cos(0.5), 1e-15);
+    EXPECT_NEAR(d.lqq(0, 0), -5e-5 * std::sin(0.5), 1e-15);
+    EXPECT_EQ(d.lvv(0, 0), 1.0);
 }
 
 constexpr const char* double_pendulum_text =

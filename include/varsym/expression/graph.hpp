@@ -210,6 +210,11 @@ class graph {
                    std::memcmp(&x.value, &y.value, sizeof x.value) == 0;
         }
     };
+    static std::uint64_t key(int f, int k) {
+        return (static_cast<std::uint64_t>(f) << 32U) | static_cast<unsigned>(k);
+    }
+    /// ∂f/∂(input k) by the rule of f's operation, from its children's known derivatives.
+    int differentiate(int f, int k);
     [[nodiscard]] op kind(int id) const { return (*this)[id].kind; }
     [[nodiscard]] double value(int id) const { return (*this)[id].value; }
     int make(const node& n) {
@@ -224,10 +229,31 @@ class graph {
 };
 
 inline int graph::derivative(int f, int k) {
-    const std::uint64_t key = (static_cast<std::uint64_t>(f) << 32U) | static_cast<unsigned>(k);
-    if (const auto it = derivatives_.find(key); it != derivatives_.end()) return it->second;
+    if (const auto it = derivatives_.find(key(f, k)); it != derivatives_.end()) return it->second;
+    // The nodes f depends on whose derivative is not known yet, found going down the ids (a
+    // node's children have smaller ids; a known derivative's children are known), then
+    // differentiated going up: no recursion, however deep the expression.
+    std::vector<char> needed(static_cast<std::size_t>(f) + 1, 0);
+    needed[static_cast<std::size_t>(f)] = 1;
+    for (int id = f; id >= 0; --id) {
+        if (needed[static_cast<std::size_t>(id)] == 0) continue;
+        if (derivatives_.contains(key(id, k))) {
+            needed[static_cast<std::size_t>(id)] = 0;
+            continue;
+        }
+        const node& x = (*this)[id];
+        if (x.a >= 0) needed[static_cast<std::size_t>(x.a)] = 1;
+        if (x.b >= 0 && x.kind != op::powi) needed[static_cast<std::size_t>(x.b)] = 1;
+    }
+    for (int id = 0; id <= f; ++id)
+        if (needed[static_cast<std::size_t>(id)] != 0)
+            derivatives_.emplace(key(id, k), differentiate(id, k));
+    return derivatives_.at(key(f, k));
+}
+
+inline int graph::differentiate(int f, int k) {
     const node n = (*this)[f]; // a copy: building nodes may reallocate
-    auto d = [&](int x) { return derivative(x, k); };
+    auto d = [&](int x) { return derivatives_.at(key(x, k)); };
     int r = 0;
     switch (n.kind) {
     case op::constant:
@@ -297,7 +323,6 @@ inline int graph::derivative(int f, int k) {
         r = div(d(n.a), add(constant(1.0), square(n.a)));
         break;
     }
-    derivatives_.emplace(key, r);
     return r;
 }
 

@@ -41,6 +41,9 @@ inline const std::map<std::string, op, std::less<>>& functions() {
     return table;
 }
 
+/// How deeply parentheses, signs and powers may nest (each level is a few frames of the parser).
+inline constexpr int max_depth = 256;
+
 /// Parses `text` into g; `name` resolves a name to a node (std::nullopt: unknown). Returns the
 /// expression's node. Throws parse_error.
 inline int parse(std::string_view text, graph& g,
@@ -50,6 +53,7 @@ inline int parse(std::string_view text, graph& g,
         graph& g;
         const std::function<std::optional<int>(std::string_view)>& name;
         std::size_t i = 0;
+        int depth = 0; ///< nesting of parentheses, signs and powers, bounded to bound the stack
 
         [[noreturn]] void fail(const std::string& what, std::size_t at) const {
             throw parse_error(what + " at column " + std::to_string(at + 1) + " of \"" +
@@ -89,9 +93,16 @@ inline int parse(std::string_view text, graph& g,
             }
         }
         int unary() {
-            if (eat("-")) return g.neg(unary());
-            if (eat("+")) return unary();
-            return power();
+            if (++depth > max_depth) fail("expression nested too deeply", i);
+            int r = 0;
+            if (eat("-"))
+                r = g.neg(unary());
+            else if (eat("+"))
+                r = unary();
+            else
+                r = power();
+            --depth;
+            return r;
         }
         int power() {
             const int base = primary();
@@ -130,6 +141,7 @@ inline int parse(std::string_view text, graph& g,
             }
             double v = 0.0;
             const auto [end, ec] = std::from_chars(s.data() + at, s.data() + i, v);
+            if (ec == std::errc::result_out_of_range) fail("number out of range", at);
             if (ec != std::errc() || end != s.data() + i) fail("malformed number", at);
             return g.constant(v);
         }
