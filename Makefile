@@ -51,7 +51,8 @@ test: build
 # The whole test suite again, built by clang with AddressSanitizer and UndefinedBehaviorSanitizer
 # (-O1, Eigen's assertions on, any report fatal), and the libFuzzer target beside it. Clang,
 # because GCC 12's UBSan instrumentation of the Eigen and autodiff templates compiles about 1.5x
-# slower than clang's, and the fuzzer needs clang anyway.
+# slower than clang's, and the fuzzer needs clang anyway. The Python package is left out: the
+# interpreter would need the sanitizer runtimes preloaded.
 SAN_DIR ?= build-sanitize
 SAN_FLAGS = -O1 -gline-tables-only -fno-omit-frame-pointer -fsanitize=address,undefined \
   -fno-sanitize-recover=all
@@ -59,7 +60,8 @@ SAN_DEPS = clang libclang-rt-14-dev
 san-configure: deps
 	@bash scripts/install-deps.sh $(SAN_DEPS)
 	@cmake -S . -B $(SAN_DIR) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=None \
-	  -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" -DVARSYM_BUILD_BENCH=OFF -DVARSYM_FUZZ=ON -Wno-dev >/dev/null
+	  -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" -DVARSYM_BUILD_BENCH=OFF -DVARSYM_FUZZ=ON \
+	  -DVARSYM_BUILD_PYTHON=OFF -Wno-dev >/dev/null
 
 test-sanitize: san-configure
 	@cmake --build $(SAN_DIR) -j $(JOBS)
