@@ -20,17 +20,18 @@ std::vector<expression_parameter> parse_parameters(const std::string& list);
 /// "th1,th2" as names (spaces around a name are dropped); throws usage_error on an empty one.
 std::vector<std::string> parse_names(const std::string& list);
 
-/// The general engine's stepper for expression Lagrangians and forces: one instantiation for
-/// the tool and the Python package (no force is the zero force, whose cost is its Jacobians'
-/// zeros added at each quadrature point).
-using expression_engine = general::stepper<expression_lagrangian, expression_force>;
+/// The general engine's steppers for expression Lagrangians, without and with a force: compiled
+/// here once for the tool and the Python package. (A zero force through the forced stepper would
+/// cost about 20 % per step at d = 2, measured: its Jacobians' zeros at every point.)
+using expression_engine = general::stepper<expression_lagrangian>;
+using forced_expression_engine = general::stepper<expression_lagrangian, expression_force>;
 
 /// A stepper of the general engine for an expression Lagrangian and force, with the state it
 /// advances.
 class expression_stepper {
   public:
     /// From (q0, p0) at time t0, steps of size h of scheme `spec`, with force f (of L's
-    /// dimension).
+    /// dimension; a zero force takes the unforced stepper).
     expression_stepper(const expression_lagrangian& l, const expression_force& f, double h,
                        const scheme_spec& spec, const newton_options& opt, const vec<dynamic>& q0,
                        const vec<dynamic>& p0, double t0 = 0.0);

@@ -4,6 +4,7 @@
 #include <charconv>
 #include <memory>
 #include <numbers>
+#include <optional>
 
 #include "expression_run.hpp"
 #include "model_run.hpp"
@@ -81,15 +82,28 @@ std::vector<expression_parameter> parse_parameters(const std::string& list) {
 
 struct expression_stepper::impl {
     expression_system sys;
-    expression_engine stepper;
+    std::optional<expression_engine> plain;         ///< without a force
+    std::optional<forced_expression_engine> forced; ///< with one
     phase_state<dynamic> x;
-    double t0;
+    double t0, h;
     std::size_t j = 0;
     run_summary stats;
 
-    impl(const expression_lagrangian& l, const expression_force& f, double h,
+    impl(const expression_lagrangian& l, const expression_force& f, double step,
          const scheme_spec& spec, const newton_options& opt, phase_state<dynamic> x0, double t)
-        : sys(l), stepper(sys, f, h, spec, opt), x(std::move(x0)), t0(t) {}
+        : sys(l), x(std::move(x0)), t0(t), h(step) {
+        if (f.zero())
+            plain.emplace(sys, h, spec, opt);
+        else
+            forced.emplace(sys, f, h, spec, opt);
+    }
+    void step() {
+        if (plain)
+            advance(*plain, x, t0, j + 1, stats);
+        else
+            advance(*forced, x, t0, j + 1, stats);
+        ++j;
+    }
 };
 
 expression_stepper::expression_stepper(const expression_lagrangian& l, const expression_force& f,
@@ -109,11 +123,8 @@ expression_stepper::expression_stepper(const expression_lagrangian& l, const exp
 expression_stepper::~expression_stepper() = default;
 
 void expression_stepper::step(std::size_t n) {
-    for (std::size_t k = 0; k < n; ++k) {
-        impl& m = *impl_;
-        advance(m.stepper, m.x, m.t0, m.j + 1, m.stats);
-        ++m.j;
-    }
+    for (std::size_t k = 0; k < n; ++k)
+        impl_->step();
 }
 
 void expression_stepper::run(std::size_t n, std::size_t every, bool record_start,
@@ -139,19 +150,19 @@ const vec<dynamic>& expression_stepper::p() const {
     return impl_->x.p;
 }
 double expression_stepper::time() const {
-    return impl_->t0 + static_cast<double>(impl_->j) * impl_->stepper.step_size();
+    return impl_->t0 + static_cast<double>(impl_->j) * impl_->h;
 }
 std::size_t expression_stepper::steps() const {
     return impl_->j;
 }
 double expression_stepper::step_size() const {
-    return impl_->stepper.step_size();
+    return impl_->h;
 }
 double expression_stepper::energy() const {
     return impl_->sys.energy(impl_->x, time());
 }
 double expression_stepper::work() const {
-    return impl_->stepper.total_work();
+    return impl_->forced ? impl_->forced->total_work() : 0.0;
 }
 double expression_stepper::mean_newton_iterations() const {
     return impl_->stats.mean_newton_iterations();
@@ -231,11 +242,15 @@ model make_expression_model() {
         const expression_force force = make_force(par->force, l);
         const run_plan plan = plan_steps(s, "lagrangian", 0.0, 0, 10.0, 10000);
         const double e0 = sys->energy(x0, 0.0);
-        const expression_engine* running = nullptr;
+        const forced_expression_engine* running = nullptr; // for the work column
         stream_trajectory<dynamic>(
             s, plan, x0, force.zero() ? ",energy" : ",energy,work,energy_balance",
             [&](auto&& f) {
-                expression_engine stepper(*sys, force, plan.h, s.spec, s.newton);
+                if (force.zero()) {
+                    expression_engine stepper(*sys, plan.h, s.spec, s.newton);
+                    return f(stepper);
+                }
+                forced_expression_engine stepper(*sys, force, plan.h, s.spec, s.newton);
                 running = &stepper;
                 return f(stepper);
             },
