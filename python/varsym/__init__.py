@@ -13,7 +13,6 @@ subclasses carrying the command-line tool's one-line messages.
 from .errors import EnergyError, Error, ExpressionError, StepFailure, UsageError
 from ._lagrangian import Lagrangian, Stepper
 from ._run import Trajectory, call, figure_data, models, run, table1
-from . import _core
 
 __all__ = ["run", "table1", "figure_data", "models", "call", "Trajectory", "Lagrangian",
            "Stepper", "Error", "UsageError", "ExpressionError", "StepFailure", "EnergyError"]

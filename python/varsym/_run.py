@@ -90,10 +90,11 @@ def run(model=None, **options):
     ``run("kepler", scheme="gauss", degree=4, steps_per_period=200, periods=10,
     eccentricity=0.5)``; lists for vectors (``q0=[1.0, 0.0]``), True for flags, a dict for
     ``parameters``. Your own system: ``run(lagrangian="0.5*q_dot**2 - 0.5*q**2", q0=[1])``, or
-    ``run(lagrangian=varsym.Lagrangian(...))``. ``varsym.models()`` lists the models and
-    ``varsym.help("run")`` the options. Raises UsageError on bad input, StepFailure when a step
-    does not converge (its ``partial`` holds the rows before it), EnergyError when the energy
-    watch stops the run."""
+    ``run(lagrangian=varsym.Lagrangian(...))``, with ``force=[...]``. ``varsym.models()``
+    lists the models; ``varsym.call(["run", "--help"])`` prints the options (to the process's
+    standard output). Raises UsageError on bad input, StepFailure when a step does not
+    converge (its ``partial`` holds the rows before it), EnergyError when the energy watch
+    stops the run."""
     from ._lagrangian import Lagrangian  # noqa: PLC0415 (a cycle otherwise)
 
     for key in ("output", "resume"):
