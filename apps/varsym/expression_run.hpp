@@ -17,8 +17,10 @@ namespace varsym::cli {
 
 /// "m=1,g=9.81" as parameters; throws usage_error naming the entry that is not NAME=NUMBER.
 std::vector<expression_parameter> parse_parameters(const std::string& list);
-/// "th1,th2" as names (spaces around a name are dropped); throws usage_error on an empty one.
-std::vector<std::string> parse_names(const std::string& list);
+/// "a, b,c" as its entries, spaces around each dropped; throws usage_error naming `option` on an
+/// empty entry, with `example` of a good list.
+std::vector<std::string> split_list(const std::string& list, const char* option,
+                                    const char* example);
 
 /// The general engine's steppers for expression Lagrangians, without and with a force: compiled
 /// here once for the tool and the Python package. (A zero force through the forced stepper would

@@ -29,14 +29,7 @@ struct expression_options {
 /// The force of --force: components separated by commas (none: the zero force).
 expression_force make_force(const std::string& text, const expression_lagrangian& l) {
     if (text.empty()) return expression_force(l.dimension());
-    std::vector<std::string> parts;
-    std::size_t from = 0;
-    for (;;) {
-        const auto comma = text.find(',', from);
-        parts.push_back(text.substr(from, comma - from));
-        if (comma == std::string::npos) break;
-        from = comma + 1;
-    }
+    const std::vector<std::string> parts = split_list(text, "--force", "-c*q1_dot,0");
     try {
         return expression_force(parts, l.coordinates(), l.parameters());
     } catch (const std::exception& e) {
@@ -46,17 +39,18 @@ expression_force make_force(const std::string& text, const expression_lagrangian
 
 } // namespace
 
-std::vector<std::string> parse_names(const std::string& list) {
-    std::vector<std::string> names;
+std::vector<std::string> split_list(const std::string& list, const char* option,
+                                    const char* example) {
+    std::vector<std::string> items;
     std::size_t from = 0;
     for (;;) {
         const auto comma = list.find(',', from);
-        const std::string name = trimmed(list.substr(from, comma - from));
-        if (name.empty())
-            throw usage_error("--coordinates: empty name in " + shown(list) +
-                              " (give names separated by commas, e.g. th1,th2)");
-        names.push_back(name);
-        if (comma == std::string::npos) return names;
+        const std::string item = trimmed(list.substr(from, comma - from));
+        if (item.empty())
+            throw usage_error(std::string(option) + ": empty entry in " + shown(list) +
+                              " (give entries separated by commas, e.g. " + example + ")");
+        items.push_back(item);
+        if (comma == std::string::npos) return items;
         from = comma + 1;
     }
 }
@@ -64,7 +58,7 @@ std::vector<std::string> parse_names(const std::string& list) {
 std::vector<expression_parameter> parse_parameters(const std::string& list) {
     std::vector<expression_parameter> out;
     if (trimmed(list).empty()) return out;
-    for (const std::string& entry : parse_names(list)) {
+    for (const std::string& entry : split_list(list, "--parameters", "m=1,g=9.81")) {
         const auto eq = entry.find('=');
         const std::string name = trimmed(entry.substr(0, eq));
         const std::string value = eq == std::string::npos ? "" : trimmed(entry.substr(eq + 1));
@@ -210,7 +204,8 @@ model make_expression_model() {
         std::unique_ptr<expression_system> sys;
         try {
             sys = std::make_unique<expression_system>(expression_lagrangian(
-                par->lagrangian, parse_names(par->coordinates), parse_parameters(par->parameters)));
+                par->lagrangian, split_list(par->coordinates, "--coordinates", "th1,th2"),
+                parse_parameters(par->parameters)));
         } catch (const expr::parse_error& e) {
             throw usage_error(std::string("--lagrangian: ") + e.what());
         } catch (const std::invalid_argument& e) {

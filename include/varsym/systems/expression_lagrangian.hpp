@@ -11,9 +11,6 @@
 // expression in these symbols parses.
 #pragma once
 
-#include <algorithm>
-#include <cctype>
-#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
