@@ -119,8 +119,6 @@ saved_state save_state(const run_state<D>& r) {
     return {list(r.x.q), list(r.x.p), list(r.carry_q), list(r.carry_p), r.history};
 }
 
-/// What the energy watch follows: E, or E − W for a stepper with forces (W, the forces' work
-/// since the start, makes E − W constant up to the scheme's error).
 /// Whether a system is time-dependent (its members take the time).
 template <class System>
 inline constexpr bool timed_system = requires {
@@ -145,6 +143,8 @@ bool conserves_energy(const System& sys) {
         return !timed_system<System>;
 }
 
+/// What the energy watch follows: E, or E − W for a stepper with forces (W, the forces' work
+/// since the start, makes E − W constant up to the scheme's error), at time t.
 template <class Stepper, int D>
 double watched_energy(const Stepper& stepper, const phase_state<D>& x, double t) {
     if constexpr (requires { stepper.total_work(); })
