@@ -6,6 +6,8 @@
 // engine with automatic derivatives). Simpson (arg 0) and gauss-4 (arg 1); docs/python.md.
 #include <benchmark/benchmark.h>
 
+#include "bench_support.hpp"
+
 #include "varsym/problems/double_pendulum.hpp"
 #include "varsym/problems/kepler.hpp"
 #include "varsym/schemes/variational.hpp"
@@ -22,13 +24,7 @@ scheme_spec member(benchmark::State& s) {
     return spec;
 }
 
-template <class Stepper, class State>
-void run_steps(benchmark::State& s, Stepper& stepper, State x) {
-    for (auto _ : s) {
-        if (!stepper.step(x).converged) s.SkipWithError("Newton failed");
-        benchmark::DoNotOptimize(x.q.data());
-    }
-}
+using bench::run_steps;
 
 const expression_lagrangian double_pendulum_expression(
     "0.5*(m1+m2)*l1**2*th1_dot**2 + 0.5*m2*l2**2*th2_dot**2"
@@ -43,8 +39,7 @@ void double_pendulum_builtin(benchmark::State& s) {
 void double_pendulum_expression_step(benchmark::State& s) {
     general::stepper stepper(lagrangian_system<expression_lagrangian>(double_pendulum_expression),
                              1e-3, member(s));
-    run_steps(s, stepper,
-              phase_state<dynamic>{double_pendulum_start.q, double_pendulum_start.p});
+    run_steps(s, stepper, phase_state<dynamic>{double_pendulum_start.q, double_pendulum_start.p});
 }
 
 const kepler::orbit orbit(0.6, 1.0);

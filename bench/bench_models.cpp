@@ -3,6 +3,8 @@
 // evaluation of a Lagrangian's first and second derivatives by automatic differentiation.
 #include <benchmark/benchmark.h>
 
+#include "bench_support.hpp"
+
 #include "varsym/integrate.hpp"
 #include "varsym/problems/chain.hpp"
 #include "varsym/problems/double_pendulum.hpp"
@@ -15,14 +17,7 @@ using namespace varsym;
 
 namespace {
 
-template <class Stepper, class State>
-void run_steps(benchmark::State& state, Stepper stepper, State x) {
-    for (auto _ : state) {
-        if (!stepper.step(x).converged) state.SkipWithError("Newton failed");
-        benchmark::DoNotOptimize(x.q.data());
-    }
-    state.SetItemsProcessed(state.iterations());
-}
+using bench::run_steps;
 
 const kepler::orbit orbit(0.6, 1.0);
 const double kepler_h = orbit.period() / 200;
