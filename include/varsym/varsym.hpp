@@ -6,6 +6,7 @@
 
 #include "varsym/autodiff/reverse.hpp"
 #include "varsym/autodiff/second_order.hpp"
+#include "varsym/diagnostics/chaos.hpp"
 #include "varsym/diagnostics/convergence.hpp"
 #include "varsym/diagnostics/error_norms.hpp"
 #include "varsym/diagnostics/stability.hpp"

@@ -220,6 +220,12 @@ class stepper {
         return rep;
     }
 
+    /// The tangent map ∂(q_{j+1}, p_{j+1})/∂(q_j, p_j) (2d × 2d, (q, p) order) of the step just
+    /// taken from `from`, by the implicit function theorem on the step's equations above with
+    /// their Newton Jacobian at the converged increments (galerkin_sensitivity.hpp). Call it
+    /// after a converged step() with the state that step started from. Symplectic: Jᵀ Ω J = Ω.
+    void step_jacobian(const phase_state<dim>& from, Eigen::MatrixXd& out) const;
+
   private:
     void add_weighted(int k, const vec<dim>& g) {
         dp_ += weight_[k] * g;
@@ -316,4 +322,5 @@ class stepper {
 
 } // namespace varsym::galerkin
 
+#include "varsym/schemes/galerkin_sensitivity.hpp"
 #include "varsym/schemes/galerkin_solve.hpp"

@@ -54,10 +54,35 @@ class stepper {
         // with h written (c/(h/4)) from the stage equation's own rounded c = fl(h²/4): the step is
         // then exactly the map of one discrete Lagrangian (docs/design.md, "Round-off that tilts
         // the map").
-        const vec<dim> dp = -(c * sys_.potential().gradient(x.q + delta)) / (0.25 * h);
+        mid_ = x.q + delta;
+        const vec<dim> dp = -(c * sys_.potential().gradient(mid_)) / (0.25 * h);
         sum_.add_q(x, 2.0 * delta);
         sum_.add_p(x, dp);
         return rep;
+    }
+
+    /// The tangent map ∂(q_{j+1}, p_{j+1})/∂(q_j, p_j) (2d × 2d, (q, p) order) of the step just
+    /// taken from `from`: the step's equations differentiated (implicit function theorem), with
+    /// the Newton matrix N = M + (h²/4) ∇²V(q̄). Call it after a converged step() with the state
+    /// that step started from. Symplectic: Jᵀ Ω J = Ω.
+    void step_jacobian(const phase_state<dim>& /*from*/, Eigen::MatrixXd& out) const {
+        const int d = sys_.dimension();
+        const double c = 0.25 * h_ * h_;
+        const mat<dim> hm = sys_.potential().hessian(mid_), id = mat<dim>::Identity(d, d);
+        mat<dim> n = c * hm;
+        if constexpr (scalar_mass<System>)
+            n.diagonal().array() += sys_.mass();
+        else
+            n += sys_.mass();
+        const Eigen::PartialPivLU<mat<dim>> lu(n);
+        // N dδ = (h/2) dp_j − c ∇²V(q̄) dq_j;  dq̄ = dq_j + dδ, dq_{j+1} = dq_j + 2 dδ,
+        // dp_{j+1} = dp_j − h ∇²V(q̄) dq̄   (eq. systeme-dynamique-discret-ordre-2 differentiated)
+        const mat<dim> dd_q = lu.solve(mat<dim>(-c * hm)), dd_p = lu.solve(mat<dim>(0.5 * h_ * id));
+        out.resize(2 * d, 2 * d);
+        out.topLeftCorner(d, d) = id + 2.0 * dd_q;
+        out.topRightCorner(d, d) = 2.0 * dd_p;
+        out.bottomLeftCorner(d, d) = -h_ * hm * (id + dd_q);
+        out.bottomRightCorner(d, d) = id - h_ * hm * dd_p;
     }
 
   private:
@@ -65,6 +90,7 @@ class stepper {
     double h_;
     newton_options opt_;
     compensated_update<dim> sum_;
+    vec<dim> mid_{}; ///< q̄ of the last successful step
 };
 
 } // namespace varsym::newmark

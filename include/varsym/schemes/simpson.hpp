@@ -94,6 +94,39 @@ class stepper {
         return rep;
     }
 
+    /// The tangent map ∂(q_{j+1}, p_{j+1})/∂(q_j, p_j) (2d × 2d, (q, p) order) of the step just
+    /// taken from `from`: the step's equations above differentiated (implicit function theorem),
+    /// with the Newton matrix N = M + c ∇²V(q_m) of the midpoint equation. Call it after a
+    /// converged step() with the state that step started from. Symplectic: Jᵀ Ω J = Ω.
+    void step_jacobian(const phase_state<dim>& from, Eigen::MatrixXd& out) const {
+        const int d = sys_.dimension();
+        const auto& v = sys_.potential();
+        const double c = h_ * h_ / 24.0, e = 0.5 * h_;
+        const mat<dim> hj = v.hessian(from.q), hm = v.hessian(stage_), hr = v.hessian(cached_q_);
+        const mat<dim> id = mat<dim>::Identity(d, d);
+        mat<dim> n = c * hm;
+        if constexpr (scalar_mass<System>)
+            n.diagonal().array() += sys_.mass();
+        else
+            n += sys_.mass();
+        const Eigen::PartialPivLU<mat<dim>> lu(n);
+        // N dδ = e dp_j − c (2 ∇²V_j + ∇²V_m) dq_j   (the midpoint equation differentiated)
+        const mat<dim> dq_m_q = id + lu.solve(mat<dim>(-c * (2.0 * hj + hm)));
+        const mat<dim> dq_m_p = lu.solve(mat<dim>(e * id));
+        // dq_{j+1} = dq_j + 2 dδ − 6c M⁻¹ ∇²V_m dq_m   (eq. simpson-hamilton, midpoint row)
+        const mat<dim> mh = sys_.inverse_mass() * (6.0 * c * hm);
+        const mat<dim> dq_q = 2.0 * dq_m_q - id - mh * dq_m_q;
+        const mat<dim> dq_p = 2.0 * dq_m_p - mh * dq_m_p;
+        // dp_{j+1} = dp_j − (h/6)(∇²V_j dq_j + 4 ∇²V_m dq_m + ∇²V_{j+1} dq_{j+1})
+        // (eq. simpson-hamilton, 1st line)
+        const double k = 2.0 * c / e;
+        out.resize(2 * d, 2 * d);
+        out.topLeftCorner(d, d) = dq_q;
+        out.topRightCorner(d, d) = dq_p;
+        out.bottomLeftCorner(d, d) = -k * (hj + 4.0 * hm * dq_m_q + hr * dq_q);
+        out.bottomRightCorner(d, d) = id - k * (4.0 * hm * dq_m_p + hr * dq_p);
+    }
+
   private:
     System sys_;
     double h_;
