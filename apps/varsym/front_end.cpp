@@ -98,6 +98,7 @@ front_end::front_end()
     add_models_command(app_, todo_);
     add_bench_command(app_, todo_);
     add_converge_command(app_, todo_);
+    add_ensemble_command(app_, todo_);
     add_paper_command(app_, todo_);
     add_stability_command(app_, todo_);
 }

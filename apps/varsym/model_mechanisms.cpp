@@ -5,6 +5,7 @@
 #include <memory>
 #include <numbers>
 
+#include "ensemble.hpp"
 #include "model_run.hpp"
 #include "varsym/problems/double_pendulum.hpp"
 #include "varsym/problems/heavy_top.hpp"
@@ -87,6 +88,34 @@ model make_double_pendulum_model(std::shared_ptr<mechanism_options> o) {
                              [&](double, const phase_state<2>& x, std::string& line) {
                                  append_values(line, {sys.energy(x)});
                              });
+    };
+    return m;
+}
+
+ensemble_model make_double_pendulum_ensemble() {
+    ensemble_model m;
+    m.name = "double-pendulum";
+    m.dim = 2;
+    m.q0 = {std::numbers::pi / 2, std::numbers::pi / 2};
+    m.p0 = {0.0, 0.0};
+    const double_pendulum::lagrangian l0;
+    m.parameters = {{"m1", l0.m1}, {"m2", l0.m2}, {"l1", l0.l1},
+                    {"l2", l0.l2}, {"g", l0.g},   {"k", l0.k}};
+    m.help = "  The double pendulum of `varsym models` (q = th1, th2 [rad] from the downward\n"
+             "  vertical; p the momenta dL/dqdot). Parameters: m1, m2 [kg] (1), l1, l2 [m] (1),\n"
+             "  g [m/s^2] (9.81), k [N m/rad] (0). Initial state q0 (pi/2, pi/2), p0 (0, 0).\n"
+             "  Default --time 20 --steps 10000. A flip of the second link: --event\n"
+             "  'q2^2 - pi^2' (|th2| reaches pi).";
+    m.time = 20.0;
+    m.steps = 10000;
+    m.run = [](const member_input& in, const ensemble_setup& e) {
+        const auto& v = in.parameters;
+        const auto sys = double_pendulum::make_system({v[0], v[1], v[2], v[3], v[4], v[5]});
+        const phase_state<2> x0{vec<2>(in.q0[0], in.q0[1]), vec<2>(in.p0[0], in.p0[1])};
+        sys.check_regular(x0.q, sys.velocity(x0.q, x0.p));
+        general::stepper<double_pendulum::lagrangian> s(sys, e.h, e.spec, e.newton);
+        return run_ensemble_member(s, x0, e,
+                                   [&](const phase_state<2>& x) { return sys.energy(x); });
     };
     return m;
 }

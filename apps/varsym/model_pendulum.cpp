@@ -3,6 +3,7 @@
 #include <memory>
 #include <numbers>
 
+#include "ensemble.hpp"
 #include "model_run.hpp"
 #include "shared_options.hpp"
 #include "varsym/problems/pendulum.hpp"
@@ -45,6 +46,29 @@ model make_pendulum_model() {
                 const auto ref = exact.at(t);
                 append_values(line, {sys.energy(x), ref.q(0), ref.p(0)});
             });
+    };
+    return m;
+}
+
+ensemble_model make_pendulum_ensemble() {
+    ensemble_model m;
+    m.name = "pendulum";
+    m.dim = 1;
+    m.q0 = {std::numbers::pi / 2};
+    m.p0 = {0.0};
+    m.parameters = {{"mass", 1.0}, {"omega", 2.0 * std::numbers::pi}};
+    m.help = "  L = (m/2) qdot^2 - m omega^2 (1 - cos q); q [rad] from the downward vertical.\n"
+             "  Parameters: mass m [kg m^2] (1), omega [rad/s] (2 pi). Initial state q0_1\n"
+             "  (pi/2), p0_1 (0). Default --time 10 --steps 500.";
+    m.time = 10.0;
+    m.steps = 500;
+    m.run = [](const member_input& in, const ensemble_setup& e) {
+        const pendulum::system sys = pendulum::make_system(in.parameters[0], in.parameters[1]);
+        const phase_state<1> x0{vec<1>{in.q0[0]}, vec<1>{in.p0[0]}};
+        return with_stepper(e.spec, sys, e.h, e.newton, [&](auto& s) {
+            return run_ensemble_member(s, x0, e,
+                                       [&](const phase_state<1>& x) { return sys.energy(x); });
+        });
     };
     return m;
 }

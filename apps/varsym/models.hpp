@@ -74,6 +74,7 @@ void add_mechanism_options(CLI::App& cmd, mechanism_options& o);
 model make_pendulum_model();
 model make_oscillator_model();
 model make_kepler_model();
+model make_henon_heiles_model();
 model make_double_pendulum_model(std::shared_ptr<mechanism_options> o);
 model make_arm_model(std::shared_ptr<mechanism_options> o);
 model make_four_bar_model(std::shared_ptr<mechanism_options> o);

@@ -117,4 +117,13 @@ inline bool solve_small(Eigen::Index n, const double* a, Eigen::Index lda, const
     return true;
 }
 
+/// dst = src element by element: a fixed 1 × 1 (or 1-element) source copied into a dynamic
+/// block through Eigen's packet path trips GCC 12's -Warray-bounds (a false positive).
+template <class Dst, class Src>
+void assign_elementwise(Dst&& dst, const Src& src) {
+    for (Eigen::Index c = 0; c < src.cols(); ++c)
+        for (Eigen::Index r = 0; r < src.rows(); ++r)
+            dst(r, c) = src(r, c);
+}
+
 } // namespace varsym::detail

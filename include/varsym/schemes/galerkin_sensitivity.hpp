@@ -31,7 +31,8 @@ void stepper<System>::step_jacobian(const phase_state<dim>& from, Eigen::MatrixX
         qk = from.q;
         for (int l = 0; l < s; ++l)
             qk += v_(l, k) * xm_.col(l);
-        hess[static_cast<std::size_t>(k)] = v.hessian(qk);
+        hess[static_cast<std::size_t>(k)].resize(d, d);
+        varsym::detail::assign_elementwise(hess[static_cast<std::size_t>(k)], v.hessian(qk));
         const Eigen::MatrixXd& hk = hess[static_cast<std::size_t>(k)];
         for (int i = 0; i < s; ++i) {
             b.block(i * d, 0, d, d) -= (h_ * u_(i, k)) * hk;

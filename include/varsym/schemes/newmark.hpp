@@ -79,10 +79,10 @@ class stepper {
         // dp_{j+1} = dp_j − h ∇²V(q̄) dq̄   (eq. systeme-dynamique-discret-ordre-2 differentiated)
         const mat<dim> dd_q = lu.solve(mat<dim>(-c * hm)), dd_p = lu.solve(mat<dim>(0.5 * h_ * id));
         out.resize(2 * d, 2 * d);
-        out.topLeftCorner(d, d) = id + 2.0 * dd_q;
-        out.topRightCorner(d, d) = 2.0 * dd_p;
-        out.bottomLeftCorner(d, d) = -h_ * hm * (id + dd_q);
-        out.bottomRightCorner(d, d) = id - h_ * hm * dd_p;
+        detail::assign_elementwise(out.topLeftCorner(d, d), mat<dim>(id + 2.0 * dd_q));
+        detail::assign_elementwise(out.topRightCorner(d, d), mat<dim>(2.0 * dd_p));
+        detail::assign_elementwise(out.bottomLeftCorner(d, d), mat<dim>(-h_ * hm * (id + dd_q)));
+        detail::assign_elementwise(out.bottomRightCorner(d, d), mat<dim>(id - h_ * hm * dd_p));
     }
 
   private:

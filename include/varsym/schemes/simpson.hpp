@@ -121,10 +121,12 @@ class stepper {
         // (eq. simpson-hamilton, 1st line)
         const double k = 2.0 * c / e;
         out.resize(2 * d, 2 * d);
-        out.topLeftCorner(d, d) = dq_q;
-        out.topRightCorner(d, d) = dq_p;
-        out.bottomLeftCorner(d, d) = -k * (hj + 4.0 * hm * dq_m_q + hr * dq_q);
-        out.bottomRightCorner(d, d) = id - k * (4.0 * hm * dq_m_p + hr * dq_p);
+        detail::assign_elementwise(out.topLeftCorner(d, d), dq_q);
+        detail::assign_elementwise(out.topRightCorner(d, d), dq_p);
+        detail::assign_elementwise(out.bottomLeftCorner(d, d),
+                                   mat<dim>(-k * (hj + 4.0 * hm * dq_m_q + hr * dq_q)));
+        detail::assign_elementwise(out.bottomRightCorner(d, d),
+                                   mat<dim>(id - k * (4.0 * hm * dq_m_p + hr * dq_p)));
     }
 
   private:
