@@ -211,7 +211,7 @@ void run_members(const ensemble_options& o, const ensemble_model& model, const m
             buffer += row;
             ++done;
             if (buffer.size() > (1U << 16) ||
-                std::chrono::steady_clock::now() - last_flush > std::chrono::seconds(1))
+                std::chrono::steady_clock::now() - last_flush > std::chrono::milliseconds(250))
                 flush();
             progress.update(done * static_cast<std::size_t>(group.size()));
         });

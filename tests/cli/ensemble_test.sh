@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# tests/cli/ensemble_test.sh VARSYM: `varsym ensemble`. References: a member's final state against
+# `varsym run` from the same initial state (another driver of the same stepper: bit-identical);
+# the file written with 1 and 2 threads (byte-identical); an ensemble killed with SIGKILL and
+# restarted against one that was not (byte-identical, no member twice); the event time against
+# the trajectory's own sign change; and the errors (exit 2, one line).
+source "$(dirname "$0")/lib.sh" "$@"
+
+hh=(ensemble --model henon-heiles --set energy=0.125 --grid q0_2=-0.4:0.6:20 --grid p0_2=-0.4:0.4:20
+  --time 100 --steps 2000)
+
+# --- 1 and 2 threads write the same file; one row per member, in member order -----------------
+"$VARSYM" "${hh[@]}" --threads 1 -o one.csv 2> /dev/null &&
+  "$VARSYM" "${hh[@]}" --threads 2 -o two.csv 2> /dev/null && cmp -s one.csv two.csv && ok ||
+  bad "1 and 2 threads differ"
+head -1 one.csv | grep -qx 'member,q0_2,p0_2,status,steps,t,q_1,q_2,p_1,p_2,max_energy_error,lyapunov,mean_megno,event_time,cause' &&
+  ok || bad "header: $(head -1 one.csv)"
+awk -F, 'NR > 1 && $1 != NR - 2 { exit 1 } END { exit !(NR == 401) }' one.csv && ok ||
+  bad "rows are not members 0..399 in order"
+[ ! -e one.csv.journal ] && ok || bad "the journal was not removed"
+# Outside the energy surface: invalid, with the reason; inside: completed.
+awk -F, '$1 == 0 { exit !($4 == "invalid" && $15 ~ /outside the energy surface/) }' one.csv && ok ||
+  bad "member 0 should be invalid: $(sed -n 2p one.csv)"
+
+# --- a member's final state is the one `varsym run` reaches from its initial state -------------
+# Member 210: q0_2 = -0.4 + 10/19 · 1.0 (row 10), p0_2 = -0.4 + 10/19 · 0.8 (column 10).
+row=$(awk -F, '$1 == 210' one.csv)
+y=$(echo "$row" | cut -d, -f2)
+py=$(echo "$row" | cut -d, -f3)
+"$VARSYM" run --model henon-heiles --energy 0.125 --q0 "0,$y" --p0 "0,$py" --time 100 \
+  --steps 2000 --every 0 -o single.csv 2> /dev/null || bad "run from member 210: $(cat stderr.txt)"
+[ "$(tail -1 single.csv | cut -d, -f3-6)" = "$(echo "$row" | cut -d, -f7-10)" ] && ok ||
+  bad "member 210 ends at $(echo "$row" | cut -d, -f7-10), run at $(tail -1 single.csv | cut -d, -f3-6)"
+# Its chaos indicators are numbers, and the energy error a symplectic scheme's (< 1e-4 here).
+echo "$row" | awk -F, '{ exit !($4 == "completed" && $11 < 1e-4 && $12 == $12 + 0 && $13 > 0) }' &&
+  ok || bad "member 210: $row"
+
+# --- killed with SIGKILL and restarted: the same file, nothing lost or twice --------------------
+big=(ensemble --model henon-heiles --grid q0_2=-0.4:0.6:30 --grid p0_2=-0.4:0.4:30 --time 500
+  --steps 10000)
+"$VARSYM" "${big[@]}" -o straight.csv 2> /dev/null || bad "straight ensemble"
+"$VARSYM" "${big[@]}" --threads 1 -o killed.csv 2> /dev/null &
+pid=$!
+for _ in $(seq 200); do # until the journal holds some rows (flushed every 0.25 s)
+  [ -e killed.csv.journal ] && [ "$(wc -l < killed.csv.journal)" -gt 20 ] && break
+  sleep 0.05
+done
+kill -KILL "$pid" 2> /dev/null
+wait "$pid" 2> /dev/null
+[ ! -e killed.csv ] && [ -e killed.csv.journal ] && ok || bad "the killed ensemble should leave only its journal"
+done_rows=$(($(wc -l < killed.csv.journal) - 1))
+cp killed.csv.journal saved.journal
+"$VARSYM" "${big[@]}" -o killed.csv 2> resume.txt && cmp -s straight.csv killed.csv && ok ||
+  bad "the restarted ensemble differs from the straight one"
+grep -q "resuming, $done_rows of 900 members already done" resume.txt && ok ||
+  bad "resume message: $(cat resume.txt) (journal had $done_rows rows)"
+# A journal cut in the middle of a row (a kill during a write): the partial row is redone.
+{ cat saved.journal; printf '899,0.6,0.4,compl'; } > cut.csv.journal
+"$VARSYM" "${big[@]}" -o cut.csv 2> /dev/null && cmp -s straight.csv cut.csv && ok ||
+  bad "a journal with a cut row"
+# A journal of another ensemble is refused (exit 2) and left alone.
+{ echo "# varsym ensemble: another"; echo "0,1"; } > other.csv.journal
+cp other.csv.journal other.keep
+expect_error 2 "another ensemble's journal" "${hh[@]}" -o other.csv
+cmp -s other.csv.journal other.keep && ok || bad "the other journal was changed"
+
+# --- events: the double pendulum's second link flips -------------------------------------------
+printf 'q0_1,q0_2\n2.0,2.5\n0.1,0.1\n' > dp.csv
+"$VARSYM" ensemble --model double-pendulum --members dp.csv --event 'q2^2 - pi^2' --time 10 \
+  --steps 5000 -o flips.csv 2> /dev/null || bad "double pendulum ensemble: $(cat stderr.txt)"
+te=$(awk -F, '$1 == 0 && $4 == "event" { print $14 }' flips.csv)
+awk -F, '$1 == 1 { exit !($4 == "completed" && $14 == "nan") }' flips.csv && ok ||
+  bad "the small swing should not flip: $(sed -n 3p flips.csv)"
+# The trajectory of `varsym run` crosses |th2| = pi between the two steps around te.
+"$VARSYM" run --model double-pendulum --q0 2.0,2.5 --time 10 --steps 5000 -o dp_run.csv 2> /dev/null
+awk -F, -v te="$te" 'NR > 2 && !found { s = $4 * $4 - 3.141592653589793 ^ 2
+  if (s >= 0) { found = 1; exit !(te > prev && te <= $2) } prev = $2 }
+  END { if (!found) exit 1 }' dp_run.csv && ok || bad "event time $te is not at the run's flip"
+
+# --- failed and invalid members are reported in their rows; the ensemble goes on ---------------
+printf 'mass,omega\n1,6.28\n-1,6.28\n' > pm.csv
+"$VARSYM" ensemble --model pendulum --members pm.csv -o pm_out.csv 2> /dev/null &&
+  awk -F, 'NR == 3 { exit !($4 == "invalid" && $13 ~ /mass/) }' pm_out.csv && ok ||
+  bad "invalid member: $(cat pm_out.csv)"
+"$VARSYM" ensemble --model pendulum --grid q0_1=3.0:3.1:2 --time 10 --steps 4 -o pf.csv \
+  2> /dev/null && [ "$(grep -c ',failed,' pf.csv)" -eq 2 ] && grep -q 'Newton did not converge' pf.csv &&
+  ok || bad "failed members: $(cat pf.csv)"
+
+# --- the heat map ------------------------------------------------------------------------------
+"$VARSYM" "${hh[@]}" -o map.csv --plot map.png 2> /dev/null && [ -s map.png ] && [ -s map.gp ] &&
+  [ -s map.grid.csv ] && ok || bad "heat map: $(ls map*)"
+
+# --- errors: one line, exit 2 ------------------------------------------------------------------
+expect_error 2 "unknown key" ensemble --model henon-heiles --grid z=0:1:2 -o out.csv
+expect_error 2 "bad grid" ensemble --model henon-heiles --grid q0_2=0:1 -o out.csv
+expect_error 2 "zero count" ensemble --model henon-heiles --grid q0_2=0:1:0 -o out.csv
+expect_error 2 "grid and members" ensemble --model pendulum --grid q0_1=0:1:2 --members pm.csv -o out.csv
+expect_error 2 "no members" ensemble --model pendulum -o out.csv
+expect_error 2 "no output" ensemble --model pendulum --grid q0_1=0:1:2
+expect_error 2 "plot of one axis" ensemble --model pendulum --grid q0_1=0:1:2 -o out.csv --plot p.png
+expect_error 2 "bad event" ensemble --model pendulum --grid q0_1=0:1:2 --event 'q3 + 1' -o out.csv
+expect_error 2 "unknown model" ensemble --model kepler --grid q0_1=0:1:2 -o out.csv
+expect_error 2 "bad --set" ensemble --model pendulum --set mass -o out.csv --grid q0_1=0:1:2
+
+finish
