@@ -61,7 +61,7 @@ san-configure: deps
 	@bash scripts/install-deps.sh $(SAN_DEPS)
 	@cmake -S . -B $(SAN_DIR) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=None \
 	  -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" -DVARSYM_BUILD_BENCH=OFF -DVARSYM_FUZZ=ON \
-	  -DVARSYM_BUILD_PYTHON=OFF -Wno-dev >/dev/null
+	  -DVARSYM_BUILD_PYTHON=OFF -DVARSYM_MPI=OFF -Wno-dev >/dev/null
 
 test-sanitize: san-configure
 	@cmake --build $(SAN_DIR) -j $(JOBS)

@@ -190,7 +190,8 @@ void run_members(const ensemble_options& o, const ensemble_model& model, const m
     };
     set_signal_polling(true);
     try {
-        for_each_member(todo.size(), o.threads, [&](std::size_t k) {
+        const unsigned threads = o.threads > 0 ? o.threads : group.default_threads();
+        for_each_member(todo.size(), threads, [&](std::size_t k) {
             if (const int sig = pending_signal(); sig != 0)
                 throw interrupted(sig, "stopped by signal " + std::to_string(sig) +
                                            "; the members done are in " + o.output +
@@ -258,7 +259,9 @@ void add_ensemble_command(CLI::App& app, action& todo) {
                     "report the time, e.g. 'q2^2 - pi^2' (a flip), 'x^2 + y^2 - 4' needs q1, q2");
     cmd->add_flag("--no-indicators", o->no_indicators,
                   "Skip the tangent map (lyapunov, mean_megno: nan), about halving the cost");
-    cmd->add_option("--threads", o->threads, "Threads (default 0: every core)")
+    cmd->add_option("--threads", o->threads,
+                    "Threads per process (default 0: every core, shared among the MPI ranks on "
+                    "one machine)")
         ->transform(non_negative_integer);
     cmd->add_option("--output,-o", o->output, "CSV file, one row per member in member order")
         ->required();

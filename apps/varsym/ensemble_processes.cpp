@@ -2,13 +2,25 @@
 // launcher; a group of one otherwise.
 #include "ensemble_processes.hpp"
 
+#include <algorithm>
 #include <cstdlib>
+#include <thread>
 
 #ifdef VARSYM_HAVE_MPI
 #include <mpi.h>
 #endif
 
 namespace varsym::cli {
+
+unsigned process_group::default_threads() const {
+    const unsigned cores = std::max(1U, std::thread::hardware_concurrency());
+    for (const char* v : {"OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS"})
+        if (const char* s = std::getenv(v); s != nullptr && size_ > 1) {
+            const long local = std::strtol(s, nullptr, 10);
+            if (local > 0) return std::max(1U, cores / static_cast<unsigned>(local));
+        }
+    return cores;
+}
 
 #ifdef VARSYM_HAVE_MPI
 namespace {

@@ -17,6 +17,9 @@ class process_group {
 
     [[nodiscard]] int rank() const { return rank_; }
     [[nodiscard]] int size() const { return size_; }
+    /// The threads each process runs by default: every core, shared among the ranks on one
+    /// machine (Open MPI's OMPI_COMM_WORLD_LOCAL_SIZE, MPICH's MPI_LOCALNRANKS).
+    [[nodiscard]] unsigned default_threads() const;
     /// Waits for every process.
     void barrier() const;
     /// The largest of every process's value (a failure anywhere stops all alike).

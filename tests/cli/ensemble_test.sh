@@ -90,6 +90,18 @@ printf 'mass,omega\n1,6.28\n-1,6.28\n' > pm.csv
 "$VARSYM" "${hh[@]}" -o map.csv --plot map.png 2> /dev/null && [ -s map.png ] && [ -s map.gp ] &&
   [ -s map.grid.csv ] && ok || bad "heat map: $(ls map*)"
 
+# --- MPI: 1, 2 and 4 ranks write the file 1 and 2 threads wrote (a build with MPI) ------------
+if ldd "$VARSYM" | grep -q libmpi && command -v mpirun > /dev/null; then
+  export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+  for n in 1 2 4; do
+    mpirun -np $n "$VARSYM" "${hh[@]}" --threads 1 -o mpi$n.csv > mpi$n.log 2>&1 &&
+      cmp -s one.csv mpi$n.csv && ok || bad "mpirun -np $n differs: $(tail -2 mpi$n.log)"
+  done
+  ls mpi4.csv.journal* > /dev/null 2>&1 && bad "rank journals left behind" || ok
+else
+  echo "skipped: MPI (this varsym is built without MPI, or mpirun is missing)"
+fi
+
 # --- errors: one line, exit 2 ------------------------------------------------------------------
 expect_error 2 "unknown key" ensemble --model henon-heiles --grid z=0:1:2 -o out.csv
 expect_error 2 "bad grid" ensemble --model henon-heiles --grid q0_2=0:1 -o out.csv
