@@ -85,6 +85,15 @@ class stepper {
         detail::assign_elementwise(out.bottomRightCorner(d, d), mat<dim>(id - h_ * hm * dd_p));
     }
 
+    /// The scheme's own interpolating polynomial on the step just taken from `from` (P1) at
+    /// τ ∈ [0, 1] (t = t_j + τh): q(τ) = q_j + 2τ (q̄ − q_j) and dq/dτ.
+    void dense_output(const phase_state<dim>& from, double tau, vec<dim>& q, vec<dim>& dq) const {
+        dq = 2.0 * (mid_ - from.q);
+        q = from.q + tau * dq;
+    }
+    /// The same stepper with another step size (for a step to a section, run/section.hpp).
+    [[nodiscard]] stepper with_step_size(double h) const { return stepper(sys_, h, opt_); }
+
   private:
     System sys_;
     double h_;

@@ -129,6 +129,18 @@ class stepper {
                                    mat<dim>(id - k * (4.0 * hm * dq_m_p + hr * dq_p)));
     }
 
+    /// The scheme's own interpolating polynomial on the step just taken from `from` (paper: P2
+    /// through q_j, q_{j+½}, q_{j+1}) at τ ∈ [0, 1] (t = t_j + τh): q(τ) and dq/dτ.
+    void dense_output(const phase_state<dim>& from, double tau, vec<dim>& q, vec<dim>& dq) const {
+        const double l0 = (2.0 * tau - 1.0) * (tau - 1.0), lm = 4.0 * tau * (1.0 - tau),
+                     l1 = tau * (2.0 * tau - 1.0);
+        q = l0 * from.q + lm * stage_ + l1 * cached_q_;
+        dq =
+            (4.0 * tau - 3.0) * from.q + (4.0 - 8.0 * tau) * stage_ + (4.0 * tau - 1.0) * cached_q_;
+    }
+    /// The same stepper with another step size (for a step to a section, run/section.hpp).
+    [[nodiscard]] stepper with_step_size(double h) const { return stepper(sys_, h, opt_); }
+
   private:
     System sys_;
     double h_;
