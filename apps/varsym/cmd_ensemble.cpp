@@ -256,7 +256,7 @@ void add_ensemble_command(CLI::App& app, action& todo) {
     add_member_options(*cmd, o->members);
     cmd->add_option("--event", o->event,
                     "Stop a member where this expression in q1.., p1.., t changes sign and "
-                    "report the time, e.g. 'q2^2 - pi^2' (a flip), 'x^2 + y^2 - 4' needs q1, q2");
+                    "report the time, e.g. 'q2^2 - pi^2' (a flip), 'q1^2 + q2^2 - 1' (an escape)");
     cmd->add_flag("--no-indicators", o->no_indicators,
                   "Skip the tangent map (lyapunov, mean_megno: nan), about halving the cost");
     cmd->add_option("--threads", o->threads,

@@ -99,6 +99,7 @@ front_end::front_end()
     add_bench_command(app_, todo_);
     add_converge_command(app_, todo_);
     add_ensemble_command(app_, todo_);
+    add_section_command(app_, todo_);
     add_paper_command(app_, todo_);
     add_stability_command(app_, todo_);
 }

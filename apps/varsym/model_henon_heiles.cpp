@@ -76,7 +76,11 @@ ensemble_model make_henon_heiles_ensemble() {
     m.q0 = {0.0, 0.1};
     m.p0 = {0.0, 0.0};
     m.parameters = {{"energy", 0.125}};
-    m.help = description;
+    m.help = "  V = (x^2 + y^2)/2 + x^2 y - y^3/3, unit mass, p = q' (as in `varsym models`).\n"
+             "  Parameter: energy (0.125): p_x >= 0 from E at q0 and p0_2, replacing p0_1 (a\n"
+             "  member outside that energy surface is invalid); energy=nan uses p0 as given.\n"
+             "  Initial state q0 (0, 0.1), p0 (0, 0). Default --time 1000 --steps 20000.\n"
+             "  The section x = 0: --grid q0_2=... --grid p0_2=... with energy set.";
     m.time = 1000.0;
     m.steps = 20000;
     m.run = [](const member_input& in, const ensemble_setup& e) {
@@ -87,6 +91,14 @@ ensemble_model make_henon_heiles_ensemble() {
             return run_ensemble_member(s, x0, e,
                                        [&](const phase_state<2>& x) { return sys.energy(x); });
         });
+    };
+    m.section = [](const member_input& in, const ensemble_setup& e, const section_plane& plane,
+                   long long crossings) {
+        const auto sys = henon_heiles::make_system();
+        const phase_state<2> x0 =
+            start(vec<2>(in.q0[0], in.q0[1]), vec<2>(in.p0[0], in.p0[1]), in.parameters[0]);
+        return with_stepper(e.spec, sys, e.h, e.newton,
+                            [&](auto& s) { return section_rows(s, x0, e, plane, crossings); });
     };
     return m;
 }

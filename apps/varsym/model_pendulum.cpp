@@ -70,6 +70,13 @@ ensemble_model make_pendulum_ensemble() {
                                        [&](const phase_state<1>& x) { return sys.energy(x); });
         });
     };
+    m.section = [](const member_input& in, const ensemble_setup& e, const section_plane& plane,
+                   long long crossings) {
+        const pendulum::system sys = pendulum::make_system(in.parameters[0], in.parameters[1]);
+        const phase_state<1> x0{vec<1>{in.q0[0]}, vec<1>{in.p0[0]}};
+        return with_stepper(e.spec, sys, e.h, e.newton,
+                            [&](auto& s) { return section_rows(s, x0, e, plane, crossings); });
+    };
     return m;
 }
 

@@ -8,12 +8,17 @@ namespace varsym::cli {
 
 std::vector<model> make_models() {
     auto mech = std::make_shared<mechanism_options>();
-    std::vector<model> all{make_pendulum_model(),         make_oscillator_model(),
-                           make_kepler_model(),           make_henon_heiles_model(),
+    std::vector<model> all{make_pendulum_model(),
+                           make_oscillator_model(),
+                           make_kepler_model(),
+                           make_henon_heiles_model(),
                            make_double_pendulum_model(mech),
-                           make_heavy_top_model(),        make_chain_model(),
-                           make_arm_model(mech),          make_four_bar_model(mech),
-                           make_slider_crank_model(mech), make_spherical_pendulum_model(mech)};
+                           make_heavy_top_model(),
+                           make_chain_model(),
+                           make_arm_model(mech),
+                           make_four_bar_model(mech),
+                           make_slider_crank_model(mech),
+                           make_spherical_pendulum_model(mech)};
     for (model& m : make_rigid_models())
         all.push_back(std::move(m));
     all.push_back(make_expression_model());

@@ -102,6 +102,24 @@ else
   echo "skipped: MPI (this varsym is built without MPI, or mpirun is missing)"
 fi
 
+# --- Poincaré sections: on the plane, on the energy surface, the same for any threads ----------
+sec=(section --model henon-heiles --set energy=0.125 --grid q0_2=-0.3:0.5:5 --plane q1=0
+  --direction + --crossings 50 --time 2000 --steps 40000)
+"$VARSYM" "${sec[@]}" --threads 1 -o sec1.csv 2> sec.log && "$VARSYM" "${sec[@]}" --threads 2 \
+  -o sec2.csv 2> /dev/null && cmp -s sec1.csv sec2.csv && ok || bad "section threads: $(cat sec.log)"
+head -1 sec1.csv | grep -qx 'member,q0_2,crossing,t,q_1,q_2,p_1,p_2' && ok || bad "section header"
+# 5 orbits × 50 crossings; each point has x = 0 to round-off (Newton on the step map), p_x > 0,
+# and the energy of the orbit (Simpson at h = 0.05 keeps it to ~1e-8).
+awk -F, 'NR > 1 { n++; x = $5 < 0 ? -$5 : $5; if (x > 1e-12 || $7 <= 0) bad++
+  e = 0.5 * ($7 * $7 + $8 * $8) + 0.5 * ($5 * $5 + $6 * $6) + $5 * $5 * $6 - $6 * $6 * $6 / 3
+  d = e - 0.125; if (d < 0) d = -d; if (d > 1e-6) bad++ }
+  END { exit !(n == 250 && bad == 0) }' sec1.csv && ok || bad "section points: $(sed -n 2,3p sec1.csv)"
+grep -q '5 orbits, 250 crossings, 0 invalid, 0 failed' sec.log && ok || bad "section summary: $(cat sec.log)"
+"$VARSYM" "${sec[@]}" -o secp.csv --plot secp.png 2> /dev/null && [ -s secp.png ] && ok ||
+  bad "section plot"
+expect_error 2 "bad plane" section --model henon-heiles --grid q0_2=0:0.1:2 --plane x1=0 -o out.csv
+expect_error 2 "no dense output" section --model double-pendulum --grid q0_1=0:0.1:2 -o out.csv
+
 # --- errors: one line, exit 2 ------------------------------------------------------------------
 expect_error 2 "unknown key" ensemble --model henon-heiles --grid z=0:1:2 -o out.csv
 expect_error 2 "bad grid" ensemble --model henon-heiles --grid q0_2=0:1 -o out.csv
