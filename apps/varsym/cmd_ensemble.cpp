@@ -160,11 +160,15 @@ void run_members(const ensemble_options& o, const ensemble_model& model, const m
     const std::string header = header_of(set, d);
     const std::size_t fields =
         static_cast<std::size_t>(std::count(header.begin(), header.end(), ',')) + 1;
-    const std::string identity = "model=" + model.name + " scheme=" + setup.spec.label() +
-                                 " steps=" + std::to_string(steps) +
-                                 " time=" + std::to_string(time) +
-                                 " indicators=" + (setup.plan.indicators ? "on" : "off") +
-                                 " event=" + shown(o.event) + " " + set.identity;
+    // Everything a member's row depends on, numbers to 17 digits and the event in full, so
+    // that a journal is continued only by the very same ensemble.
+    std::string identity = "model=" + model.name + " scheme=" + setup.spec.label() +
+                           " steps=" + std::to_string(steps) + " time=";
+    append_number(identity, time);
+    identity += std::string(" indicators=") + (setup.plan.indicators ? "on" : "off") + " event=[";
+    for (const char c : o.event)
+        identity += c == '\n' || c == '\r' ? ' ' : c;
+    identity += "] " + set.identity;
     ensemble_journal journal(o.output, identity, set.size, fields);
     group.barrier(); // every rank read the journals before any rank writes its own
     journal.open(group.size() == 1 ? ".journal" : ".journal." + std::to_string(group.rank()));
