@@ -17,6 +17,7 @@
 #include "ensemble_members.hpp"
 #include "ensemble_processes.hpp"
 #include "files.hpp"
+#include "models.hpp"
 #include "plot.hpp"
 #include "shared_options.hpp"
 #include "signals.hpp"
@@ -122,6 +123,11 @@ void run_ensemble(const ensemble_options& o) {
     const long long steps = o.steps > 0 ? o.steps : model.steps;
     setup.h = time / static_cast<double>(steps);
     setup.plan.steps = steps;
+    if (static_cast<double>(set.size) * static_cast<double>(steps) > max_run_steps) {
+        std::string limit;
+        append_number(limit, max_run_steps);
+        throw usage_error("more than " + limit + " steps requested (members times steps)");
+    }
     setup.plan.indicators = !o.no_indicators;
     if (!o.event.empty()) setup.event = compile_event(o.event, model.dim);
     if (o.output.empty() || o.output == "-")

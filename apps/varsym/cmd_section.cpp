@@ -13,6 +13,7 @@
 #include "commands.hpp"
 #include "ensemble_members.hpp"
 #include "files.hpp"
+#include "models.hpp"
 #include "plot.hpp"
 #include "shared_options.hpp"
 
@@ -71,6 +72,11 @@ void run_section(const section_options& o) {
     const double time = o.time > 0 ? o.time : model.time;
     setup.plan.steps = o.steps > 0 ? o.steps : model.steps;
     setup.h = time / static_cast<double>(setup.plan.steps);
+    if (static_cast<double>(set.size) * static_cast<double>(setup.plan.steps) > max_run_steps) {
+        std::string limit;
+        append_number(limit, max_run_steps);
+        throw usage_error("more than " + limit + " steps requested (members times steps)");
+    }
     const std::string cols = state_columns_of(d);
     std::string x = o.plot_columns, y;
     if (x.empty())

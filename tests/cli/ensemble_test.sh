@@ -131,5 +131,6 @@ expect_error 2 "plot of one axis" ensemble --model pendulum --grid q0_1=0:1:2 -o
 expect_error 2 "bad event" ensemble --model pendulum --grid q0_1=0:1:2 --event 'q3 + 1' -o out.csv
 expect_error 2 "unknown model" ensemble --model kepler --grid q0_1=0:1:2 -o out.csv
 expect_error 2 "bad --set" ensemble --model pendulum --set mass -o out.csv --grid q0_1=0:1:2
+expect_error 2 "too many steps" ensemble --model pendulum --grid q0_1=0:1:1000000000 --steps 10000000 -o out.csv
 
 finish
