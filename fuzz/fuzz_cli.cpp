@@ -1,8 +1,9 @@
 // fuzz/fuzz_cli.cpp: libFuzzer target over varsym's input parsers: the command line of every
 // subcommand (CLI11 options and their validators), `run --config FILE` (TOML through toml++,
 // expanded into arguments) and `run --resume FILE` (the checkpoint reader). Where the input names
-// no path (no '/' anywhere) it also runs `varsym run` and `varsym models`, in a private scratch
-// directory, with runs limited to 2000 steps (max_run_steps): checkpoints, outputs, the energy
+// no path (no '/' anywhere) it also runs `varsym run`, `models`, `ensemble` and `section`, in a
+// private scratch directory, with runs limited to 2000 steps (max_run_steps; an ensemble's
+// members times steps): checkpoints, journals, outputs, the energy
 // watch and the failure paths are exercised too. Each input gets a fresh front end (its own
 // option values and model parameters). Any crash, sanitizer report, or exception escaping
 // front_end::parse or front_end::run is a finding.
@@ -93,7 +94,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     varsym::cli::front_end cli;
     if (cli.parse(args) != -1) return 0;
     const bool names_a_path = mode == 2 || rest.find('/') != std::string::npos;
-    const bool cheap = !args.empty() && (args[0] == "run" || args[0] == "models") &&
+    // ensemble and section are bounded by max_run_steps too (members × steps).
+    const bool cheap = !args.empty() &&
+                       (args[0] == "run" || args[0] == "models" || args[0] == "ensemble" ||
+                        args[0] == "section") &&
                        rest.find("chain") == std::string::npos;
     if (names_a_path || !cheap) return 0;
     run_in_scratch_directory(cli);
