@@ -17,6 +17,8 @@
 #include "varsym/lie/so3.hpp"
 #include "varsym/quadrature/rules.hpp"
 #include "varsym/run/observers.hpp"
+#include "varsym/run/ensemble.hpp"
+#include "varsym/run/section.hpp"
 #include "varsym/run/state.hpp"
 #include "varsym/schemes/galerkin.hpp"
 #include "varsym/schemes/newmark.hpp"
