@@ -27,11 +27,7 @@ namespace varsym::cli {
 namespace {
 
 struct ensemble_options {
-    std::string model;
-    scheme_options scheme;
-    double time = 0.0;
-    long long steps = 0;
-    member_options members;
+    member_run_options run;
     std::string event;
     bool no_indicators = false;
     unsigned threads = 0;
@@ -111,23 +107,12 @@ class progress_line {
 };
 
 void run_members(const ensemble_options& o, const ensemble_model& model, const member_set& set,
-                 const ensemble_setup& setup, const process_group& group, double time,
-                 long long steps);
+                 const ensemble_setup& setup, const process_group& group);
 
 void run_ensemble(const ensemble_options& o) {
-    const ensemble_model model = find_ensemble_model(o.model);
-    const member_set set = make_member_set(o.members, model);
-    ensemble_setup setup;
-    setup.spec = make_spec(o.scheme);
-    const double time = o.time > 0 ? o.time : model.time;
-    const long long steps = o.steps > 0 ? o.steps : model.steps;
-    setup.h = time / static_cast<double>(steps);
-    setup.plan.steps = steps;
-    if (static_cast<double>(set.size) * static_cast<double>(steps) > max_run_steps) {
-        std::string limit;
-        append_number(limit, max_run_steps);
-        throw usage_error("more than " + limit + " steps requested (members times steps)");
-    }
+    const ensemble_model model = find_ensemble_model(o.run.model);
+    const member_set set = make_member_set(o.run.members, model);
+    ensemble_setup setup = make_setup(o.run, model, set.size);
     setup.plan.indicators = !o.no_indicators;
     if (!o.event.empty()) setup.event = compile_event(o.event, model.dim);
     if (o.output.empty() || o.output == "-")
@@ -147,7 +132,7 @@ void run_ensemble(const ensemble_options& o) {
 
     const process_group group;
     try {
-        run_members(o, model, set, setup, group, time, steps);
+        run_members(o, model, set, setup, group);
     } catch (const std::exception& e) {
         // One rank's failure ends every rank (the others would wait at a barrier forever).
         if (group.size() > 1) {
@@ -160,8 +145,7 @@ void run_ensemble(const ensemble_options& o) {
 }
 
 void run_members(const ensemble_options& o, const ensemble_model& model, const member_set& set,
-                 const ensemble_setup& setup, const process_group& group, double time,
-                 long long steps) {
+                 const ensemble_setup& setup, const process_group& group) {
     const int d = model.dim;
     const std::string header = header_of(set, d);
     const std::size_t fields =
@@ -169,8 +153,8 @@ void run_members(const ensemble_options& o, const ensemble_model& model, const m
     // Everything a member's row depends on, numbers to 17 digits and the event in full, so
     // that a journal is continued only by the very same ensemble.
     std::string identity = "model=" + model.name + " scheme=" + setup.spec.label() +
-                           " steps=" + std::to_string(steps) + " time=";
-    append_number(identity, time);
+                           " steps=" + std::to_string(setup.plan.steps) + " h=";
+    append_number(identity, setup.h);
     identity += std::string(" indicators=") + (setup.plan.indicators ? "on" : "off") + " event=[";
     for (const char c : o.event)
         identity += c == '\n' || c == '\r' ? ' ' : c;
@@ -257,13 +241,7 @@ void add_ensemble_command(CLI::App& app, action& todo) {
         "ensemble", "Run a model from many initial states or parameters: maps of MEGNO, Lyapunov "
                     "exponents, events");
     cmd->footer(ensemble_help());
-    cmd->add_option("--model", o->model, "Model: " + ensemble_model_names())->required();
-    add_scheme_options(*cmd, o->scheme);
-    cmd->add_option("--time", o->time, "Length of every member's run (default: the model's)")
-        ->transform(positive_number);
-    cmd->add_option("--steps", o->steps, "Steps of every member's run (default: the model's)")
-        ->transform(positive_integer);
-    add_member_options(*cmd, o->members);
+    add_member_run_options(*cmd, o->run, ensemble_model_names());
     cmd->add_option("--event", o->event,
                     "Stop a member where this expression in q1.., p1.., t changes sign and "
                     "report the time, e.g. 'q2^2 - pi^2' (a flip), 'q1^2 + q2^2 - 1' (an escape)");

@@ -22,11 +22,7 @@ namespace varsym::cli {
 namespace {
 
 struct section_options {
-    std::string model;
-    scheme_options scheme;
-    double time = 0.0;
-    long long steps = 0;
-    member_options members;
+    member_run_options run;
     std::string plane = "q1=0";
     std::string direction = "+";
     long long crossings = 500;
@@ -59,24 +55,15 @@ section_plane parse_plane(const std::string& text, const std::string& direction,
 }
 
 void run_section(const section_options& o) {
-    const ensemble_model model = find_ensemble_model(o.model);
+    const ensemble_model model = find_ensemble_model(o.run.model);
     if (!model.section)
         throw usage_error("varsym section runs pendulum and henon-heiles (their steppers have "
                           "dense output); " +
                           model.name + " does not");
-    const member_set set = make_member_set(o.members, model);
+    const member_set set = make_member_set(o.run.members, model);
     const int d = model.dim;
     const section_plane plane = parse_plane(o.plane, o.direction, d);
-    ensemble_setup setup;
-    setup.spec = make_spec(o.scheme);
-    const double time = o.time > 0 ? o.time : model.time;
-    setup.plan.steps = o.steps > 0 ? o.steps : model.steps;
-    setup.h = time / static_cast<double>(setup.plan.steps);
-    if (static_cast<double>(set.size) * static_cast<double>(setup.plan.steps) > max_run_steps) {
-        std::string limit;
-        append_number(limit, max_run_steps);
-        throw usage_error("more than " + limit + " steps requested (members times steps)");
-    }
+    const ensemble_setup setup = make_setup(o.run, model, set.size);
     const std::string cols = state_columns_of(d);
     std::string x = o.plot_columns, y;
     if (x.empty())
@@ -204,13 +191,7 @@ void add_section_command(CLI::App& app, action& todo) {
         "Example (docs/figures/sections.sh):\n"
         "  varsym section --model henon-heiles --set energy=0.125 --members orbits.csv \\\n"
         "      --plane q1=0 --direction + --crossings 400 -o sec.csv --plot sec.png\n");
-    cmd->add_option("--model", o->model, "Model: pendulum, henon-heiles")->required();
-    add_scheme_options(*cmd, o->scheme);
-    cmd->add_option("--time", o->time, "Longest run of an orbit (default: the model's)")
-        ->transform(positive_number);
-    cmd->add_option("--steps", o->steps, "Its steps (default: the model's)")
-        ->transform(positive_integer);
-    add_member_options(*cmd, o->members);
+    add_member_run_options(*cmd, o->run, "pendulum, henon-heiles");
     cmd->add_option("--plane", o->plane, "qI=VALUE or pI=VALUE (I from 1)")->capture_default_str();
     cmd->add_option("--direction", o->direction, "+ (increasing), - or both")
         ->check(CLI::IsMember({"+", "-", "both"}))

@@ -10,6 +10,7 @@
 #include <boost/crc.hpp>
 
 #include "files.hpp"
+#include "models.hpp"
 #include "varsym/expression/parse.hpp"
 
 namespace varsym::cli {
@@ -82,6 +83,31 @@ void add_member_options(CLI::App& cmd, member_options& o) {
         ->delimiter(',')
         ->transform(finite_number);
     cmd.add_option("--set", o.set, "NAME=VALUE: a model parameter for every member (repeat)");
+}
+
+void add_member_run_options(CLI::App& cmd, member_run_options& o, const std::string& models) {
+    cmd.add_option("--model", o.model, "Model: " + models)->required();
+    add_scheme_options(cmd, o.scheme);
+    cmd.add_option("--time", o.time, "Length of every member's run (default: the model's)")
+        ->transform(positive_number);
+    cmd.add_option("--steps", o.steps, "Steps of every member's run (default: the model's)")
+        ->transform(positive_integer);
+    add_member_options(cmd, o.members);
+}
+
+ensemble_setup make_setup(const member_run_options& o, const ensemble_model& model,
+                          std::size_t members) {
+    ensemble_setup setup;
+    setup.spec = make_spec(o.scheme);
+    const double time = o.time > 0 ? o.time : model.time;
+    setup.plan.steps = o.steps > 0 ? o.steps : model.steps;
+    setup.h = time / static_cast<double>(setup.plan.steps);
+    if (static_cast<double>(members) * static_cast<double>(setup.plan.steps) > max_run_steps) {
+        std::string limit;
+        append_number(limit, max_run_steps);
+        throw usage_error("more than " + limit + " steps requested (members times steps)");
+    }
+    return setup;
 }
 
 member_set make_member_set(const member_options& o, const ensemble_model& model) {

@@ -9,6 +9,7 @@
 #include "cli_common.hpp"
 #include "ensemble.hpp"
 #include "plot.hpp"
+#include "shared_options.hpp"
 
 namespace varsym::cli {
 
@@ -20,6 +21,19 @@ struct member_options {
     std::vector<std::string> set;  ///< NAME=VALUE: model parameters for every member
 };
 void add_member_options(CLI::App& cmd, member_options& o);
+
+/// What `varsym ensemble` and `varsym section` share: the model, the scheme, each member's run
+/// (0: the model's default) and the members.
+struct member_run_options {
+    std::string model;
+    scheme_options scheme;
+    double time = 0.0;
+    long long steps = 0;
+    member_options members;
+};
+/// --model (required; `models` names the choices), --scheme, --degree, --time, --steps and the
+/// member options.
+void add_member_run_options(CLI::App& cmd, member_run_options& o, const std::string& models);
 
 /// The members: their keys (grid axes or CSV columns), count, values and data.
 struct member_set {
@@ -36,6 +50,11 @@ struct member_set {
     [[nodiscard]] member_input input(const std::vector<double>& keys) const;
 };
 member_set make_member_set(const member_options& o, const ensemble_model& model);
+
+/// The setup every member shares: the scheme, the steps and h = time/steps (the model's
+/// defaults where not given). Refuses members × steps beyond max_run_steps (usage_error).
+ensemble_setup make_setup(const member_run_options& o, const ensemble_model& model,
+                          std::size_t members);
 
 std::vector<ensemble_model> ensemble_models();
 ensemble_model find_ensemble_model(const std::string& name);

@@ -69,12 +69,7 @@ class stepper {
         const int d = sys_.dimension();
         const double c = 0.25 * h_ * h_;
         const mat<dim> hm = sys_.potential().hessian(mid_), id = mat<dim>::Identity(d, d);
-        mat<dim> n = c * hm;
-        if constexpr (scalar_mass<System>)
-            n.diagonal().array() += sys_.mass();
-        else
-            n += sys_.mass();
-        const Eigen::PartialPivLU<mat<dim>> lu(n);
+        const Eigen::PartialPivLU<mat<dim>> lu(stage_jacobian(sys_, c, hm));
         // N dδ = (h/2) dp_j − c ∇²V(q̄) dq_j;  dq̄ = dq_j + dδ, dq_{j+1} = dq_j + 2 dδ,
         // dp_{j+1} = dp_j − h ∇²V(q̄) dq̄   (eq. systeme-dynamique-discret-ordre-2 differentiated)
         const mat<dim> dd_q = lu.solve(mat<dim>(-c * hm)), dd_p = lu.solve(mat<dim>(0.5 * h_ * id));

@@ -104,12 +104,7 @@ class stepper {
         const double c = h_ * h_ / 24.0, e = 0.5 * h_;
         const mat<dim> hj = v.hessian(from.q), hm = v.hessian(stage_), hr = v.hessian(cached_q_);
         const mat<dim> id = mat<dim>::Identity(d, d);
-        mat<dim> n = c * hm;
-        if constexpr (scalar_mass<System>)
-            n.diagonal().array() += sys_.mass();
-        else
-            n += sys_.mass();
-        const Eigen::PartialPivLU<mat<dim>> lu(n);
+        const Eigen::PartialPivLU<mat<dim>> lu(stage_jacobian(sys_, c, hm));
         // N dδ = e dp_j − c (2 ∇²V_j + ∇²V_m) dq_j   (the midpoint equation differentiated)
         const mat<dim> dq_m_q = id + lu.solve(mat<dim>(-c * (2.0 * hj + hm)));
         const mat<dim> dq_m_p = lu.solve(mat<dim>(e * id));

@@ -17,6 +17,18 @@ concept has_stage_solver = requires(const System& s, const vec<System::dim>& q,
     { s.solve_stage(1.0, q, q, delta, opt) } -> std::same_as<newton_report>;
 };
 
+/// The stage equation's Jacobian M + c ∇²V, with `hessian` = ∇²V at the point: the Newton matrix
+/// of the reduced steps, whose inverse their tangent maps apply (simpson.hpp, newmark.hpp).
+template <separable System>
+mat<System::dim> stage_jacobian(const System& sys, double c, const mat<System::dim>& hessian) {
+    mat<System::dim> j = c * hessian;
+    if constexpr (scalar_mass<System>)
+        j.diagonal().array() += sys.mass();
+    else
+        j += sys.mass();
+    return j;
+}
+
 /// Solves M x + c ∇V(x) = b for x = q + δ, written as  M δ + c ∇V(q + δ) = r  with r = b − M q,
 /// for the increment δ (started from the guess in `delta`, whose size sets the scale of the
 /// stopping test). Solving for δ rather than x keeps δ's relative accuracy when |δ| ≪ |q|, which
