@@ -80,16 +80,10 @@ void run_section(const section_options& o) {
     header += ",crossing,t," + cols + "\n";
     auto column = [&](const std::string& name) {
         const std::string all = "t," + cols;
-        std::size_t at = 0, c = 0;
-        for (;;) {
-            const std::size_t e = all.find(',', at);
-            if (all.compare(at, e == std::string::npos ? std::string::npos : e - at, name) == 0)
-                return c;
-            if (e == std::string::npos)
-                throw usage_error("--plot-columns: " + shown(name) + " is not one of " + all);
-            at = e + 1;
-            ++c;
-        }
+        const std::size_t c = column_of(all, name);
+        if (c == std::string::npos)
+            throw usage_error("--plot-columns: " + shown(name) + " is not one of " + all);
+        return c;
     };
     const std::size_t cx = column(x), cy = column(y);
     file_roles roles;

@@ -64,6 +64,9 @@ std::string ensemble_help();
 /// The event's expression compiled over q1 … qd, p1 … pd, t (throws usage_error).
 expr::tape compile_event(const std::string& text, int d);
 
+/// The index of column `name` in a CSV header (its first line), or std::string::npos.
+std::size_t column_of(const std::string& header, const std::string& name);
+
 /// "q_1,…,q_d,p_1,…,p_d" (also for d = 1, unlike state_columns).
 std::string state_columns_of(int d);
 

@@ -9,6 +9,13 @@ namespace varsym::cli {
 
 namespace {
 
+bool numeric_column(const std::string& v) {
+    return v == "mean_megno" || v == "lyapunov" || v == "max_energy_error" || v == "event_time" ||
+           v == "t" || v == "steps" || v.starts_with("q_") || v.starts_with("p_");
+}
+
+} // namespace
+
 std::size_t column_of(const std::string& header, const std::string& name) {
     std::size_t col = 0, at = 0;
     for (;;) {
@@ -19,13 +26,6 @@ std::size_t column_of(const std::string& header, const std::string& name) {
         ++col;
     }
 }
-
-bool numeric_column(const std::string& v) {
-    return v == "mean_megno" || v == "lyapunov" || v == "max_energy_error" || v == "event_time" ||
-           v == "t" || v == "steps" || v.starts_with("q_") || v.starts_with("p_");
-}
-
-} // namespace
 
 std::string ensemble_help() {
     std::string h =
