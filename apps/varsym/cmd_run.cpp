@@ -16,6 +16,7 @@
 #include "commands.hpp"
 #include "files.hpp"
 #include "models.hpp"
+#include "registry_models.hpp"
 #include "shared_options.hpp"
 
 namespace varsym::cli {
@@ -29,7 +30,8 @@ struct run_options {
     std::string config;
     std::string resume;     ///< only to refuse --resume from a config file: main handles it
     std::string q0, p0, v0; ///< comma-separated lists (number_list)
-    std::vector<cli::model> models = make_models(); ///< with this command line's parameters
+    std::shared_ptr<parameter_options> parameters = std::make_shared<parameter_options>();
+    std::vector<cli::model> models = make_models(parameters); ///< with this command line's
 };
 
 /// The files a run touches, checked against each other before anything is written: the output
@@ -263,6 +265,7 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
     cmd->add_option("--config", o->config, "TOML file of options (see below)");
     for (const model& m : o->models)
         m.add_options(*cmd);
+    o->parameters->add(*cmd); // the registry models' parameters, after the mechanisms' options
     auto* ckpt = cmd->add_option("--checkpoint", s.checkpoint,
                                  "Write the run's complete state to FILE (atomically) every "
                                  "--checkpoint-every steps or --checkpoint-seconds (default 60 s), "

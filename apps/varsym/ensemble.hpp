@@ -39,6 +39,7 @@ struct ensemble_model {
     std::vector<double> q0, p0;                             ///< the default initial state
     std::vector<std::pair<std::string, double>> parameters; ///< names and defaults (NaN: unset)
     std::string help;                                       ///< for --help: what they mean
+    bool fixed_start = false; ///< the initial state follows from the parameters (no q0, p0)
     double time = 0.0;                                      ///< default run length
     long long steps = 0;                                    ///< default number of steps
     /// Runs one member; throws std::invalid_argument for data the model refuses (the member's
@@ -51,9 +52,6 @@ struct ensemble_model {
         section;
 };
 
-ensemble_model make_pendulum_ensemble();
-ensemble_model make_henon_heiles_ensemble();
-ensemble_model make_double_pendulum_ensemble();
 
 /// Runs one member of s from x with the setup's plan and event (a copy of the tape per call,
 /// so that members run concurrently).

@@ -11,6 +11,7 @@
 
 #include "files.hpp"
 #include "models.hpp"
+#include "registry_models.hpp"
 #include "varsym/expression/parse.hpp"
 
 namespace varsym::cli {
@@ -38,7 +39,7 @@ std::vector<std::string_view> split(std::string_view s, char sep) {
 
 /// Where key `k` goes for `model`: q0_i, p0_i (1 ≤ i ≤ d) or a parameter's name.
 std::pair<int, std::size_t> target_of(const std::string& k, const ensemble_model& model) {
-    for (int kind = 0; kind < 2; ++kind) {
+    for (int kind = 0; kind < 2 && !model.fixed_start; ++kind) {
         const std::string prefix = kind == 0 ? "q0_" : "p0_";
         if (k.starts_with(prefix)) {
             std::size_t i = 0;
@@ -52,7 +53,7 @@ std::pair<int, std::size_t> target_of(const std::string& k, const ensemble_model
     for (std::size_t j = 0; j < model.parameters.size(); ++j)
         if (model.parameters[j].first == k) return {2, j};
     std::string known;
-    for (int i = 1; i <= model.dim; ++i)
+    for (int i = 1; i <= (model.fixed_start ? 0 : model.dim); ++i)
         known += " q0_" + std::to_string(i) + " p0_" + std::to_string(i);
     for (const auto& p : model.parameters)
         known += " " + p.first;
@@ -113,6 +114,8 @@ ensemble_setup make_setup(const member_run_options& o, const ensemble_model& mod
 member_set make_member_set(const member_options& o, const ensemble_model& model) {
     member_set s;
     const auto d = static_cast<std::size_t>(model.dim);
+    if (model.fixed_start && (!o.q0.empty() || !o.p0.empty()))
+        throw usage_error(model.name + " starts from its parameters: --q0 and --p0 do not apply");
     s.base.q0 = o.q0.empty() ? model.q0 : o.q0;
     s.base.p0 = o.p0.empty() ? model.p0 : o.p0;
     if (s.base.q0.size() != d || s.base.p0.size() != d)
@@ -215,8 +218,10 @@ member_input member_set::input(const std::vector<double>& v) const {
 }
 
 std::vector<ensemble_model> ensemble_models() {
-    return {make_pendulum_ensemble(), make_henon_heiles_ensemble(),
-            make_double_pendulum_ensemble()};
+    std::vector<ensemble_model> all;
+    for (const models::model& m : models::registry())
+        all.push_back(make_registry_ensemble(m));
+    return all;
 }
 
 ensemble_model find_ensemble_model(const std::string& name) {

@@ -67,7 +67,7 @@ model make_arm_model(std::shared_ptr<mechanism_options> o) {
         "  Not conserved: energy; balanced: energy - work. Default --time 5 --steps 5000.";
     m.options = {"--masses", "--lengths", "--inertias", "--gravity",   "--damping",
                  "--kp",     "--kd",      "--target",   "--move-time", "--no-gravity-compensation"};
-    m.add_options = [](CLI::App&) {}; // shared: add_mechanism_options
+    m.add_options = [o](CLI::App& cmd) { add_mechanism_options(cmd, *o); }; // once, for all
     m.run = [o](const run_setup& s) {
         const std::vector<double> masses =
             o->masses.empty() ? std::vector<double>{1, 1, 1} : o->masses;

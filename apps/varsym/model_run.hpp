@@ -13,6 +13,7 @@
 #include "signals.hpp"
 #include "varsym/diagnostics/stability.hpp"
 #include "varsym/integrate.hpp"
+#include "varsym/run/energy.hpp"
 #include "varsym/run/state.hpp"
 
 namespace varsym::cli {
@@ -117,40 +118,6 @@ template <int D>
 saved_state save_state(const run_state<D>& r) {
     auto list = [](const auto& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
     return {list(r.x.q), list(r.x.p), list(r.carry_q), list(r.carry_p), r.history};
-}
-
-/// Whether a system is time-dependent (its members take the time).
-template <class System>
-inline constexpr bool timed_system = requires {
-    requires System::time_dependent;
-};
-
-/// The energy at state x and time t (t is ignored by a time-independent system).
-template <class System, int D>
-double energy_at(const System& sys, const phase_state<D>& x, double t) {
-    if constexpr (timed_system<System>)
-        return sys.energy(x, t);
-    else
-        return sys.energy(x);
-}
-
-/// Whether the system's energy is conserved (not for a Lagrangian that depends on time).
-template <class System>
-bool conserves_energy(const System& sys) {
-    if constexpr (requires { sys.lagrangian().depends_on_time(); })
-        return !sys.lagrangian().depends_on_time();
-    else
-        return !timed_system<System>;
-}
-
-/// What the energy watch follows: E, or E − W for a stepper with forces (W, the forces' work
-/// since the start, makes E − W constant up to the scheme's error), at time t.
-template <class Stepper, int D>
-double watched_energy(const Stepper& stepper, const phase_state<D>& x, double t) {
-    if constexpr (requires { stepper.total_work(); })
-        return energy_at(stepper.system(), x, t) - stepper.total_work();
-    else
-        return energy_at(stepper.system(), x, t);
 }
 
 /// Streams `step,t,<state columns><extra header>` rows for plan.steps steps from x, written every

@@ -53,9 +53,10 @@ struct model {
     std::function<void(const run_setup&)> run;
 };
 
-/// All models, in the order `varsym models` lists them, each with its own parameters (bound to
-/// the options a command line sets): one set per parsed command line, none shared.
-std::vector<model> make_models();
+/// All models, in the order `varsym models` lists them: the models layer's registry first
+/// (registry_models.hpp; their parameters read from `po`, one per parsed command line), then the
+/// tool's own, each with its own parameters bound to the options a command line sets.
+std::vector<model> make_models(std::shared_ptr<class parameter_options> po = nullptr);
 
 /// The parameters the mechanisms share (double-pendulum, arm, four-bar, slider-crank,
 /// spherical-pendulum): each model reads the ones it lists and says how many values it needs.
@@ -71,16 +72,11 @@ struct mechanism_options {
 /// Registers mechanism_options' options (once, for all the mechanisms).
 void add_mechanism_options(CLI::App& cmd, mechanism_options& o);
 
-model make_pendulum_model();
 model make_oscillator_model();
-model make_kepler_model();
-model make_henon_heiles_model();
-model make_double_pendulum_model(std::shared_ptr<mechanism_options> o);
 model make_arm_model(std::shared_ptr<mechanism_options> o);
 model make_four_bar_model(std::shared_ptr<mechanism_options> o);
 model make_slider_crank_model(std::shared_ptr<mechanism_options> o);
 model make_spherical_pendulum_model(std::shared_ptr<mechanism_options> o);
-model make_heavy_top_model();
 model make_chain_model();
 /// `rigid-body`, `top` and `pendulum-3d` (model_rigid.cpp), which share their parameters.
 std::vector<model> make_rigid_models();

@@ -1,0 +1,108 @@
+// varsym/models/model.hpp: the built-in models, each defined once as data plus a factory: its
+// name, summary and description, its parameters (default, unit, meaning, bounds), its default
+// initial state and the rules that complete a given one, its period or time scale, and the
+// factory that builds its problem (system, initial state, exact solution) and from that a
+// simulation (simulation.hpp) of any scheme. The command-line tool's options and help, its
+// ensembles and sections, and the Python package are all generated from this data.
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "varsym/models/simulation.hpp"
+
+namespace varsym::models {
+
+/// One scalar parameter of a model.
+struct parameter {
+    std::string name;  ///< its key: ensemble key, Python keyword, config key (snake_case)
+    double value = 0.; ///< the default
+    std::string unit;  ///< SI unit ("kg", "rad/s"); empty when dimensionless
+    std::string doc;   ///< what it is, one phrase
+    double lower = -std::numeric_limits<double>::infinity(); ///< allowed range [lower, upper]
+    double upper = std::numeric_limits<double>::infinity();
+    bool lower_open = false; ///< lower itself is excluded (a positive mass: lower 0, open)
+    bool upper_open = false;
+    /// Where NaN is an allowed value, what it means (henon-heiles' energy: "use p0 as given").
+    std::string nan_means;
+    /// The command line's option when it is not the name with '-' for '_' (double-pendulum's g:
+    /// "gravity"), or a list option shared by several parameters (its m1 and m2: "masses").
+    std::string option;
+    int option_index = -1; ///< the parameter's place in a list option (0, 1, …), or −1
+
+    /// The option's long name without "--".
+    [[nodiscard]] std::string option_name() const;
+    /// "positive", "0 <= x < 1", …: the bounds in words, for help and messages.
+    [[nodiscard]] std::string range() const;
+    /// Throws std::invalid_argument naming the parameter when v is outside its range.
+    void check(double v) const;
+};
+
+/// Where a run starts. Each vector is empty (the model's default) or holds d values; p0 and v0
+/// (velocities, turned into momenta by the model) exclude each other.
+struct start {
+    std::vector<double> q0, p0, v0;
+};
+
+/// A model with its parameters and initial state set: the complete initial state, the period
+/// (0 where the motion has none) and the factory of simulations of any scheme.
+struct problem {
+    std::vector<double> q0, p0;
+    double period = 0.0;
+    /// Where a model that usually has a period has none at this state, why (the pendulum on its
+    /// separatrix): a run must then be given by time and steps.
+    std::string no_period;
+    std::function<std::unique_ptr<simulation>(const step_options&)> simulate;
+};
+
+/// A built-in model.
+struct model {
+    std::string name;        ///< "pendulum", "cart-pole"
+    std::string summary;     ///< one line
+    std::string description; ///< the Lagrangian, coordinates, units, conserved quantities
+    int dim = 0;             ///< the number of coordinates d
+    std::string coordinates; ///< their names for messages ("th1, th2")
+    std::vector<parameter> parameters;
+    std::vector<double> q0, p0; ///< the default initial state (with the default parameters)
+    /// Non-empty where the initial state follows from the parameters alone (kepler: at
+    /// pericentre): then q0, p0 and v0 are refused with this advice.
+    std::string fixed_start;
+    bool velocities = true; ///< whether v0 may be given instead of p0
+    /// Run length: steps per period where the motion has a period, else time and steps.
+    long long steps_per_period = 0;
+    double time = 0.0;
+    long long steps = 0;
+    double ensemble_time = 0.0; ///< an ensemble member's default length and steps
+    long long ensemble_steps = 0;
+    std::string ensemble_note; ///< for the ensemble's help: a typical section or event
+    /// Builds the problem from all parameters' values (in the order of `parameters`, already
+    /// checked against their ranges) and the start; throws std::invalid_argument for data the
+    /// model refuses (a state outside the energy surface, a singular mass matrix).
+    std::function<problem(std::span<const double>, const start&)> make;
+
+    /// The parameters' defaults, in order.
+    [[nodiscard]] std::vector<double> defaults() const;
+    /// The index of parameter `key`, or −1.
+    [[nodiscard]] int parameter_index(std::string_view key) const;
+    /// Checks values against the ranges and the start against d and `fixed_start`, then makes
+    /// the problem. Throws std::invalid_argument with a message that names the model.
+    [[nodiscard]] problem prepare(std::span<const double> values, const start& s = {}) const;
+};
+
+/// Every built-in model of the layer, in the order `varsym models` lists them.
+const std::vector<model>& registry();
+/// The model named `name`, or nullptr.
+const model* find(std::string_view name);
+/// The model named `name`; throws std::invalid_argument naming the closest names otherwise.
+const model& get(std::string_view name);
+
+/// The names among `candidates` closest to `word` (by edit distance, at most a third of the
+/// word's length plus one), best first: for "did you mean" messages.
+std::vector<std::string> closest(std::string_view word, const std::vector<std::string>& candidates);
+
+} // namespace varsym::models

@@ -1,0 +1,146 @@
+// models/src/model.cpp: what every model shares: its parameters' ranges and checks, the lookup
+// of models and keys, and the closest names for "did you mean" messages.
+#include "varsym/models/model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace varsym::models {
+
+namespace {
+
+std::string number(double v) {
+    std::ostringstream s;
+    s.precision(10);
+    s << v;
+    return s.str();
+}
+
+/// The Levenshtein distance of a and b.
+std::size_t distance(std::string_view a, std::string_view b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j)
+        row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        std::size_t diagonal = row[0];
+        row[0] = i;
+        for (std::size_t j = 1; j <= b.size(); ++j) {
+            const std::size_t up = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+            diagonal = up;
+        }
+    }
+    return row[b.size()];
+}
+
+} // namespace
+
+std::string parameter::option_name() const {
+    if (!option.empty()) return option;
+    std::string o = name;
+    std::replace(o.begin(), o.end(), '_', '-');
+    return o;
+}
+
+std::string parameter::range() const {
+    const bool low = std::isfinite(lower), high = std::isfinite(upper);
+    if (low && lower == 0.0 && lower_open && !high) return "positive";
+    if (low && lower == 0.0 && !lower_open && !high) return "non-negative";
+    std::string r;
+    if (low) r += number(lower) + (lower_open ? " < " : " <= ");
+    if (low || high) r += name;
+    if (high) r += (upper_open ? " < " : " <= ") + number(upper);
+    return r.empty() ? "finite" : r;
+}
+
+void parameter::check(double v) const {
+    if (std::isnan(v) && !nan_means.empty()) return;
+    const bool ok = std::isfinite(v) && (lower_open ? v > lower : v >= lower) &&
+                    (upper_open ? v < upper : v <= upper);
+    if (!ok)
+        throw std::invalid_argument(name + " must be " +
+                                    (range() == "finite" ? "a finite number" : range()) +
+                                    (nan_means.empty() ? "" : " (or NaN: " + nan_means + ")") +
+                                    ", got " + number(v));
+}
+
+std::vector<double> model::defaults() const {
+    std::vector<double> v;
+    for (const parameter& p : parameters)
+        v.push_back(p.value);
+    return v;
+}
+
+int model::parameter_index(std::string_view key) const {
+    for (std::size_t i = 0; i < parameters.size(); ++i)
+        if (parameters[i].name == key) return static_cast<int>(i);
+    return -1;
+}
+
+problem model::prepare(std::span<const double> values, const start& s) const {
+    auto fail = [&](const std::string& what) { throw std::invalid_argument(name + ": " + what); };
+    if (values.size() != parameters.size())
+        fail(std::to_string(parameters.size()) + " parameter values needed, got " +
+             std::to_string(values.size()));
+    try {
+        for (std::size_t i = 0; i < parameters.size(); ++i)
+            parameters[i].check(values[i]);
+    } catch (const std::invalid_argument& e) {
+        fail(e.what());
+    }
+    if (!fixed_start.empty() && !(s.q0.empty() && s.p0.empty() && s.v0.empty())) fail(fixed_start);
+    if (!s.p0.empty() && !s.v0.empty()) fail("give p0 or v0, not both");
+    if (!velocities && !s.v0.empty()) fail("p = dq/dt here: give p0, not v0");
+    for (const auto& [v, what] : {std::pair{&s.q0, "q0"}, {&s.p0, "p0"}, {&s.v0, "v0"}}) {
+        if (!v->empty() && static_cast<int>(v->size()) != dim)
+            fail(std::string(what) + " needs " + std::to_string(dim) + " value" +
+                 (dim == 1 ? "" : "s") + " (" + coordinates + "), got " +
+                 std::to_string(v->size()));
+        for (double x : *v)
+            if (!std::isfinite(x)) fail(std::string(what) + " must be finite");
+    }
+    try {
+        return make(values, s);
+    } catch (const std::invalid_argument& e) {
+        fail(e.what());
+    }
+    return {};
+}
+
+const model* find(std::string_view name) {
+    for (const model& m : registry())
+        if (m.name == name) return &m;
+    return nullptr;
+}
+
+const model& get(std::string_view name) {
+    if (const model* m = find(name)) return *m;
+    std::vector<std::string> names;
+    for (const model& m : registry())
+        names.push_back(m.name);
+    const auto near = closest(name, names);
+    std::string all;
+    for (const auto& n : names)
+        all += (all.empty() ? "" : ", ") + n;
+    throw std::invalid_argument("no model '" + std::string(name) + "'" +
+                                (near.empty() ? "" : "; did you mean '" + near.front() + "'?") +
+                                " The models: " + all);
+}
+
+std::vector<std::string> closest(std::string_view word,
+                                 const std::vector<std::string>& candidates) {
+    std::vector<std::pair<std::size_t, std::string>> scored;
+    const std::size_t limit = word.size() / 3 + 1;
+    for (const auto& c : candidates)
+        if (const std::size_t d = distance(word, c); d <= limit) scored.emplace_back(d, c);
+    std::stable_sort(scored.begin(), scored.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<std::string> out;
+    for (auto& [d, c] : scored)
+        out.push_back(std::move(c));
+    return out;
+}
+
+} // namespace varsym::models

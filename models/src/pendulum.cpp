@@ -1,0 +1,64 @@
+// models/src/pendulum.cpp: the paper's nonlinear pendulum, with its exact solution by elliptic
+// functions (varsym/problems/pendulum.hpp).
+#include <numbers>
+#include <optional>
+
+#include "simulation_of.hpp"
+#include "varsym/problems/pendulum.hpp"
+
+namespace varsym::models::defs {
+
+model pendulum() {
+    model m;
+    m.name = "pendulum";
+    m.summary = "the paper's nonlinear pendulum, exact solution by elliptic functions";
+    m.description =
+        "  L = (m/2) qdot^2 - m omega^2 (1 - cos q); q [rad] from the downward vertical,\n"
+        "  m the moment of inertia [kg m^2], omega the small-oscillation frequency [rad/s].\n"
+        "  Conserved: energy. Exact solution: yes (q_exact, p_exact). Period: the nonlinear\n"
+        "  period 4K(k^2)/omega (one revolution in rotation).";
+    m.dim = 1;
+    m.coordinates = "the angle q";
+    m.parameters = {
+        {.name = "mass", .value = 1.0, .unit = "kg m^2", .doc = "moment of inertia m",
+         .lower = 0.0, .lower_open = true},
+        {.name = "omega", .value = 2.0 * std::numbers::pi, .unit = "rad/s",
+         .doc = "small-oscillation angular frequency", .lower = 0.0, .lower_open = true}};
+    m.steps_per_period = 50;
+    m.ensemble_time = 10.0;
+    m.ensemble_steps = 500;
+    m.make = [](std::span<const double> par, const start& s) {
+        const double mass = par[0], omega = par[1];
+        const double q0 = s.q0.empty() ? std::numbers::pi / 2 : s.q0[0];
+        const double p0 = !s.p0.empty() ? s.p0[0] : !s.v0.empty() ? mass * s.v0[0] : 0.0;
+        const pendulum::system sys = pendulum::make_system(mass, omega);
+        const phase_state<1> x0{vec<1>{q0}, vec<1>{p0}};
+        std::optional<pendulum::exact_solution> exact;
+        std::string no_period;
+        try {
+            exact.emplace(mass, omega, q0, p0);
+        } catch (const std::invalid_argument& e) { // on the separatrix: no period
+            no_period = e.what();
+        }
+        problem pr = detail::make_problem(x0, exact ? exact->period() : 0.0, [=](const step_options& o) {
+            return detail::simulate_family(
+                sys, x0, o,
+                detail::column_set{{"energy", "q_exact", "p_exact"},
+                                [sys, exact](double t, const phase_state<1>& x, const auto&,
+                                             double* out) {
+                                    out[0] = sys.energy(x);
+                                    const double nan = std::numeric_limits<double>::quiet_NaN();
+                                    const phase_state<1> ref =
+                                        exact ? exact->at(t) : phase_state<1>{vec<1>{nan},
+                                                                              vec<1>{nan}};
+                                    out[1] = ref.q(0);
+                                    out[2] = ref.p(0);
+                                }});
+        });
+        pr.no_period = no_period;
+        return pr;
+    };
+    return m;
+}
+
+} // namespace varsym::models::defs

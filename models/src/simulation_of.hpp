@@ -1,0 +1,224 @@
+// models/src/simulation_of.hpp: the one implementation of models::simulation, a template over
+// the stepper, and the factories a model file calls: simulate_family (the separable systems'
+// steppers: newmark, simpson and the family, chosen by the scheme) and simulate_general (the
+// general engine, with or without a force). Private to the models layer.
+#pragma once
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "varsym/diagnostics/chaos.hpp"
+#include "varsym/diagnostics/stability.hpp"
+#include "varsym/models/model.hpp"
+#include "varsym/run/energy.hpp"
+#include "varsym/schemes/variational.hpp"
+
+namespace varsym::models::detail {
+
+/// The model's columns: `fill(t, x, stepper, out)` writes one value per name.
+template <class Fill>
+struct column_set {
+    std::vector<std::string> names;
+    Fill fill;
+};
+template <class Fill>
+column_set(std::vector<std::string>, Fill) -> column_set<Fill>;
+
+template <class S, class Fill>
+class simulation_of final : public simulation {
+    static constexpr int D = S::dim;
+
+  public:
+    simulation_of(S stepper, const phase_state<D>& x0, column_set<Fill> cols)
+        : s_(std::move(stepper)), r_(run_state<D>::start(x0)), cols_(std::move(cols)) {}
+
+    [[nodiscard]] int dim() const override { return static_cast<int>(r_.x.q.size()); }
+    [[nodiscard]] double step_size() const override { return s_.step_size(); }
+    [[nodiscard]] std::size_t step() const override { return r_.step; }
+    [[nodiscard]] double time() const override { return r_.time(s_.step_size()); }
+    [[nodiscard]] std::span<const double> q() const override {
+        return {r_.x.q.data(), static_cast<std::size_t>(r_.x.q.size())};
+    }
+    [[nodiscard]] std::span<const double> p() const override {
+        return {r_.x.p.data(), static_cast<std::size_t>(r_.x.p.size())};
+    }
+    [[nodiscard]] const std::vector<std::string>& columns() const override { return cols_.names; }
+    void values(std::span<double> out) const override {
+        if (out.size() < cols_.names.size())
+            throw std::invalid_argument("simulation::values: room for " +
+                                        std::to_string(cols_.names.size()) + " values needed");
+        cols_.fill(time(), r_.x, s_, out.data());
+    }
+    [[nodiscard]] double watched_energy() const override {
+        return varsym::watched_energy(s_, r_.x, time());
+    }
+    [[nodiscard]] bool conserves_energy() const override {
+        return varsym::conserves_energy(s_.system());
+    }
+    [[nodiscard]] double highest_frequency() const override {
+        try {
+            if constexpr (timed_system<std::remove_cvref_t<decltype(s_.system())>>)
+                return varsym::highest_frequency(s_.system(), r_.x, time());
+            else
+                return varsym::highest_frequency(s_.system(), r_.x);
+        } catch (const std::exception&) { // no estimate at this state
+            return std::numeric_limits<double>::quiet_NaN();
+        }
+    }
+    [[nodiscard]] const run_summary& stats() const override { return r_.stats; }
+
+    bool advance(std::size_t n, const std::function<bool()>& after_step) override {
+        return integrate_from(s_, r_, n, [&](const run_state<D>&) { return after_step(); });
+    }
+
+    [[nodiscard]] run_state<dynamic> save() const override {
+        run_state<dynamic> out;
+        out.x = {r_.x.q, r_.x.p};
+        out.carry_q = r_.carry_q;
+        out.carry_p = r_.carry_p;
+        out.step = r_.step;
+        out.t0 = r_.t0;
+        out.stats = r_.stats;
+        out.history = r_.history;
+        return out;
+    }
+    void restore(const run_state<dynamic>& saved) override {
+        const Eigen::Index d = r_.x.q.size();
+        for (const auto* v : {&saved.x.q, &saved.x.p, &saved.carry_q, &saved.carry_p})
+            if (v->size() != d)
+                throw std::invalid_argument("a saved state of " + std::to_string(v->size()) +
+                                            " values cannot continue a simulation of d = " +
+                                            std::to_string(d));
+        r_.x = {saved.x.q, saved.x.p};
+        r_.carry_q = saved.carry_q;
+        r_.carry_p = saved.carry_p;
+        r_.step = saved.step;
+        r_.t0 = saved.t0;
+        r_.stats = saved.stats;
+        r_.history = saved.history;
+        varsym::restore(s_, r_);
+    }
+
+    void tangent_map(Eigen::MatrixXd& jacobian) override {
+        S s = s_; // a copy steps, so that this run is left as it was
+        phase_state<D> x = r_.x;
+        timed(s, time());
+        const newton_report rep = s.step(x);
+        if (!rep.converged)
+            throw step_failure(r_.step + 1, time(), time() + s.step_size(), rep);
+        s.step_jacobian(r_.x, jacobian);
+    }
+    [[nodiscard]] member_result
+    run_member(const member_plan& plan,
+               const std::function<double(double, std::span<const double>,
+                                          std::span<const double>)>& event) override {
+        S s = s_;
+        timed(s, time());
+        member_plan from_here = plan;
+        from_here.t0 = time();
+        auto g = [&](double t, const phase_state<D>& y) {
+            if (!event) return 1.0;
+            return event(t, {y.q.data(), static_cast<std::size_t>(y.q.size())},
+                         {y.p.data(), static_cast<std::size_t>(y.p.size())});
+        };
+        return varsym::run_member(
+            s, r_.x, from_here,
+            [&](const phase_state<D>& y) { return energy_at(s.system(), y, 0.0); }, g);
+    }
+    [[nodiscard]] bool has_dense_output() const override { return dense_stepper<S>; }
+    [[nodiscard]] section_result section(const section_plane& plane, long long steps,
+                                         long long crossings) override {
+        section_result out;
+        if constexpr (dense_stepper<S>) {
+            S s = s_;
+            phase_state<D> x = r_.x;
+            const double h = s.step_size();
+            for (long long j = 0; j < steps && std::ssize(out.time) < crossings; ++j) {
+                const phase_state<D> from = x;
+                if (!s.step(x).converged || !x.q.allFinite() || !x.p.allFinite()) {
+                    out.failed = true;
+                    break;
+                }
+                const auto c = find_crossing(s, from, x, time() + static_cast<double>(j) * h, plane);
+                if (!c) continue;
+                out.time.push_back(c->time);
+                for (const auto* v : {&c->x.q, &c->x.p})
+                    out.states.insert(out.states.end(), v->data(), v->data() + v->size());
+            }
+            return out;
+        } else {
+            throw std::logic_error("this model's stepper has no dense output for sections");
+        }
+    }
+
+  private:
+    /// A forced or time-dependent step depends on its start time.
+    static void timed(S& s, double t) {
+        if constexpr (requires { s.set_time(t); }) s.set_time(t);
+    }
+    S s_;
+    run_state<D> r_;
+    column_set<Fill> cols_;
+};
+
+/// A simulation of a separable system by the scheme's own stepper (newmark, simpson or the
+/// family member).
+template <class System, int D, class Fill>
+std::unique_ptr<simulation> simulate_family(const System& sys, const phase_state<D>& x0,
+                                            const step_options& o, column_set<Fill> cols) {
+    return with_stepper(o.spec, sys, o.h, o.newton, [&](auto& s) -> std::unique_ptr<simulation> {
+        using S = std::remove_cvref_t<decltype(s)>;
+        phase_state<S::dim> x{x0.q, x0.p};
+        return std::make_unique<simulation_of<S, Fill>>(std::move(s), x, std::move(cols));
+    });
+}
+
+/// A simulation of a general Lagrangian system by the general engine (any scheme), refusing the
+/// `previous` predictor, which is the separable steppers' alone.
+template <class Stepper, int D, class Fill>
+std::unique_ptr<simulation> simulate_general(Stepper stepper, const phase_state<D>& x0,
+                                             column_set<Fill> cols) {
+    return std::make_unique<simulation_of<Stepper, Fill>>(std::move(stepper), x0, std::move(cols));
+}
+inline void check_general(const step_options& o) {
+    if (o.newton.predictor != predictor_kind::taylor)
+        throw std::invalid_argument("the predictor 'previous' is for the separable models (the "
+                                    "family stepper); this model runs the general engine: use "
+                                    "the predictor taylor");
+}
+
+/// The initial state of a general Lagrangian system: q0, and p0 or p = ∂L/∂q̇ at v0 (defaults
+/// from the model); refuses a singular mass matrix there.
+template <class Sys, int D>
+phase_state<D> general_start(const Sys& sys, const start& s, const vec<D>& q0, const vec<D>& v0) {
+    auto vector = [&](const std::vector<double>& given, const vec<D>& fallback) -> vec<D> {
+        if (given.empty()) return fallback;
+        return Eigen::Map<const vec<D>>(given.data(), q0.size());
+    };
+    const vec<D> q = vector(s.q0, q0);
+    const vec<D> v = vector(s.v0, v0);
+    sys.check_regular(q, v);
+    const vec<D> p = s.p0.empty() ? vec<D>(sys.momentum(q, v)) : vector(s.p0, v0);
+    sys.check_regular(q, sys.velocity(q, p));
+    return {q, p};
+}
+
+/// The problem of a state and period.
+template <int D>
+problem make_problem(const phase_state<D>& x, double period,
+                     std::function<std::unique_ptr<simulation>(const step_options&)> simulate) {
+    problem pr;
+    pr.q0.assign(x.q.data(), x.q.data() + x.q.size());
+    pr.p0.assign(x.p.data(), x.p.data() + x.p.size());
+    pr.period = period;
+    pr.simulate = std::move(simulate);
+    return pr;
+}
+
+} // namespace varsym::models::detail
