@@ -8,7 +8,8 @@
     X(kepler)                                                                                  \
     X(henon_heiles)                                                                            \
     X(double_pendulum)                                                                         \
-    X(heavy_top)
+    X(heavy_top)                                                                               \
+    X(cart_pole)
 
 namespace varsym::models {
 
