@@ -9,7 +9,8 @@
     X(henon_heiles)                                                                            \
     X(double_pendulum)                                                                         \
     X(heavy_top)                                                                               \
-    X(cart_pole)
+    X(cart_pole)                                                                               \
+    X(acrobot)
 
 namespace varsym::models {
 
