@@ -66,7 +66,7 @@ model cart_pole() {
         {.name = "pole_inertia", .value = l0.inertia, .unit = "kg m^2",
          .doc = "pole's moment of inertia I about its centre of mass", .lower = 0.0},
         {.name = "gravity", .value = l0.g, .unit = "m/s^2", .doc = "gravity g", .lower = 0.0},
-        {.name = "force", .value = 0.0, .unit = "N", .doc = "constant push u on the cart"}};
+        {.name = "push", .value = 0.0, .unit = "N", .doc = "constant horizontal push u on the cart"}};
     m.time = 5.0;
     m.steps = 5000;
     m.ensemble_time = 5.0;

