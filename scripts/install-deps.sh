@@ -16,6 +16,7 @@ packages=(
   libopenmpi-dev openmpi-bin # mpirun varsym ensemble (optional: the tool builds without)
   python3-dev pybind11-dev  # the Python package (make python)
   python3-numpy python3-pytest python3-sympy python3-matplotlib # its tests and examples
+  python3-tqdm                                                  # its progress bars
   python3-pip python3-setuptools python3-wheel python3-venv     # pip install . (docs/python.md)
 )
 packages+=("$@")            # more for one target: make fuzz adds clang and libclang-rt-14-dev

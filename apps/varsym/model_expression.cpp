@@ -1,6 +1,6 @@
 // apps/varsym/model_expression.cpp: `varsym run --lagrangian EXPR` (the model `lagrangian`): the
 // user's own Lagrangian, given as an expression, run by the general engine with its symbolic
-// derivatives; and expression_stepper, the same stepper for the Python package.
+// derivatives (the models layer's simulate_expression, shared with the Python package).
 #include <charconv>
 #include <memory>
 #include <numbers>
@@ -8,7 +8,8 @@
 
 #include "expression_run.hpp"
 #include "model_run.hpp"
-#include "varsym/schemes/variational.hpp"
+#include "registry_models.hpp"
+#include "varsym/models/expression.hpp"
 
 namespace varsym::cli {
 
@@ -72,94 +73,6 @@ std::vector<expression_parameter> parse_parameters(const std::string& list) {
         out.push_back({name, v});
     }
     return out;
-}
-
-struct expression_stepper::impl {
-    expression_system sys;
-    std::optional<expression_engine> plain;         ///< without a force
-    std::optional<forced_expression_engine> forced; ///< with one
-    phase_state<dynamic> x;
-    double t0, h;
-    std::size_t j = 0;
-    run_summary stats;
-
-    impl(const expression_lagrangian& l, const expression_force& f, double step,
-         const scheme_spec& spec, const newton_options& opt, phase_state<dynamic> x0, double t)
-        : sys(l), x(std::move(x0)), t0(t), h(step) {
-        if (f.zero())
-            plain.emplace(sys, h, spec, opt);
-        else
-            forced.emplace(sys, f, h, spec, opt);
-    }
-    void step() {
-        if (plain)
-            advance(*plain, x, t0, j + 1, stats);
-        else
-            advance(*forced, x, t0, j + 1, stats);
-        ++j;
-    }
-};
-
-expression_stepper::expression_stepper(const expression_lagrangian& l, const expression_force& f,
-                                       double h, const scheme_spec& spec, const newton_options& opt,
-                                       const vec<dynamic>& q0, const vec<dynamic>& p0, double t0)
-    : impl_(std::make_unique<impl>(l, f, h, spec, opt, phase_state<dynamic>{q0, p0}, t0)) {
-    if (f.dimension() != l.dimension())
-        throw std::invalid_argument("the force has " + std::to_string(f.dimension()) +
-                                    " components; the Lagrangian " + std::to_string(l.dimension()) +
-                                    " coordinates");
-    if (q0.size() != l.dimension() || p0.size() != l.dimension())
-        throw std::invalid_argument("q0 and p0 need " + std::to_string(l.dimension()) +
-                                    " entries each (one per coordinate)");
-    if (!(std::isfinite(h) && h > 0.0))
-        throw std::invalid_argument("the time step must be a finite positive number");
-}
-expression_stepper::~expression_stepper() = default;
-
-void expression_stepper::step(std::size_t n) {
-    for (std::size_t k = 0; k < n; ++k)
-        impl_->step();
-}
-
-void expression_stepper::run(std::size_t n, std::size_t every, bool record_start,
-                             std::vector<double>& t, std::vector<double>& q, std::vector<double>& p,
-                             std::vector<double>& energy) {
-    auto record = [&] {
-        t.push_back(time());
-        q.insert(q.end(), this->q().data(), this->q().data() + this->q().size());
-        p.insert(p.end(), this->p().data(), this->p().data() + this->p().size());
-        energy.push_back(this->energy());
-    };
-    if (record_start) record();
-    for (std::size_t k = 1; k <= n; ++k) {
-        step(1);
-        if ((every != 0 && k % every == 0) || k == n) record();
-    }
-}
-
-const vec<dynamic>& expression_stepper::q() const {
-    return impl_->x.q;
-}
-const vec<dynamic>& expression_stepper::p() const {
-    return impl_->x.p;
-}
-double expression_stepper::time() const {
-    return impl_->t0 + static_cast<double>(impl_->j) * impl_->h;
-}
-std::size_t expression_stepper::steps() const {
-    return impl_->j;
-}
-double expression_stepper::step_size() const {
-    return impl_->h;
-}
-double expression_stepper::energy() const {
-    return impl_->sys.energy(impl_->x, time());
-}
-double expression_stepper::work() const {
-    return impl_->forced ? impl_->forced->total_work() : 0.0;
-}
-double expression_stepper::mean_newton_iterations() const {
-    return impl_->stats.mean_newton_iterations();
 }
 
 model make_expression_model() {
@@ -236,25 +149,8 @@ model make_expression_model() {
         }
         const expression_force force = make_force(par->force, l);
         const run_plan plan = plan_steps(s, "lagrangian", 0.0, 0, 10.0, 10000);
-        const double e0 = sys->energy(x0, 0.0);
-        const forced_expression_engine* running = nullptr; // for the work column
-        stream_trajectory<dynamic>(
-            s, plan, x0, force.zero() ? ",energy" : ",energy,work,energy_balance",
-            [&](auto&& f) {
-                if (force.zero()) {
-                    expression_engine stepper(*sys, plan.h, s.spec, s.newton);
-                    return f(stepper);
-                }
-                forced_expression_engine stepper(*sys, force, plan.h, s.spec, s.newton);
-                running = &stepper;
-                return f(stepper);
-            },
-            [&](double t, const phase_state<dynamic>& x, std::string& line) {
-                const double e = sys->energy(x, t);
-                if (force.zero()) return append_values(line, {e});
-                const double w = running->total_work();
-                append_values(line, {e, w, e - e0 - w});
-            });
+        const auto sim = models::simulate_expression(l, force, x0, {s.spec, s.newton, plan.h});
+        stream_simulation(s, plan, *sim);
     };
     return m;
 }

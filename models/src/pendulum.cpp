@@ -18,7 +18,7 @@ model pendulum() {
         "  Conserved: energy. Exact solution: yes (q_exact, p_exact). Period: the nonlinear\n"
         "  period 4K(k^2)/omega (one revolution in rotation).";
     m.dim = 1;
-    m.coordinates = "the angle q";
+    m.coordinates = "q";
     m.parameters = {
         {.name = "mass", .value = 1.0, .unit = "kg m^2", .doc = "moment of inertia m",
          .lower = 0.0, .lower_open = true},

@@ -35,8 +35,8 @@ class simulation_of final : public simulation {
     static constexpr int D = S::dim;
 
   public:
-    simulation_of(S stepper, const phase_state<D>& x0, column_set<Fill> cols)
-        : s_(std::move(stepper)), r_(run_state<D>::start(x0)), cols_(std::move(cols)) {}
+    simulation_of(S stepper, const phase_state<D>& x0, column_set<Fill> cols, double t0 = 0.0)
+        : s_(std::move(stepper)), r_(run_state<D>::start(x0, t0)), cols_(std::move(cols)) {}
 
     [[nodiscard]] int dim() const override { return static_cast<int>(r_.x.q.size()); }
     [[nodiscard]] double step_size() const override { return s_.step_size(); }
@@ -183,8 +183,9 @@ std::unique_ptr<simulation> simulate_family(const System& sys, const phase_state
 /// `previous` predictor, which is the separable steppers' alone.
 template <class Stepper, int D, class Fill>
 std::unique_ptr<simulation> simulate_general(Stepper stepper, const phase_state<D>& x0,
-                                             column_set<Fill> cols) {
-    return std::make_unique<simulation_of<Stepper, Fill>>(std::move(stepper), x0, std::move(cols));
+                                             column_set<Fill> cols, double t0 = 0.0) {
+    return std::make_unique<simulation_of<Stepper, Fill>>(std::move(stepper), x0, std::move(cols),
+                                                          t0);
 }
 inline void check_general(const step_options& o) {
     if (o.newton.predictor != predictor_kind::taylor)

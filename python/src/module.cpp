@@ -1,7 +1,7 @@
 // python/src/module.cpp: varsym._core, the C++ side of the Python package. It holds no
-// integrator of its own: the tool's front end (every model, scheme and paper command, run
-// in-process) and the general engine compiled once for expression Lagrangians
-// (apps/varsym/expression_run.hpp) are linked in from the tool's object libraries.
+// integrator of its own: the models layer (varsym::models: the registry's models and typed
+// Lagrangians, bound in simulation.cpp) and the tool's front end (the models outside the
+// registry and the paper's commands, run in-process) are linked in.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -10,9 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "expression_run.hpp"
+#include "bindings.hpp"
 #include "front_end.hpp"
 #include "models.hpp"
+#include "varsym/systems/expression_lagrangian.hpp"
+#include "varsym/version.hpp"
 
 namespace py = pybind11;
 using namespace varsym;
@@ -38,38 +40,46 @@ void check_size(const std::vector<double>& x, int d, const char* what) {
                                     " entries (one per coordinate), got " +
                                     std::to_string(x.size()));
 }
-/// Throws std::invalid_argument("unknown WHAT 'VALUE': CHOICES") (built by append: GCC 12's
-/// -Wrestrict misfires on operator+ chains of std::string here).
-[[noreturn]] void unknown(const char* what, const std::string& value, const char* choices) {
-    std::string m("unknown ");
-    m.append(what).append(" '").append(value).append("': ").append(choices);
-    throw std::invalid_argument(m);
-}
-
-/// A rows × d array from values stored row by row.
-py::array_t<double> rows(const std::vector<double>& v, int d) {
-    const auto n = static_cast<py::ssize_t>(v.size()) / d;
-    py::array_t<double> a({n, static_cast<py::ssize_t>(d)});
-    std::copy(v.begin(), v.end(), a.mutable_data());
-    return a;
-}
+PyObject* step_error = nullptr; ///< varsym.errors.StepFailure
+PyObject* usage_error = nullptr; ///< varsym.errors.UsageError
 
 } // namespace
+
+void raise_step_failure(const step_failure& e, std::span<const double> q,
+                        std::span<const double> p, std::size_t rows) {
+    py::dict details;
+    details["step"] = e.step();
+    details["time"] = e.time();
+    details["cause"] = e.cause();
+    details["q"] = py::array_t<double>(static_cast<py::ssize_t>(q.size()), q.data());
+    details["p"] = py::array_t<double>(static_cast<py::ssize_t>(p.size()), p.data());
+    details["rows"] = rows;
+    PyErr_SetObject(step_error, py::make_tuple(e.what(), details).ptr());
+    throw py::error_already_set();
+}
 
 PYBIND11_MODULE(_core, m) {
     m.doc() = "varsym's compiled core; use the package varsym, not this module";
 
     // The Python classes of varsym.errors carry the C++ exceptions' details as attributes.
+    m.attr("__version__") = VARSYM_VERSION_STRING;
     py::module_ errors = py::module_::import("varsym.errors");
     static PyObject* expression_error = py::object(errors.attr("ExpressionError")).release().ptr();
-    static PyObject* step_error = py::object(errors.attr("StepFailure")).release().ptr();
+    step_error = py::object(errors.attr("StepFailure")).release().ptr();
+    usage_error = py::object(errors.attr("UsageError")).release().ptr();
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
         } catch (const expr::parse_error& e) {
             PyErr_SetObject(expression_error, py::make_tuple(e.what(), e.position()).ptr());
         } catch (const step_failure& e) {
-            PyErr_SetObject(step_error, py::make_tuple(e.what(), e.step(), e.time()).ptr());
+            py::dict details;
+            details["step"] = e.step();
+            details["time"] = e.time();
+            details["cause"] = e.cause();
+            PyErr_SetObject(step_error, py::make_tuple(e.what(), details).ptr());
+        } catch (const std::invalid_argument& e) { // bad input: the library's one-line message
+            PyErr_SetString(usage_error, e.what());
         }
     });
 
@@ -168,72 +178,5 @@ PYBIND11_MODULE(_core, m) {
             },
             py::arg("q"), py::arg("v"), py::arg("t") = 0.0);
 
-    py::class_<cli::expression_stepper>(m, "_Stepper")
-        .def(py::init([](const expression_lagrangian& l, const std::vector<std::string>& force,
-                         double h, const std::string& scheme, int degree,
-                         const std::vector<double>& q0, const std::vector<double>& p0, double t0,
-                         const std::string& iteration) {
-                 const auto kind = parse_scheme(scheme);
-                 if (!kind)
-                     throw std::invalid_argument("unknown scheme '" + scheme +
-                                                 "': newmark, simpson, lobatto or gauss");
-                 const scheme_spec spec =
-                     degree > 0 ? scheme_spec(*kind, degree) : scheme_spec(*kind);
-                 check_size(q0, l.dimension(), "q0");
-                 check_size(p0, l.dimension(), "p0");
-                 newton_options opt;
-                 if (iteration == "simplified")
-                     opt.iteration = iteration_kind::simplified;
-                 else if (iteration == "fixed-point")
-                     opt.iteration = iteration_kind::fixed_point;
-                 else if (iteration != "newton")
-                     unknown("iteration", iteration, "newton, simplified or fixed-point");
-                 const expression_force f =
-                     force.empty() ? expression_force(l.dimension())
-                                   : expression_force(force, l.coordinates(), l.parameters());
-                 return std::make_unique<cli::expression_stepper>(l, f, h, spec, opt, to_vec(q0),
-                                                                  to_vec(p0), t0);
-             }),
-             py::arg("lagrangian"), py::arg("force"), py::arg("h"), py::arg("scheme"),
-             py::arg("degree"), py::arg("q0"), py::arg("p0"), py::arg("t0"), py::arg("iteration"))
-        .def(
-            "step", [](cli::expression_stepper& s, std::size_t n) { s.step(n); }, py::arg("n") = 1,
-            py::call_guard<py::gil_scoped_release>())
-        .def(
-            "run",
-            [](cli::expression_stepper& s, std::size_t n, std::size_t every, bool start) {
-                std::vector<double> t, q, p, e;
-                const int d = static_cast<int>(s.q().size());
-                py::dict out;
-                auto fill = [&] {
-                    out["t"] = py::array_t<double>(static_cast<py::ssize_t>(t.size()), t.data());
-                    out["q"] = rows(q, d);
-                    out["p"] = rows(p, d);
-                    out["energy"] =
-                        py::array_t<double>(static_cast<py::ssize_t>(e.size()), e.data());
-                };
-                try {
-                    py::gil_scoped_release unlocked;
-                    s.run(n, every, start, t, q, p, e);
-                } catch (const step_failure& f) {
-                    fill(); // the rows before the failure, on the exception
-                    PyErr_SetObject(step_error,
-                                    py::make_tuple(f.what(), f.step(), f.time(), out).ptr());
-                    throw py::error_already_set();
-                }
-                fill();
-                return out;
-            },
-            py::arg("n"), py::arg("every"), py::arg("start"))
-        .def_property_readonly("q",
-                               [](const cli::expression_stepper& s) { return to_array(s.q()); })
-        .def_property_readonly("p",
-                               [](const cli::expression_stepper& s) { return to_array(s.p()); })
-        .def_property_readonly("t", &cli::expression_stepper::time)
-        .def_property_readonly("steps", &cli::expression_stepper::steps)
-        .def_property_readonly("h", &cli::expression_stepper::step_size)
-        .def_property_readonly("energy", &cli::expression_stepper::energy)
-        .def_property_readonly("work", &cli::expression_stepper::work)
-        .def_property_readonly("mean_newton_iterations",
-                               &cli::expression_stepper::mean_newton_iterations);
+    bind_simulation(m);
 }

@@ -1,18 +1,25 @@
 """varsym: variational symplectic integrators for Lagrangian mechanics (Python interface).
 
     >>> import varsym
-    >>> tr = varsym.run("kepler", scheme="gauss", degree=4, steps_per_period=200, periods=10)
-    >>> tr.q.shape, tr.energy.max() - tr.energy.min()
+    >>> tr = varsym.simulate("kepler", eccentricity=0.6, scheme="gauss", degree=4, t_span=62.8,
+    ...                      steps=2000)
+    >>> tr.q.shape, abs(tr.q - tr.q_exact).max()
 
-Built-in models and schemes (``run``, ``models``), the paper's Table 1 and figures (``table1``,
-``figure_data``), and your own system from an expression (``Lagrangian``, ``Stepper``, or
-``run(lagrangian=...)``), computed by the compiled C++ library. Errors are varsym.Error
-subclasses carrying the command-line tool's one-line messages.
+``simulate`` integrates a built-in model (``models()``; ``Model`` sets its parameters) or your
+own Lagrangian (``Lagrangian``) and returns a ``Trajectory``; ``Stepper`` steps one, with its
+tangent map and Poincaré sections; ``Model.ensemble`` runs many initial states on every core.
+The paper's Table 1 and figures: ``table1``, ``figure_data``. Everything is computed by the
+compiled C++ library, in-process. Errors are varsym.Error subclasses carrying the tool's
+one-line messages; Ctrl-C raises varsym.Interrupted (a KeyboardInterrupt) with the rows so far.
 """
 
-from .errors import EnergyError, Error, ExpressionError, StepFailure, UsageError
-from ._lagrangian import Lagrangian, Stepper
-from ._run import Trajectory, call, figure_data, models, run, table1
+from ._core import __version__
+from .errors import EnergyError, Error, ExpressionError, Interrupted, StepFailure, UsageError
+from ._lagrangian import Lagrangian
+from ._trajectory import Trajectory
+from ._simulate import Model, Stepper, simulate
+from ._run import Table, call, figure_data, models, run, table1
 
-__all__ = ["run", "table1", "figure_data", "models", "call", "Trajectory", "Lagrangian",
-           "Stepper", "Error", "UsageError", "ExpressionError", "StepFailure", "EnergyError"]
+__all__ = ["simulate", "Model", "Stepper", "Trajectory", "Lagrangian", "run", "table1",
+           "figure_data", "models", "call", "Table", "Error", "UsageError", "ExpressionError",
+           "StepFailure", "EnergyError", "Interrupted", "__version__"]

@@ -1,5 +1,5 @@
 """Your own system: a Lagrangian from an expression (a string or a SymPy expression), compiled
-once into C++ code with exact symbolic derivatives, and a stepper of the general engine for it."""
+once into C++ code with exact symbolic derivatives (varsym.Stepper and varsym.simulate step it)."""
 
 import numpy as np
 
@@ -94,54 +94,3 @@ class Lagrangian:
     def __repr__(self):
         return (f"varsym.Lagrangian({self.expression!r}, {self.coordinates!r}, "
                 f"{self.parameters!r})")
-
-
-class Stepper:
-    """A stepper of the general engine (any member of the family) for a Lagrangian, with its
-    state: ``step(n)`` advances, ``q``, ``p``, ``t``, ``energy`` read the state, ``run(steps,
-    every)`` records a trajectory. Start from q0 with v0 (default 0) or p0.
-
-    scheme: "simpson" (default, the paper's), "newmark", "lobatto" or "gauss" with ``degree``
-    (order 2·degree). ``force``: a generalized force, one expression (string or SymPy) per
-    coordinate over the Lagrangian's names, e.g. ``["-c*th_dot"]`` for damping (``work`` then
-    gives the forces' work, so that E − E0 − work is the scheme's energy balance error).
-    ``iteration``: "newton" (default), "simplified" or "fixed-point" (docs/library.md).
-    Raises StepFailure (``step``, ``time``) when Newton does not converge, leaving the state at
-    the last good step."""
-
-    def __init__(self, lagrangian, h, scheme="simpson", degree=None, q0=None, v0=None, p0=None,
-                 t0=0.0, force=None, iteration="newton"):
-        if not isinstance(lagrangian, Lagrangian):
-            lagrangian = Lagrangian(lagrangian)
-        self.lagrangian = lagrangian
-        d = lagrangian.dimension
-        q0 = np.zeros(d) if q0 is None else np.atleast_1d(np.asarray(q0, dtype=float))
-        if p0 is not None and v0 is not None:
-            raise UsageError("give v0 or p0, not both")
-        if p0 is None:
-            v0 = np.zeros(d) if v0 is None else np.atleast_1d(np.asarray(v0, dtype=float))
-            lagrangian._core.check_regular(q0, v0, t0)
-            p0 = lagrangian.momentum(q0, v0, t0)
-        force = [_expression_text(f) for f in (force or [])]
-        self._core = _core._Stepper(lagrangian._core, force, float(h), scheme, degree or 0, q0,
-                                    np.atleast_1d(np.asarray(p0, dtype=float)), float(t0),
-                                    iteration)
-
-    def step(self, n=1):
-        """Takes n steps; returns self."""
-        self._core.step(n)
-        return self
-
-    def run(self, steps, every=1):
-        """Takes ``steps`` steps and returns the rows (the current state first, then every
-        ``every`` steps and the last) as a dict of arrays: t, q and p (rows × d), energy."""
-        return self._core.run(steps, every, True)
-
-    q = property(lambda self: self._core.q, doc="the coordinates q_j")
-    p = property(lambda self: self._core.p, doc="the momenta p_j")
-    t = property(lambda self: self._core.t, doc="the time t_j")
-    h = property(lambda self: self._core.h, doc="the time step")
-    steps = property(lambda self: self._core.steps, doc="steps taken")
-    energy = property(lambda self: self._core.energy, doc="E = q̇ᵀp − L at (q_j, p_j, t_j)")
-    work = property(lambda self: self._core.work, doc="the forces' work since the start")
-    mean_newton_iterations = property(lambda self: self._core.mean_newton_iterations)

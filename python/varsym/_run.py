@@ -7,6 +7,8 @@ import tempfile
 import numpy as np
 
 from . import _core
+from ._simulate import _REGISTRY, Model, _keyword_error, simulate
+from ._trajectory import Trajectory
 from .errors import EnergyError, Error, StepFailure, UsageError
 
 _ERRORS = {2: UsageError, 3: StepFailure, 4: EnergyError}
@@ -48,39 +50,43 @@ def _read_csv(path):
     return {name: data[:, k] for k, name in enumerate(header)}
 
 
-class Trajectory:
-    """The rows of a run. ``t``, ``step`` and ``energy`` are 1-D arrays; ``q`` and ``p`` are
-    (rows, d) arrays, also for d = 1; ``q_exact`` and ``p_exact`` likewise where the model has an
-    exact solution (else None). Every CSV column of the tool is in ``columns`` (by its name, e.g.
-    ``angular_momentum``, ``p_phi``) and ``trajectory["name"]``."""
+def _trajectory(path):
+    return Trajectory.from_csv_columns(_read_csv(path))
 
-    def __init__(self, columns):
-        self.columns = columns
-        self.t = columns["t"]
-        self.step = columns["step"].astype(np.int64)
-        self.energy = columns.get("energy")
-        self.q = self._stack("q")
-        self.p = self._stack("p")
-        self.q_exact = self._stack("q", "_exact")
-        self.p_exact = self._stack("p", "_exact")
 
-    def _stack(self, name, suffix=""):
-        if name + suffix in self.columns:
-            return self.columns[name + suffix][:, None]
-        parts = []
-        while f"{name}_{len(parts) + 1}{suffix}" in self.columns:
-            parts.append(self.columns[f"{name}_{len(parts) + 1}{suffix}"])
-        return np.column_stack(parts) if parts else None
+# The options of varsym.run that a model of the models layer takes in-process (varsym.simulate);
+# the others run the command line in-process, through a temporary CSV file.
+_IN_PROCESS = {"scheme", "degree", "steps_per_period", "periods", "time", "steps", "every", "q0",
+               "p0", "v0", "iteration"}
+_TOOL_ONLY = {"newton_tol", "newton_max_iter", "predictor", "max_energy_error", "stats",
+              "checkpoint_every", "checkpoint_seconds"}
 
-    def __getitem__(self, name):
-        return self.columns[name]
 
-    def __len__(self):
-        return len(self.t)
-
-    def __repr__(self):
-        d = self.q.shape[1] if self.q is not None else 0
-        return f"<varsym.Trajectory: {len(self)} rows, d = {d}, columns {', '.join(self.columns)}>"
+def _run_in_process(model, options):
+    names = {p["name"] for p in _REGISTRY[model]["parameters"]}
+    parameters = {k: v for k, v in options.items() if k in names}
+    rest = {k: v for k, v in options.items() if k not in names}
+    m = Model(model, **parameters)
+    if "time" in rest or "steps" in rest:
+        if "steps_per_period" in rest or "periods" in rest:
+            raise UsageError("give --time and --steps, or --steps-per-period and --periods")
+        t_span, steps = rest.pop("time", None), rest.pop("steps", None)
+        if (t_span is None) != (steps is None):
+            raise UsageError("--time and --steps go together")
+    else:
+        problem = m.problem(rest.get("q0"), rest.get("p0"), rest.get("v0"))
+        spp = rest.pop("steps_per_period", None) or m.info["steps_per_period"]
+        periods = float(rest.pop("periods", 1.0))
+        if problem.period <= 0:
+            if m.info["steps_per_period"] > 0:
+                raise UsageError(f"{model}: {problem.no_period}")
+            t_span, steps = m.info["time"], m.info["steps"]
+        else:
+            steps = spp * periods
+            if abs(steps - round(steps)) > 1e-9 * steps:
+                raise UsageError("--periods times --steps-per-period is not a whole number")
+            t_span, steps = problem.period * periods, round(steps)
+    return simulate(m, t_span=t_span, steps=steps, **rest)
 
 
 def run(model=None, **options):
@@ -112,6 +118,13 @@ def run(model=None, **options):
         from ._lagrangian import _expression_text  # noqa: PLC0415
 
         options["force"] = [_expression_text(f) for f in options["force"]]
+    if model in _REGISTRY:
+        names = {p["name"] for p in _REGISTRY[model]["parameters"]}
+        for key in options:
+            if key not in _IN_PROCESS | names | _TOOL_ONLY:
+                raise _keyword_error("run", key, sorted(_IN_PROCESS | names | _TOOL_ONLY))
+        if set(options) <= _IN_PROCESS | names:
+            return _run_in_process(model, options)
     args = ["run"] + (["--model", model] if model is not None else [])
     for key, value in options.items():
         args += _option(key, value)
@@ -121,23 +134,43 @@ def run(model=None, **options):
             call(args + ["--output", out])
         except (StepFailure, EnergyError) as e:
             if os.path.exists(out + ".part"):  # the rows before the failure
-                e.partial = Trajectory(_read_csv(out + ".part"))
+                e.partial = _trajectory(out + ".part")
                 e.args = (str(e).replace(out + ".part", "the exception's .partial"),)
             raise
-        return Trajectory(_read_csv(out))
+        return _trajectory(out)
+
+
+class Table(np.ndarray):
+    """A NumPy structured array that prints as a table (varsym.table1)."""
+
+    def __new__(cls, array):
+        return np.asarray(array).view(cls)
+
+    def __repr__(self):
+        if self.dtype.names is None or self.ndim != 1:
+            return np.ndarray.__repr__(self.view(np.ndarray))
+        names = self.dtype.names
+        cells = [[f"{v:.3e}" if isinstance(v, (float, np.floating)) else str(v) for v in row]
+                 for row in self.tolist()]
+        widths = [max([len(n)] + [len(r[k]) for r in cells]) for k, n in enumerate(names)]
+        line = lambda r: "  ".join(c.rjust(w) for c, w in zip(r, widths))  # noqa: E731
+        return "\n".join([line(names)] + [line(r) for r in cells])
+
+    __str__ = __repr__
 
 
 def table1(h=None, periods=None):
     """The paper's Table 1 (Newmark and Simpson on the pendulum: errors and observed orders) as
-    a NumPy structured array, one row per step size, its fields named as the tool's CSV
-    columns (``varsym paper table1 --format csv``)."""
+    a NumPy structured array that prints as a table, one row per step size, its fields named as
+    the tool's CSV columns (``varsym paper table1 --format csv``)."""
     args = ["paper", "table1", "--format", "csv"]
     if periods is not None:
         args += ["--periods", _text(periods)]
     with tempfile.TemporaryDirectory(prefix="varsym-") as tmp:
         out = os.path.join(tmp, "table1.csv")
         call(args + ["--output", out])
-        return np.genfromtxt(out, delimiter=",", names=True, dtype=None, encoding="ascii")
+        return Table(np.genfromtxt(out, delimiter=",", names=True, dtype=None,
+                                   encoding="ascii"))
 
 
 def figure_data(number, **options):

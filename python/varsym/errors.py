@@ -22,14 +22,34 @@ class ExpressionError(Error, ValueError):
 class StepFailure(Error, RuntimeError):
     """A step's Newton iteration did not converge (tool exit code 3).
 
-    ``step`` and ``time`` say where; ``partial`` holds the rows computed before it: a
-    Trajectory from varsym.run, the dict of arrays Stepper.run returns from Stepper.run."""
+    ``step`` (the index of the step that failed) and ``time`` (the time it started from) say
+    where; ``cause`` names a cause where one was found (NaN from the Lagrangian or a force, a
+    singular mass matrix; empty when the step was merely too large); ``q`` and ``p`` are the
+    last good state (where the stepper reported it); ``partial`` holds the rows computed before
+    the failure, a Trajectory."""
 
-    def __init__(self, message, step=None, time=None, partial=None):
+    def __init__(self, message, details=None, partial=None):
         super().__init__(message)
-        self.step = step
-        self.time = time
+        details = details if isinstance(details, dict) else {}
+        self.step = details.get("step")
+        self.time = details.get("time")
+        self.cause = details.get("cause", "")
+        self.q = details.get("q")
+        self.p = details.get("p")
+        self.rows = details.get("rows")
         self.partial = partial
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C (SIGINT) stopped a long call within 0.2 s. ``partial`` holds the rows computed
+    before it (a Trajectory), and ``stepper`` the stepper, at the last step taken: continue it
+    with ``stepper.run(...)``. A subclass of KeyboardInterrupt, so that an unhandled one ends a
+    script as Ctrl-C always does."""
+
+    def __init__(self, message="interrupted", partial=None, stepper=None):
+        super().__init__(message)
+        self.partial = partial
+        self.stepper = stepper
 
 
 class EnergyError(Error, RuntimeError):

@@ -1,0 +1,28 @@
+// varsym/models/expression.hpp: simulations of Lagrangians typed as expressions (a user's
+// L(q, q̇, t) and generalized force, varsym/systems/expression_lagrangian.hpp), by the general
+// engine compiled once in the models layer: no compiler is needed to run a new system.
+#pragma once
+
+#include <memory>
+
+#include "varsym/models/simulation.hpp"
+#include "varsym/systems/expression_force.hpp"
+#include "varsym/systems/expression_lagrangian.hpp"
+
+namespace varsym::models {
+
+/// A simulation of L with force f (a zero force takes the unforced engine, about 20 % faster)
+/// from x0 at time t0. Its columns: energy E(t) = q̇ᵀp − L, and with a force work (W since the
+/// start) and energy_balance (E − E0 − W). Throws std::invalid_argument for a force of another
+/// dimension, a state of another size, or a step size that is not positive and finite.
+std::unique_ptr<simulation> simulate_expression(const expression_lagrangian& l,
+                                                const expression_force& f,
+                                                const phase_state<dynamic>& x0,
+                                                const step_options& o, double t0 = 0.0);
+
+/// The initial momenta p = ∂L/∂q̇ at (q, v, t), refusing a singular mass matrix ∂²L/∂q̇² there
+/// (std::invalid_argument).
+vec<dynamic> expression_momentum(const expression_lagrangian& l, const vec<dynamic>& q,
+                                 const vec<dynamic>& v, double t = 0.0);
+
+} // namespace varsym::models

@@ -1,0 +1,17 @@
+// python/src/bindings.hpp: what the translation units of varsym._core share.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+#include <cstddef>
+#include <span>
+
+#include "varsym/integrate.hpp"
+
+/// The models layer's registry, problems and simulations (simulation.cpp).
+void bind_simulation(pybind11::module_& m);
+
+/// Raises varsym.StepFailure for e: its message, step, time and cause, the last good state
+/// (q, p) and the number of rows recorded before it (module.cpp). Needs the GIL.
+[[noreturn]] void raise_step_failure(const varsym::step_failure& e, std::span<const double> q,
+                                     std::span<const double> p, std::size_t rows);

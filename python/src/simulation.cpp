@@ -1,0 +1,321 @@
+// python/src/simulation.cpp: the models layer in Python: the registry's data, problems, and
+// simulations (varsym/models/simulation.hpp) bound directly, with a recording loop that fills
+// NumPy arrays allocated once by the caller, releases the GIL while it steps, and looks at
+// signals and the progress callback every 50 ms.
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <chrono>
+#include <optional>
+#include <thread>
+
+#include "bindings.hpp"
+#include "varsym/models/expression.hpp"
+#include "varsym/models/model.hpp"
+#include "varsym/run/ensemble.hpp"
+
+namespace py = pybind11;
+using namespace varsym;
+
+namespace {
+
+scheme_spec spec_of(const std::string& scheme, int degree) {
+    const auto kind = parse_scheme(scheme);
+    if (!kind)
+        throw std::invalid_argument("unknown scheme '" + scheme +
+                                    "': newmark, simpson, lobatto or gauss");
+    return degree > 0 ? scheme_spec(*kind, degree) : scheme_spec(*kind);
+}
+
+newton_options newton_of(const std::string& iteration) {
+    newton_options opt;
+    if (iteration == "simplified")
+        opt.iteration = iteration_kind::simplified;
+    else if (iteration == "fixed-point")
+        opt.iteration = iteration_kind::fixed_point;
+    else if (iteration == "newton")
+        opt.iteration = iteration_kind::newton;
+    else if (iteration != "automatic")
+        throw std::invalid_argument("unknown iteration '" + iteration +
+                                    "': automatic, newton, simplified or fixed-point");
+    return opt;
+}
+
+py::array_t<double> array_of(std::span<const double> v) {
+    return py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
+}
+
+/// What record() did: the rows written, and whether SIGINT's handler raised KeyboardInterrupt
+/// (then cleared, for the caller to raise varsym.Interrupted with the rows).
+struct recorded {
+    std::size_t rows = 0;
+    bool interrupted = false;
+};
+
+/// Steps sim to step `last`, writing rows (t, q, p, the model's columns) into the arrays from
+/// row `row` on: every `every` steps and at `last`. Every 50 ms it takes the GIL to run the
+/// signal handlers and call progress(step). A failed step raises StepFailure carrying the step,
+/// the time, the cause, the last good state and the rows written.
+recorded record(models::simulation& sim, std::size_t last, std::size_t every,
+                py::array_t<double> t, py::array_t<double> q, py::array_t<double> p,
+                py::array_t<double> columns, std::size_t row, const py::object& progress) {
+    const auto d = static_cast<std::size_t>(sim.dim());
+    const std::size_t ncol = sim.columns().size();
+    auto tw = t.mutable_unchecked<1>();
+    auto qw = q.mutable_unchecked<2>();
+    auto pw = p.mutable_unchecked<2>();
+    auto cw = columns.mutable_unchecked<2>();
+    const auto capacity = static_cast<std::size_t>(tw.shape(0));
+    if (static_cast<std::size_t>(qw.shape(1)) != d || static_cast<std::size_t>(cw.shape(1)) != ncol)
+        throw std::invalid_argument("record: arrays of the wrong width");
+    std::vector<double> values(ncol);
+    recorded out{row, false};
+    auto write = [&] {
+        if (out.rows >= capacity) throw std::invalid_argument("record: the arrays are full");
+        const auto r = static_cast<py::ssize_t>(out.rows);
+        tw(r) = sim.time();
+        for (std::size_t i = 0; i < d; ++i) {
+            qw(r, static_cast<py::ssize_t>(i)) = sim.q()[i];
+            pw(r, static_cast<py::ssize_t>(i)) = sim.p()[i];
+        }
+        sim.values(values);
+        for (std::size_t k = 0; k < ncol; ++k)
+            cw(r, static_cast<py::ssize_t>(k)) = values[k];
+        ++out.rows;
+    };
+    using clock = std::chrono::steady_clock;
+    auto next = clock::now() + std::chrono::milliseconds(50);
+    std::optional<py::error_already_set> raised; // by a signal handler or the callback
+    {
+        py::gil_scoped_release unlocked;
+        try {
+            sim.advance(last, [&] {
+                const std::size_t j = sim.step();
+                if ((every != 0 && j % every == 0) || j == last) write();
+                if ((j & 63U) != 0 || clock::now() < next) return false;
+                next = clock::now() + std::chrono::milliseconds(50);
+                py::gil_scoped_acquire locked;
+                try {
+                    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+                    if (!progress.is_none()) progress(j);
+                } catch (py::error_already_set& e) {
+                    raised.emplace(std::move(e));
+                    return true;
+                }
+                return false;
+            });
+        } catch (const step_failure& e) {
+            py::gil_scoped_acquire locked;
+            raise_step_failure(e, sim.q(), sim.p(), out.rows);
+        }
+    }
+    if (raised) {
+        if (!raised->matches(PyExc_KeyboardInterrupt)) throw std::move(*raised);
+        out.interrupted = true; // the caller raises varsym.Interrupted with the rows
+    }
+    return out;
+}
+
+} // namespace
+
+void bind_simulation(py::module_& m) {
+    py::class_<models::simulation>(m, "_Simulation")
+        .def_property_readonly("dim", &models::simulation::dim)
+        .def_property_readonly("h", &models::simulation::step_size)
+        .def_property_readonly("step", &models::simulation::step)
+        .def_property_readonly("t", &models::simulation::time)
+        .def_property_readonly("q", [](const models::simulation& s) { return array_of(s.q()); })
+        .def_property_readonly("p", [](const models::simulation& s) { return array_of(s.p()); })
+        .def_property_readonly("columns", &models::simulation::columns)
+        .def_property_readonly("values",
+                               [](const models::simulation& s) {
+                                   std::vector<double> v(s.columns().size());
+                                   s.values(v);
+                                   return v;
+                               })
+        .def_property_readonly("watched_energy", &models::simulation::watched_energy)
+        .def_property_readonly("conserves_energy", &models::simulation::conserves_energy)
+        .def_property_readonly("mean_newton_iterations",
+                               [](const models::simulation& s) {
+                                   return s.stats().mean_newton_iterations();
+                               })
+        .def(
+            "record",
+            [](models::simulation& s, std::size_t last, std::size_t every, py::array_t<double> t,
+               py::array_t<double> q, py::array_t<double> p, py::array_t<double> columns,
+               std::size_t row, const py::object& progress) {
+                const recorded r = record(s, last, every, t, q, p, columns, row, progress);
+                return py::make_tuple(r.rows, r.interrupted);
+            },
+            py::arg("last"), py::arg("every"), py::arg("t"), py::arg("q"),
+             py::arg("p"), py::arg("columns"), py::arg("row"), py::arg("progress"))
+        .def("tangent_map",
+             [](models::simulation& s) {
+                 Eigen::MatrixXd j;
+                 s.tangent_map(j);
+                 py::array_t<double> a({j.rows(), j.cols()});
+                 for (Eigen::Index r = 0; r < j.rows(); ++r)
+                     for (Eigen::Index c = 0; c < j.cols(); ++c)
+                         a.mutable_at(r, c) = j(r, c);
+                 return a;
+             })
+        .def("has_dense_output", &models::simulation::has_dense_output)
+        .def(
+            "section",
+            [](models::simulation& s, bool momentum, int index, double value, int direction,
+               long long steps, long long crossings) {
+                const section_plane plane{momentum, index, value, direction};
+                models::section_result r;
+                {
+                    py::gil_scoped_release unlocked;
+                    r = s.section(plane, steps, crossings);
+                }
+                const auto w = static_cast<py::ssize_t>(2 * s.dim());
+                py::array_t<double> states({static_cast<py::ssize_t>(r.time.size()), w});
+                std::copy(r.states.begin(), r.states.end(), states.mutable_data());
+                return py::make_tuple(array_of(r.time), states, r.failed);
+            },
+            py::arg("momentum"), py::arg("index"), py::arg("value"), py::arg("direction"),
+            py::arg("steps"), py::arg("crossings"));
+
+    py::class_<models::problem>(m, "_Problem")
+        .def_property_readonly("q0", [](const models::problem& p) { return p.q0; })
+        .def_property_readonly("p0", [](const models::problem& p) { return p.p0; })
+        .def_property_readonly("period", [](const models::problem& p) { return p.period; })
+        .def_property_readonly("no_period", [](const models::problem& p) { return p.no_period; })
+        .def(
+            "simulate",
+            [](const models::problem& p, double h, const std::string& scheme, int degree,
+               const std::string& iteration) {
+                return p.simulate({spec_of(scheme, degree), newton_of(iteration), h});
+            },
+            py::arg("h"), py::arg("scheme"), py::arg("degree"), py::arg("iteration"));
+
+    m.def("registry", [] {
+        py::list out;
+        for (const models::model& mod : models::registry()) {
+            py::list parameters;
+            for (const auto& p : mod.parameters)
+                parameters.append(py::dict(py::arg("name") = p.name, py::arg("default") = p.value,
+                                           py::arg("unit") = p.unit, py::arg("doc") = p.doc,
+                                           py::arg("range") = p.range(),
+                                           py::arg("nan_means") = p.nan_means));
+            out.append(py::dict(
+                py::arg("name") = mod.name, py::arg("summary") = mod.summary,
+                py::arg("description") = mod.description, py::arg("dim") = mod.dim,
+                py::arg("coordinates") = mod.coordinates, py::arg("parameters") = parameters,
+                py::arg("q0") = mod.q0, py::arg("p0") = mod.p0,
+                py::arg("fixed_start") = mod.fixed_start, py::arg("velocities") = mod.velocities,
+                py::arg("steps_per_period") = mod.steps_per_period, py::arg("time") = mod.time,
+                py::arg("steps") = mod.steps, py::arg("ensemble_time") = mod.ensemble_time,
+                py::arg("ensemble_steps") = mod.ensemble_steps));
+        }
+        return out;
+    });
+    m.def(
+        "prepare",
+        [](const std::string& name, const std::vector<double>& values,
+           const std::vector<double>& q0, const std::vector<double>& p0,
+           const std::vector<double>& v0) {
+            return models::get(name).prepare(values, {q0, p0, v0});
+        },
+        py::arg("name"), py::arg("values"), py::arg("q0"), py::arg("p0"), py::arg("v0"));
+    m.def(
+        "simulate_expression",
+        [](const expression_lagrangian& l, const std::vector<std::string>& force,
+           const std::vector<double>& q0, const std::vector<double>& p0, double t0, double h,
+           const std::string& scheme, int degree, const std::string& iteration) {
+            const expression_force f = force.empty()
+                                           ? expression_force(l.dimension())
+                                           : expression_force(force, l.coordinates(),
+                                                              l.parameters());
+            const auto map = [](const std::vector<double>& v) {
+                return vec<dynamic>(Eigen::Map<const vec<dynamic>>(v.data(), std::ssize(v)));
+            };
+            return models::simulate_expression(l, f, {map(q0), map(p0)},
+                                               {spec_of(scheme, degree), newton_of(iteration), h},
+                                               t0);
+        },
+        py::arg("lagrangian"), py::arg("force"), py::arg("q0"), py::arg("p0"), py::arg("t0"),
+        py::arg("h"), py::arg("scheme"), py::arg("degree"), py::arg("iteration"));
+    m.def(
+        "ensemble",
+        [](const std::string& name, py::array_t<double, py::array::c_style> values,
+           py::array_t<double, py::array::c_style> q0, py::array_t<double, py::array::c_style> p0,
+           double h, long long steps, const std::string& scheme, int degree, bool indicators,
+           unsigned threads) {
+            const models::model& mod = models::get(name);
+            const auto n = static_cast<std::size_t>(values.shape(0));
+            const auto np = mod.parameters.size(), d = static_cast<std::size_t>(mod.dim);
+            const bool start = q0.size() > 0;
+            if (static_cast<std::size_t>(values.shape(1)) != np ||
+                (start && (static_cast<std::size_t>(q0.shape(0)) != n ||
+                           static_cast<std::size_t>(q0.shape(1)) != d ||
+                           q0.size() != p0.size())))
+                throw std::invalid_argument("ensemble: arrays of the wrong shape");
+            const models::step_options opt{spec_of(scheme, degree), {}, h};
+            member_plan plan;
+            plan.steps = steps;
+            plan.indicators = indicators;
+            std::vector<member_result> results(n);
+            std::vector<std::string> invalid(n);
+            const double* v = values.data();
+            const double* qa = q0.data();
+            const double* pa = p0.data();
+            {
+                py::gil_scoped_release unlocked;
+                for_each_member(n, threads, [&](std::size_t k) {
+                    try {
+                        models::start st;
+                        if (start) {
+                            st.q0.assign(qa + k * d, qa + (k + 1) * d);
+                            st.p0.assign(pa + k * d, pa + (k + 1) * d);
+                        }
+                        const auto sim =
+                            mod.prepare(std::span<const double>(v + k * np, np), st).simulate(opt);
+                        results[k] = sim->run_member(plan, nullptr);
+                    } catch (const std::invalid_argument& e) {
+                        invalid[k] = e.what();
+                    }
+                });
+            }
+            py::array_t<double> q({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(d)});
+            py::array_t<double> p({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(d)});
+            py::array_t<double> t(static_cast<py::ssize_t>(n)), lyapunov(t.size()),
+                megno(t.size()), energy(t.size());
+            std::vector<std::string> status(n), cause(n);
+            for (std::size_t k = 0; k < n; ++k) {
+                const member_result& r = results[k];
+                const bool bad = !invalid[k].empty();
+                status[k] = bad ? "invalid"
+                            : r.status == member_result::outcome::failed ? "failed"
+                            : r.status == member_result::outcome::event  ? "event"
+                                                                          : "completed";
+                cause[k] = bad ? invalid[k] : r.cause;
+                const double nan = std::numeric_limits<double>::quiet_NaN();
+                for (std::size_t i = 0; i < d; ++i) {
+                    q.mutable_at(k, i) = bad ? nan : r.q[i];
+                    p.mutable_at(k, i) = bad ? nan : r.p[i];
+                }
+                t.mutable_at(k) = bad ? nan : r.time;
+                lyapunov.mutable_at(k) = bad ? nan : r.lyapunov;
+                megno.mutable_at(k) = bad ? nan : r.mean_megno;
+                energy.mutable_at(k) = bad ? nan : r.max_energy_error;
+            }
+            py::dict out;
+            out["status"] = status;
+            out["t"] = t;
+            out["q"] = q;
+            out["p"] = p;
+            out["lyapunov"] = lyapunov;
+            out["mean_megno"] = megno;
+            out["max_energy_error"] = energy;
+            out["cause"] = cause;
+            return out;
+        },
+        py::arg("name"), py::arg("values"), py::arg("q0"), py::arg("p0"), py::arg("h"),
+        py::arg("steps"), py::arg("scheme"), py::arg("degree"), py::arg("indicators"),
+        py::arg("threads"));
+}

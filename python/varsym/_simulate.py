@@ -1,0 +1,364 @@
+"""varsym.simulate, Model and Stepper: the models layer's simulations bound directly (no command
+line, no temporary file). A run's rows go straight from the C++ loop into NumPy arrays allocated
+once; Ctrl-C stops it within 0.2 s keeping them (varsym.Interrupted); ``progress=True`` shows a
+tqdm bar."""
+
+import difflib
+import math
+import sys
+
+import numpy as np
+
+from . import _core
+from ._lagrangian import Lagrangian, _expression_text
+from ._trajectory import Trajectory
+from .errors import Interrupted, StepFailure, UsageError
+
+_REGISTRY = {m["name"]: m for m in _core.registry()}
+
+
+def _keyword_error(function, key, valid):
+    near = difflib.get_close_matches(key, valid, n=3, cutoff=0.6)
+    hint = f"; did you mean {' or '.join(repr(n) for n in near)}?" if near else ""
+    return TypeError(f"{function}() got an unexpected keyword argument {key!r}{hint} "
+                     f"(valid: {', '.join(sorted(valid))})")
+
+
+def _vector(value, d, name):
+    if value is None:
+        return []
+    v = np.atleast_1d(np.asarray(value, dtype=float)).ravel()
+    if len(v) != d:
+        raise UsageError(f"{name} needs {d} value{'s' if d != 1 else ''}, got {len(v)}")
+    return v.tolist()
+
+
+class Model:
+    """A built-in model with its parameters set, e.g. ``Model("kepler", eccentricity=0.6)``.
+    ``varsym.models()`` lists the models; ``Model(name).parameters`` holds every parameter's
+    value, and ``info`` its defaults, units, meaning and range. A parameter that is not the
+    model's raises TypeError naming the closest ones."""
+
+    def __init__(self, name, **parameters):
+        if isinstance(name, Model):
+            parameters = {**name.parameters, **parameters}
+            name = name.name
+        if name not in _REGISTRY:
+            near = difflib.get_close_matches(str(name), list(_REGISTRY), n=1)
+            hint = f"; did you mean {near[0]!r}?" if near else ""
+            raise UsageError(f"no model {name!r}{hint} The models: {', '.join(_REGISTRY)}")
+        self.name = name
+        self.info = _REGISTRY[name]
+        names = [p["name"] for p in self.info["parameters"]]
+        for key in parameters:
+            if key not in names:
+                raise _keyword_error(f"Model({name!r})", key, names)
+        self.parameters = {p["name"]: float(parameters.get(p["name"], p["default"]))
+                           for p in self.info["parameters"]}
+        self.coordinates = [c.strip() for c in self.info["coordinates"].split(",")]
+        self.dim = self.info["dim"]
+
+    def problem(self, q0=None, p0=None, v0=None):
+        """The model at its parameters from (q0, p0 or v0; each default: the model's): its
+        complete initial state (``q0``, ``p0``) and ``period`` (0 where it has none)."""
+        d = self.dim
+        return _core.prepare(self.name, list(self.parameters.values()), _vector(q0, d, "q0"),
+                             _vector(p0, d, "p0"), _vector(v0, d, "v0"))
+
+    def stepper(self, h, scheme="simpson", degree=None, q0=None, p0=None, v0=None,
+                iteration="automatic"):
+        """A Stepper of this model with step h from (q0, p0 or v0)."""
+        return Stepper(self, h, scheme=scheme, degree=degree, q0=q0, p0=p0, v0=v0,
+                       iteration=iteration)
+
+    def simulate(self, **options):
+        """varsym.simulate(this model, **options)."""
+        return simulate(self, **options)
+
+    def ensemble(self, parameters=None, q0=None, p0=None, *, t_span=None, steps=None,
+                 scheme="simpson", degree=None, indicators=True, threads=0):
+        """Runs one member per row, on every core (``threads``: 0 = all): ``parameters`` maps
+        parameter names to arrays of one value per member (the others stay at this model's),
+        ``q0`` and ``p0`` are (members × d) arrays of initial states (default: the model's).
+        Returns a dict of arrays, one entry per member: status ("completed", "failed",
+        "invalid"), t, q and p (the final state), lyapunov (maximal Lyapunov exponent),
+        mean_megno (⟨Y⟩: 2 on a torus, growing in chaos; docs/ensembles.md), max_energy_error,
+        cause (why a member failed or was invalid)."""
+        parameters = dict(parameters or {})
+        names = list(self.parameters)
+        for key in parameters:
+            if key not in names:
+                raise _keyword_error("ensemble", key, names)
+        sizes = {len(np.atleast_1d(v)) for v in parameters.values()}
+        if q0 is not None:
+            q0 = np.atleast_2d(np.asarray(q0, dtype=float))
+            p0 = np.zeros_like(q0) if p0 is None else np.atleast_2d(np.asarray(p0, dtype=float))
+            sizes.add(len(q0))
+        if len(sizes) > 1:
+            raise UsageError(f"the members' arrays have different lengths: {sorted(sizes)}")
+        n = sizes.pop() if sizes else 1
+        values = np.empty((n, len(names)))
+        for k, name in enumerate(names):
+            values[:, k] = np.broadcast_to(parameters.get(name, self.parameters[name]), n)
+        time = self.info["ensemble_time"] if t_span is None else float(t_span)
+        steps = self.info["ensemble_steps"] if steps is None else int(steps)
+        empty = np.empty((0, self.dim))
+        return _core.ensemble(self.name, values, empty if q0 is None else q0,
+                              empty if q0 is None else p0, time / steps, steps, scheme,
+                              degree or 0, indicators, threads)
+
+    def __repr__(self):
+        par = ", ".join(f"{k}={v:g}" for k, v in self.parameters.items())
+        return f"varsym.Model({self.name!r}{', ' if par else ''}{par})"
+
+
+class Stepper:
+    """A model or Lagrangian stepped by one scheme, with its state: ``step(n)`` advances,
+    ``run(steps, every)`` records a Trajectory; ``q``, ``p``, ``t``, ``energy`` read the state;
+    ``tangent_map()`` gives ∂(q_{j+1}, p_{j+1})/∂(q_j, p_j) at it; ``section(...)`` Poincaré
+    crossings from it.
+
+    ``system``: a built-in model's name, a Model, or a Lagrangian (or its expression). scheme:
+    "simpson" (default, the paper's), "newmark", "lobatto" or "gauss" with ``degree`` (order
+    2·degree). Start from q0 with p0 or v0 (defaults: the model's, or zero for a Lagrangian).
+    ``force``: for a Lagrangian, a generalized force, one expression per coordinate, e.g.
+    ``["-c*th_dot"]`` (``work`` then gives the forces' work: E − E0 − work is the scheme's
+    energy balance error). ``iteration``: "automatic", "newton", "simplified" or
+    "fixed-point" (docs/library.md). Raises StepFailure when a step does not converge, leaving
+    the state at the last good step."""
+
+    def __init__(self, system, h, scheme="simpson", degree=None, q0=None, v0=None, p0=None,
+                 t0=0.0, force=None, iteration="automatic", **parameters):
+        self.h = float(h)
+        if isinstance(system, (str, Model)) and not (isinstance(system, str)
+                                                     and system not in _REGISTRY
+                                                     and "_dot" in system):
+            if force is not None:
+                raise UsageError("force= is for a Lagrangian; a model's forces are parameters")
+            if t0 != 0.0:
+                raise UsageError("t0 is for a Lagrangian; a model starts at t = 0")
+            self.model = Model(system, **parameters)
+            self.lagrangian = None
+            self.coordinates = self.model.coordinates
+            problem = self.model.problem(q0, p0, v0)
+            self._sim = problem.simulate(self.h, scheme, degree or 0, iteration)
+            return
+        if parameters:
+            raise _keyword_error("Stepper", next(iter(parameters)),
+                                 ["scheme", "degree", "q0", "v0", "p0", "t0", "force",
+                                  "iteration"])
+        if not isinstance(system, Lagrangian):
+            system = Lagrangian(system)
+        self.model = None
+        self.lagrangian = system
+        self.coordinates = system.coordinates
+        d = system.dimension
+        q0 = np.zeros(d) if q0 is None else np.asarray(_vector(q0, d, "q0"))
+        if p0 is not None and v0 is not None:
+            raise UsageError("give v0 or p0, not both")
+        if p0 is None:
+            v0 = np.zeros(d) if v0 is None else np.asarray(_vector(v0, d, "v0"))
+            system._core.check_regular(q0, v0, t0)
+            p0 = system.momentum(q0, v0, t0)
+        if isinstance(force, (str, bytes)) or (force is not None and not np.iterable(force)):
+            force = [force]  # one expression: d = 1
+        force = [_expression_text(f) for f in (force or [])]
+        self._sim = _core.simulate_expression(system._core, force, list(q0),
+                                              _vector(p0, d, "p0"), float(t0), self.h, scheme,
+                                              degree or 0, iteration)
+
+    def step(self, n=1):
+        """Takes n steps (Ctrl-C stops them within 0.2 s, raising Interrupted); returns self."""
+        self.run(n, every=0)
+        return self
+
+    def run(self, steps, every=1, progress=False):
+        """Takes ``steps`` steps and returns their rows as a Trajectory: the current state first,
+        then every ``every`` steps and the last (every = 0: the last only). ``progress``: True
+        for a progress bar (tqdm), or a function called as progress(steps_done, steps) about
+        every 50 ms. Ctrl-C raises Interrupted, whose ``partial`` holds the rows so far."""
+        steps, every = int(steps), int(every)
+        if steps < 0 or every < 0:
+            raise UsageError("steps and every must be >= 0")
+        sim = self._sim
+        first = sim.step
+        last = first + steps
+        # The rows: the current state, then the steps j with j % every == 0, and the last.
+        start = -(-(first + 1) // every) * every if every else last + 1
+        regular = max(0, (last - start) // every + 1) if every and start <= last else 0
+        ends_off = steps > 0 and (regular == 0 or start + (regular - 1) * every != last)
+        rows = 1 + regular + (1 if ends_off else 0)
+
+        def index():
+            out = np.empty(rows, dtype=np.int64)
+            out[0] = first
+            if regular:
+                out[1:1 + regular] = np.arange(start, start + regular * every, every)
+            if ends_off:
+                out[-1] = last
+            return out
+
+        d, names = sim.dim, list(sim.columns)
+        t, q, p = np.empty(rows), np.empty((rows, d)), np.empty((rows, d))
+        cols = np.empty((rows, len(names)))
+        t[0], q[0], p[0], cols[0] = sim.t, sim.q, sim.p, sim.values
+        bar, callback = _progress(progress, steps, first)
+        interrupted = False
+        try:
+            done, interrupted = sim.record(last, every, t, q, p, cols, 1, callback)
+        except StepFailure as e:
+            done = e.rows or 1
+            e.partial = self._trajectory(t, q, p, cols, names, index, done)
+            raise
+        finally:
+            if bar is not None:
+                bar.update(sim.step - first - bar.n)
+                bar.close()
+        tr = self._trajectory(t, q, p, cols, names, index, done)
+        if interrupted:
+            raise Interrupted(f"interrupted at step {sim.step} (t = {sim.t:.9g}); the rows so far "
+                              f"are in .partial, the stepper in .stepper", tr, self)
+        return tr
+
+    def _trajectory(self, t, q, p, cols, names, index, n):
+        return Trajectory(t[:n], q[:n], p[:n], {k: cols[:n, i] for i, k in enumerate(names)},
+                          self.coordinates, lambda: index()[:n])
+
+    def tangent_map(self):
+        """The 2d × 2d Jacobian ∂(q_{j+1}, p_{j+1})/∂(q_j, p_j) of the next step (symplectic:
+        JᵀΩJ = Ω); the state is not changed."""
+        return self._sim.tangent_map()
+
+    def section(self, plane="q1=0", direction="+", steps=10000, crossings=100):
+        """Where the orbit from the current state crosses ``plane`` ("qI=VALUE" or
+        "pI=VALUE", I from 1) in ``direction`` ("+", "-" or "both") within ``steps`` steps:
+        (times, states) with states (crossings × 2d, q then p). Needs a model whose stepper has
+        dense output (the separable ones); the state is not changed."""
+        try:
+            lhs, value = plane.split("=")
+            momentum = lhs[0] == "p"
+            index = int(lhs[1:]) - 1
+            value = float(value)
+            if lhs[0] not in "qp" or not 0 <= index < self._sim.dim:
+                raise ValueError
+        except ValueError:
+            raise UsageError(f"plane {plane!r}: give qI=VALUE or pI=VALUE, I from 1 to "
+                             f"{self._sim.dim}") from None
+        if direction not in ("+", "-", "both"):
+            raise UsageError("direction: '+', '-' or 'both'")
+        if not self._sim.has_dense_output():
+            raise UsageError("this model's stepper has no dense output for sections")
+        times, states, _ = self._sim.section(momentum, index, value,
+                                             {"+": 1, "-": -1, "both": 0}[direction],
+                                             int(steps), int(crossings))
+        return times, states
+
+    q = property(lambda self: self._sim.q, doc="the coordinates q_j")
+    p = property(lambda self: self._sim.p, doc="the momenta p_j")
+    t = property(lambda self: self._sim.t, doc="the time t_j")
+    steps = property(lambda self: self._sim.step, doc="steps taken")
+    columns = property(lambda self: list(self._sim.columns), doc="the model's own columns")
+    values = property(lambda self: dict(zip(self._sim.columns, self._sim.values)),
+                      doc="the model's own columns at the current state")
+    energy = property(lambda self: self.values["energy"], doc="E at (q_j, p_j, t_j)")
+    work = property(lambda self: self.values.get("work", 0.0),
+                    doc="the forces' work since the start (0 without a force)")
+    mean_newton_iterations = property(lambda self: self._sim.mean_newton_iterations)
+
+    def __repr__(self):
+        what = repr(self.model) if self.model else repr(self.lagrangian)
+        return f"<varsym.Stepper of {what}: h = {self.h:g}, step {self.steps}, t = {self.t:g}>"
+
+
+def _progress(progress, total, first):
+    """A tqdm bar and the callback that advances it, or the user's function; (None, None)."""
+    if progress is None or progress is False:
+        return None, None
+    if callable(progress):
+        return None, lambda j: progress(j - first, total)
+    try:
+        from tqdm import tqdm  # noqa: PLC0415 (Debian's python3-tqdm)
+    except ImportError:
+        def line(j):
+            sys.stderr.write(f"\rvarsym: {j - first}/{total} steps")
+        return None, line
+    bar = tqdm(total=total, unit="step", unit_scale=True, desc="varsym", leave=False)
+    return bar, lambda j: bar.update(j - first - bar.n)
+
+
+_SIMULATE_KEYS = ["t_span", "steps", "h", "q0", "p0", "v0", "scheme", "degree", "every",
+                  "progress", "iteration", "force", "t0"]
+
+
+def simulate(system, *, t_span=None, steps=None, h=None, q0=None, p0=None, v0=None,
+             scheme="simpson", degree=None, every=1, progress=False, iteration="automatic",
+             force=None, **parameters):
+    """Integrates a system and returns its Trajectory.
+
+    ``system``: a built-in model's name (``varsym.models()``), a Model, or a Lagrangian (or its
+    expression). ``parameters``: the model's parameters by name, e.g. ``eccentricity=0.6``.
+    ``t_span``: the final time T, or (t0, T) for a Lagrangian; default: one period of a
+    periodic model, else the model's default time (10 for a Lagrangian). ``steps`` or ``h``:
+    default the model's steps per period (or its default steps). ``every``: a row every this
+    many steps and the last. ``progress``: True for a progress bar, or a function
+    progress(steps_done, steps). Ctrl-C stops the run within 0.2 s, raising
+    varsym.Interrupted with the rows so far in ``.partial``; a failed step raises StepFailure
+    (``step``, ``time``, ``cause``, ``q``, ``p``, ``partial``). An unknown keyword raises
+    TypeError naming the closest valid ones."""
+    model = None
+    if isinstance(system, Model) or (isinstance(system, str) and system in _REGISTRY):
+        names = [p["name"] for p in _REGISTRY[system.name if isinstance(system, Model)
+                                              else system]["parameters"]]
+        for key in parameters:
+            if key not in names:
+                raise _keyword_error("simulate", key, _SIMULATE_KEYS + names)
+        model = Model(system, **parameters)
+    elif isinstance(system, str) and "_dot" not in system:
+        near = difflib.get_close_matches(system, list(_REGISTRY), n=1)
+        hint = f"; did you mean {near[0]!r}?" if near else ""
+        raise UsageError(f"no model {system!r}{hint} (a Lagrangian names velocities NAME_dot)")
+    elif parameters:
+        raise _keyword_error("simulate", next(iter(parameters)), _SIMULATE_KEYS)
+    t0, length = 0.0, None
+    if t_span is not None:
+        if np.ndim(t_span) == 0:
+            length = float(t_span)
+        else:
+            t0, t1 = (float(x) for x in t_span)
+            length = t1 - t0
+        if not (math.isfinite(length) and length > 0):
+            raise UsageError(f"t_span must end after it starts, got {t_span!r}")
+    if steps is not None and h is not None:
+        raise UsageError("give steps or h, not both")
+    if model is not None:
+        if t0 != 0.0:
+            raise UsageError("a model starts at t = 0: give t_span=T")
+        problem = model.problem(q0, p0, v0)
+        periodic = model.info["steps_per_period"] > 0 and problem.period > 0
+        if length is None:
+            if model.info["steps_per_period"] > 0 and not periodic:
+                raise UsageError(f"{model.name}: {problem.no_period}; give t_span")
+            length = problem.period if periodic else model.info["time"]
+            if steps is None and h is None:
+                steps = model.info["steps_per_period"] if periodic else model.info["steps"]
+        elif steps is None and h is None:
+            steps = (math.ceil(length / problem.period * model.info["steps_per_period"])
+                     if periodic else model.info["steps"])
+    else:
+        length = 10.0 if length is None else length
+        if steps is None and h is None:
+            steps = 10000
+    if h is not None:
+        steps = round(length / float(h))
+        if steps < 1 or abs(steps * float(h) - length) > 1e-9 * length:
+            raise UsageError(f"t_span {length:g} is not a whole number of steps h = {h:g}")
+    steps = int(steps)
+    if steps < 1:
+        raise UsageError("steps must be a positive whole number")
+    if model is not None:
+        stepper = Stepper(model, length / steps, scheme=scheme, degree=degree, q0=q0, p0=p0,
+                          v0=v0, iteration=iteration)
+    else:
+        stepper = Stepper(system, length / steps, scheme=scheme, degree=degree, q0=q0, p0=p0,
+                          v0=v0, t0=t0, force=force, iteration=iteration)
+    return stepper.run(steps, every=every, progress=progress)

@@ -1,0 +1,168 @@
+"""varsym.simulate, Model and Stepper: the models layer bound directly. Every model of the
+registry through every Python entry point; a real SIGINT to a subprocess; the progress bar and
+callback; keyword typos; StepFailure's attributes; a 1e7-step run that writes no file and uses
+no more memory than the arrays it returns. References are stated beside each check."""
+
+import os
+import resource
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+import pytest
+
+import varsym
+
+MODELS = [name for name in varsym.models() if name in varsym._simulate._REGISTRY]
+
+
+def test_the_registry_reaches_python():
+    assert {"pendulum", "kepler", "henon-heiles", "double-pendulum", "heavy-top", "cart-pole",
+            "acrobot"} <= set(MODELS)
+    # The version is the CMake project's (the header's, generated from it).
+    with open(os.path.join(os.path.dirname(__file__), "..", "..", "CMakeLists.txt")) as f:
+        assert f"project(varsym VERSION {varsym.__version__}" in f.read()
+
+
+@pytest.mark.parametrize("name", MODELS)
+def test_every_model_through_every_entry_point(name):
+    model = varsym.Model(name)
+    # simulate: 200 steps of the default run's step or less; the energy (E - W under forces)
+    # stays within 1e-2 of E0: a bounded error, the symplectic schemes' property.
+    steps = 200
+    tr = varsym.simulate(name, t_span=0.5, steps=steps)
+    assert len(tr) == steps + 1 and tr.q.shape == (steps + 1, model.dim)
+    assert tr.coordinates == model.coordinates
+    balance = tr.energy - (tr.work if tr.work is not None else 0.0)
+    assert np.abs(balance - balance[0]).max() < 1e-2 * max(1.0, abs(balance[0]))
+    if model.coordinates[0] not in ("q", "p", "t"):  # those names are the whole arrays
+        assert np.array_equal(tr[model.coordinates[0]], tr.q[:, 0])
+    # The Stepper takes the same steps as simulate (one engine): the same digits.
+    s = model.stepper(0.5 / steps)
+    s.step(steps)
+    assert np.array_equal(s.q, tr.q[-1]) and np.array_equal(s.p, tr.p[-1])
+    # Its tangent map is symplectic: J^T Omega J = Omega to round-off.
+    j = s.tangent_map()
+    d = model.dim
+    omega = np.block([[np.zeros((d, d)), np.eye(d)], [-np.eye(d), np.zeros((d, d))]])
+    assert np.abs(j.T @ omega @ j - omega).max() < 1e-9
+    # An ensemble of two members at the default parameters: both end where simulate ended.
+    first = model.info["parameters"][0]["name"]
+    ens = model.ensemble({first: [model.parameters[first]] * 2}, t_span=0.5, steps=steps)
+    assert list(ens["status"]) == ["completed", "completed"]
+    assert np.array_equal(ens["q"][0], tr.q[-1])
+    # Sections where the stepper has dense output (the separable models).
+    if s._sim.has_dense_output():
+        times, states = model.stepper(0.01).section("q1=0", "both", 20000, 3)
+        assert len(times) == 3 and np.allclose(states[:, 0], 0.0, atol=1e-12)
+    else:
+        with pytest.raises(varsym.UsageError, match="dense output"):
+            s.section()
+
+
+def test_kepler_follows_its_exact_orbit():
+    # Reference: the exact orbit (Kepler's equation); gauss-4, 200 steps per orbit, 10 orbits:
+    # measured 7e-11; bound 1e-9. Angular momentum: discrete Noether, round-off.
+    tr = varsym.simulate("kepler", eccentricity=0.6, scheme="gauss", degree=4,
+                         t_span=20 * np.pi, steps=2000)
+    assert np.abs(tr.q - tr.q_exact).max() < 1e-9
+    assert np.abs(tr["angular_momentum"] - tr["angular_momentum"][0]).max() < 1e-13
+    # run() is the same computation, in-process (no command line, no file).
+    same = varsym.run("kepler", scheme="gauss", degree=4, steps_per_period=200, periods=10)
+    assert np.array_equal(same.q, tr.q)
+
+
+def test_keyword_typos_name_the_closest_keywords():
+    with pytest.raises(TypeError, match="did you mean 'steps'"):
+        varsym.simulate("kepler", stesp=100)
+    with pytest.raises(TypeError, match="did you mean 'eccentricity'"):
+        varsym.simulate("kepler", eccentricty=0.3)
+    with pytest.raises(TypeError, match="did you mean 'steps_per_period'"):
+        varsym.run("kepler", stesp_per_period=100)
+    with pytest.raises(TypeError, match="did you mean 'push'"):
+        varsym.Model("cart-pole", psuh=1.0)
+    with pytest.raises(varsym.UsageError, match="did you mean 'acrobot'"):
+        varsym.Model("acrobat")
+
+
+def test_step_failure_carries_step_time_cause_state_and_rows():
+    # sqrt(q) is NaN once q < 0: V = -1/q pulls the particle through q = 0.
+    lag = varsym.Lagrangian("0.5*q_dot**2 + 1/sqrt(q)", ["q"])
+    with pytest.raises(varsym.StepFailure) as e:
+        varsym.simulate(lag, q0=[1.0], t_span=100.0, steps=10000)
+    f = e.value
+    assert f.step > 1 and f.time == pytest.approx((f.step - 1) * 0.01)
+    assert "NaN" in f.cause or "non-finite" in f.cause or f.cause  # the named cause
+    assert np.all(np.isfinite(f.q)) and f.q[0] > 0  # the last good state
+    assert len(f.partial) == f.step and f.partial.t[-1] == pytest.approx(f.time)
+
+
+def test_progress_bar_and_callback():
+    calls = []
+    tr = varsym.simulate("henon-heiles", t_span=2e4, steps=4 * 10**6, every=10**5,
+                         progress=lambda done, total: calls.append((done, total)))
+    assert len(tr) == 41
+    assert calls and all(total == 4 * 10**6 for _, total in calls)
+    assert all(0 < a < b for (a, _), (b, _) in zip(calls, calls[1:]))  # increasing
+    # The bar: tqdm's line on standard error.
+    code = ("import varsym; varsym.simulate('henon-heiles', t_span=2e4, steps=4*10**6, "
+            "every=10**5, progress=True)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env={**os.environ}, timeout=120, check=True)
+    assert "step" in out.stderr and "4.00M" in out.stderr.replace("\r", "\n")
+
+
+SIGINT_CHILD = """
+import sys, time, varsym
+print("ready", flush=True)
+try:
+    varsym.simulate("henon-heiles", t_span=1e8, steps=10**10, every=10**4)
+except varsym.Interrupted as e:
+    print(time.time(), len(e.partial), e.partial.t[-1], e.stepper.steps, flush=True)
+    sys.exit(7)
+"""
+
+
+def test_sigint_stops_a_run_within_0_2_s_keeping_its_rows():
+    child = subprocess.Popen([sys.executable, "-c", SIGINT_CHILD], stdout=subprocess.PIPE,
+                             text=True, env={**os.environ})
+    assert child.stdout.readline().strip() == "ready"
+    time.sleep(1.0)
+    sent = time.time()
+    child.send_signal(signal.SIGINT)
+    out, _ = child.communicate(timeout=30)
+    assert child.returncode == 7, out
+    stopped, rows, t_last, steps = out.split()
+    assert float(stopped) - sent < 0.2
+    assert int(rows) > 1 and float(t_last) > 0 and int(steps) >= (int(rows) - 1) * 10**4
+
+
+def test_ten_million_steps_write_no_file_and_need_only_their_arrays(tmp_path):
+    # Peak memory growth at most 1.2 x the arrays returned (measured 1.00x), and no file
+    # created in the temporary directory.
+    code = f"""
+import os, resource, tempfile, varsym
+tempfile.tempdir = {str(tmp_path)!r}
+base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+tr = varsym.simulate("henon-heiles", t_span=1e5, steps=10**7)
+peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+arrays = tr.t.nbytes + tr.q.nbytes + tr.p.nbytes + sum(tr[c].nbytes for c in ["energy"])
+print((peak - base) * 1024 / arrays, len(tr), os.listdir({str(tmp_path)!r}))
+"""
+    env = {**os.environ, "TMPDIR": str(tmp_path)}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env=env, timeout=300, check=True).stdout.split(maxsplit=2)
+    assert float(out[0]) <= 1.2, out
+    assert int(out[1]) == 10**7 + 1
+    assert out[2].strip() == "[]"
+
+
+def test_readable_table1_and_trajectory():
+    text = repr(varsym.table1())
+    assert "simpson" in text and "6.514e-08" in text  # the paper's 6.51e-8
+    tr = varsym.simulate("pendulum", steps=10)
+    assert "11 rows" in repr(tr) and "(q)" in repr(tr)
+    assert "varsym.Model('kepler', eccentricity=0.6" in repr(varsym.Model("kepler"))
