@@ -4,9 +4,9 @@
 #pragma once
 
 #define VARSYM_VERSION_MAJOR 0
-#define VARSYM_VERSION_MINOR 4
+#define VARSYM_VERSION_MINOR 3
 #define VARSYM_VERSION_PATCH 0
-#define VARSYM_VERSION_STRING "0.4.0"
+#define VARSYM_VERSION_STRING "0.3.0"
 
 namespace varsym {
 inline constexpr int version_major = VARSYM_VERSION_MAJOR;
