@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "commands.hpp"
+#include "progress.hpp"
 #include "ensemble.hpp"
 #include "ensemble_journal.hpp"
 #include "ensemble_members.hpp"
@@ -76,35 +77,6 @@ std::string header_of(const member_set& set, int d) {
          ",max_energy_error,lyapunov,mean_megno,event_time,cause\n";
     return h;
 }
-
-/// Shows "members done/total, rate, time left" on standard error when it is a terminal.
-class progress_line {
-  public:
-    progress_line(std::size_t total, std::size_t already)
-        : total_(total), already_(already), shown_(isatty(STDERR_FILENO) != 0),
-          start_(clock::now()), last_(start_) {}
-    void update(std::size_t done, bool final = false) {
-        if (!shown_) return;
-        const auto now = clock::now();
-        if (!final && now - last_ < std::chrono::milliseconds(500)) return;
-        last_ = now;
-        const double secs = std::chrono::duration<double>(now - start_).count();
-        const double rate = secs > 0 ? static_cast<double>(done - already_) / secs : 0.0;
-        const double left = rate > 0 ? static_cast<double>(total_ - done) / rate : 0.0;
-        std::fprintf(
-            stderr,
-            "\rvarsym ensemble: %zu/%zu members (%.1f %%), %.0f members/s, %.0f s left   %s", done,
-            total_, 100.0 * static_cast<double>(done) / static_cast<double>(total_), rate, left,
-            final ? "\n" : "");
-        std::fflush(stderr);
-    }
-
-  private:
-    using clock = std::chrono::steady_clock;
-    std::size_t total_, already_;
-    bool shown_;
-    clock::time_point start_, last_;
-};
 
 void run_members(const ensemble_options& o, const ensemble_model& model, const member_set& set,
                  const ensemble_setup& setup, const process_group& group);
@@ -176,7 +148,7 @@ void run_members(const ensemble_options& o, const ensemble_model& model, const m
     std::string buffer;
     auto last_flush = std::chrono::steady_clock::now();
     std::size_t done = journal.done_count();
-    progress_line progress(set.size, done);
+    progress_line progress("varsym ensemble", "members", set.size, done);
     auto flush = [&] {
         journal.append(buffer);
         buffer.clear();

@@ -262,6 +262,9 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
                     "the start, between 0.01 and 0.5")
         ->transform(non_negative_number);
     cmd->add_flag("--stats", s.stats, "Print Newton iteration statistics to standard error");
+    cmd->add_flag("--quiet,-q", s.quiet,
+                  "No progress line (shown on standard error when it is a terminal, never on "
+                  "standard output)");
     cmd->add_option("--config", o->config, "TOML file of options (see below)");
     for (const model& m : o->models)
         m.add_options(*cmd);

@@ -10,6 +10,7 @@
 
 #include "files.hpp"
 #include "models.hpp"
+#include "progress.hpp"
 #include "signals.hpp"
 #include "varsym/diagnostics/stability.hpp"
 #include "varsym/integrate.hpp"
@@ -79,12 +80,13 @@ class run_log {
         return every == 0 ? j == plan_.steps : (j % every == 0 || j == plan_.steps);
     }
     /// What every run does after step j: the energy watch at each written row and every 256
-    /// steps (an energy costs about a step), a checkpoint when one is due, and a stop on a
-    /// pending signal. energy() and save() are called only when needed.
+    /// steps (an energy costs about a step), the progress line, a checkpoint when one is due,
+    /// and a stop on a pending signal. energy() and save() are called only when needed.
     template <class Energy, class Save>
     void after_step(std::size_t j, double t, bool written, Energy&& energy, Save&& save,
                     const run_summary& stats) {
         if (energy_watched() && (written || (j & 255U) == 0)) check_energy(j, t, energy());
+        if ((j & 1023U) == 0) progress_.update(j);
         if (due(j)) this->save(j, save(), stats);
         if (const int sig = pending_signal(); sig != 0 && j < plan_.steps)
             stop_by_signal(sig, j, save(), stats);
@@ -110,6 +112,7 @@ class run_log {
     double seconds_ = 0.0;
     clock::time_point next_;
     bool replace_ = false; ///< a checkpoint of this run exists: later ones replace it
+    progress_line progress_;
     double e0_ = 0.0, scale_ = 1.0, bound_ = 0.0, omega0_ = 0.0;
 };
 

@@ -25,6 +25,7 @@ struct run_setup {
     long long every = 1;
     std::string output;
     bool stats = false;
+    bool quiet = false; ///< no progress line
     std::vector<double> q0, p0, v0; ///< initial state; empty: the model's default
     bool periods_given = false;
     std::string checkpoint;          ///< --checkpoint FILE, or the file of --resume

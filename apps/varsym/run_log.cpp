@@ -60,7 +60,8 @@ double default_energy_bound(int order, double h, double omega) {
 }
 
 run_log::run_log(const run_setup& s, const run_plan& plan, int d, const std::string& header, int dp)
-    : s_(s), plan_(plan), out_(open_output(s, plan, d, dp < 0 ? d : dp)) {
+    : s_(s), plan_(plan), out_(open_output(s, plan, d, dp < 0 ? d : dp)),
+      progress_("varsym run", "steps", plan.steps, s.resume ? s.resume->step : 0, s.quiet) {
     checkpointing_ = !s.checkpoint.empty();
     every_ = static_cast<std::size_t>(s.checkpoint_every);
     seconds_ = s.checkpoint_seconds;
@@ -179,6 +180,7 @@ std::string run_log::advice(double omega) const {
 
 void run_log::fail(const step_failure& e, const saved_state& x, const run_summary& sum,
                    double omega) {
+    progress_.close();
     // The last good state's frequency, or the start's if higher (a state may be near a turning
     // point, where the local frequency says little); no time-step advice when the stepper named
     // another cause.
@@ -194,6 +196,7 @@ void run_log::fail(const step_failure& e, const saved_state& x, const run_summar
 }
 
 void run_log::energy_out_of_bounds(std::size_t j, double t, double err) {
+    progress_.close();
     std::string msg = "the relative energy error reached " + format("%.3g", err) + " at step " +
                       std::to_string(j) + format(" (t = %.6g)", t) + ", above --max-energy-error " +
                       format("%.3g", bound_) +
@@ -208,6 +211,7 @@ void run_log::energy_out_of_bounds(std::size_t j, double t, double err) {
 
 void run_log::stop_by_signal(int sig, std::size_t j, const saved_state& x, const run_summary& sum) {
     set_signal_polling(false);
+    progress_.close();
     const std::string name = sig == SIGINT ? "SIGINT" : "SIGTERM";
     std::string msg = "stopped by " + name + " after step " + std::to_string(j) + " of " +
                       std::to_string(plan_.steps);
@@ -221,6 +225,7 @@ void run_log::stop_by_signal(int sig, std::size_t j, const saved_state& x, const
 }
 
 void run_log::finish(const saved_state& x, const run_summary& sum) {
+    progress_.update(plan_.steps, true);
     // The final checkpoint comes first: if the process dies between it and the rename, a
     // resume finds the run complete and only renames FILE.part.
     if (checkpointing_) write_checkpoint_to(s_.checkpoint, plan_.steps, x, sum, replace_);

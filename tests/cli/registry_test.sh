@@ -49,6 +49,21 @@ for m in "${names[@]}"; do
   fi
 done
 
+# The progress line: on a terminal (a pseudo-terminal from script(1)) stderr shows it, stdout
+# stays the CSV alone; --quiet, or stderr not a terminal, shows none.
+if command -v script > /dev/null; then
+  script -qec "'$VARSYM' run --model henon-heiles --time 2000 --steps 1000000 --every 0 -o p.csv" \
+    /dev/null > tty.txt 2>&1
+  grep -q 'varsym run: 1000000/1000000 steps (100.0 %)' tty.txt && ok ||
+    bad "no progress line on a terminal: $(tr '\r' '\n' < tty.txt | tail -2)"
+  script -qec "'$VARSYM' run --model henon-heiles --time 2000 --steps 1000000 --every 0 -q -o p.csv" \
+    /dev/null > tty.txt 2>&1
+  [ ! -s tty.txt ] && ok || bad "--quiet still printed: $(cat tty.txt)"
+  "$VARSYM" run --model henon-heiles --time 2000 --steps 1000000 --every 0 > out.txt 2> err.txt
+  [ ! -s err.txt ] && [ "$(wc -l < out.txt)" -eq 2 ] && ok || bad "progress off a terminal: $(cat err.txt)"
+  rm -f out.txt
+fi
+
 # A model's parameter on another model is refused; a typo in a model's name names the model.
 expect_error 2 "another model's parameter" run --model acrobot --push 1 -o out.csv
 expect_error 2 "unknown model" run --model acrobat -o out.csv
