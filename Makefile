@@ -78,11 +78,16 @@ test-sanitize-cli: san-configure
 # libFuzzer over the command line, config files and checkpoints for FUZZ_SECONDS; seeds in
 # fuzz/corpus, new inputs kept in $(SAN_DIR)/corpus, a crashing input in $(SAN_DIR)/crash-*.
 FUZZ_SECONDS ?= 50
+# The dictionary is fuzz/cli.dict plus every model's name and parameter options, generated from
+# the models layer's registry (varsym models --format csv).
 fuzz: san-configure
-	@cmake --build $(SAN_DIR) -j $(JOBS) --target varsym_fuzz
+	@cmake --build $(SAN_DIR) -j $(JOBS) --target varsym_fuzz varsym_tool
 	@mkdir -p $(SAN_DIR)/corpus
+	@{ cat fuzz/cli.dict; $(SAN_DIR)/apps/varsym/varsym models --format csv | \
+	  awk -F, 'NR > 1 { print "\"" $$1 "\""; if ($$4 != "") print "\"" $$4 "\"" }' | sort -u; } \
+	  > $(SAN_DIR)/cli.dict
 	$(SAN_DIR)/fuzz/varsym_fuzz -max_total_time=$(FUZZ_SECONDS) -timeout=10 -close_fd_mask=3 \
-	  -artifact_prefix=$(SAN_DIR)/ -dict=fuzz/cli.dict $(SAN_DIR)/corpus fuzz/corpus
+	  -artifact_prefix=$(SAN_DIR)/ -dict=$(SAN_DIR)/cli.dict $(SAN_DIR)/corpus fuzz/corpus
 
 bench: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_bench varsym_bench_family
