@@ -25,10 +25,12 @@ class CMakeBuild(build_ext):
         build = Path(os.environ.get("VARSYM_BUILD_DIR", ROOT / "build" / "pip")).resolve()
         if not (build / "CMakeCache.txt").exists():  # a build directory of its own
             python = getattr(sys, "_base_executable", sys.executable)
+            tool = "ON" if os.environ.get("VARSYM_PIP_TOOL") == "1" else "OFF"
             subprocess.run(["cmake", "-S", str(ROOT), "-B", str(build), "-Wno-dev",
                             "-DCMAKE_BUILD_TYPE=Release", f"-DPython3_EXECUTABLE={python}",
-                            "-DVARSYM_BUILD_TESTS=OFF", "-DVARSYM_BUILD_BENCH=OFF",
-                            "-DVARSYM_BUILD_EXAMPLES=OFF", "-DVARSYM_INSTALL=OFF"], check=True)
+                            f"-DVARSYM_BUILD_TOOL={tool}", "-DVARSYM_BUILD_TESTS=OFF",
+                            "-DVARSYM_BUILD_BENCH=OFF", "-DVARSYM_BUILD_EXAMPLES=OFF",
+                            "-DVARSYM_INSTALL=OFF"], check=True)
         subprocess.run(["cmake", "--build", str(build), "--target", "varsym_python", "-j",
                         str(os.cpu_count() or 2)], check=True)
         built = sorted((build / "python" / "varsym").glob("_core*.so"))
@@ -37,6 +39,9 @@ class CMakeBuild(build_ext):
         target = Path(self.get_ext_fullpath(ext.name))
         target.parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(built[0], target)
+        # varsym._tool (the command line in-process) where that build made it.
+        for tool in (build / "python" / "varsym").glob("_tool*.so"):
+            shutil.copy2(tool, target.parent / tool.name)
 
 
 VERSION = re.search(r"project\(varsym VERSION ([0-9.]+)",

@@ -1,7 +1,7 @@
 // python/src/module.cpp: varsym._core, the C++ side of the Python package. It holds no
-// integrator of its own: the models layer (varsym::models: the registry's models and typed
-// Lagrangians, bound in simulation.cpp) and the tool's front end (the models outside the
-// registry and the paper's commands, run in-process) are linked in.
+// integrator of its own: it binds the models layer (varsym::models: the registry's models and
+// typed Lagrangians, in simulation.cpp) and the expression Lagrangians. The tool's engine, which
+// the models outside the registry still need, is the separate module varsym._tool (tool.cpp).
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -11,8 +11,6 @@
 #include <vector>
 
 #include "bindings.hpp"
-#include "front_end.hpp"
-#include "models.hpp"
 #include "varsym/systems/expression_lagrangian.hpp"
 #include "varsym/version.hpp"
 
@@ -81,30 +79,6 @@ PYBIND11_MODULE(_core, m) {
         } catch (const std::invalid_argument& e) { // bad input: the library's one-line message
             PyErr_SetString(usage_error, e.what());
         }
-    });
-
-    m.def(
-        "run_cli",
-        [](const std::vector<std::string>& args) {
-            int status = 0;
-            {
-                py::gil_scoped_release unlocked;
-                cli::set_quiet_failures(true);
-                cli::front_end fe;
-                status = fe.parse(args);
-                if (status < 0) status = fe.run();
-                cli::set_quiet_failures(false);
-            }
-            return py::make_tuple(status, status == 0 ? std::string() : cli::last_failure());
-        },
-        py::arg("args"),
-        "Runs the varsym command line in-process; returns (exit code, error message).");
-
-    m.def("models", [] {
-        std::vector<std::tuple<std::string, std::string, std::string>> out;
-        for (const auto& mod : cli::make_models())
-            out.emplace_back(mod.name, mod.summary, mod.description);
-        return out;
     });
 
     py::class_<expression_lagrangian>(m, "_Lagrangian")

@@ -33,10 +33,20 @@ def _option(name, value):
     return [flag, _text(value)]
 
 
+def _tool():
+    try:
+        from . import _tool as tool  # noqa: PLC0415 (optional: the tool's engine)
+    except ImportError:
+        raise Error("this installation of varsym has no command-line engine (varsym._tool): "
+                    "the models outside the models layer and varsym.call need it; build the "
+                    "package with `make python`, or pip install with VARSYM_PIP_TOOL=1") from None
+    return tool
+
+
 def call(args):
     """Runs the command line ``varsym ARGS...`` in-process; raises the matching varsym.Error on
     failure (UsageError for exit code 2, StepFailure 3, EnergyError 4, Error otherwise)."""
-    code, message = _core.run_cli([str(a) for a in args])
+    code, message = _tool().run_cli([str(a) for a in args])
     if code != 0:
         raise _ERRORS.get(code, Error)(message)
 
@@ -159,33 +169,58 @@ class Table(np.ndarray):
     __str__ = __repr__
 
 
-def table1(h=None, periods=None):
-    """The paper's Table 1 (Newmark and Simpson on the pendulum: errors and observed orders) as
-    a NumPy structured array that prints as a table, one row per step size, its fields named as
-    the tool's CSV columns (``varsym paper table1 --format csv``)."""
-    args = ["paper", "table1", "--format", "csv"]
-    if periods is not None:
-        args += ["--periods", _text(periods)]
-    with tempfile.TemporaryDirectory(prefix="varsym-") as tmp:
-        out = os.path.join(tmp, "table1.csv")
-        call(args + ["--output", out])
-        return Table(np.genfromtxt(out, delimiter=",", names=True, dtype=None,
-                                   encoding="ascii"))
+def _pendulum_period():
+    return Model("pendulum").problem().period
 
 
-def figure_data(number, **options):
-    """The data of the paper's Figure 1 or 2 (``varsym paper figureN``): a dict of columns
-    (time, exact solution, and for Figure 2 the Newmark and Simpson solutions)."""
+def table1(periods=1):
+    """The paper's Table 1: Newmark and Simpson on the pendulum (m = 1, omega = 2 pi,
+    q0 = pi/2, p0 = 0), N = 50, 100, 200 steps over ``periods`` nonlinear periods; errors in the
+    maximum norm over all steps of the momentum, the state and the relative energy, against the
+    exact solution. A NumPy structured array (fields scheme, quantity, steps, error; the rows of
+    ``varsym paper table1 --format csv``) that prints as a table."""
+    period = _pendulum_period()
+    errors = {}
+    for scheme in ("newmark", "simpson"):
+        for n in (50, 100, 200):
+            tr = simulate("pendulum", scheme=scheme, t_span=periods * period,
+                          steps=n * periods)
+            errors[scheme, "momentum", n] = np.abs(tr.p - tr.p_exact).max()
+            errors[scheme, "state", n] = np.abs(tr.q - tr.q_exact).max()
+            errors[scheme, "energy", n] = (np.abs(tr.energy - tr.energy[0]).max()
+                                           / abs(tr.energy[0]))
+    rows = [(scheme, what, n, errors[scheme, what, n]) for what in ("momentum", "state", "energy")
+            for scheme in ("newmark", "simpson") for n in (50, 100, 200)]
+    return Table(np.array(rows, dtype=[("scheme", "U7"), ("quantity", "U8"), ("steps", "i8"),
+                                       ("error", "f8")]))
+
+
+def figure_data(number, periods=5, steps_per_period=10):
+    """The data of the paper's Figure 1 (the exact pendulum: t, q, p at 1001 points over
+    ``periods`` periods) or Figure 2 (Newmark, Simpson and the exact solution at
+    ``steps_per_period`` steps per period: step, t, q_newmark, p_newmark, q_simpson, p_simpson,
+    q_exact, p_exact), as a dict of columns."""
     if number not in (1, 2):
         raise UsageError("the paper has Figures 1 and 2")
-    args = ["paper", f"figure{number}"]
-    for key, value in options.items():
-        args += _option(key, value)
-    with tempfile.TemporaryDirectory(prefix="varsym-") as tmp:
-        call(args + ["--output", os.path.join(tmp, "figure.svg")])
-        return _read_csv(os.path.join(tmp, "figure.csv"))
+    period = _pendulum_period()
+    if number == 1:
+        tr = simulate("pendulum", t_span=periods * period, steps=1000)
+        return {"t": tr.t, "q": tr.q_exact[:, 0], "p": tr.p_exact[:, 0]}
+    out = {}
+    for scheme in ("newmark", "simpson"):
+        tr = simulate("pendulum", scheme=scheme, t_span=periods * period,
+                      steps=periods * steps_per_period)
+        out.update({"step": tr.step, "t": tr.t, f"q_{scheme}": tr.q[:, 0],
+                    f"p_{scheme}": tr.p[:, 0]})
+    out.update({"q_exact": tr.q_exact[:, 0], "p_exact": tr.p_exact[:, 0]})
+    return out
 
 
 def models():
-    """The built-in models as a dict: name -> (one-line summary, description)."""
-    return {name: (summary, text) for name, summary, text in _core.models()}
+    """The built-in models as a dict: name -> (one-line summary, description); without the
+    command-line engine (varsym._tool), those of the models layer."""
+    try:
+        listed = _tool().models()
+    except Error:
+        listed = [(m["name"], m["summary"], m["description"]) for m in _core.registry()]
+    return {name: (summary, text) for name, summary, text in listed}

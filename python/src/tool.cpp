@@ -1,0 +1,42 @@
+// python/src/tool.cpp: varsym._tool, the command line run in-process: for the models that the
+// models layer does not hold yet (oscillator, chain, mechanisms, rigid bodies) and the tool's
+// other commands. A module of its own, so that varsym._core builds without the tool's engine
+// (pip builds _tool only when VARSYM_PIP_TOOL=1).
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "front_end.hpp"
+#include "models.hpp"
+
+namespace py = pybind11;
+using namespace varsym;
+
+PYBIND11_MODULE(_tool, m) {
+    m.doc() = "varsym's command line in-process; use the package varsym, not this module";
+    m.def(
+        "run_cli",
+        [](const std::vector<std::string>& args) {
+            int status = 0;
+            {
+                py::gil_scoped_release unlocked;
+                cli::set_quiet_failures(true);
+                cli::front_end fe;
+                status = fe.parse(args);
+                if (status < 0) status = fe.run();
+                cli::set_quiet_failures(false);
+            }
+            return py::make_tuple(status, status == 0 ? std::string() : cli::last_failure());
+        },
+        py::arg("args"),
+        "Runs the varsym command line in-process; returns (exit code, error message).");
+    m.def("models", [] {
+        std::vector<std::tuple<std::string, std::string, std::string>> out;
+        for (const auto& mod : cli::make_models())
+            out.emplace_back(mod.name, mod.summary, mod.description);
+        return out;
+    });
+}
