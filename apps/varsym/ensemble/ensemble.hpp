@@ -1,0 +1,104 @@
+// apps/varsym/ensemble/ensemble.hpp: the models `varsym ensemble` runs, member by member: each builds its
+// system and stepper from one member's initial state and parameters and runs it through
+// varsym::run_member (varsym/run/ensemble.hpp).
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cli_common.hpp"
+#include "varsym/expression/tape.hpp"
+#include "varsym/run/ensemble.hpp"
+#include "varsym/run/section.hpp"
+#include "varsym/schemes/scheme_kind.hpp"
+
+namespace varsym::cli {
+
+/// What every member of one ensemble shares.
+struct ensemble_setup {
+    scheme_spec spec;
+    newton_options newton;
+    double h = 0.0;
+    member_plan plan;
+    /// The event's expression in q_1 … q_d, p_1 … p_d, t (inputs in that order), if any.
+    std::optional<expr::tape> event;
+};
+
+/// One member's data: the full initial state and the model's parameters, in the order of
+/// ensemble_model::parameters.
+struct member_input {
+    std::vector<double> q0, p0, parameters;
+};
+
+/// A model as `varsym ensemble` knows it.
+struct ensemble_model {
+    std::string name;
+    int dim = 0;
+    std::vector<double> q0, p0;                             ///< the default initial state
+    std::vector<std::pair<std::string, double>> parameters; ///< names and defaults (NaN: unset)
+    std::string help;                                       ///< for --help: what they mean
+    bool fixed_start = false; ///< the initial state follows from the parameters (no q0, p0)
+    double time = 0.0;                                      ///< default run length
+    long long steps = 0;                                    ///< default number of steps
+    /// Runs one member; throws std::invalid_argument for data the model refuses (the member's
+    /// row then says `invalid` and why).
+    std::function<member_result(const member_input&, const ensemble_setup&)> run;
+    /// The member's crossings of a plane (`varsym section`), one CSV row each ("t,q..,p..\n"),
+    /// at most `crossings`; empty for a model whose steppers have no dense output.
+    std::function<std::string(const member_input&, const ensemble_setup&, const section_plane&,
+                              long long crossings)>
+        section;
+};
+
+
+/// Runs one member of s from x with the setup's plan and event (a copy of the tape per call,
+/// so that members run concurrently).
+template <class S, class Energy>
+member_result run_ensemble_member(S& s, const phase_state<S::dim>& x, const ensemble_setup& e,
+                                  Energy&& energy) {
+    std::optional<expr::tape> tape = e.event;
+    std::vector<double> in(static_cast<std::size_t>(2 * x.q.size() + 1));
+    auto event = [&](double t, const phase_state<S::dim>& y) {
+        if (!tape) return 1.0;
+        const auto d = static_cast<std::size_t>(y.q.size());
+        for (std::size_t i = 0; i < d; ++i) {
+            in[i] = y.q(static_cast<Eigen::Index>(i));
+            in[d + i] = y.p(static_cast<Eigen::Index>(i));
+        }
+        in[2 * d] = t;
+        tape->run(in);
+        return tape->output(0);
+    };
+    return run_member(s, x, e.plan, energy, event);
+}
+
+/// The crossings of `plane` by s from x over the setup's steps, at most `crossings`, as CSV rows
+/// "t,q_1..,p_1..". A failed step ends the list (its last row is then "failed").
+template <class S>
+std::string section_rows(S& s, phase_state<S::dim> x, const ensemble_setup& e,
+                         const section_plane& plane, long long crossings) {
+    std::string rows;
+    long long found = 0;
+    for (long long j = 0; j < e.plan.steps && found < crossings; ++j) {
+        const phase_state<S::dim> from = x;
+        if (!s.step(x).converged || !x.q.allFinite() || !x.p.allFinite()) {
+            rows += "failed\n";
+            break;
+        }
+        const auto c = find_crossing(s, from, x, static_cast<double>(j) * s.step_size(), plane);
+        if (!c) continue;
+        ++found;
+        append_number(rows, c->time);
+        for (const auto* v : {&c->x.q, &c->x.p})
+            for (Eigen::Index i = 0; i < v->size(); ++i) {
+                rows += ',';
+                append_number(rows, (*v)(i));
+            }
+        rows += '\n';
+    }
+    return rows;
+}
+
+} // namespace varsym::cli

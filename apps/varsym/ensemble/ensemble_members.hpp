@@ -1,0 +1,82 @@
+// apps/varsym/ensemble/ensemble_members.hpp: what `varsym ensemble` runs: the models, the members (a grid
+// of --grid axes or the rows of a --members CSV file, over initial coordinates q0_i, momenta
+// p0_i and model parameters), the event expression, and the heat map of a result.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cli_common.hpp"
+#include "ensemble.hpp"
+#include "plot.hpp"
+#include "shared_options.hpp"
+
+namespace varsym::cli {
+
+/// The options that say which members run.
+struct member_options {
+    std::vector<std::string> grid; ///< KEY=FIRST:LAST:COUNT, one per axis
+    std::string members_file;      ///< CSV: a header of keys, one row per member
+    std::vector<double> q0, p0;    ///< the base initial state (default: the model's)
+    std::vector<std::string> set;  ///< NAME=VALUE: model parameters for every member
+};
+void add_member_options(CLI::App& cmd, member_options& o);
+
+/// What `varsym ensemble` and `varsym section` share: the model, the scheme, each member's run
+/// (0: the model's default) and the members.
+struct member_run_options {
+    std::string model;
+    scheme_options scheme;
+    double time = 0.0;
+    long long steps = 0;
+    member_options members;
+};
+/// --model (required; `models` names the choices), --scheme, --degree, --time, --steps and the
+/// member options.
+void add_member_run_options(CLI::App& cmd, member_run_options& o, const std::string& models);
+
+/// The members: their keys (grid axes or CSV columns), count, values and data.
+struct member_set {
+    std::vector<std::string> keys;
+    std::size_t size = 0;
+    std::vector<grid_axis> axes; ///< a grid's axes (empty for a CSV file)
+    std::vector<double> table;   ///< a CSV file's values, size × keys
+    std::string identity;        ///< one line naming the members (for the journal)
+    member_input base;           ///< the initial state and parameters before the keys apply
+    /// Where each key goes: 0 q0, 1 p0, 2 a parameter; and its index there.
+    std::vector<std::pair<int, std::size_t>> targets;
+
+    void values(std::size_t m, std::vector<double>& out) const;
+    [[nodiscard]] member_input input(const std::vector<double>& keys) const;
+};
+member_set make_member_set(const member_options& o, const ensemble_model& model);
+
+/// The setup every member shares: the scheme, the steps and h = time/steps (the model's
+/// defaults where not given). Refuses members × steps beyond max_run_steps (usage_error).
+ensemble_setup make_setup(const member_run_options& o, const ensemble_model& model,
+                          std::size_t members);
+
+std::vector<ensemble_model> ensemble_models();
+ensemble_model find_ensemble_model(const std::string& name);
+std::string ensemble_model_names();
+std::string ensemble_help();
+
+/// The event's expression compiled over q1 … qd, p1 … pd, t (throws usage_error).
+expr::tape compile_event(const std::string& text, int d);
+
+/// The index of column `name` in a CSV header (its first line), or std::string::npos.
+std::size_t column_of(const std::string& header, const std::string& name);
+
+/// "q_1,…,q_d,p_1,…,p_d" (also for d = 1, unlike state_columns).
+std::string state_columns_of(int d);
+
+/// Refuses --plot unless the members are a grid with two axes of more than one point and the
+/// value is a numeric column.
+void check_heat_map(const member_set& set, const std::string& value);
+/// The heat map of `value` over the grid, from the output's header and rows.
+figure heat_map(const member_set& set, const std::string& header, const std::string& rows,
+                const std::string& value, const ensemble_model& model);
+/// One line on standard error: how many members completed, met the event, failed, were invalid.
+void print_summary(const std::string& rows, std::size_t members);
+
+} // namespace varsym::cli

@@ -1,0 +1,124 @@
+// apps/varsym/models/models.hpp: the built-in models of `varsym run --model NAME`: their options,
+// descriptions for `varsym models`, and how each runs.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "checkpoint.hpp"
+#include "cli_common.hpp"
+#include "varsym/schemes/scheme_kind.hpp"
+
+namespace varsym::cli {
+
+/// What `varsym run` resolved from its model-independent options.
+struct run_setup {
+    scheme_spec spec;
+    newton_options newton;
+    bool by_time = false;           ///< --time and --steps given (else steps per period)
+    long long steps_per_period = 0; ///< 0: the model's default
+    double periods = 1.0;
+    double time = 0.0;
+    long long steps = 0;
+    long long every = 1;
+    std::string output;
+    bool stats = false;
+    bool quiet = false; ///< no progress line
+    std::vector<double> q0, p0, v0; ///< initial state; empty: the model's default
+    bool periods_given = false;
+    std::string checkpoint;          ///< --checkpoint FILE, or the file of --resume
+    long long checkpoint_every = 0;  ///< checkpoint every this many steps (0: by time only)
+    double checkpoint_seconds = 0.0; ///< and every this many seconds of wall time (0: never)
+    double max_energy_error = -1.0;  ///< stop (exit 4) past it; < 0: the default, 0: never
+    std::vector<std::string> args;   ///< the run's arguments, kept in its checkpoints
+    std::shared_ptr<const cli::checkpoint> resume; ///< the checkpoint a resumed run continues
+    bool scheme_given = false; ///< --scheme or --degree was set (the rigid bodies refuse them)
+    std::string method;        ///< the integrator where it is not `spec` (rigid bodies: "lgvi-4")
+    int method_order = 0;      ///< its order
+    double method_limit = 0.0; ///< the largest h·ω its steps are defined at (advice only)
+
+    /// The integrator as messages and checkpoints name it, and its order.
+    [[nodiscard]] std::string label() const { return method.empty() ? spec.label() : method; }
+    [[nodiscard]] int order() const { return method.empty() ? spec.order() : method_order; }
+};
+
+/// A built-in model. Its parameters are options of `varsym run` that only it accepts.
+struct model {
+    std::string name;
+    std::string summary;     ///< one line
+    std::string description; ///< Lagrangian, units, parameters' meaning, conserved quantities
+    std::vector<std::string> options; ///< its own options, e.g. "--eccentricity"
+    std::function<void(CLI::App&)> add_options;
+    std::function<void(const run_setup&)> run;
+};
+
+/// All models, in the order `varsym models` lists them: the models layer's registry first
+/// (registry_models.hpp; their parameters read from `po`, one per parsed command line), then the
+/// tool's own, each with its own parameters bound to the options a command line sets.
+std::vector<model> make_models(std::shared_ptr<class parameter_options> po = nullptr);
+
+/// The parameters the mechanisms share (double-pendulum, arm, four-bar, slider-crank,
+/// spherical-pendulum): each model reads the ones it lists and says how many values it needs.
+struct mechanism_options {
+    std::vector<double> masses, lengths, inertias; ///< empty: the model's default
+    std::vector<double> damping, kp, kd, target;   ///< the arm's joints
+    double gravity = 9.81;
+    double torque = 0.0;    ///< on the crank (four-bar, slider-crank)
+    double move_time = 2.0; ///< the arm's move to its target
+    bool no_compensation = false;
+    bool project = false; ///< move inconsistent initial data onto the constraints
+};
+/// Registers mechanism_options' options (once, for all the mechanisms).
+void add_mechanism_options(CLI::App& cmd, mechanism_options& o);
+
+model make_oscillator_model();
+model make_arm_model(std::shared_ptr<mechanism_options> o);
+model make_four_bar_model(std::shared_ptr<mechanism_options> o);
+model make_slider_crank_model(std::shared_ptr<mechanism_options> o);
+model make_spherical_pendulum_model(std::shared_ptr<mechanism_options> o);
+model make_chain_model();
+/// `rigid-body`, `top` and `pendulum-3d` (model_rigid.cpp), which share their parameters.
+std::vector<model> make_rigid_models();
+/// `lagrangian`: the user's L given by --lagrangian (model_expression.cpp).
+model make_expression_model();
+
+/// The most steps one run may take (1e15; the fuzz target lowers it to run actions cheaply).
+extern double max_run_steps;
+
+/// How many steps of which size: from --steps-per-period/--periods when the model has a period
+/// (period > 0), else from --time/--steps (or the model's defaults). Refuses inconsistent input.
+struct run_plan {
+    std::size_t steps = 0;
+    double h = 0.0;
+    double period = 0.0; ///< the model's period, 0 if it has none
+};
+run_plan plan_steps(const run_setup& s, const std::string& model, double period,
+                    long long default_steps_per_period, double default_time,
+                    long long default_steps);
+
+/// The initial vector of `option` (--q0, --p0, --v0): the given values, which must be d of them
+/// (`names` says what they are in the message), or `fallback` when none were given.
+vec<dynamic> initial_vector(const std::vector<double>& given, const char* option, int d,
+                            const std::string& names, const vec<dynamic>& fallback);
+
+/// The CSV columns q and p of a d-dimensional state: "q,p" for d = 1, else "q_1,…,q_d,p_1,…,p_d".
+std::string state_columns(int d, const char* suffix = "");
+
+/// The linear stability limit of a scheme: the largest z such that the step map of the harmonic
+/// oscillator with h·ω < z is stable (infinity if it is stable at every h·ω); computed by
+/// running the scheme's stepper on the oscillator (model_oscillator.cpp, stability.cpp).
+double linear_stability_limit(const scheme_spec& spec);
+
+/// One step of scheme `spec` with h = z of the unit harmonic oscillator (m = 1, ω = 1) from x;
+/// false if Newton did not converge (model_oscillator.cpp).
+bool unit_oscillator_step(const scheme_spec& spec, double z, phase_state<1>& x);
+
+/// Where h·ω is unstable for `spec`, scanned up to stability_scan_end (stability.cpp).
+inline constexpr double stability_scan_end = 50.0;
+
+/// Validators shared by model options.
+extern const CLI::Validator eccentricity_range;
+
+} // namespace varsym::cli

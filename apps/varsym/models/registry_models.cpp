@@ -1,0 +1,252 @@
+// apps/varsym/models/registry_models.cpp: the models of the models layer (varsym/models/model.hpp) as
+// the tool's commands see them: `varsym run` options, help and runs, and `varsym ensemble` and
+// `varsym section` models, all generated from each model's one definition.
+#include <charconv>
+#include <cmath>
+#include <algorithm>
+#include <map>
+#include <optional>
+
+#include "ensemble.hpp"
+#include "model_run.hpp"
+#include "registry_models.hpp"
+
+namespace varsym::cli {
+
+namespace {
+
+/// The shortest text that reads back as v.
+std::string number_text(double v) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    return {buf, r.ptr};
+}
+
+/// "--masses (value 1 of 2)" or "--mass".
+std::string option_text(const models::model& m, const models::parameter& p) {
+    std::string o = "--" + p.option_name();
+    if (p.option_index < 0) return o;
+    int count = 0;
+    for (const auto& q : m.parameters)
+        count += q.option == p.option ? 1 : 0;
+    return o + " (value " + std::to_string(p.option_index + 1) + " of " + std::to_string(count) +
+           ")";
+}
+
+std::string values_text(const std::vector<double>& v) {
+    std::string s;
+    for (double x : v)
+        s += (s.empty() ? "" : ", ") + number_text(x);
+    return s;
+}
+
+/// The lines every generated description ends with: parameters, initial state, run length.
+std::string parameter_lines(const models::model& m, bool ensemble) {
+    std::string s;
+    for (const auto& p : m.parameters) {
+        s += "\n  " + (ensemble ? p.name : option_text(m, p)) + " = " + number_text(p.value);
+        if (!p.unit.empty()) s += " [" + p.unit + "]";
+        s += ": " + p.doc + "; " + p.range();
+        if (!p.nan_means.empty()) s += " (nan: " + p.nan_means + ")";
+    }
+    return s;
+}
+
+} // namespace
+
+std::string describe(const models::model& m, bool ensemble) {
+    std::string s = m.description;
+    if (!m.parameters.empty())
+        s += ensemble ? "\n  Parameters (keys for --grid, --members and --set):"
+                      : "\n  Parameters:";
+    s += parameter_lines(m, ensemble);
+    if (m.fixed_start.empty()) {
+        s += ensemble ? "\n  Initial state: q0_1.. (" + values_text(m.q0) + "), p0_1.. (" +
+                            values_text(m.p0) + ")"
+                      : "\n  Initial state: --q0 " + m.coordinates + " (" + values_text(m.q0) +
+                            "), --p0 (" + values_text(m.p0) + ")" +
+                            (m.velocities ? " or --v0" : "");
+    } else {
+        s += "\n  Initial state: from the parameters.";
+    }
+    if (ensemble)
+        s += "\n  Default --time " + number_text(m.ensemble_time) + " --steps " +
+             std::to_string(m.ensemble_steps) + ".";
+    else if (m.steps_per_period > 0)
+        s += "\n  Default " + std::to_string(m.steps_per_period) + " steps per period.";
+    else
+        s += "\n  Default --time " + number_text(m.time) + " --steps " + std::to_string(m.steps) +
+             ".";
+    if (ensemble && !m.ensemble_note.empty()) s += "\n  " + m.ensemble_note;
+    return s;
+}
+
+void parameter_options::add(CLI::App& cmd) {
+    std::map<std::string, std::string> help; // option → what it sets, model by model
+    std::map<std::string, bool> list;        // option → whether it takes several values
+    std::map<std::string, std::vector<const models::parameter*>> uses;
+    for (const auto& m : models::registry())
+        for (const auto& p : m.parameters) {
+            uses[p.option_name()].push_back(&p);
+            list[p.option_name()] = list[p.option_name()] || p.option_index >= 0;
+            std::string& h = help[p.option_name()];
+            h += (h.empty() ? "" : "; ") + m.name + ": " + p.doc;
+            if (!p.unit.empty()) h += " [" + p.unit + "]";
+        }
+    for (const auto& [name, text] : help) {
+        if (CLI::Option* existing = cmd.get_option_no_throw("--" + name)) { // a mechanism's too
+            existing->description(existing->get_description() + "; " + text);
+            options_[name] = existing;
+        } else {
+            options_[name] = cmd.add_option("--" + name, text)
+                                 ->delimiter(',')
+                                 ->type_name(list[name] ? list_type_name : "FLOAT");
+            // Checked while parsing (so that a config file's line is named) where every model
+            // with this option takes the same range; else when the model runs.
+            const auto& ps = uses[name];
+            const models::parameter* first = ps.front();
+            if (std::all_of(ps.begin(), ps.end(), [&](const models::parameter* p) {
+                    return p->range() == first->range() && p->nan_means == first->nan_means;
+                }))
+                options_[name]->check(CLI::Validator(
+                    [first](std::string& value) -> std::string {
+                        double v = 0.0;
+                        if (!CLI::detail::lexical_cast(value, v))
+                            return shown(value) + " is not a number";
+                        try {
+                            first->check(v);
+                        } catch (const std::invalid_argument& e) {
+                            return e.what();
+                        }
+                        return {};
+                    },
+                    first->range()));
+        }
+    }
+}
+
+std::vector<double> parameter_options::values(const models::model& m) const {
+    std::vector<double> v = m.defaults();
+    for (std::size_t i = 0; i < m.parameters.size(); ++i) {
+        const auto& p = m.parameters[i];
+        const auto it = options_.find(p.option_name());
+        if (it == options_.end() || it->second->count() == 0) continue;
+        const std::string option = "--" + p.option_name();
+        std::vector<double> given;
+        for (const std::string& r : it->second->results()) {
+            double x = 0.0;
+            if (!CLI::detail::lexical_cast(r, x))
+                throw usage_error(option + ": " + shown(r) + " is not a number");
+            given.push_back(x);
+        }
+        int count = 0;
+        for (const auto& q : m.parameters)
+            count += (q.option_name() == p.option_name()) ? 1 : 0;
+        if (static_cast<int>(given.size()) != count)
+            throw usage_error(m.name + ": " + option + " needs " + std::to_string(count) +
+                              " value" + (count == 1 ? "" : "s") + ", got " +
+                              std::to_string(given.size()));
+        v[i] = given[static_cast<std::size_t>(std::max(p.option_index, 0))];
+    }
+    return v;
+}
+
+model make_registry_model(const models::model& rm, std::shared_ptr<parameter_options> po) {
+    model m;
+    m.name = rm.name;
+    m.summary = rm.summary;
+    m.description = describe(rm, false);
+    for (const auto& p : rm.parameters)
+        if (std::find(m.options.begin(), m.options.end(), "--" + p.option_name()) ==
+            m.options.end())
+            m.options.push_back("--" + p.option_name());
+    m.add_options = [](CLI::App&) {}; // all at once: parameter_options::add
+    m.run = [&rm, po](const run_setup& s) {
+        const std::vector<double> values = po->values(rm);
+        models::problem pr;
+        try {
+            pr = rm.prepare(values, {s.q0, s.p0, s.v0});
+        } catch (const std::invalid_argument& e) {
+            throw usage_error(e.what());
+        }
+        if (pr.period == 0.0 && rm.steps_per_period > 0 && !s.by_time && !pr.no_period.empty())
+            throw usage_error(rm.name + ": " + pr.no_period);
+        const run_plan plan =
+            plan_steps(s, rm.name, pr.period, rm.steps_per_period, rm.time, rm.steps);
+        std::unique_ptr<models::simulation> sim;
+        try {
+            sim = pr.simulate({s.spec, s.newton, plan.h});
+        } catch (const std::invalid_argument& e) {
+            throw usage_error(rm.name + ": " + e.what());
+        }
+        stream_simulation(s, plan, *sim);
+    };
+    return m;
+}
+
+namespace {
+
+/// The simulation of one member (the start from its q0 and p0 unless the model's start follows
+/// from its parameters).
+std::unique_ptr<models::simulation> member_simulation(const models::model& rm,
+                                                      const member_input& in,
+                                                      const ensemble_setup& e) {
+    models::start st;
+    if (rm.fixed_start.empty()) st = {in.q0, in.p0, {}};
+    const models::problem pr = rm.prepare(in.parameters, st);
+    return pr.simulate({e.spec, e.newton, e.h});
+}
+
+} // namespace
+
+ensemble_model make_registry_ensemble(const models::model& rm) {
+    ensemble_model m;
+    m.name = rm.name;
+    m.dim = rm.dim;
+    m.q0 = rm.q0;
+    m.p0 = rm.p0;
+    m.fixed_start = !rm.fixed_start.empty();
+    for (const auto& p : rm.parameters)
+        m.parameters.emplace_back(p.name, p.value);
+    m.help = describe(rm, true);
+    m.time = rm.ensemble_time;
+    m.steps = rm.ensemble_steps;
+    m.run = [&rm](const member_input& in, const ensemble_setup& e) {
+        const auto sim = member_simulation(rm, in, e);
+        std::optional<expr::tape> tape = e.event; // a copy: members run concurrently
+        std::vector<double> buffer(static_cast<std::size_t>(2 * rm.dim + 1));
+        std::function<double(double, std::span<const double>, std::span<const double>)> event;
+        if (tape)
+            event = [&](double t, std::span<const double> q, std::span<const double> p) {
+                std::copy(q.begin(), q.end(), buffer.begin());
+                std::copy(p.begin(), p.end(), buffer.begin() + static_cast<std::ptrdiff_t>(q.size()));
+                buffer.back() = t;
+                tape->run(buffer);
+                return tape->output(0);
+            };
+        return sim->run_member(e.plan, event);
+    };
+    // Sections need dense output: a probe at the defaults says whether the model's steppers have it.
+    const bool dense = rm.make(rm.defaults(), {}).simulate({{}, {}, 0.01})->has_dense_output();
+    if (dense)
+        m.section = [&rm](const member_input& in, const ensemble_setup& e,
+                          const section_plane& plane, long long crossings) {
+            const auto sim = member_simulation(rm, in, e);
+            const models::section_result r = sim->section(plane, e.plan.steps, crossings);
+            std::string rows;
+            const std::size_t width = 2 * static_cast<std::size_t>(rm.dim);
+            for (std::size_t k = 0; k < r.time.size(); ++k) {
+                append_number(rows, r.time[k]);
+                for (std::size_t i = 0; i < width; ++i) {
+                    rows += ',';
+                    append_number(rows, r.states[k * width + i]);
+                }
+                rows += '\n';
+            }
+            if (r.failed) rows += "failed\n";
+            return rows;
+        };
+    return m;
+}
+
+} // namespace varsym::cli

@@ -1,0 +1,44 @@
+// apps/varsym/models/registry_models.hpp: the tool's front end to the models layer: the options of
+// every model's parameters, and `varsym run`, `ensemble` and `section` models generated from the
+// registry (registry_models.cpp), with the run loop that streams a simulation (simulation_run.cpp).
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ensemble.hpp"
+#include "models.hpp"
+#include "varsym/models/model.hpp"
+
+namespace varsym::cli {
+
+/// The options of the registry models' parameters on one command: one option per name, shared
+/// by the models that have it (and with a mechanism's option of the same name).
+class parameter_options {
+  public:
+    /// Adds the options not yet on `cmd` and takes over those already there.
+    void add(CLI::App& cmd);
+    /// Model m's parameter values: its defaults, replaced by the options given.
+    [[nodiscard]] std::vector<double> values(const models::model& m) const;
+
+  private:
+    std::map<std::string, CLI::Option*> options_;
+};
+
+/// The description `varsym models` and the ensemble's help show: the model's text, then its
+/// parameters (as options, or as ensemble keys), initial state and default run length.
+std::string describe(const models::model& m, bool ensemble);
+
+/// `varsym run --model NAME` for a model of the registry.
+model make_registry_model(const models::model& m, std::shared_ptr<parameter_options> po);
+/// `varsym ensemble` and `varsym section` for a model of the registry.
+ensemble_model make_registry_ensemble(const models::model& m);
+
+/// Streams the rows of a simulation for plan.steps steps: step,t, q, p, then the model's
+/// columns; checkpoints, resumes, watches the energy, stops on signals, and turns a failed step
+/// into exit code 3, as every run does (run_log).
+void stream_simulation(const run_setup& s, const run_plan& plan, models::simulation& sim);
+
+} // namespace varsym::cli

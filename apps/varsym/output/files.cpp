@@ -1,0 +1,301 @@
+// apps/varsym/output/files.cpp: output files (atomic, written through, exclusive and locked), bounded
+// reads, and the collision check of a command's files (files.hpp).
+#include "files.hpp"
+
+#include <cerrno>
+#include <cstring>
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "cli_common.hpp"
+#include "signals.hpp"
+
+namespace varsym::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string error_text(int err) {
+    return std::strerror(err);
+}
+
+/// Names of the calling process's own descriptors: always written through, never resolved.
+bool names_a_descriptor(const std::string& path) {
+    return path.starts_with("/dev/std") || path.starts_with("/dev/fd/") ||
+           path.starts_with("/proc/");
+}
+
+/// The kind of `path` and the path to write: a symbolic link to a regular file is replaced at
+/// its target (the link stays a link).
+std::pair<file_kind, std::string> resolve(const std::string& path) {
+    struct stat st {};
+    if (::lstat(path.c_str(), &st) != 0) return {file_kind::absent, path};
+    if (S_ISREG(st.st_mode)) return {file_kind::regular, path};
+    if (S_ISDIR(st.st_mode)) return {file_kind::directory, path};
+    if (!S_ISLNK(st.st_mode) || names_a_descriptor(path)) return {file_kind::special, path};
+    if (::stat(path.c_str(), &st) != 0) return {file_kind::special, path}; // dangling: through
+    if (S_ISDIR(st.st_mode)) return {file_kind::directory, path};
+    if (!S_ISREG(st.st_mode)) return {file_kind::special, path};
+    std::error_code ec;
+    const fs::path target = fs::canonical(path, ec);
+    if (ec) return {file_kind::special, path};
+    return {file_kind::regular, target.string()};
+}
+
+/// Why PART, the partial file of FILE, cannot be created: it exists. Never touches it.
+[[noreturn]] void refuse_existing_part(const std::string& file, const std::string& part) {
+    const int fd = ::open(part.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    struct stat st {};
+    if (fd >= 0 && ::fstat(fd, &st) == 0 && S_ISDIR(st.st_mode)) {
+        ::close(fd);
+        throw usage_error("cannot write '" + file + "': its partial file '" + part +
+                          "' is a directory");
+    }
+    const bool locked = fd >= 0 && ::flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+    if (fd >= 0) ::close(fd);
+    if (locked)
+        throw usage_error("another varsym run is writing '" + file + "' (its partial file '" +
+                          part + "' is locked); wait for it, or choose another output");
+    throw usage_error("cannot write '" + file + "': '" + part +
+                      "' exists (the rows of a run that stopped, or a file of yours); resume "
+                      "that run with 'varsym run --resume CHECKPOINT', or move '" +
+                      part + "' away");
+}
+
+} // namespace
+
+file_kind kind_of(const std::string& path) {
+    return resolve(path).first;
+}
+
+std::string read_regular_file(const std::string& path, std::uint64_t max_bytes,
+                              const std::string& role) {
+    if (path.empty()) throw usage_error("the " + role + " name is empty");
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) throw usage_error("cannot read " + role + " '" + path + "': " + error_text(errno));
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        ::close(fd);
+        throw usage_error("cannot read " + role + " '" + path + "': " +
+                          (S_ISDIR(st.st_mode) ? "it is a directory"
+                                               : "not a regular file (a FIFO or a device)"));
+    }
+    if (static_cast<std::uint64_t>(st.st_size) > max_bytes) {
+        ::close(fd);
+        throw usage_error("cannot read " + role + " '" + path + "': " + std::to_string(st.st_size) +
+                          " bytes, more than a valid " + role + " can be (" +
+                          std::to_string(max_bytes) + ")");
+    }
+    std::string text(static_cast<std::size_t>(st.st_size), '\0');
+    std::size_t got = 0;
+    while (got < text.size()) {
+        const ssize_t n = ::read(fd, text.data() + got, text.size() - got);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        got += static_cast<std::size_t>(n);
+    }
+    ::close(fd);
+    text.resize(got); // a file that shrank while read: its parser reports what is missing
+    return text;
+}
+
+void file_roles::add(std::string role, const std::string& path) {
+    if (path.empty() || path == "-") return;
+    entries_.push_back({std::move(role), path});
+}
+
+void file_roles::check() const {
+    auto same = [](const std::string& a, const std::string& b) {
+        std::error_code e1, e2;
+        const fs::path ca = fs::weakly_canonical(fs::absolute(a), e1);
+        const fs::path cb = fs::weakly_canonical(fs::absolute(b), e2);
+        if (!e1 && !e2 && ca == cb) return true;
+        struct stat sa {
+        }, sb{};
+        return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 &&
+               sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    };
+    for (std::size_t i = 0; i < entries_.size(); ++i)
+        for (std::size_t j = i + 1; j < entries_.size(); ++j)
+            if (same(entries_[i].path, entries_[j].path))
+                throw usage_error(entries_[i].role + " '" + entries_[i].path + "' and " +
+                                  entries_[j].role + " '" + entries_[j].path +
+                                  "' are the same file; give one of them another name");
+}
+
+output_file::output_file(const std::string& path) {
+    if (path.empty() || path == "-") {
+        f_ = stdout;
+        return;
+    }
+    const auto [kind, target] = resolve(path);
+    if (kind == file_kind::directory)
+        throw usage_error("cannot write '" + path + "': it is a directory");
+    path_ = target;
+    if (kind == file_kind::special) {
+        through_ = true;
+        path_ = path;
+        const int fd = ::open(path.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC | O_CREAT, 0666);
+        if (fd < 0 || (f_ = ::fdopen(fd, "w")) == nullptr)
+            throw std::runtime_error("cannot write '" + path + "': " + error_text(errno));
+        return;
+    }
+    const std::string part = partial_path();
+    const int fd = ::open(part.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0 && errno == EEXIST) refuse_existing_part(path, part);
+    if (fd < 0) throw std::runtime_error("cannot write '" + part + "': " + error_text(errno));
+    remove_at_signal(part);
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0 || (f_ = ::fdopen(fd, "w")) == nullptr) {
+        const int err = errno;
+        ::unlink(part.c_str());
+        forget_at_signal(part);
+        ::close(fd);
+        throw std::runtime_error("cannot lock '" + part + "': " + error_text(err));
+    }
+}
+
+output_file::output_file(const std::string& path, std::uint64_t keep, std::uint32_t crc) {
+    const auto [kind, target] = resolve(path);
+    if (kind == file_kind::directory || kind == file_kind::special)
+        throw usage_error("cannot resume: its output '" + path + "' is no longer a regular file");
+    path_ = target;
+    const std::string part = partial_path();
+    const int fd = ::open(part.c_str(), O_RDWR | O_CLOEXEC);
+    if (fd < 0)
+        throw usage_error("cannot resume: '" + part + "', the rows of the interrupted run, " +
+                          (errno == ENOENT ? std::string("is missing")
+                                           : "cannot be opened (" + error_text(errno) + ")"));
+    auto refuse = [&](const std::string& why) {
+        ::close(fd);
+        throw usage_error("cannot resume: '" + part + "' " + why);
+    };
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) refuse("is not a regular file");
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0)
+        refuse("is locked by another varsym run (is this checkpoint being resumed already?)");
+    const auto size = static_cast<std::uint64_t>(st.st_size);
+    if (size < keep)
+        refuse("has " + std::to_string(size) + " bytes, fewer than the " + std::to_string(keep) +
+               " its checkpoint covers; it was changed after the run stopped");
+    std::vector<char> buf(1 << 20);
+    for (std::uint64_t at = 0; at < keep;) {
+        const auto want = static_cast<std::size_t>(std::min<std::uint64_t>(buf.size(), keep - at));
+        const ssize_t n = ::pread(fd, buf.data(), want, static_cast<off_t>(at));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) refuse("cannot be read: " + error_text(n < 0 ? errno : EIO));
+        crc_.process_bytes(buf.data(), static_cast<std::size_t>(n));
+        at += static_cast<std::uint64_t>(n);
+    }
+    if (crc_.checksum() != crc)
+        refuse("is not the file its checkpoint's run wrote (the CRC-32 of its first " +
+               std::to_string(keep) + " bytes differs): it was changed or reused after the run " +
+               "stopped");
+    if (::ftruncate(fd, static_cast<off_t>(keep)) != 0 || ::lseek(fd, 0, SEEK_END) < 0 ||
+        (f_ = ::fdopen(fd, "a")) == nullptr)
+        refuse("cannot be truncated: " + error_text(errno));
+    bytes_ = keep;
+    keep_ = true; // an interrupted resumed run keeps its rows for the next resume
+}
+
+void output_file::fail_write(int err) const {
+    throw std::runtime_error("cannot write '" +
+                             (is_stdout() ? std::string("standard output") : path_.string()) +
+                             "': " + error_text(err));
+}
+
+void output_file::sync() {
+    if (std::fflush(f_) != 0 || (!is_stdout() && !through_ && ::fsync(::fileno(f_)) != 0))
+        fail_write(errno);
+}
+
+output_file::~output_file() {
+    if (is_stdout() || committed_) return;
+    if (!keep_ && !through_) {
+        ::unlink(partial_path().c_str()); // ours, created exclusively; still locked by us
+        forget_at_signal(partial_path());
+    }
+    std::fclose(f_);
+}
+
+void output_file::write(const std::string& s) {
+    bytes_ += s.size();
+    crc_.process_bytes(s.data(), s.size());
+    if (std::fwrite(s.data(), 1, s.size(), f_) != s.size() || std::fflush(f_) != 0)
+        fail_write(errno);
+}
+
+void output_file::keep_partial() {
+    keep_ = true;
+    if (!is_stdout() && !through_) forget_at_signal(partial_path());
+}
+
+void output_file::commit() {
+    if (is_stdout()) {
+        if (std::fflush(f_) != 0) fail_write(errno);
+        return;
+    }
+    committed_ = true; // the stream is closed below: the destructor must not touch it
+    if (through_) {
+        if (std::fclose(f_) != 0) fail_write(errno);
+        return;
+    }
+    const std::string part = partial_path();
+    const bool ok = std::fflush(f_) == 0 && ::fsync(::fileno(f_)) == 0;
+    const int err = errno;
+    if (!ok || std::rename(part.c_str(), path_.c_str()) != 0) {
+        const int e = ok ? errno : err;
+        if (!keep_) ::unlink(part.c_str());
+        forget_at_signal(part);
+        std::fclose(f_);
+        fail_write(e);
+    }
+    forget_at_signal(part);
+    fsync_directory(path_);
+    if (std::fclose(f_) != 0) fail_write(errno); // releases the lock, after the rename
+}
+
+void fsync_directory(const fs::path& file) {
+    const auto dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
+    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return; // best effort: the rename itself is atomic
+    ::fsync(fd);
+    ::close(fd);
+}
+
+void write_exclusively(const std::string& path, const std::string& body, bool replace,
+                       const std::string& role) {
+    const std::string tmp = path + ".tmp";
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0)
+        throw std::runtime_error(
+            "cannot write " + role + " '" + path + "': '" + tmp + "': " +
+            (errno == EEXIST ? std::string("exists, not written by this run") : error_text(errno)));
+    remove_at_signal(tmp);
+    auto fail = [&](const std::string& what, int err) {
+        ::close(fd);
+        ::unlink(tmp.c_str());
+        forget_at_signal(tmp);
+        throw std::runtime_error("cannot write " + role + " '" + what + "': " + error_text(err));
+    };
+    std::size_t done = 0;
+    while (done < body.size()) {
+        const ssize_t n = ::write(fd, body.data() + done, body.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) fail(tmp, n < 0 ? errno : EIO);
+        done += static_cast<std::size_t>(n);
+    }
+    if (::fsync(fd) != 0) fail(tmp, errno);
+    if (replace ? std::rename(tmp.c_str(), path.c_str()) != 0
+                : ::link(tmp.c_str(), path.c_str()) != 0)
+        fail(path, errno);
+    if (!replace) ::unlink(tmp.c_str());
+    forget_at_signal(tmp);
+    ::close(fd);
+    fsync_directory(path);
+}
+
+} // namespace varsym::cli
