@@ -14,7 +14,7 @@ int main() {
     const vm::model& m = vm::get("acrobot");
     std::vector<double> values = m.defaults();
     values[static_cast<std::size_t>(m.parameter_index("torque"))] = 1.0; // N m on the elbow
-    auto sim = m.prepare(values, {{1.0, 0.0}, {}, {0.0, 0.0}})      // q0 = (1, 0), at rest
+    auto sim = m.prepare(values, {{1.0, 0.0}, {}, {0.0, 0.0}})           // q0 = (1, 0), at rest
                    .simulate({varsym::scheme_spec(varsym::scheme_kind::gauss, 2), {}, 1e-3});
     std::vector<double> columns(sim->columns().size()); // energy, work
     sim->values(columns);

@@ -12,7 +12,6 @@
 #include <cmath>
 
 #include "simulation_of.hpp"
-#include "varsym/systems/forcing.hpp"
 
 namespace varsym::models::defs {
 
@@ -20,8 +19,8 @@ namespace {
 
 struct acrobot_lagrangian {
     static constexpr int dim = 2;
-    double m1 = 1.0, m2 = 1.0, l1 = 1.0, lc1 = 0.5, lc2 = 0.5, i1 = 1.0 / 12.0,
-           i2 = 1.0 / 12.0, g = 9.81;
+    double m1 = 1.0, m2 = 1.0, l1 = 1.0, lc1 = 0.5, lc2 = 0.5, i1 = 1.0 / 12.0, i2 = 1.0 / 12.0,
+           g = 9.81;
 
     template <class T>
     T operator()(const tvec<T, 2>& q, const tvec<T, 2>& v) const {
@@ -62,44 +61,36 @@ model acrobot() {
     m.coordinates = "q1, q2";
     const acrobot_lagrangian l0;
     auto positive = [](const char* name, double v, const char* unit, const char* doc) {
-        return parameter{.name = name, .value = v, .unit = unit, .doc = doc, .lower = 0.0,
-                         .lower_open = true};
+        return parameter{
+            .name = name, .value = v, .unit = unit, .doc = doc, .lower = 0.0, .lower_open = true};
     };
-    m.parameters = {positive("m1", l0.m1, "kg", "mass of link 1"),
-                    positive("m2", l0.m2, "kg", "mass of link 2"),
-                    positive("l1", l0.l1, "m", "length of link 1"),
-                    positive("lc1", l0.lc1, "m", "pivot to centre of mass, link 1"),
-                    positive("lc2", l0.lc2, "m", "elbow to centre of mass, link 2"),
-                    {.name = "I1", .value = l0.i1, .unit = "kg m^2",
-                     .doc = "link 1's moment of inertia about its centre of mass", .lower = 0.0},
-                    {.name = "I2", .value = l0.i2, .unit = "kg m^2",
-                     .doc = "link 2's moment of inertia about its centre of mass", .lower = 0.0},
-                    {.name = "gravity", .value = l0.g, .unit = "m/s^2", .doc = "gravity g",
-                     .lower = 0.0},
-                    {.name = "torque", .value = 0.0, .unit = "N m",
-                     .doc = "constant elbow torque u"}};
+    m.parameters = {
+        positive("m1", l0.m1, "kg", "mass of link 1"),
+        positive("m2", l0.m2, "kg", "mass of link 2"),
+        positive("l1", l0.l1, "m", "length of link 1"),
+        positive("lc1", l0.lc1, "m", "pivot to centre of mass, link 1"),
+        positive("lc2", l0.lc2, "m", "elbow to centre of mass, link 2"),
+        {.name = "I1",
+         .value = l0.i1,
+         .unit = "kg m^2",
+         .doc = "link 1's moment of inertia about its centre of mass",
+         .lower = 0.0},
+        {.name = "I2",
+         .value = l0.i2,
+         .unit = "kg m^2",
+         .doc = "link 2's moment of inertia about its centre of mass",
+         .lower = 0.0},
+        {.name = "gravity", .value = l0.g, .unit = "m/s^2", .doc = "gravity g", .lower = 0.0},
+        {.name = "torque", .value = 0.0, .unit = "N m", .doc = "constant elbow torque u"}};
     m.time = 10.0;
     m.steps = 10000;
     m.ensemble_time = 20.0;
     m.ensemble_steps = 10000;
     m.make = [](std::span<const double> v, const start& s) {
         using L = acrobot_lagrangian;
-        using F = controlled<elbow_torque>;
-        const auto sys =
-            lagrangian_system<L>(L{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]});
-        F force;
-        force.u(0) = v[8];
-        const phase_state<2> x0 = detail::general_start(sys, s, vec<2>{1.0, 0.0}, vec<2>(vec<2>::Zero()));
-        return detail::make_problem(x0, 0.0, [=](const step_options& o) {
-            detail::check_general(o);
-            return detail::simulate_general(
-                general::stepper<L, F>(sys, force, o.h, o.spec, o.newton), x0,
-                detail::column_set{{"energy", "work"},
-                                [sys](double, const auto& x, const auto& st, double* out) {
-                                    out[0] = sys.energy(x);
-                                    out[1] = st.total_work();
-                                }});
-        });
+        const auto sys = lagrangian_system<L>(L{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]});
+        return detail::controlled_problem<L, elbow_torque>(
+            sys, v[8], detail::general_start(sys, s, vec<2>{1.0, 0.0}, vec<2>(vec<2>::Zero())));
     };
     return m;
 }

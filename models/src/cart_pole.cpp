@@ -12,7 +12,6 @@
 #include <cmath>
 
 #include "simulation_of.hpp"
-#include "varsym/systems/forcing.hpp"
 
 namespace varsym::models::defs {
 
@@ -56,17 +55,34 @@ model cart_pole() {
     m.coordinates = "x, th";
     const cart_pole_lagrangian l0;
     m.parameters = {
-        {.name = "cart_mass", .value = l0.cart, .unit = "kg", .doc = "mass M of the cart",
-         .lower = 0.0, .lower_open = true},
-        {.name = "pole_mass", .value = l0.pole, .unit = "kg", .doc = "mass m of the pole",
-         .lower = 0.0, .lower_open = true},
-        {.name = "pole_length", .value = l0.l, .unit = "m",
-         .doc = "distance l from the pivot to the pole's centre of mass", .lower = 0.0,
+        {.name = "cart_mass",
+         .value = l0.cart,
+         .unit = "kg",
+         .doc = "mass M of the cart",
+         .lower = 0.0,
          .lower_open = true},
-        {.name = "pole_inertia", .value = l0.inertia, .unit = "kg m^2",
-         .doc = "pole's moment of inertia I about its centre of mass", .lower = 0.0},
+        {.name = "pole_mass",
+         .value = l0.pole,
+         .unit = "kg",
+         .doc = "mass m of the pole",
+         .lower = 0.0,
+         .lower_open = true},
+        {.name = "pole_length",
+         .value = l0.l,
+         .unit = "m",
+         .doc = "distance l from the pivot to the pole's centre of mass",
+         .lower = 0.0,
+         .lower_open = true},
+        {.name = "pole_inertia",
+         .value = l0.inertia,
+         .unit = "kg m^2",
+         .doc = "pole's moment of inertia I about its centre of mass",
+         .lower = 0.0},
         {.name = "gravity", .value = l0.g, .unit = "m/s^2", .doc = "gravity g", .lower = 0.0},
-        {.name = "push", .value = 0.0, .unit = "N", .doc = "constant horizontal push u on the cart"}};
+        {.name = "push",
+         .value = 0.0,
+         .unit = "N",
+         .doc = "constant horizontal push u on the cart"}};
     m.time = 5.0;
     m.steps = 5000;
     m.ensemble_time = 5.0;
@@ -74,21 +90,9 @@ model cart_pole() {
     m.ensemble_note = "The pole falls over: --event 'q2^2 - 2.4649' (|th| reaches 1.57).";
     m.make = [](std::span<const double> v, const start& s) {
         using L = cart_pole_lagrangian;
-        using F = controlled<push_on_cart>;
         const auto sys = lagrangian_system<L>(L{v[0], v[1], v[2], v[3], v[4]});
-        F force;
-        force.u(0) = v[5];
-        const phase_state<2> x0 = detail::general_start(sys, s, vec<2>{0.0, 0.1}, vec<2>(vec<2>::Zero()));
-        return detail::make_problem(x0, 0.0, [=](const step_options& o) {
-            detail::check_general(o);
-            return detail::simulate_general(
-                general::stepper<L, F>(sys, force, o.h, o.spec, o.newton), x0,
-                detail::column_set{{"energy", "work"},
-                                [sys](double, const auto& x, const auto& st, double* out) {
-                                    out[0] = sys.energy(x);
-                                    out[1] = st.total_work();
-                                }});
-        });
+        return detail::controlled_problem<L, push_on_cart>(
+            sys, v[5], detail::general_start(sys, s, vec<2>{0.0, 0.1}, vec<2>(vec<2>::Zero())));
     };
     return m;
 }

@@ -20,19 +20,50 @@ model double_pendulum() {
     m.dim = 2;
     m.coordinates = "th1, th2";
     const double_pendulum::lagrangian l0;
-    m.parameters = {
-        {.name = "m1", .value = l0.m1, .unit = "kg", .doc = "mass at the end of link 1",
-         .lower = 0.0, .lower_open = true, .option = "masses", .option_index = 0},
-        {.name = "m2", .value = l0.m2, .unit = "kg", .doc = "mass at the end of link 2",
-         .lower = 0.0, .lower_open = true, .option = "masses", .option_index = 1},
-        {.name = "l1", .value = l0.l1, .unit = "m", .doc = "length of link 1", .lower = 0.0,
-         .lower_open = true, .option = "lengths", .option_index = 0},
-        {.name = "l2", .value = l0.l2, .unit = "m", .doc = "length of link 2", .lower = 0.0,
-         .lower_open = true, .option = "lengths", .option_index = 1},
-        {.name = "g", .value = l0.g, .unit = "m/s^2", .doc = "gravity", .lower = 0.0,
-         .option = "gravity"},
-        {.name = "k", .value = l0.k, .unit = "N m/rad", .doc = "joint spring stiffness",
-         .lower = 0.0, .option = "joint-stiffness"}};
+    m.parameters = {{.name = "m1",
+                     .value = l0.m1,
+                     .unit = "kg",
+                     .doc = "mass at the end of link 1",
+                     .lower = 0.0,
+                     .lower_open = true,
+                     .option = "masses",
+                     .option_index = 0},
+                    {.name = "m2",
+                     .value = l0.m2,
+                     .unit = "kg",
+                     .doc = "mass at the end of link 2",
+                     .lower = 0.0,
+                     .lower_open = true,
+                     .option = "masses",
+                     .option_index = 1},
+                    {.name = "l1",
+                     .value = l0.l1,
+                     .unit = "m",
+                     .doc = "length of link 1",
+                     .lower = 0.0,
+                     .lower_open = true,
+                     .option = "lengths",
+                     .option_index = 0},
+                    {.name = "l2",
+                     .value = l0.l2,
+                     .unit = "m",
+                     .doc = "length of link 2",
+                     .lower = 0.0,
+                     .lower_open = true,
+                     .option = "lengths",
+                     .option_index = 1},
+                    {.name = "g",
+                     .value = l0.g,
+                     .unit = "m/s^2",
+                     .doc = "gravity",
+                     .lower = 0.0,
+                     .option = "gravity"},
+                    {.name = "k",
+                     .value = l0.k,
+                     .unit = "N m/rad",
+                     .doc = "joint spring stiffness",
+                     .lower = 0.0,
+                     .option = "joint-stiffness"}};
     m.time = 10.0;
     m.steps = 10000;
     m.ensemble_time = 20.0;
@@ -47,8 +78,10 @@ model double_pendulum() {
             detail::check_general(o);
             return detail::simulate_general(
                 general::stepper<L>(sys, o.h, o.spec, o.newton), x0,
-                detail::column_set{{"energy"}, [sys](double, const auto& x, const auto&,
-                                                  double* out) { out[0] = sys.energy(x); }});
+                detail::column_set{{"energy"},
+                                   [sys](double, const auto& x, const auto&, double* out) {
+                                       out[0] = sys.energy(x);
+                                   }});
         });
     };
     return m;

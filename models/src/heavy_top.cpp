@@ -19,14 +19,23 @@ model heavy_top() {
         "  Exact: th(t) in closed form (q_1_exact). Period: the nutation period.";
     m.dim = 3;
     m.coordinates = "th, phi, psi";
-    m.parameters = {{.name = "I1", .value = 1.0, .unit = "kg m^2",
-                     .doc = "moment of inertia about a transverse axis", .lower = 0.0,
+    m.parameters = {{.name = "I1",
+                     .value = 1.0,
+                     .unit = "kg m^2",
+                     .doc = "moment of inertia about a transverse axis",
+                     .lower = 0.0,
                      .lower_open = true},
-                    {.name = "I3", .value = 0.5, .unit = "kg m^2",
-                     .doc = "moment of inertia about the symmetry axis", .lower = 0.0,
+                    {.name = "I3",
+                     .value = 0.5,
+                     .unit = "kg m^2",
+                     .doc = "moment of inertia about the symmetry axis",
+                     .lower = 0.0,
                      .lower_open = true},
-                    {.name = "mgl", .value = 1.0, .unit = "J",
-                     .doc = "weight times distance to the centre of mass", .lower = 0.0,
+                    {.name = "mgl",
+                     .value = 1.0,
+                     .unit = "J",
+                     .doc = "weight times distance to the centre of mass",
+                     .lower = 0.0,
                      .lower_open = true}};
     m.steps_per_period = 100;
     m.time = 10.0;
@@ -51,15 +60,15 @@ model heavy_top() {
                 detail::check_general(o);
                 return detail::simulate_general(
                     general::stepper<L>(sys, o.h, o.spec, o.newton), x0,
-                    detail::column_set{{"energy", "p_phi", "p_psi", "q_1_exact"},
-                                    [sys, nutation](double t, const auto& x, const auto&,
-                                                    double* out) {
-                                        out[0] = sys.energy(x);
-                                        out[1] = x.p(1);
-                                        out[2] = x.p(2);
-                                        out[3] = nutation ? nutation->theta(t)
-                                                          : std::numeric_limits<double>::quiet_NaN();
-                                    }});
+                    detail::column_set{
+                        {"energy", "p_phi", "p_psi", "q_1_exact"},
+                        [sys, nutation](double t, const auto& x, const auto&, double* out) {
+                            out[0] = sys.energy(x);
+                            out[1] = x.p(1);
+                            out[2] = x.p(2);
+                            out[3] = nutation ? nutation->theta(t)
+                                              : std::numeric_limits<double>::quiet_NaN();
+                        }});
             });
         pr.no_period = no_period;
         return pr;

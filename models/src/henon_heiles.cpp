@@ -19,7 +19,8 @@ model henon_heiles() {
         "  period. The section x = 0 of an ensemble: vary q0_2 and p0_2 at a fixed energy.";
     m.dim = 2;
     m.coordinates = "x, y";
-    m.parameters = {{.name = "energy", .value = 0.125,
+    m.parameters = {{.name = "energy",
+                     .value = 0.125,
                      .doc = "energy E, sets p_x >= 0",
                      .nan_means = "use p0 as given"}};
     m.velocities = false;
@@ -44,8 +45,10 @@ model henon_heiles() {
         return detail::make_problem(x0, 0.0, [=](const step_options& o) {
             return detail::simulate_family(
                 sys, x0, o,
-                detail::column_set{{"energy"}, [sys](double, const auto& x, const auto&,
-                                                  double* out) { out[0] = sys.energy(x); }});
+                detail::column_set{{"energy"},
+                                   [sys](double, const auto& x, const auto&, double* out) {
+                                       out[0] = sys.energy(x);
+                                   }});
         });
     };
     return m;

@@ -1,7 +1,7 @@
 // models/src/kepler.cpp: the planar two-body problem from pericentre, exact through Kepler's
 // equation (varsym/problems/kepler.hpp).
-#include "simulation_of.hpp"
 #include "varsym/problems/kepler.hpp"
+#include "simulation_of.hpp"
 
 namespace varsym::models::defs {
 
@@ -16,12 +16,22 @@ model kepler() {
         "  Noether). Exact solution: yes. Period: the orbital period 2 pi sqrt(a^3/mu).";
     m.dim = 2;
     m.coordinates = "x, y";
-    m.parameters = {{.name = "eccentricity", .value = 0.6, .doc = "eccentricity e", .lower = 0.0,
-                     .upper = 1.0, .upper_open = true},
-                    {.name = "semi_major_axis", .value = 1.0, .doc = "semi-major axis a",
-                     .lower = 0.0, .lower_open = true},
-                    {.name = "mu", .value = 1.0, .doc = "gravitational parameter mu = G (m1 + m2)",
-                     .lower = 0.0, .lower_open = true}};
+    m.parameters = {{.name = "eccentricity",
+                     .value = 0.6,
+                     .doc = "eccentricity e",
+                     .lower = 0.0,
+                     .upper = 1.0,
+                     .upper_open = true},
+                    {.name = "semi_major_axis",
+                     .value = 1.0,
+                     .doc = "semi-major axis a",
+                     .lower = 0.0,
+                     .lower_open = true},
+                    {.name = "mu",
+                     .value = 1.0,
+                     .doc = "gravitational parameter mu = G (m1 + m2)",
+                     .lower = 0.0,
+                     .lower_open = true}};
     m.fixed_start = "it starts at pericentre: set the orbit with eccentricity and "
                     "semi_major_axis (--eccentricity, --semi-major-axis) instead of q0/p0/v0";
     m.steps_per_period = 200;
@@ -35,17 +45,17 @@ model kepler() {
             return detail::simulate_family(
                 sys, x0, o,
                 detail::column_set{{"energy", "angular_momentum", "q_1_exact", "q_2_exact",
-                                 "p_1_exact", "p_2_exact"},
-                                [sys, orbit](double t, const auto& x, const auto&, double* out) {
-                                    const phase_state<2> y{x.q, x.p};
-                                    const auto ref = orbit.at(t);
-                                    out[0] = sys.energy(x);
-                                    out[1] = kepler::angular_momentum(y);
-                                    out[2] = ref.q(0);
-                                    out[3] = ref.q(1);
-                                    out[4] = ref.p(0);
-                                    out[5] = ref.p(1);
-                                }});
+                                    "p_1_exact", "p_2_exact"},
+                                   [sys, orbit](double t, const auto& x, const auto&, double* out) {
+                                       const phase_state<2> y{x.q, x.p};
+                                       const auto ref = orbit.at(t);
+                                       out[0] = sys.energy(x);
+                                       out[1] = kepler::angular_momentum(y);
+                                       out[2] = ref.q(0);
+                                       out[3] = ref.q(1);
+                                       out[4] = ref.p(0);
+                                       out[5] = ref.p(1);
+                                   }});
         });
     };
     return m;

@@ -60,10 +60,9 @@ void parameter::check(double v) const {
     const bool ok = std::isfinite(v) && (lower_open ? v > lower : v >= lower) &&
                     (upper_open ? v < upper : v <= upper);
     if (!ok)
-        throw std::invalid_argument(name + " must be " +
-                                    (range() == "finite" ? "a finite number" : range()) +
-                                    (nan_means.empty() ? "" : " (or NaN: " + nan_means + ")") +
-                                    ", got " + number(v));
+        throw std::invalid_argument(
+            name + " must be " + (range() == "finite" ? "a finite number" : range()) +
+            (nan_means.empty() ? "" : " (or NaN: " + nan_means + ")") + ", got " + number(v));
 }
 
 std::vector<double> model::defaults() const {

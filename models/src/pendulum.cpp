@@ -19,11 +19,18 @@ model pendulum() {
         "  period 4K(k^2)/omega (one revolution in rotation).";
     m.dim = 1;
     m.coordinates = "q";
-    m.parameters = {
-        {.name = "mass", .value = 1.0, .unit = "kg m^2", .doc = "moment of inertia m",
-         .lower = 0.0, .lower_open = true},
-        {.name = "omega", .value = 2.0 * std::numbers::pi, .unit = "rad/s",
-         .doc = "small-oscillation angular frequency", .lower = 0.0, .lower_open = true}};
+    m.parameters = {{.name = "mass",
+                     .value = 1.0,
+                     .unit = "kg m^2",
+                     .doc = "moment of inertia m",
+                     .lower = 0.0,
+                     .lower_open = true},
+                    {.name = "omega",
+                     .value = 2.0 * std::numbers::pi,
+                     .unit = "rad/s",
+                     .doc = "small-oscillation angular frequency",
+                     .lower = 0.0,
+                     .lower_open = true}};
     m.steps_per_period = 50;
     m.ensemble_time = 10.0;
     m.ensemble_steps = 500;
@@ -40,21 +47,21 @@ model pendulum() {
         } catch (const std::invalid_argument& e) { // on the separatrix: no period
             no_period = e.what();
         }
-        problem pr = detail::make_problem(x0, exact ? exact->period() : 0.0, [=](const step_options& o) {
-            return detail::simulate_family(
-                sys, x0, o,
-                detail::column_set{{"energy", "q_exact", "p_exact"},
-                                [sys, exact](double t, const phase_state<1>& x, const auto&,
-                                             double* out) {
-                                    out[0] = sys.energy(x);
-                                    const double nan = std::numeric_limits<double>::quiet_NaN();
-                                    const phase_state<1> ref =
-                                        exact ? exact->at(t) : phase_state<1>{vec<1>{nan},
-                                                                              vec<1>{nan}};
-                                    out[1] = ref.q(0);
-                                    out[2] = ref.p(0);
-                                }});
-        });
+        problem pr =
+            detail::make_problem(x0, exact ? exact->period() : 0.0, [=](const step_options& o) {
+                return detail::simulate_family(
+                    sys, x0, o,
+                    detail::column_set{
+                        {"energy", "q_exact", "p_exact"},
+                        [sys, exact](double t, const phase_state<1>& x, const auto&, double* out) {
+                            out[0] = sys.energy(x);
+                            const double nan = std::numeric_limits<double>::quiet_NaN();
+                            const phase_state<1> ref =
+                                exact ? exact->at(t) : phase_state<1>{vec<1>{nan}, vec<1>{nan}};
+                            out[1] = ref.q(0);
+                            out[2] = ref.p(0);
+                        }});
+            });
         pr.no_period = no_period;
         return pr;
     };

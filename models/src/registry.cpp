@@ -3,13 +3,13 @@
 // the order `varsym models` shows them.
 #include "varsym/models/model.hpp"
 
-#define VARSYM_MODEL_LIST(X)                                                                   \
-    X(pendulum)                                                                                \
-    X(kepler)                                                                                  \
-    X(henon_heiles)                                                                            \
-    X(double_pendulum)                                                                         \
-    X(heavy_top)                                                                               \
-    X(cart_pole)                                                                               \
+#define VARSYM_MODEL_LIST(X)                                                                       \
+    X(pendulum)                                                                                    \
+    X(kepler)                                                                                      \
+    X(henon_heiles)                                                                                \
+    X(double_pendulum)                                                                             \
+    X(heavy_top)                                                                                   \
+    X(cart_pole)                                                                                   \
     X(acrobot)
 
 namespace varsym::models {

@@ -18,6 +18,7 @@
 #include "varsym/models/model.hpp"
 #include "varsym/run/energy.hpp"
 #include "varsym/schemes/variational.hpp"
+#include "varsym/systems/forcing.hpp"
 
 namespace varsym::models::detail {
 
@@ -92,9 +93,9 @@ class simulation_of final : public simulation {
         const Eigen::Index d = r_.x.q.size();
         for (const auto* v : {&saved.x.q, &saved.x.p, &saved.carry_q, &saved.carry_p})
             if (v->size() != d)
-                throw std::invalid_argument("a saved state of " + std::to_string(v->size()) +
-                                            " values cannot continue a simulation of d = " +
-                                            std::to_string(d));
+                throw std::invalid_argument(
+                    "a saved state of " + std::to_string(v->size()) +
+                    " values cannot continue a simulation of d = " + std::to_string(d));
         r_.x = {saved.x.q, saved.x.p};
         r_.carry_q = saved.carry_q;
         r_.carry_p = saved.carry_p;
@@ -110,14 +111,13 @@ class simulation_of final : public simulation {
         phase_state<D> x = r_.x;
         timed(s, time());
         const newton_report rep = s.step(x);
-        if (!rep.converged)
-            throw step_failure(r_.step + 1, time(), time() + s.step_size(), rep);
+        if (!rep.converged) throw step_failure(r_.step + 1, time(), time() + s.step_size(), rep);
         s.step_jacobian(r_.x, jacobian);
     }
-    [[nodiscard]] member_result
-    run_member(const member_plan& plan,
-               const std::function<double(double, std::span<const double>,
-                                          std::span<const double>)>& event) override {
+    [[nodiscard]] member_result run_member(
+        const member_plan& plan,
+        const std::function<double(double, std::span<const double>, std::span<const double>)>&
+            event) override {
         S s = s_;
         timed(s, time());
         member_plan from_here = plan;
@@ -145,7 +145,8 @@ class simulation_of final : public simulation {
                     out.failed = true;
                     break;
                 }
-                const auto c = find_crossing(s, from, x, time() + static_cast<double>(j) * h, plane);
+                const auto c =
+                    find_crossing(s, from, x, time() + static_cast<double>(j) * h, plane);
                 if (!c) continue;
                 out.time.push_back(c->time);
                 for (const auto* v : {&c->x.q, &c->x.p})
@@ -220,6 +221,26 @@ problem make_problem(const phase_state<D>& x, double period,
     pr.period = period;
     pr.simulate = std::move(simulate);
     return pr;
+}
+
+/// The problem of a general Lagrangian system driven by a constant input u through
+/// controlled<F> (the input a generalized force on the coordinates F names), from x0: columns
+/// energy and work (E − W is what the energy watch follows).
+template <class L, class F>
+problem controlled_problem(const lagrangian_system<L>& sys, double u,
+                           const phase_state<L::dim>& x0) {
+    controlled<F> force;
+    force.u(0) = u;
+    return make_problem(x0, 0.0, [=](const step_options& o) {
+        check_general(o);
+        return simulate_general(
+            general::stepper<L, controlled<F>>(sys, force, o.h, o.spec, o.newton), x0,
+            column_set{{"energy", "work"},
+                       [sys](double, const auto& x, const auto& st, double* out) {
+                           out[0] = sys.energy(x);
+                           out[1] = st.total_work();
+                       }});
+    });
 }
 
 } // namespace varsym::models::detail

@@ -58,9 +58,9 @@ struct recorded {
 /// row `row` on: every `every` steps and at `last`. Every 50 ms it takes the GIL to run the
 /// signal handlers and call progress(step). A failed step raises StepFailure carrying the step,
 /// the time, the cause, the last good state and the rows written.
-recorded record(models::simulation& sim, std::size_t last, std::size_t every,
-                py::array_t<double> t, py::array_t<double> q, py::array_t<double> p,
-                py::array_t<double> columns, std::size_t row, const py::object& progress) {
+recorded record(models::simulation& sim, std::size_t last, std::size_t every, py::array_t<double> t,
+                py::array_t<double> q, py::array_t<double> p, py::array_t<double> columns,
+                std::size_t row, const py::object& progress) {
     const auto d = static_cast<std::size_t>(sim.dim());
     const std::size_t ncol = sim.columns().size();
     auto tw = t.mutable_unchecked<1>();
@@ -137,10 +137,9 @@ void bind_simulation(py::module_& m) {
                                })
         .def_property_readonly("watched_energy", &models::simulation::watched_energy)
         .def_property_readonly("conserves_energy", &models::simulation::conserves_energy)
-        .def_property_readonly("mean_newton_iterations",
-                               [](const models::simulation& s) {
-                                   return s.stats().mean_newton_iterations();
-                               })
+        .def_property_readonly(
+            "mean_newton_iterations",
+            [](const models::simulation& s) { return s.stats().mean_newton_iterations(); })
         .def(
             "record",
             [](models::simulation& s, std::size_t last, std::size_t every, py::array_t<double> t,
@@ -149,8 +148,8 @@ void bind_simulation(py::module_& m) {
                 const recorded r = record(s, last, every, t, q, p, columns, row, progress);
                 return py::make_tuple(r.rows, r.interrupted);
             },
-            py::arg("last"), py::arg("every"), py::arg("t"), py::arg("q"),
-             py::arg("p"), py::arg("columns"), py::arg("row"), py::arg("progress"))
+            py::arg("last"), py::arg("every"), py::arg("t"), py::arg("q"), py::arg("p"),
+            py::arg("columns"), py::arg("row"), py::arg("progress"))
         .def("tangent_map",
              [](models::simulation& s) {
                  Eigen::MatrixXd j;
@@ -227,16 +226,14 @@ void bind_simulation(py::module_& m) {
         [](const expression_lagrangian& l, const std::vector<std::string>& force,
            const std::vector<double>& q0, const std::vector<double>& p0, double t0, double h,
            const std::string& scheme, int degree, const std::string& iteration) {
-            const expression_force f = force.empty()
-                                           ? expression_force(l.dimension())
-                                           : expression_force(force, l.coordinates(),
-                                                              l.parameters());
+            const expression_force f =
+                force.empty() ? expression_force(l.dimension())
+                              : expression_force(force, l.coordinates(), l.parameters());
             const auto map = [](const std::vector<double>& v) {
                 return vec<dynamic>(Eigen::Map<const vec<dynamic>>(v.data(), std::ssize(v)));
             };
-            return models::simulate_expression(l, f, {map(q0), map(p0)},
-                                               {spec_of(scheme, degree), newton_of(iteration), h},
-                                               t0);
+            return models::simulate_expression(
+                l, f, {map(q0), map(p0)}, {spec_of(scheme, degree), newton_of(iteration), h}, t0);
         },
         py::arg("lagrangian"), py::arg("force"), py::arg("q0"), py::arg("p0"), py::arg("t0"),
         py::arg("h"), py::arg("scheme"), py::arg("degree"), py::arg("iteration"));
@@ -252,8 +249,7 @@ void bind_simulation(py::module_& m) {
             const bool start = q0.size() > 0;
             if (static_cast<std::size_t>(values.shape(1)) != np ||
                 (start && (static_cast<std::size_t>(q0.shape(0)) != n ||
-                           static_cast<std::size_t>(q0.shape(1)) != d ||
-                           q0.size() != p0.size())))
+                           static_cast<std::size_t>(q0.shape(1)) != d || q0.size() != p0.size())))
                 throw std::invalid_argument("ensemble: arrays of the wrong shape");
             const models::step_options opt{spec_of(scheme, degree), {}, h};
             member_plan plan;
@@ -283,16 +279,16 @@ void bind_simulation(py::module_& m) {
             }
             py::array_t<double> q({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(d)});
             py::array_t<double> p({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(d)});
-            py::array_t<double> t(static_cast<py::ssize_t>(n)), lyapunov(t.size()),
-                megno(t.size()), energy(t.size());
+            py::array_t<double> t(static_cast<py::ssize_t>(n)), lyapunov(t.size()), megno(t.size()),
+                energy(t.size());
             std::vector<std::string> status(n), cause(n);
             for (std::size_t k = 0; k < n; ++k) {
                 const member_result& r = results[k];
                 const bool bad = !invalid[k].empty();
-                status[k] = bad ? "invalid"
+                status[k] = bad                                          ? "invalid"
                             : r.status == member_result::outcome::failed ? "failed"
                             : r.status == member_result::outcome::event  ? "event"
-                                                                          : "completed";
+                                                                         : "completed";
                 cause[k] = bad ? invalid[k] : r.cause;
                 const double nan = std::numeric_limits<double>::quiet_NaN();
                 for (std::size_t i = 0; i < d; ++i) {

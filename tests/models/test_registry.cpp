@@ -164,7 +164,8 @@ TEST(Registry, EveryTangentMapIsSymplecticAndMatchesDifferences) {
                 (sign > 0 ? plus : minus) = out;
             }
             const Eigen::VectorXd fd = (plus - minus) / (2.0 * eps);
-            EXPECT_LT((fd - j.col(k)).cwiseAbs().maxCoeff(), 1e-6 * std::max(1.0, j.cwiseAbs().maxCoeff()))
+            EXPECT_LT((fd - j.col(k)).cwiseAbs().maxCoeff(),
+                      1e-6 * std::max(1.0, j.cwiseAbs().maxCoeff()))
                 << "column " << k;
         }
     }

@@ -116,7 +116,8 @@ TEST(Acrobot, MatchesSpongsEquationsUnderAnElbowTorque) {
                  i2 = 1.0 / 12.0, g = 9.81, u = 0.8, t = 3.0;
     auto f = [&](const state4& s) {
         const double c2 = std::cos(s[1]), s2 = std::sin(s[1]);
-        const double d11 = m1 * lc1 * lc1 + m2 * (l1 * l1 + lc2 * lc2 + 2 * l1 * lc2 * c2) + i1 + i2;
+        const double d11 =
+            m1 * lc1 * lc1 + m2 * (l1 * l1 + lc2 * lc2 + 2 * l1 * lc2 * c2) + i1 + i2;
         const double d12 = m2 * (lc2 * lc2 + l1 * lc2 * c2) + i2, d22 = m2 * lc2 * lc2 + i2;
         const double h1 = -m2 * l1 * lc2 * s2 * s[3] * s[3] - 2 * m2 * l1 * lc2 * s2 * s[3] * s[2];
         const double h2 = m2 * l1 * lc2 * s2 * s[2] * s[2];

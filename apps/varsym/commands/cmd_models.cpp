@@ -1,5 +1,5 @@
-// apps/varsym/commands/cmd_models.cpp: `varsym models`, the built-in models with their parameters and
-// conserved quantities, as text or as CSV (one row per parameter, for scripts).
+// apps/varsym/commands/cmd_models.cpp: `varsym models`, the built-in models with their parameters
+// and conserved quantities, as text or as CSV (one row per parameter, for scripts).
 #include <charconv>
 #include <iostream>
 
@@ -24,9 +24,10 @@ void print_csv() {
     std::cout << "model,commands,parameter,option,default,unit,range,meaning\n";
     for (const model& m : make_models()) {
         const models::model* rm = models::find(m.name);
-        const std::string commands = rm == nullptr                            ? "run"
-                                     : make_registry_ensemble(*rm).section ? "run ensemble section python"
-                                                                           : "run ensemble python";
+        const std::string commands = rm == nullptr ? "run"
+                                     : make_registry_ensemble(*rm).section
+                                         ? "run ensemble section python"
+                                         : "run ensemble python";
         if (rm == nullptr || rm->parameters.empty()) {
             std::cout << m.name << ',' << field(commands) << ",,,,,,\n";
             continue;
@@ -35,8 +36,8 @@ void print_csv() {
             char buf[32];
             const auto r = std::to_chars(buf, buf + sizeof buf, p.value);
             std::cout << m.name << ',' << field(commands) << ',' << p.name << ",--"
-                      << p.option_name() << ',' << std::string(buf, r.ptr) << ','
-                      << field(p.unit) << ',' << field(p.range()) << ',' << field(p.doc) << '\n';
+                      << p.option_name() << ',' << std::string(buf, r.ptr) << ',' << field(p.unit)
+                      << ',' << field(p.range()) << ',' << field(p.doc) << '\n';
         }
     }
 }

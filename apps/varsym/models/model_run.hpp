@@ -1,5 +1,5 @@
-// apps/varsym/models/model_run.hpp: the driver every model's run shares: steps a stepper, streams the
-// CSV rows (state, energy, conserved quantities, exact values), writes checkpoints and resumes
+// apps/varsym/models/model_run.hpp: the driver every model's run shares: steps a stepper, streams
+// the CSV rows (state, energy, conserved quantities, exact values), writes checkpoints and resumes
 // from them, and turns a failed step into exit code 3 keeping the rows already written.
 #pragma once
 
@@ -116,6 +116,39 @@ class run_log {
     double e0_ = 0.0, scale_ = 1.0, bound_ = 0.0, omega0_ = 0.0;
 };
 
+/// The run state a checkpoint saved, for d coordinates.
+template <int D>
+run_state<D> resumed_state(const checkpoint& ck, int d) {
+    auto as_vec = [d](const std::vector<double>& v) {
+        return vec<D>(Eigen::Map<const vec<D>>(v.data(), d));
+    };
+    run_state<D> r;
+    r.x = phase_state<D>{as_vec(ck.q), as_vec(ck.p)};
+    r.carry_q = as_vec(ck.carry_q);
+    r.carry_p = as_vec(ck.carry_p);
+    r.history = ck.history;
+    r.step = ck.step;
+    r.stats.steps = ck.step;
+    r.stats.newton_iterations = ck.newton_iterations;
+    r.stats.newton_iterations_max = ck.newton_iterations_max;
+    return r;
+}
+
+/// The frequency a run's step must resolve: omega, the highest at the start (NaN: none known),
+/// or the orbit's 2 pi / period if higher.
+inline double resolved_frequency(double omega, double period) {
+    if (!(omega >= 0.0)) omega = 0.0;
+    return period > 0.0 ? std::max(omega, 2.0 * std::numbers::pi / period) : omega;
+}
+
+/// The energy watch's bound: none where the energy is not conserved (an L that depends on
+/// time), else --max-energy-error or the default from the scheme's order, h and omega0.
+inline double energy_watch_bound(const run_setup& s, bool conserved, double h, double omega0) {
+    return !conserved                  ? 0.0
+           : s.max_energy_error >= 0.0 ? s.max_energy_error
+                                       : default_energy_bound(s.order(), h, omega0);
+}
+
 /// A run_state as the checkpoint file stores it (plain vectors).
 template <int D>
 saved_state save_state(const run_state<D>& r) {
@@ -167,28 +200,11 @@ void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> 
                 return std::numeric_limits<double>::quiet_NaN();
             }
         };
-        // The frequency the step must resolve: the highest at the start, and the orbit's.
-        double omega0 = omega_at(x, 0.0);
-        if (!(omega0 >= 0.0)) omega0 = 0.0;
-        if (plan.period > 0.0) omega0 = std::max(omega0, 2.0 * std::numbers::pi / plan.period);
-        // No energy watch where the energy is not conserved (an L that depends on time).
-        const double bound = !conserves_energy(stepper.system()) ? 0.0
-                             : s.max_energy_error >= 0.0
-                                 ? s.max_energy_error
-                                 : default_energy_bound(s.order(), h, omega0);
+        const double omega0 = resolved_frequency(omega_at(x, 0.0), plan.period);
+        const double bound = energy_watch_bound(s, conserves_energy(stepper.system()), h, omega0);
         log.set_energy_reference(energy_at(stepper.system(), x, 0.0), omega0, bound);
         if (const checkpoint* ck = log.resumed()) {
-            auto as_vec = [d](const std::vector<double>& v) {
-                return vec<D>(Eigen::Map<const vec<D>>(v.data(), d));
-            };
-            r.x = phase_state<D>{as_vec(ck->q), as_vec(ck->p)};
-            r.carry_q = as_vec(ck->carry_q);
-            r.carry_p = as_vec(ck->carry_p);
-            r.history = ck->history;
-            r.step = ck->step;
-            r.stats.steps = ck->step;
-            r.stats.newton_iterations = ck->newton_iterations;
-            r.stats.newton_iterations_max = ck->newton_iterations_max;
+            r = resumed_state<D>(*ck, d);
             restore(stepper, r);
         } else {
             row(0, 0.0, x);

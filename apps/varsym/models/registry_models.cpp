@@ -1,9 +1,9 @@
-// apps/varsym/models/registry_models.cpp: the models of the models layer (varsym/models/model.hpp) as
-// the tool's commands see them: `varsym run` options, help and runs, and `varsym ensemble` and
+// apps/varsym/models/registry_models.cpp: the models of the models layer (varsym/models/model.hpp)
+// as the tool's commands see them: `varsym run` options, help and runs, and `varsym ensemble` and
 // `varsym section` models, all generated from each model's one definition.
+#include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <algorithm>
 #include <map>
 #include <optional>
 
@@ -57,15 +57,15 @@ std::string parameter_lines(const models::model& m, bool ensemble) {
 std::string describe(const models::model& m, bool ensemble) {
     std::string s = m.description;
     if (!m.parameters.empty())
-        s += ensemble ? "\n  Parameters (keys for --grid, --members and --set):"
-                      : "\n  Parameters:";
+        s +=
+            ensemble ? "\n  Parameters (keys for --grid, --members and --set):" : "\n  Parameters:";
     s += parameter_lines(m, ensemble);
     if (m.fixed_start.empty()) {
-        s += ensemble ? "\n  Initial state: q0_1.. (" + values_text(m.q0) + "), p0_1.. (" +
-                            values_text(m.p0) + ")"
-                      : "\n  Initial state: --q0 " + m.coordinates + " (" + values_text(m.q0) +
-                            "), --p0 (" + values_text(m.p0) + ")" +
-                            (m.velocities ? " or --v0" : "");
+        s += ensemble
+                 ? "\n  Initial state: q0_1.. (" + values_text(m.q0) + "), p0_1.. (" +
+                       values_text(m.p0) + ")"
+                 : "\n  Initial state: --q0 " + m.coordinates + " (" + values_text(m.q0) +
+                       "), --p0 (" + values_text(m.p0) + ")" + (m.velocities ? " or --v0" : "");
     } else {
         s += "\n  Initial state: from the parameters.";
     }
@@ -188,9 +188,8 @@ namespace {
 
 /// The simulation of one member (the start from its q0 and p0 unless the model's start follows
 /// from its parameters).
-std::unique_ptr<models::simulation> member_simulation(const models::model& rm,
-                                                      const member_input& in,
-                                                      const ensemble_setup& e) {
+std::unique_ptr<models::simulation>
+member_simulation(const models::model& rm, const member_input& in, const ensemble_setup& e) {
     models::start st;
     if (rm.fixed_start.empty()) st = {in.q0, in.p0, {}};
     const models::problem pr = rm.prepare(in.parameters, st);
@@ -219,14 +218,16 @@ ensemble_model make_registry_ensemble(const models::model& rm) {
         if (tape)
             event = [&](double t, std::span<const double> q, std::span<const double> p) {
                 std::copy(q.begin(), q.end(), buffer.begin());
-                std::copy(p.begin(), p.end(), buffer.begin() + static_cast<std::ptrdiff_t>(q.size()));
+                std::copy(p.begin(), p.end(),
+                          buffer.begin() + static_cast<std::ptrdiff_t>(q.size()));
                 buffer.back() = t;
                 tape->run(buffer);
                 return tape->output(0);
             };
         return sim->run_member(e.plan, event);
     };
-    // Sections need dense output: a probe at the defaults says whether the model's steppers have it.
+    // Sections need dense output: a probe at the defaults says whether the model's steppers have
+    // it.
     const bool dense = rm.make(rm.defaults(), {}).simulate({{}, {}, 0.01})->has_dense_output();
     if (dense)
         m.section = [&rm](const member_input& in, const ensemble_setup& e,

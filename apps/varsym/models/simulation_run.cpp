@@ -1,6 +1,6 @@
-// apps/varsym/models/simulation_run.cpp: the run loop of `varsym run` for a simulation of the models
-// layer: streams its rows, checkpoints and resumes it, watches its energy and stops on signals
-// (run_log), turning a failed step into exit code 3 with the rows kept.
+// apps/varsym/models/simulation_run.cpp: the run loop of `varsym run` for a simulation of the
+// models layer: streams its rows, checkpoints and resumes it, watches its energy and stops on
+// signals (run_log), turning a failed step into exit code 3 with the rows kept.
 #include <numbers>
 
 #include "model_run.hpp"
@@ -36,29 +36,11 @@ void stream_simulation(const run_setup& s, const run_plan& plan, models::simulat
         log.write(line);
         return true;
     };
-    // The frequency the step must resolve: the highest at the start, and the orbit's.
-    double omega0 = sim.highest_frequency();
-    if (!(omega0 >= 0.0)) omega0 = 0.0;
-    if (plan.period > 0.0) omega0 = std::max(omega0, 2.0 * std::numbers::pi / plan.period);
-    // No energy watch where the energy is not conserved (an L that depends on time).
-    const double bound = !sim.conserves_energy()         ? 0.0
-                         : s.max_energy_error >= 0.0 ? s.max_energy_error
-                                                     : default_energy_bound(s.order(), plan.h, omega0);
-    log.set_energy_reference(sim.watched_energy(), omega0, bound);
+    const double omega0 = resolved_frequency(sim.highest_frequency(), plan.period);
+    log.set_energy_reference(sim.watched_energy(), omega0,
+                             energy_watch_bound(s, sim.conserves_energy(), plan.h, omega0));
     if (const checkpoint* ck = log.resumed()) {
-        auto as_vec = [](const std::vector<double>& v) {
-            return vec<dynamic>(Eigen::Map<const vec<dynamic>>(v.data(), std::ssize(v)));
-        };
-        run_state<dynamic> r;
-        r.x = {as_vec(ck->q), as_vec(ck->p)};
-        r.carry_q = as_vec(ck->carry_q);
-        r.carry_p = as_vec(ck->carry_p);
-        r.history = ck->history;
-        r.step = ck->step;
-        r.stats.steps = ck->step;
-        r.stats.newton_iterations = ck->newton_iterations;
-        r.stats.newton_iterations_max = ck->newton_iterations_max;
-        sim.restore(r);
+        sim.restore(resumed_state<dynamic>(*ck, d));
     } else {
         row(0);
     }

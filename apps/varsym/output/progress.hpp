@@ -1,5 +1,5 @@
-// apps/varsym/output/progress.hpp: the progress line of long commands: "done/total UNIT (%), rate, time
-// left" on standard error, redrawn at most twice a second, only when standard error is a
+// apps/varsym/output/progress.hpp: the progress line of long commands: "done/total UNIT (%), rate,
+// time left" on standard error, redrawn at most twice a second, only when standard error is a
 // terminal (and not --quiet); never on standard output.
 #pragma once
 

@@ -10,7 +10,8 @@ int main() {
     const varsym::models::model& m = varsym::models::get("cart-pole");
     std::vector<double> values = m.defaults();
     values[static_cast<std::size_t>(m.parameter_index("push"))] = 0.5;
-    auto sim = m.prepare(values).simulate({varsym::scheme_spec(varsym::scheme_kind::simpson), {}, 1e-3});
+    auto sim =
+        m.prepare(values).simulate({varsym::scheme_spec(varsym::scheme_kind::simpson), {}, 1e-3});
     sim->advance(1000);
     const double error = std::abs(sim->p()[0] - 0.5 * sim->time());
     std::printf("p_x = %.15g at t = %g (error %.1e)\n", sim->p()[0], sim->time(), error);

@@ -85,10 +85,10 @@ class simulation {
     /// One ensemble member from the current state: `plan.steps` steps with the chaos
     /// indicators and the event `event(t, q, p)` (a change of its sign stops the member; null:
     /// none). The simulation's own state is not changed.
-    [[nodiscard]] virtual member_result
-    run_member(const member_plan& plan,
-               const std::function<double(double, std::span<const double>,
-                                          std::span<const double>)>& event) = 0;
+    [[nodiscard]] virtual member_result run_member(
+        const member_plan& plan,
+        const std::function<double(double, std::span<const double>, std::span<const double>)>&
+            event) = 0;
     /// Whether the stepper has dense output, which section() needs.
     [[nodiscard]] virtual bool has_dense_output() const = 0;
     /// The crossings of `plane` over `steps` steps from the current state, at most `crossings`
