@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # tests/cli/registry_test.sh VARSYM: every model of the models layer (the rows of `varsym models
 # --format csv` whose commands include `ensemble`) through every command that runs it: `run`,
-# `ensemble` (a grid over its first parameter, or over q0_1) and `section` where the model has
-# dense output. References: the ensemble member's final state equals `varsym run`'s last row
+# `ensemble` (a grid over its first parameter, or over q0_1), `converge` (Simpson's order 4) and
+# `section` where the model has dense output. References: the ensemble member's final state equals `varsym run`'s last row
 # from the same parameters and state (two drivers of one stepper: the same digits), and the run's
 # energy column stays within the energy watch's bound. A model added to the registry is covered
 # without a line more here.
@@ -40,6 +40,15 @@ for m in "${names[@]}"; do
   else
     bad "$m: ensemble failed: $(cat err.txt)"
   fi
+  # converge: Simpson's observed order is 4 on every model (against the exact solution, or gauss-8
+  # at twice the finest step count); over 1 s for the models without a period.
+  if "$VARSYM" converge --model "$m" --scheme simpson --time 1 --steps 100,200,400,800 \
+    > conv.txt 2> err.txt; then
+    awk '$1 == "fitted" { exit !($3 > 3.7 && $3 < 4.3) }' conv.txt && ok ||
+      bad "$m: Simpson's fitted order is not 4: $(grep fitted conv.txt)"
+  else
+    bad "$m: converge failed: $(cat err.txt)"
+  fi
   # section, where the model has dense output: crossings of q1 = 0, both directions.
   if awk -F, -v m="$m" '$1 == m && $2 ~ /section/ { found = 1 } END { exit !found }' models.csv; then
     "$VARSYM" section --model "$m" --grid "$key" --time 20 --steps 2000 --direction both \
@@ -63,6 +72,13 @@ if command -v script > /dev/null; then
   [ ! -s err.txt ] && [ "$(wc -l < out.txt)" -eq 2 ] && ok || bad "progress off a terminal: $(cat err.txt)"
   rm -f out.txt
 fi
+
+# Negative control for the orders: Newmark's is 2 (on the acrobot, against gauss-8).
+"$VARSYM" converge --model acrobot --scheme newmark --time 1 --steps 100,200,400,800 > conv.txt &&
+  awk '$1 == "fitted" { exit !($3 > 1.8 && $3 < 2.2) }' conv.txt && ok ||
+  bad "Newmark's fitted order on the acrobot is not 2: $(grep fitted conv.txt)"
+expect_error 2 "converge --set on the pendulum" converge --set mass=2 -o out.csv
+expect_error 2 "converge --mass on kepler" converge --model kepler --mass 2 -o out.csv
 
 # A model's parameter on another model is refused; a typo in a model's name names the model.
 expect_error 2 "another model's parameter" run --model acrobot --push 1 -o out.csv

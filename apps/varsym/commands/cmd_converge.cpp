@@ -1,6 +1,7 @@
 // apps/varsym/commands/cmd_converge.cpp: `varsym converge`, the error table of any scheme at several
 // step counts with observed orders (the generalisation of the paper's Table 1), and its plot.
 #include <algorithm>
+#include <numeric>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -10,6 +11,7 @@
 #include "commands.hpp"
 #include "plot.hpp"
 #include "shared_options.hpp"
+#include "varsym/models/model.hpp"
 #include "varsym/problems/paper.hpp"
 
 namespace varsym::cli {
@@ -26,6 +28,8 @@ struct converge_options {
     std::string output;
     std::vector<std::string> plot;
     newton_options newton;
+    std::vector<std::string> set; ///< NAME=VALUE: a parameter of a model other than the pendulum
+    double time = 0.0;            ///< the span of a model without a period (0: the model's)
 };
 
 struct result {
@@ -59,14 +63,21 @@ std::string format_order(double p) {
 }
 
 std::string text_table(const converge_options& o, const scheme_spec& spec, double period,
-                       const std::vector<result>& rs) {
-    char buf[400];
-    std::snprintf(buf, sizeof buf,
-                  "%s (order %d) on the pendulum (m = %g, omega = %g, q0 = %g, p0 = %g),\n"
-                  "%d period(s) of T = %.6g s. Errors in the maximum norm over all steps;\n"
-                  "in parentheses the order observed from the previous row.\n\n",
-                  spec.label().c_str(), spec.order(), o.pendulum.mass, o.pendulum.omega,
-                  o.pendulum.q0, o.pendulum.p0, o.periods, period);
+                       const std::vector<result>& rs, const std::string& against) {
+    char buf[600];
+    if (o.model == "pendulum")
+        std::snprintf(buf, sizeof buf,
+                      "%s (order %d) on the pendulum (m = %g, omega = %g, q0 = %g, p0 = %g),\n"
+                      "%d period(s) of T = %.6g s. Errors in the maximum norm over all steps;\n"
+                      "in parentheses the order observed from the previous row.\n\n",
+                      spec.label().c_str(), spec.order(), o.pendulum.mass, o.pendulum.omega,
+                      o.pendulum.q0, o.pendulum.p0, o.periods, period);
+    else
+        std::snprintf(buf, sizeof buf,
+                      "%s (order %d) on %s over t = 0..%.6g, against %s.\nErrors in the maximum "
+                      "norm over all steps; in parentheses the order observed\nfrom the previous "
+                      "row. Energy: E - W under forces; absolute where E0 = 0.\n\n",
+                      spec.label().c_str(), spec.order(), o.model.c_str(), period, against.c_str());
     std::string s = buf;
     std::snprintf(buf, sizeof buf, "%8s   %-20s %-20s %-20s\n", "steps", quantity_titles[0],
                   quantity_titles[1], quantity_titles[2]);
@@ -104,7 +115,8 @@ std::string csv_table(const scheme_spec& spec, const std::vector<result>& rs) {
     return s;
 }
 
-figure convergence_plot(const scheme_spec& spec, const std::vector<result>& rs) {
+figure convergence_plot(const scheme_spec& spec, const std::vector<result>& rs,
+                        const std::string& model) {
     // Reference slope N^(−2s), a decade below the first state error so that it stays visible.
     std::string data = "steps,momentum,state,energy,reference\n";
     for (const auto& r : rs) {
@@ -119,8 +131,8 @@ figure convergence_plot(const scheme_spec& spec, const std::vector<result>& rs) 
     }
     char title[200];
     std::snprintf(title, sizeof title,
-                  "set title \"Convergence of %s (order %d) on the pendulum\" font ',15'\n",
-                  spec.label().c_str(), spec.order());
+                  "set title \"Convergence of %s (order %d) on the %s\" font ',15'\n",
+                  spec.label().c_str(), spec.order(), model.c_str());
     std::string script = script_preamble(900, 650) + R"(set logscale xy
 set autoscale xfix
 set offsets graph 0.04, graph 0.04, graph 0.04, graph 0.04
@@ -144,9 +156,120 @@ set ylabel 'error (max norm over all steps)'
     return {{{".csv", data}}, script};
 }
 
-void converge(const converge_options& o) {
+/// The states (q, p) and watched energies of a simulation at each of its n steps, and at its
+/// start, with the model's exact q and p where it has them (the columns NAME_exact).
+struct recorded_run {
+    std::vector<double> state, exact, energy;
+    bool has_exact = false;
+};
+recorded_run record_run(models::simulation& sim, std::size_t n) {
+    recorded_run r;
+    const auto& cols = sim.columns();
+    std::vector<std::size_t> exact;
+    for (const char* k : {"q", "p"})
+        for (int i = 0; i <= sim.dim(); ++i) {
+            const std::string name = i == 0 ? std::string(k) + "_exact"
+                                            : std::string(k) + "_" + std::to_string(i) + "_exact";
+            const auto it = std::find(cols.begin(), cols.end(), name);
+            if (it != cols.end()) exact.push_back(static_cast<std::size_t>(it - cols.begin()));
+        }
+    r.has_exact = exact.size() == static_cast<std::size_t>(2 * sim.dim());
+    std::vector<double> values(cols.size());
+    auto keep = [&] {
+        r.state.insert(r.state.end(), sim.q().begin(), sim.q().end());
+        r.state.insert(r.state.end(), sim.p().begin(), sim.p().end());
+        r.energy.push_back(sim.watched_energy());
+        if (!r.has_exact) return false;
+        sim.values(values);
+        for (std::size_t k : exact)
+            r.exact.push_back(values[k]);
+        return false;
+    };
+    keep();
+    sim.advance(n, keep);
+    return r;
+}
+
+/// The errors of scheme `spec` on a model of the models layer at each step count over `span`:
+/// against its exact solution where it has one, else against gauss-8 (order 16) at twice the
+/// step counts' least common multiple. Sets `against` to say which.
+std::vector<result> model_errors(const converge_options& o, const scheme_spec& spec,
+                                 const std::vector<int>& steps, double& span,
+                                 std::string& against) {
+    const models::model& m = models::get(o.model);
+    std::vector<double> values = m.defaults();
+    for (const auto& a : o.set) {
+        const std::size_t eq = a.find('=');
+        const int i = eq == std::string::npos ? -1 : m.parameter_index(a.substr(0, eq));
+        double v = 0.0;
+        if (i < 0 || !CLI::detail::lexical_cast(a.substr(eq + 1), v))
+            throw usage_error("--set needs NAME=VALUE with a parameter of " + m.name + ", got " +
+                              shown(a) + " (see 'varsym models')");
+        values[static_cast<std::size_t>(i)] = v;
+    }
+    models::problem pr;
+    try {
+        pr = m.prepare(values);
+    } catch (const std::invalid_argument& e) {
+        throw usage_error(e.what());
+    }
+    const bool periodic = pr.period > 0.0 && m.steps_per_period > 0;
+    span = periodic ? pr.period * o.periods : o.time > 0.0 ? o.time : m.time;
+    long long lcm = 1;
+    for (int n : steps) {
+        lcm = std::lcm(lcm, static_cast<long long>(n));
+        if (lcm > 1'000'000) throw usage_error("--steps: their least common multiple passes 1e6");
+    }
+    const long long per = periodic ? o.periods : 1;
+    auto run = [&](const scheme_spec& sp, long long n) {
+        const auto sim = pr.simulate({sp, o.newton, span / static_cast<double>(n)});
+        return record_run(*sim, static_cast<std::size_t>(n));
+    };
+    recorded_run reference;
+    const long long fine = 2 * lcm * per;
+    const int d = m.dim;
+    std::vector<result> rs;
+    for (int n : steps) {
+        const recorded_run r = run(spec, n * per);
+        if (!r.has_exact && reference.state.empty())
+            reference = run(scheme_spec(scheme_kind::gauss, 8), fine);
+        const long long stride = fine / (n * per);
+        result e{n, {0.0, 0.0, 0.0}};
+        const double e0 = r.energy.front(), scale = std::abs(e0) > 1e-12 ? std::abs(e0) : 1.0;
+        for (std::size_t j = 0; j < r.energy.size(); ++j) {
+            const double* x = r.state.data() + j * 2 * d;
+            const double* ref = r.has_exact
+                                    ? r.exact.data() + j * 2 * d
+                                    : reference.state.data() + static_cast<std::size_t>(
+                                                                   static_cast<long long>(j) *
+                                                                   stride) * 2 * d;
+            for (int i = 0; i < d; ++i) {
+                e.err[1] = std::max(e.err[1], std::abs(x[i] - ref[i]));
+                e.err[0] = std::max(e.err[0], std::abs(x[d + i] - ref[d + i]));
+            }
+            e.err[2] = std::max(e.err[2], std::abs(r.energy[j] - e0) / scale);
+        }
+        rs.push_back(e);
+        against = r.has_exact ? "the exact solution"
+                              : "gauss-8 at " + std::to_string(fine) + " steps";
+    }
+    return rs;
+}
+
+void converge(const converge_options& o, const CLI::App& cmd) {
     const scheme_spec spec = make_spec(o.scheme);
-    make_system(o.pendulum); // validates the parameters before any work
+    const bool pendulum = o.model == "pendulum";
+    if (pendulum) {
+        make_system(o.pendulum); // validates the parameters before any work
+        if (!o.set.empty()) throw usage_error("--set is for the other models; the pendulum's "
+                                              "parameters are --mass, --omega, --q0, --p0");
+    } else {
+        for (const char* opt : {"--mass", "--omega", "--q0", "--p0"})
+            if (cmd.count(opt) > 0)
+                throw usage_error(std::string(opt) + " is the pendulum's; give " + o.model +
+                                  "'s parameters with --set NAME=VALUE");
+        (void)models::get(o.model);
+    }
     file_roles roles;
     roles.add("--output", o.output);
     if (!o.plot.empty()) {
@@ -155,20 +278,27 @@ void converge(const converge_options& o) {
     }
     roles.check();
     output_file out(o.output); // before the work: a conflict is refused at once
-    const double period = make_exact(o.pendulum).period();
     std::vector<int> steps = o.steps;
     std::sort(steps.begin(), steps.end());
     if (std::adjacent_find(steps.begin(), steps.end()) != steps.end() || steps.size() < 2)
         throw usage_error("--steps needs at least two different step counts, e.g. 25,50,100,200");
     std::vector<result> rs;
-    for (int n : steps) {
-        const error_norms e = paper::pendulum_errors(spec, n, o.periods, o.pendulum, o.newton);
-        rs.push_back({n, {e.momentum, e.state, e.energy}});
+    double period = 0.0;
+    std::string against;
+    if (pendulum) {
+        period = make_exact(o.pendulum).period();
+        for (int n : steps) {
+            const error_norms e =
+                paper::pendulum_errors(spec, n, o.periods, o.pendulum, o.newton);
+            rs.push_back({n, {e.momentum, e.state, e.energy}});
+        }
+    } else {
+        rs = model_errors(o, spec, steps, period, against);
     }
-    out.write(o.format == "csv" ? csv_table(spec, rs) : text_table(o, spec, period, rs));
+    out.write(o.format == "csv" ? csv_table(spec, rs) : text_table(o, spec, period, rs, against));
     file_roles others;
     others.add("--output", o.output);
-    if (!o.plot.empty()) render_figure(convergence_plot(spec, rs), o.plot, others);
+    if (!o.plot.empty()) render_figure(convergence_plot(spec, rs, o.model), o.plot, others);
     out.commit();
 }
 
@@ -187,14 +317,32 @@ void add_converge_command(CLI::App& app, action& todo) {
         "Examples:\n"
         "  varsym converge --scheme simpson                         # Table 1's Simpson rows\n"
         "  varsym converge --scheme gauss --degree 3 --steps 16,32,64,128 --plot conv.png\n"
-        "  varsym converge --scheme lobatto --degree 2 --format csv\n");
+        "  varsym converge --scheme lobatto --degree 2 --format csv\n"
+        "  varsym converge --model kepler --set eccentricity=0.9 --scheme gauss --degree 2\n"
+        "  varsym converge --model acrobot --set torque=1 --time 2 --steps 50,100,200,400\n");
+    std::vector<std::string> names;
+    for (const auto& m : models::registry())
+        names.push_back(m.name);
+    std::string list;
+    for (const auto& n : names)
+        list += (list.empty() ? "" : ", ") + n;
     cmd->add_option("--model", o->model,
-                    "Model: pendulum (the other models run with 'varsym run --model')")
-        ->check(CLI::IsMember({"pendulum"}))
+                    "Model: " + list +
+                        " (the models layer's; errors against the exact solution where the "
+                        "model has one, else against gauss-8 at twice the steps' common multiple)")
+        ->check(CLI::IsMember(names))
         ->capture_default_str();
+    cmd->add_option("--set", o->set,
+                    "NAME=VALUE: a parameter of a model other than the pendulum (repeat; "
+                    "'varsym models')");
+    cmd->add_option("--time", o->time,
+                    "Span of a model without a period (default: the model's run length)")
+        ->transform(positive_number);
     add_scheme_options(*cmd, o->scheme);
     add_pendulum_options(*cmd, o->pendulum);
-    cmd->add_option("--steps", o->steps, "Steps per period, comma-separated")
+    cmd->add_option("--steps", o->steps,
+                    "Steps per period (over --time for a model without a period), "
+                    "comma-separated")
         ->delimiter(',')
         ->transform(positive_integer)
         ->capture_default_str();
@@ -210,7 +358,7 @@ void add_converge_command(CLI::App& app, action& todo) {
         "--plot", o->plot,
         "Log-log convergence plot, .png or .svg (data and gnuplot script kept beside it); "
         "repeat for both formats");
-    cmd->callback([o, &todo] { todo = [o] { converge(*o); }; });
+    cmd->callback([o, cmd, &todo] { todo = [o, cmd] { converge(*o, *cmd); }; });
 }
 
 } // namespace varsym::cli

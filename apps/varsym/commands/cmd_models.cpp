@@ -26,8 +26,8 @@ void print_csv() {
         const models::model* rm = models::find(m.name);
         const std::string commands = rm == nullptr ? "run"
                                      : make_registry_ensemble(*rm).section
-                                         ? "run ensemble section python"
-                                         : "run ensemble python";
+                                         ? "run ensemble section converge python"
+                                         : "run ensemble converge python";
         if (rm == nullptr || rm->parameters.empty()) {
             std::cout << m.name << ',' << field(commands) << ",,,,,,\n";
             continue;
