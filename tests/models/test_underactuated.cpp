@@ -100,13 +100,17 @@ TEST(CartPole, TheCartMomentumGrowsByExactlyThePushTimesTime) {
 
 TEST(Acrobot, WithPointMassesIsTheDoublePendulumInRelativeAngles) {
     // lc1 = l1, lc2 = l2, no inertia about the centres: the double pendulum's Lagrangian in
-    // th1 = q1, th2 = q1 + q2 (another model, written in absolute angles).
+    // th1 = q1, th2 = q1 + q2 (another model, written in absolute angles). A Galerkin variational
+    // integrator commutes with a linear change of coordinates (the interpolant and the quadrature
+    // of the transformed curve are the transformed ones), so the two discrete flows agree to
+    // round-off, not merely to the scheme's error: measured 2e-16 .. 8e-16 after 1500 steps.
     const double t = 3.0, h = 0.002;
     const auto acro = run("acrobot", {{"lc1", 1.0}, {"lc2", 1.0}, {"I1", 0.0}, {"I2", 0.0}},
                           {1.0, 0.5}, {0.0, 0.0}, h, t);
     const auto dp = run("double-pendulum", {}, {1.0, 1.5}, {0.0, 0.0}, h, t);
-    EXPECT_NEAR(acro->q()[0], dp->q()[0], 1e-8);
-    EXPECT_NEAR(acro->q()[0] + acro->q()[1], dp->q()[1], 1e-8);
+    EXPECT_NEAR(acro->q()[0], dp->q()[0], 1e-12);
+    EXPECT_NEAR(acro->q()[0] + acro->q()[1], dp->q()[1], 1e-12);
+    EXPECT_NEAR(acro->p()[0] - acro->p()[1], dp->p()[0], 1e-12); // p_th1 = p_q1 - p_q2
     EXPECT_GT(std::abs(acro->q()[0] - 1.0), 0.1); // it moved
 }
 
