@@ -14,6 +14,7 @@
 #include "bindings.hpp"
 #include "varsym/models/expression.hpp"
 #include "varsym/models/model.hpp"
+#include "varsym/run/energy.hpp"
 #include "varsym/run/ensemble.hpp"
 
 namespace py = pybind11;
@@ -47,11 +48,14 @@ py::array_t<double> array_of(std::span<const double> v) {
     return py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
 }
 
-/// What record() did: the rows written, and whether SIGINT's handler raised KeyboardInterrupt
-/// (then cleared, for the caller to raise varsym.Interrupted with the rows).
+/// What record() did: the rows written; whether SIGINT's handler raised KeyboardInterrupt (then
+/// cleared, for the caller to raise varsym.Interrupted with the rows); whether the energy watch
+/// stopped the run, and its relative error then.
 struct recorded {
     std::size_t rows = 0;
     bool interrupted = false;
+    bool energy = false;
+    double energy_error = 0.0;
 };
 
 /// Steps sim to step `last`, writing rows (t, q, p, the model's columns) into the arrays from
@@ -60,7 +64,7 @@ struct recorded {
 /// the time, the cause, the last good state and the rows written.
 recorded record(models::simulation& sim, std::size_t last, std::size_t every, py::array_t<double> t,
                 py::array_t<double> q, py::array_t<double> p, py::array_t<double> columns,
-                std::size_t row, const py::object& progress) {
+                std::size_t row, const py::object& progress, const energy_watch& watch) {
     const auto d = static_cast<std::size_t>(sim.dim());
     const std::size_t ncol = sim.columns().size();
     auto tw = t.mutable_unchecked<1>();
@@ -93,7 +97,16 @@ recorded record(models::simulation& sim, std::size_t last, std::size_t every, py
         try {
             sim.advance(last, [&] {
                 const std::size_t j = sim.step();
-                if ((every != 0 && j % every == 0) || j == last) write();
+                const bool written = (every != 0 && j % every == 0) || j == last;
+                if (written) write();
+                // The energy watch at each written row and every 256 steps (an energy costs
+                // about a step), as the tool's.
+                if (watch.on() && (written || (j & 255U) == 0) &&
+                    watch.exceeded(sim.watched_energy())) {
+                    out.energy = true;
+                    out.energy_error = watch.error(sim.watched_energy());
+                    return true;
+                }
                 if ((j & 63U) != 0 || clock::now() < next) return false;
                 next = clock::now() + std::chrono::milliseconds(50);
                 py::gil_scoped_acquire locked;
@@ -144,12 +157,15 @@ void bind_simulation(py::module_& m) {
             "record",
             [](models::simulation& s, std::size_t last, std::size_t every, py::array_t<double> t,
                py::array_t<double> q, py::array_t<double> p, py::array_t<double> columns,
-               std::size_t row, const py::object& progress) {
-                const recorded r = record(s, last, every, t, q, p, columns, row, progress);
-                return py::make_tuple(r.rows, r.interrupted);
+               std::size_t row, const py::object& progress, double e0, double bound) {
+                const recorded r = record(s, last, every, t, q, p, columns, row, progress,
+                                          energy_watch(e0, bound));
+                return py::make_tuple(r.rows, r.interrupted, r.energy, r.energy_error);
             },
             py::arg("last"), py::arg("every"), py::arg("t"), py::arg("q"), py::arg("p"),
-            py::arg("columns"), py::arg("row"), py::arg("progress"))
+            py::arg("columns"), py::arg("row"), py::arg("progress"), py::arg("e0"),
+            py::arg("bound"))
+        .def_property_readonly("highest_frequency", &models::simulation::highest_frequency)
         .def("tangent_map",
              [](models::simulation& s) {
                  Eigen::MatrixXd j;
@@ -192,6 +208,13 @@ void bind_simulation(py::module_& m) {
             },
             py::arg("h"), py::arg("scheme"), py::arg("degree"), py::arg("iteration"));
 
+    m.def("default_energy_bound", &default_energy_bound, py::arg("order"), py::arg("h"),
+          py::arg("omega"),
+          "The energy watch's default bound: 100 (h omega)^order, between 0.01 and 0.5.");
+    m.def(
+        "scheme_order",
+        [](const std::string& scheme, int degree) { return spec_of(scheme, degree).order(); },
+        py::arg("scheme"), py::arg("degree"));
     m.def("registry", [] {
         py::list out;
         for (const models::model& mod : models::registry()) {

@@ -67,8 +67,8 @@ def _trajectory(path):
 # The options of varsym.run that a model of the models layer takes in-process (varsym.simulate);
 # the others run the command line in-process, through a temporary CSV file.
 _IN_PROCESS = {"scheme", "degree", "steps_per_period", "periods", "time", "steps", "every", "q0",
-               "p0", "v0", "iteration"}
-_TOOL_ONLY = {"newton_tol", "newton_max_iter", "predictor", "max_energy_error", "stats",
+               "p0", "v0", "iteration", "max_energy_error"}
+_TOOL_ONLY = {"newton_tol", "newton_max_iter", "predictor", "stats",
               "checkpoint_every", "checkpoint_seconds"}
 
 

@@ -12,7 +12,7 @@ import numpy as np
 from . import _core
 from ._lagrangian import Lagrangian, _expression_text
 from ._trajectory import Trajectory
-from .errors import Interrupted, StepFailure, UsageError
+from .errors import EnergyError, Interrupted, StepFailure, UsageError
 
 _REGISTRY = {m["name"]: m for m in _core.registry()}
 
@@ -66,10 +66,10 @@ class Model:
                              _vector(p0, d, "p0"), _vector(v0, d, "v0"))
 
     def stepper(self, h, scheme="simpson", degree=None, q0=None, p0=None, v0=None,
-                iteration="automatic"):
+                iteration="automatic", max_energy_error=None):
         """A Stepper of this model with step h from (q0, p0 or v0)."""
         return Stepper(self, h, scheme=scheme, degree=degree, q0=q0, p0=p0, v0=v0,
-                       iteration=iteration)
+                       iteration=iteration, max_energy_error=max_energy_error)
 
     def simulate(self, **options):
         """varsym.simulate(this model, **options)."""
@@ -125,11 +125,19 @@ class Stepper:
     ``["-c*th_dot"]`` (``work`` then gives the forces' work: E − E0 − work is the scheme's
     energy balance error). ``iteration``: "automatic", "newton", "simplified" or
     "fixed-point" (docs/library.md). Raises StepFailure when a step does not converge, leaving
-    the state at the last good step."""
+    the state at the last good step.
+
+    The energy watch, as the tool's: a run stops with EnergyError (its ``partial`` holding the
+    rows) once the relative error of E (E − W under forces) passes ``max_energy_error``;
+    default 100 (h ω)^order at the start, between 0.01 and 0.5; 0 turns it off. It is off
+    where the energy is not conserved (an L that depends on t)."""
 
     def __init__(self, system, h, scheme="simpson", degree=None, q0=None, v0=None, p0=None,
-                 t0=0.0, force=None, iteration="automatic", **parameters):
+                 t0=0.0, force=None, iteration="automatic", max_energy_error=None,
+                 **parameters):
         self.h = float(h)
+        self._max_energy_error = max_energy_error
+        self._order = _core.scheme_order(scheme, degree or 0)
         if isinstance(system, (str, Model)) and not (isinstance(system, str)
                                                      and system not in _REGISTRY
                                                      and "_dot" in system):
@@ -142,11 +150,12 @@ class Stepper:
             self.coordinates = self.model.coordinates
             problem = self.model.problem(q0, p0, v0)
             self._sim = problem.simulate(self.h, scheme, degree or 0, iteration)
+            self._watch(problem.period)
             return
         if parameters:
             raise _keyword_error("Stepper", next(iter(parameters)),
                                  ["scheme", "degree", "q0", "v0", "p0", "t0", "force",
-                                  "iteration"])
+                                  "iteration", "max_energy_error"])
         if not isinstance(system, Lagrangian):
             system = Lagrangian(system)
         self.model = None
@@ -166,6 +175,24 @@ class Stepper:
         self._sim = _core.simulate_expression(system._core, force, list(q0),
                                               _vector(p0, d, "p0"), float(t0), self.h, scheme,
                                               degree or 0, iteration)
+        self._watch(0.0)
+
+    def _watch(self, period):
+        """The energy watch's reference (E at the start) and bound."""
+        sim = self._sim
+        self._e0 = sim.watched_energy
+        if not sim.conserves_energy:
+            self._bound = 0.0
+        elif self._max_energy_error is not None:
+            self._bound = float(self._max_energy_error)
+            if not (math.isfinite(self._bound) and self._bound >= 0):
+                raise UsageError("max_energy_error must be >= 0 (0 turns the watch off)")
+        else:
+            omega = sim.highest_frequency
+            omega = omega if omega >= 0 else 0.0  # NaN: no estimate
+            if period > 0:
+                omega = max(omega, 2 * math.pi / period)
+            self._bound = _core.default_energy_bound(self._order, self.h, omega)
 
     def step(self, n=1):
         """Takes n steps (Ctrl-C stops them within 0.2 s, raising Interrupted); returns self."""
@@ -205,7 +232,8 @@ class Stepper:
         bar, callback = _progress(progress, steps, first)
         interrupted = False
         try:
-            done, interrupted = sim.record(last, every, t, q, p, cols, 1, callback)
+            done, interrupted, energy, error = sim.record(last, every, t, q, p, cols, 1,
+                                                          callback, self._e0, self._bound)
         except StepFailure as e:
             done = e.rows or 1
             e.partial = self._trajectory(t, q, p, cols, names, index, done)
@@ -215,6 +243,12 @@ class Stepper:
                 bar.update(sim.step - first - bar.n)
                 bar.close()
         tr = self._trajectory(t, q, p, cols, names, index, done)
+        if energy:
+            raise EnergyError(
+                f"the relative energy error reached {error:.3g} at step {sim.step} (t = "
+                f"{sim.t:.6g}), above max_energy_error {self._bound:.3g}: the trajectory is no "
+                f"longer meaningful; take a smaller h (0 turns this check off). The rows so far "
+                f"are in .partial", tr)
         if interrupted:
             raise Interrupted(f"interrupted at step {sim.step} (t = {sim.t:.9g}); the rows so far "
                               f"are in .partial, the stepper in .stepper", tr, self)
@@ -287,12 +321,12 @@ def _progress(progress, total, first):
 
 
 _SIMULATE_KEYS = ["t_span", "steps", "h", "q0", "p0", "v0", "scheme", "degree", "every",
-                  "progress", "iteration", "force", "t0"]
+                  "progress", "iteration", "force", "t0", "max_energy_error"]
 
 
 def simulate(system, *, t_span=None, steps=None, h=None, q0=None, p0=None, v0=None,
              scheme="simpson", degree=None, every=1, progress=False, iteration="automatic",
-             force=None, **parameters):
+             force=None, max_energy_error=None, **parameters):
     """Integrates a system and returns its Trajectory.
 
     ``system``: a built-in model's name (``varsym.models()``), a Model, or a Lagrangian (or its
@@ -303,7 +337,9 @@ def simulate(system, *, t_span=None, steps=None, h=None, q0=None, p0=None, v0=No
     many steps and the last. ``progress``: True for a progress bar, or a function
     progress(steps_done, steps). Ctrl-C stops the run within 0.2 s, raising
     varsym.Interrupted with the rows so far in ``.partial``; a failed step raises StepFailure
-    (``step``, ``time``, ``cause``, ``q``, ``p``, ``partial``). An unknown keyword raises
+    (``step``, ``time``, ``cause``, ``q``, ``p``, ``partial``). ``max_energy_error``: the
+    energy watch's bound (default 100 (h ω)^order, between 0.01 and 0.5; 0: off): past it the
+    run stops with EnergyError and its rows in ``.partial``. An unknown keyword raises
     TypeError naming the closest valid ones."""
     model = None
     if isinstance(system, Model) or (isinstance(system, str) and system in _REGISTRY):
@@ -357,8 +393,9 @@ def simulate(system, *, t_span=None, steps=None, h=None, q0=None, p0=None, v0=No
         raise UsageError("steps must be a positive whole number")
     if model is not None:
         stepper = Stepper(model, length / steps, scheme=scheme, degree=degree, q0=q0, p0=p0,
-                          v0=v0, iteration=iteration)
+                          v0=v0, iteration=iteration, max_energy_error=max_energy_error)
     else:
         stepper = Stepper(system, length / steps, scheme=scheme, degree=degree, q0=q0, p0=p0,
-                          v0=v0, t0=t0, force=force, iteration=iteration)
+                          v0=v0, t0=t0, force=force, iteration=iteration,
+                          max_energy_error=max_energy_error)
     return stepper.run(steps, every=every, progress=progress)

@@ -53,8 +53,8 @@ class Interrupted(KeyboardInterrupt):
 
 
 class EnergyError(Error, RuntimeError):
-    """The energy error passed the bound of the energy watch (tool exit code 4); ``partial``
-    holds the rows before it (a Trajectory)."""
+    """The energy error passed the bound of the energy watch (tool exit code 4;
+    ``max_energy_error`` in Python); ``partial`` holds the rows up to it (a Trajectory)."""
 
     def __init__(self, message, partial=None):
         super().__init__(message)

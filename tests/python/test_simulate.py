@@ -92,12 +92,30 @@ def test_step_failure_carries_step_time_cause_state_and_rows():
     # sqrt(q) is NaN once q < 0: V = -1/q pulls the particle through q = 0.
     lag = varsym.Lagrangian("0.5*q_dot**2 + 1/sqrt(q)", ["q"])
     with pytest.raises(varsym.StepFailure) as e:
-        varsym.simulate(lag, q0=[1.0], t_span=100.0, steps=10000)
+        varsym.simulate(lag, q0=[1.0], t_span=100.0, steps=10000, max_energy_error=0)
     f = e.value
     assert f.step > 1 and f.time == pytest.approx((f.step - 1) * 0.01)
     assert "NaN" in f.cause or "non-finite" in f.cause or f.cause  # the named cause
     assert np.all(np.isfinite(f.q)) and f.q[0] > 0  # the last good state
     assert len(f.partial) == f.step and f.partial.t[-1] == pytest.approx(f.time)
+
+
+def test_the_energy_watch_stops_a_meaningless_run_keeping_its_rows():
+    # x'' = -100 x (omega = 10) at h = 0.5: h omega = 5, past Simpson's linear stability limit
+    # (2.45; varsym stability), so the energy grows without bound. The default bound is 0.5 at
+    # this h omega (100 (h omega)^4 clipped): the run stops with EnergyError and its rows.
+    lag = varsym.Lagrangian("0.5*x_dot**2 - 50*x**2", ["x"])
+    with pytest.raises(varsym.EnergyError) as e:
+        varsym.simulate(lag, q0=[1.0], t_span=1000.0, h=0.5)
+    rows = e.value.partial
+    assert 1 < len(rows) < 2001
+    assert abs(rows.energy[-1] - 50.0) / 50.0 > 0.5  # past the bound where it stopped
+    # Negative control: h omega = 0.1 keeps E within 1e-5 of 50 and runs to the end.
+    tr = varsym.simulate(lag, q0=[1.0], t_span=100.0, h=0.01, every=100)
+    assert len(tr) == 101 and np.abs(tr.energy - 50.0).max() < 1e-5 * 50.0
+    # max_energy_error=0 turns it off: the same unstable run then completes.
+    off = varsym.simulate(lag, q0=[1.0], t_span=20.0, h=0.5, max_energy_error=0)
+    assert len(off) == 41 and not np.abs(off.energy[-1]) < 1e3
 
 
 def test_progress_bar_and_callback():

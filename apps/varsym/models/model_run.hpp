@@ -24,10 +24,6 @@ struct saved_state {
     std::vector<double> q, p, carry_q, carry_p, history;
 };
 
-/// The default bound of the energy watch (run_log.cpp): from the scheme's order and h·ω at the
-/// start, between 1 % and 50 %.
-double default_energy_bound(int order, double h, double omega);
-
 /// The output and the checkpoints of one run (run_log.cpp): the template below calls it.
 class run_log {
   public:
@@ -67,10 +63,9 @@ class run_log {
     /// the energy is not finite. omega: the highest frequency at the state, for the advice.
     /// omega0: the highest frequency at the start (or the orbit's, if higher), for advice.
     void set_energy_reference(double e0, double omega0, double bound);
-    [[nodiscard]] bool energy_watched() const { return bound_ > 0.0; }
+    [[nodiscard]] bool energy_watched() const { return watch_.on(); }
     void check_energy(std::size_t j, double t, double energy) {
-        const double err = std::abs(energy - e0_) / scale_;
-        if (bound_ > 0.0 && !(err <= bound_)) energy_out_of_bounds(j, t, err);
+        if (watch_.exceeded(energy)) energy_out_of_bounds(j, t, watch_.error(energy));
     }
 
     /// Whether the row of step j is written: every --every steps and the last (--every 0: the
@@ -113,7 +108,8 @@ class run_log {
     clock::time_point next_;
     bool replace_ = false; ///< a checkpoint of this run exists: later ones replace it
     progress_line progress_;
-    double e0_ = 0.0, scale_ = 1.0, bound_ = 0.0, omega0_ = 0.0;
+    energy_watch watch_;
+    double omega0_ = 0.0;
 };
 
 /// The run state a checkpoint saved, for d coordinates.

@@ -47,17 +47,7 @@ output_file open_output(const run_setup& s, const run_plan& plan, int d, int dp)
     return output_file(s.output, s.resume->csv_bytes, s.resume->csv_crc32);
 }
 
-/// The expected relative energy error of a scheme of order r at h·ω is about (h·ω)^r.
-double expected_energy_error(int order, double h_omega) {
-    return std::pow(h_omega, order);
-}
-
 } // namespace
-
-double default_energy_bound(int order, double h, double omega) {
-    const double z = std::isfinite(omega) && omega > 0.0 ? h * omega : 0.0;
-    return std::clamp(100.0 * expected_energy_error(order, z), 0.01, 0.5);
-}
 
 run_log::run_log(const run_setup& s, const run_plan& plan, int d, const std::string& header, int dp)
     : s_(s), plan_(plan), out_(open_output(s, plan, d, dp < 0 ? d : dp)),
@@ -86,10 +76,8 @@ run_log::run_log(const run_setup& s, const run_plan& plan, int d, const std::str
 }
 
 void run_log::set_energy_reference(double e0, double omega0, double bound) {
-    e0_ = e0;
+    watch_ = energy_watch(e0, bound);
     omega0_ = omega0;
-    scale_ = std::abs(e0) >= 1e-8 ? std::abs(e0) : 1.0;
-    bound_ = bound;
 }
 
 void run_log::write_checkpoint_to(const std::string& path, std::size_t j, const saved_state& x,
@@ -160,7 +148,7 @@ std::string run_log::advice(double omega) const {
     // bodies': the largest turn per step at which its step equation has a solution).
     const double limit = s_.method.empty() ? linear_stability_limit(s_.spec) : s_.method_limit;
     const std::string what = s_.method.empty() ? "'s linear stability limit " : "'s step limit ";
-    const double bound = bound_ > 0.0 ? bound_ : 0.01;
+    const double bound = watch_.on() ? watch_.bound() : 0.01;
     double from_omega = std::pow(bound / 100.0, 1.0 / s_.order()) / omega;
     std::string msg =
         format("; at omega_max = %.4g rad/s (the start's or the state's), h*omega = ", omega) +
@@ -199,7 +187,7 @@ void run_log::energy_out_of_bounds(std::size_t j, double t, double err) {
     progress_.close();
     std::string msg = "the relative energy error reached " + format("%.3g", err) + " at step " +
                       std::to_string(j) + format(" (t = %.6g)", t) + ", above --max-energy-error " +
-                      format("%.3g", bound_) +
+                      format("%.3g", watch_.bound()) +
                       ": the trajectory is no longer meaningful (0 turns this check off)" +
                       advice(omega0_);
     if (!out_.is_stdout()) {

@@ -4,6 +4,9 @@
 // scheme's error).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+
 #include "varsym/types.hpp"
 
 namespace varsym {
@@ -40,5 +43,29 @@ double watched_energy(const Stepper& stepper, const phase_state<D>& x, double t)
     else
         return energy_at(stepper.system(), x, t);
 }
+
+/// The default bound of an energy watch for a scheme of order r at step h, where ω is the highest
+/// frequency the step must resolve: the expected relative energy error is about (hω)^r, and the
+/// bound is 100 times that, between 1 % and 50 %.
+inline double default_energy_bound(int order, double h, double omega) {
+    const double z = std::isfinite(omega) && omega > 0.0 ? h * omega : 0.0;
+    return std::clamp(100.0 * std::pow(z, order), 0.01, 0.5);
+}
+
+/// An energy watch: the relative error |E − E0| / scale of the energy a run follows (scale |E0|,
+/// or 1 where |E0| < 1e-8) against a bound (0: off). A NaN or infinite energy exceeds any bound.
+class energy_watch {
+  public:
+    energy_watch() = default;
+    energy_watch(double e0, double bound)
+        : e0_(e0), scale_(std::abs(e0) >= 1e-8 ? std::abs(e0) : 1.0), bound_(bound) {}
+    [[nodiscard]] double error(double e) const { return std::abs(e - e0_) / scale_; }
+    [[nodiscard]] bool on() const { return bound_ > 0.0; }
+    [[nodiscard]] bool exceeded(double e) const { return on() && !(error(e) <= bound_); }
+    [[nodiscard]] double bound() const { return bound_; }
+
+  private:
+    double e0_ = 0.0, scale_ = 1.0, bound_ = 0.0;
+};
 
 } // namespace varsym
