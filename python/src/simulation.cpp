@@ -12,6 +12,8 @@
 #include <thread>
 
 #include "bindings.hpp"
+#include "varsym/expression/parse.hpp"
+#include "varsym/expression/tape.hpp"
 #include "varsym/models/expression.hpp"
 #include "varsym/models/model.hpp"
 #include "varsym/run/energy.hpp"
@@ -46,6 +48,23 @@ newton_options newton_of(const std::string& iteration) {
 
 py::array_t<double> array_of(std::span<const double> v) {
     return py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
+}
+
+/// An ensemble's event: an expression in q1..qd, p1..pd and t compiled to a tape (inputs in that
+/// order), as the tool's --event.
+expr::tape compile_event(const std::string& text, int d) {
+    expr::graph g;
+    const int root = expr::parse(text, g, [&](std::string_view id) -> std::optional<int> {
+        if (id == "t") return g.input(2 * d);
+        for (int i = 0; i < d; ++i) {
+            const std::string n = std::to_string(i + 1);
+            if (id.size() < 2 || id.substr(1) != n) continue;
+            if (id[0] == 'q') return g.input(i);
+            if (id[0] == 'p') return g.input(d + i);
+        }
+        return std::nullopt;
+    });
+    return expr::tape(g, {root}, 2 * d + 1);
 }
 
 /// What record() did: the rows written; whether SIGINT's handler raised KeyboardInterrupt (then
@@ -265,7 +284,7 @@ void bind_simulation(py::module_& m) {
         [](const std::string& name, py::array_t<double, py::array::c_style> values,
            py::array_t<double, py::array::c_style> q0, py::array_t<double, py::array::c_style> p0,
            double h, long long steps, const std::string& scheme, int degree, bool indicators,
-           unsigned threads) {
+           unsigned threads, const std::string& event) {
             const models::model& mod = models::get(name);
             const auto n = static_cast<std::size_t>(values.shape(0));
             const auto np = mod.parameters.size(), d = static_cast<std::size_t>(mod.dim);
@@ -278,6 +297,8 @@ void bind_simulation(py::module_& m) {
             member_plan plan;
             plan.steps = steps;
             plan.indicators = indicators;
+            std::optional<expr::tape> event_tape;
+            if (!event.empty()) event_tape = compile_event(event, mod.dim);
             std::vector<member_result> results(n);
             std::vector<std::string> invalid(n);
             const double* v = values.data();
@@ -294,7 +315,21 @@ void bind_simulation(py::module_& m) {
                         }
                         const auto sim =
                             mod.prepare(std::span<const double>(v + k * np, np), st).simulate(opt);
-                        results[k] = sim->run_member(plan, nullptr);
+                        std::optional<expr::tape> tape = event_tape; // a copy per member
+                        std::vector<double> in(2 * d + 1);
+                        std::function<double(double, std::span<const double>,
+                                             std::span<const double>)>
+                            g;
+                        if (tape)
+                            g = [&](double t, std::span<const double> q,
+                                    std::span<const double> p) {
+                                std::copy(q.begin(), q.end(), in.begin());
+                                std::copy(p.begin(), p.end(), in.begin() + std::ssize(q));
+                                in.back() = t;
+                                tape->run(in);
+                                return tape->output(0);
+                            };
+                        results[k] = sim->run_member(plan, g);
                     } catch (const std::invalid_argument& e) {
                         invalid[k] = e.what();
                     }
@@ -303,7 +338,7 @@ void bind_simulation(py::module_& m) {
             py::array_t<double> q({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(d)});
             py::array_t<double> p({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(d)});
             py::array_t<double> t(static_cast<py::ssize_t>(n)), lyapunov(t.size()), megno(t.size()),
-                energy(t.size());
+                energy(t.size()), event_time(t.size());
             std::vector<std::string> status(n), cause(n);
             for (std::size_t k = 0; k < n; ++k) {
                 const member_result& r = results[k];
@@ -322,6 +357,7 @@ void bind_simulation(py::module_& m) {
                 lyapunov.mutable_at(k) = bad ? nan : r.lyapunov;
                 megno.mutable_at(k) = bad ? nan : r.mean_megno;
                 energy.mutable_at(k) = bad ? nan : r.max_energy_error;
+                event_time.mutable_at(k) = bad ? nan : r.event_time;
             }
             py::dict out;
             out["status"] = status;
@@ -331,10 +367,11 @@ void bind_simulation(py::module_& m) {
             out["lyapunov"] = lyapunov;
             out["mean_megno"] = megno;
             out["max_energy_error"] = energy;
+            out["event_time"] = event_time;
             out["cause"] = cause;
             return out;
         },
         py::arg("name"), py::arg("values"), py::arg("q0"), py::arg("p0"), py::arg("h"),
         py::arg("steps"), py::arg("scheme"), py::arg("degree"), py::arg("indicators"),
-        py::arg("threads"));
+        py::arg("threads"), py::arg("event"));
 }

@@ -76,14 +76,16 @@ class Model:
         return simulate(self, **options)
 
     def ensemble(self, parameters=None, q0=None, p0=None, *, t_span=None, steps=None,
-                 scheme="simpson", degree=None, indicators=True, threads=0):
+                 scheme="simpson", degree=None, indicators=True, threads=0, event=None):
         """Runs one member per row, on every core (``threads``: 0 = all): ``parameters`` maps
         parameter names to arrays of one value per member (the others stay at this model's),
         ``q0`` and ``p0`` are (members × d) arrays of initial states (default: the model's).
         Returns a dict of arrays, one entry per member: status ("completed", "failed",
         "invalid"), t, q and p (the final state), lyapunov (maximal Lyapunov exponent),
         mean_megno (⟨Y⟩: 2 on a torus, growing in chaos; docs/ensembles.md), max_energy_error,
-        cause (why a member failed or was invalid)."""
+        event_time, cause (why a member failed or was invalid). ``event``: an expression in
+        q1..qd, p1..pd and t (as the tool's ``--event``) whose change of sign stops a member
+        (status "event", at ``event_time``, located to O(h²))."""
         parameters = dict(parameters or {})
         names = list(self.parameters)
         for key in parameters:
@@ -105,7 +107,7 @@ class Model:
         empty = np.empty((0, self.dim))
         return _core.ensemble(self.name, values, empty if q0 is None else q0,
                               empty if q0 is None else p0, time / steps, steps, scheme,
-                              degree or 0, indicators, threads)
+                              degree or 0, indicators, threads, event or "")
 
     def __repr__(self):
         par = ", ".join(f"{k}={v:g}" for k, v in self.parameters.items())

@@ -63,6 +63,26 @@ def test_every_model_through_every_entry_point(name):
             s.section()
 
 
+def test_ensemble_events_lie_where_the_trajectory_crosses():
+    # The double pendulum's second link flips (|th2| reaches pi): each member's event time lies
+    # within the step of its own trajectory (simulate, every step) where q2^2 - pi^2 changes
+    # sign, and is its linear interpolation there; the member that never flips completes.
+    m = varsym.Model("double-pendulum")
+    starts = np.array([[0.5, 0.5], [3.0, 3.0], [2.5, -2.5]])
+    out = m.ensemble(q0=starts, t_span=20, steps=10000, event="q2^2 - pi^2", indicators=False)
+    assert list(out["status"]) == ["completed", "event", "event"]
+    for k in (1, 2):
+        tr = varsym.simulate(m, q0=starts[k], p0=[0, 0], t_span=20, steps=10000,
+                             max_energy_error=0)
+        g = tr.q[:, 1] ** 2 - np.pi ** 2
+        j = np.argmax(np.sign(g) != np.sign(g[0]))
+        assert tr.t[j - 1] <= out["event_time"][k] <= tr.t[j]
+        expected = tr.t[j] - (tr.t[j] - tr.t[j - 1]) * g[j] / (g[j] - g[j - 1])
+        assert out["event_time"][k] == pytest.approx(expected, abs=1e-12)
+    with pytest.raises(varsym.ExpressionError, match="unknown name 'q3'"):
+        m.ensemble(event="q3 + 1")
+
+
 def test_kepler_follows_its_exact_orbit():
     # Reference: the exact orbit (Kepler's equation); gauss-4, 200 steps per orbit, 10 orbits:
     # measured 7e-11; bound 1e-9. Angular momentum: discrete Noether, round-off.
