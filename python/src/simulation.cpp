@@ -12,8 +12,7 @@
 #include <thread>
 
 #include "bindings.hpp"
-#include "varsym/expression/parse.hpp"
-#include "varsym/expression/tape.hpp"
+#include "varsym/models/event.hpp"
 #include "varsym/models/expression.hpp"
 #include "varsym/models/model.hpp"
 #include "varsym/run/energy.hpp"
@@ -48,23 +47,6 @@ newton_options newton_of(const std::string& iteration) {
 
 py::array_t<double> array_of(std::span<const double> v) {
     return py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
-}
-
-/// An ensemble's event: an expression in q1..qd, p1..pd and t compiled to a tape (inputs in that
-/// order), as the tool's --event.
-expr::tape compile_event(const std::string& text, int d) {
-    expr::graph g;
-    const int root = expr::parse(text, g, [&](std::string_view id) -> std::optional<int> {
-        if (id == "t") return g.input(2 * d);
-        for (int i = 0; i < d; ++i) {
-            const std::string n = std::to_string(i + 1);
-            if (id.size() < 2 || id.substr(1) != n) continue;
-            if (id[0] == 'q') return g.input(i);
-            if (id[0] == 'p') return g.input(d + i);
-        }
-        return std::nullopt;
-    });
-    return expr::tape(g, {root}, 2 * d + 1);
 }
 
 /// What record() did: the rows written; whether SIGINT's handler raised KeyboardInterrupt (then
@@ -298,7 +280,7 @@ void bind_simulation(py::module_& m) {
             plan.steps = steps;
             plan.indicators = indicators;
             std::optional<expr::tape> event_tape;
-            if (!event.empty()) event_tape = compile_event(event, mod.dim);
+            if (!event.empty()) event_tape = models::compile_event(event, mod.dim);
             std::vector<member_result> results(n);
             std::vector<std::string> invalid(n);
             const double* v = values.data();
@@ -315,20 +297,8 @@ void bind_simulation(py::module_& m) {
                         }
                         const auto sim =
                             mod.prepare(std::span<const double>(v + k * np, np), st).simulate(opt);
-                        std::optional<expr::tape> tape = event_tape; // a copy per member
-                        std::vector<double> in(2 * d + 1);
-                        std::function<double(double, std::span<const double>,
-                                             std::span<const double>)>
-                            g;
-                        if (tape)
-                            g = [&](double t, std::span<const double> q,
-                                    std::span<const double> p) {
-                                std::copy(q.begin(), q.end(), in.begin());
-                                std::copy(p.begin(), p.end(), in.begin() + std::ssize(q));
-                                in.back() = t;
-                                tape->run(in);
-                                return tape->output(0);
-                            };
+                        const models::event_function g =
+                            event_tape ? models::event_of(*event_tape) : nullptr;
                         results[k] = sim->run_member(plan, g);
                     } catch (const std::invalid_argument& e) {
                         invalid[k] = e.what();

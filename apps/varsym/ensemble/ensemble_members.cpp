@@ -12,7 +12,7 @@
 #include "files.hpp"
 #include "models.hpp"
 #include "registry_models.hpp"
-#include "varsym/expression/parse.hpp"
+#include "varsym/models/event.hpp"
 
 namespace varsym::cli {
 
@@ -239,19 +239,8 @@ std::string ensemble_model_names() {
 }
 
 expr::tape compile_event(const std::string& text, int d) {
-    expr::graph g;
     try {
-        const int root = expr::parse(text, g, [&](std::string_view id) -> std::optional<int> {
-            if (id == "t") return g.input(2 * d);
-            for (int i = 0; i < d; ++i) {
-                const std::string n = std::to_string(i + 1);
-                if (id.size() < 2 || id.substr(1) != n) continue;
-                if (id[0] == 'q') return g.input(i);
-                if (id[0] == 'p') return g.input(d + i);
-            }
-            return std::nullopt;
-        });
-        return expr::tape(g, {root}, 2 * d + 1);
+        return models::compile_event(text, d);
     } catch (const std::invalid_argument& e) {
         throw usage_error(std::string("--event: ") + e.what() + " (names: q1..q" +
                           std::to_string(d) + ", p1..p" + std::to_string(d) + ", t)");

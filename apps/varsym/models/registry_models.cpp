@@ -10,6 +10,7 @@
 #include "ensemble.hpp"
 #include "model_run.hpp"
 #include "registry_models.hpp"
+#include "varsym/models/event.hpp"
 
 namespace varsym::cli {
 
@@ -212,18 +213,8 @@ ensemble_model make_registry_ensemble(const models::model& rm) {
     m.steps = rm.ensemble_steps;
     m.run = [&rm](const member_input& in, const ensemble_setup& e) {
         const auto sim = member_simulation(rm, in, e);
-        std::optional<expr::tape> tape = e.event; // a copy: members run concurrently
-        std::vector<double> buffer(static_cast<std::size_t>(2 * rm.dim + 1));
-        std::function<double(double, std::span<const double>, std::span<const double>)> event;
-        if (tape)
-            event = [&](double t, std::span<const double> q, std::span<const double> p) {
-                std::copy(q.begin(), q.end(), buffer.begin());
-                std::copy(p.begin(), p.end(),
-                          buffer.begin() + static_cast<std::ptrdiff_t>(q.size()));
-                buffer.back() = t;
-                tape->run(buffer);
-                return tape->output(0);
-            };
+        // Each member evaluates its own copy of the tape: members run concurrently.
+        const models::event_function event = e.event ? models::event_of(*e.event) : nullptr;
         return sim->run_member(e.plan, event);
     };
     // Sections need dense output: a probe at the defaults says whether the model's steppers have
