@@ -105,6 +105,10 @@ member_result run_member(S& s, phase_state<S::dim> x, const member_plan& plan, E
     long long k = 0;
     for (; k < plan.steps; ++k) {
         from = x;
+        // A forced step depends on its start time: t0 + k h, as integrate() sets it (a time
+        // accumulated step by step would drift from it by round-off).
+        if constexpr (requires { s.set_time(plan.t0); })
+            s.set_time(plan.t0 + static_cast<double>(k) * h);
         const newton_report rep = s.step(x);
         if (!rep.converged || !x.q.allFinite() || !x.p.allFinite()) {
             x = from;
