@@ -86,7 +86,7 @@ model acrobot() {
     m.steps = 10000;
     m.ensemble_time = 20.0;
     m.ensemble_steps = 10000;
-    m.make = [](std::span<const double> v, const start& s) {
+    m.make = [](std::span<const double> v, const start& s, const lists&) {
         using L = acrobot_lagrangian;
         const auto sys = lagrangian_system<L>(L{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]});
         return detail::controlled_problem<L, elbow_torque>(

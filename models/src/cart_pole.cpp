@@ -88,7 +88,7 @@ model cart_pole() {
     m.ensemble_time = 5.0;
     m.ensemble_steps = 2500;
     m.ensemble_note = "The pole falls over: --event 'q2^2 - 2.4649' (|th| reaches 1.57).";
-    m.make = [](std::span<const double> v, const start& s) {
+    m.make = [](std::span<const double> v, const start& s, const lists&) {
         using L = cart_pole_lagrangian;
         const auto sys = lagrangian_system<L>(L{v[0], v[1], v[2], v[3], v[4]});
         return detail::controlled_problem<L, push_on_cart>(

@@ -68,7 +68,7 @@ model double_pendulum() {
     m.steps = 10000;
     m.ensemble_time = 20.0;
     m.ensemble_steps = 10000;
-    m.make = [](std::span<const double> v, const start& s) {
+    m.make = [](std::span<const double> v, const start& s, const lists&) {
         using L = double_pendulum::lagrangian;
         const auto sys = double_pendulum::make_system(L{v[0], v[1], v[2], v[3], v[4], v[5]});
         const double half_pi = std::numbers::pi / 2;

@@ -42,7 +42,7 @@ model heavy_top() {
     m.steps = 1000;
     m.ensemble_time = 20.0;
     m.ensemble_steps = 2000;
-    m.make = [](std::span<const double> v, const start& s) {
+    m.make = [](std::span<const double> v, const start& s, const lists&) {
         using L = heavy_top::lagrangian;
         const L l{v[0], v[1], v[2]};
         const auto sys = heavy_top::make_system(l);

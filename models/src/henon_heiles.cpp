@@ -28,7 +28,7 @@ model henon_heiles() {
     m.steps = 4000;
     m.ensemble_time = 1000.0;
     m.ensemble_steps = 20000;
-    m.make = [](std::span<const double> par, const start& s) {
+    m.make = [](std::span<const double> par, const start& s, const lists&) {
         const auto sys = henon_heiles::make_system();
         vec<2> q{0.0, 0.1}, p{0.0, 0.0};
         if (!s.q0.empty()) q = vec<2>{s.q0[0], s.q0[1]};

@@ -37,7 +37,7 @@ model kepler() {
     m.steps_per_period = 200;
     m.ensemble_time = 10.0 * 2.0 * std::numbers::pi;
     m.ensemble_steps = 2000;
-    m.make = [](std::span<const double> par, const start&) {
+    m.make = [](std::span<const double> par, const start&, const lists&) {
         const kepler::orbit orbit(par[0], par[1], par[2]);
         const auto sys = kepler::make_system(par[2]);
         const phase_state<2> x0 = orbit.at(0.0);

@@ -45,6 +45,12 @@ std::string parameter::option_name() const {
 }
 
 std::string parameter::range() const {
+    if (flag) return "0 or 1";
+    if (integer) {
+        parameter real = *this;
+        real.integer = false;
+        return "a whole number, " + real.range();
+    }
     const bool low = std::isfinite(lower), high = std::isfinite(upper);
     if (low && lower == 0.0 && lower_open && !high) return "positive";
     if (low && lower == 0.0 && !lower_open && !high) return "non-negative";
@@ -57,12 +63,42 @@ std::string parameter::range() const {
 
 void parameter::check(double v) const {
     if (std::isnan(v) && !nan_means.empty()) return;
+    if (flag && v != 0.0 && v != 1.0)
+        throw std::invalid_argument(name + " is a switch: 0 (off) or 1 (on), got " + number(v));
+    if (integer && std::isfinite(v) && v != std::round(v))
+        throw std::invalid_argument(name + " must be a whole number, got " + number(v));
     const bool ok = std::isfinite(v) && (lower_open ? v > lower : v >= lower) &&
                     (upper_open ? v < upper : v <= upper);
     if (!ok)
         throw std::invalid_argument(
             name + " must be " + (range() == "finite" ? "a finite number" : range()) +
             (nan_means.empty() ? "" : " (or NaN: " + nan_means + ")") + ", got " + number(v));
+}
+
+std::string list_parameter::option_name() const {
+    parameter p;
+    p.name = name;
+    p.option = option;
+    return p.option_name();
+}
+
+std::string list_parameter::range() const {
+    parameter p;
+    p.name = "each";
+    p.lower = lower;
+    p.upper = upper;
+    p.lower_open = lower_open;
+    return p.range();
+}
+
+void list_parameter::check(const std::vector<double>& v) const {
+    parameter p;
+    p.name = name;
+    p.lower = lower;
+    p.upper = upper;
+    p.lower_open = lower_open;
+    for (double x : v)
+        p.check(x);
 }
 
 std::vector<double> model::defaults() const {
@@ -78,14 +114,22 @@ int model::parameter_index(std::string_view key) const {
     return -1;
 }
 
-problem model::prepare(std::span<const double> values, const start& s) const {
+problem model::prepare(std::span<const double> values, const start& s,
+                       const models::lists& given) const {
     auto fail = [&](const std::string& what) { throw std::invalid_argument(name + ": " + what); };
     if (values.size() != parameters.size())
         fail(std::to_string(parameters.size()) + " parameter values needed, got " +
              std::to_string(values.size()));
+    if (!given.empty() && given.size() != lists.size())
+        fail(std::to_string(lists.size()) + " lists needed, got " + std::to_string(given.size()));
+    const models::lists l = given.empty() ? models::lists(lists.size()) : given;
+    int d = 0;
     try {
         for (std::size_t i = 0; i < parameters.size(); ++i)
             parameters[i].check(values[i]);
+        for (std::size_t i = 0; i < lists.size(); ++i)
+            lists[i].check(l[i]);
+        d = dimension_at(values, l);
     } catch (const std::invalid_argument& e) {
         fail(e.what());
     }
@@ -93,15 +137,19 @@ problem model::prepare(std::span<const double> values, const start& s) const {
     if (!s.p0.empty() && !s.v0.empty()) fail("give p0 or v0, not both");
     if (!velocities && !s.v0.empty()) fail("p = dq/dt here: give p0, not v0");
     for (const auto& [v, what] : {std::pair{&s.q0, "q0"}, {&s.p0, "p0"}, {&s.v0, "v0"}}) {
-        if (!v->empty() && static_cast<int>(v->size()) != dim)
-            fail(std::string(what) + " needs " + std::to_string(dim) + " value" +
-                 (dim == 1 ? "" : "s") + " (" + coordinates + "), got " +
-                 std::to_string(v->size()));
+        const int n = static_cast<int>(v->size());
+        const bool short_one =
+            v != &s.p0 && std::find(short_start.begin(), short_start.end(), n) != short_start.end();
+        if (n != 0 && n != d && !short_one)
+            fail(std::string(what) + " needs " + std::to_string(d) + " value" +
+                 (d == 1 ? "" : "s") + " (" + coordinates + ")" +
+                 (short_start.empty() || v == &s.p0 ? "" : " or " + short_start_doc) + ", got " +
+                 std::to_string(n));
         for (double x : *v)
             if (!std::isfinite(x)) fail(std::string(what) + " must be finite");
     }
     try {
-        return make(values, s);
+        return make(values, s, l);
     } catch (const std::invalid_argument& e) {
         fail(e.what());
     }

@@ -34,7 +34,7 @@ model pendulum() {
     m.steps_per_period = 50;
     m.ensemble_time = 10.0;
     m.ensemble_steps = 500;
-    m.make = [](std::span<const double> par, const start& s) {
+    m.make = [](std::span<const double> par, const start& s, const lists&) {
         const double mass = par[0], omega = par[1];
         const double q0 = s.q0.empty() ? std::numbers::pi / 2 : s.q0[0];
         const double p0 = !s.p0.empty() ? s.p0[0] : !s.v0.empty() ? mass * s.v0[0] : 0.0;

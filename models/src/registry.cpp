@@ -5,12 +5,18 @@
 
 #define VARSYM_MODEL_LIST(X)                                                                       \
     X(pendulum)                                                                                    \
+    X(oscillator)                                                                                  \
     X(kepler)                                                                                      \
     X(henon_heiles)                                                                                \
     X(double_pendulum)                                                                             \
     X(heavy_top)                                                                                   \
     X(cart_pole)                                                                                   \
-    X(acrobot)
+    X(acrobot)                                                                                     \
+    X(chain)                                                                                       \
+    X(arm)                                                                                         \
+    X(four_bar)                                                                                    \
+    X(slider_crank)                                                                                \
+    X(spherical_pendulum)
 
 namespace varsym::models {
 
@@ -25,7 +31,7 @@ const std::vector<model>& registry() {
     static const std::vector<model> all = [] {
         std::vector<model> list{VARSYM_MODEL_LIST(VARSYM_MAKE_MODEL)};
         for (model& m : list) { // the default start, as the model completes it
-            const problem pr = m.make(m.defaults(), {});
+            const problem pr = m.make(m.defaults(), {}, models::lists(m.lists.size()));
             m.q0 = pr.q0;
             m.p0 = pr.p0;
         }

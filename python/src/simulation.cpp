@@ -219,18 +219,27 @@ void bind_simulation(py::module_& m) {
     m.def("registry", [] {
         py::list out;
         for (const models::model& mod : models::registry()) {
-            py::list parameters;
+            py::list parameters, lists;
+            for (const auto& l : mod.lists)
+                lists.append(py::dict(py::arg("name") = l.name, py::arg("default") = l.value,
+                                      py::arg("unit") = l.unit, py::arg("doc") = l.doc,
+                                      py::arg("range") = "each " + l.range(),
+                                      py::arg("sets_dimension") = l.sets_dimension,
+                                      py::arg("option") = l.option_name()));
             for (const auto& p : mod.parameters)
-                parameters.append(py::dict(py::arg("name") = p.name, py::arg("default") = p.value,
-                                           py::arg("unit") = p.unit, py::arg("doc") = p.doc,
-                                           py::arg("range") = p.range(),
-                                           py::arg("nan_means") = p.nan_means));
+                parameters.append(py::dict(
+                    py::arg("name") = p.name, py::arg("default") = p.value,
+                    py::arg("unit") = p.unit, py::arg("doc") = p.doc, py::arg("range") = p.range(),
+                    py::arg("nan_means") = p.nan_means, py::arg("integer") = p.integer,
+                    py::arg("flag") = p.flag, py::arg("sets_dimension") = p.sets_dimension,
+                    py::arg("option") = p.option_name(), py::arg("option_index") = p.option_index));
             out.append(py::dict(
                 py::arg("name") = mod.name, py::arg("summary") = mod.summary,
                 py::arg("description") = mod.description, py::arg("dim") = mod.dim,
                 py::arg("coordinates") = mod.coordinates, py::arg("parameters") = parameters,
                 py::arg("q0") = mod.q0, py::arg("p0") = mod.p0,
                 py::arg("fixed_start") = mod.fixed_start, py::arg("velocities") = mod.velocities,
+                py::arg("short_start") = mod.short_start, py::arg("lists") = lists,
                 py::arg("steps_per_period") = mod.steps_per_period, py::arg("time") = mod.time,
                 py::arg("steps") = mod.steps, py::arg("ensemble_time") = mod.ensemble_time,
                 py::arg("ensemble_steps") = mod.ensemble_steps));
@@ -241,10 +250,11 @@ void bind_simulation(py::module_& m) {
         "prepare",
         [](const std::string& name, const std::vector<double>& values,
            const std::vector<double>& q0, const std::vector<double>& p0,
-           const std::vector<double>& v0) {
-            return models::get(name).prepare(values, {q0, p0, v0});
+           const std::vector<double>& v0, const models::lists& lists) {
+            return models::get(name).prepare(values, {q0, p0, v0}, lists);
         },
-        py::arg("name"), py::arg("values"), py::arg("q0"), py::arg("p0"), py::arg("v0"));
+        py::arg("name"), py::arg("values"), py::arg("q0"), py::arg("p0"), py::arg("v0"),
+        py::arg("lists") = models::lists{});
     m.def(
         "simulate_expression",
         [](const expression_lagrangian& l, const std::vector<std::string>& force,
@@ -266,10 +276,16 @@ void bind_simulation(py::module_& m) {
         [](const std::string& name, py::array_t<double, py::array::c_style> values,
            py::array_t<double, py::array::c_style> q0, py::array_t<double, py::array::c_style> p0,
            double h, long long steps, const std::string& scheme, int degree, bool indicators,
-           unsigned threads, const std::string& event) {
+           unsigned threads, const std::string& event, const models::lists& lists) {
             const models::model& mod = models::get(name);
             const auto n = static_cast<std::size_t>(values.shape(0));
-            const auto np = mod.parameters.size(), d = static_cast<std::size_t>(mod.dim);
+            const auto np = mod.parameters.size();
+            // Every member shares d: the parameters that set it (the chain's n) are the first
+            // row's.
+            const auto d = static_cast<std::size_t>(
+                n > 0 && static_cast<std::size_t>(values.shape(1)) == np
+                    ? mod.dimension_at(std::span<const double>(values.data(), np), lists)
+                    : mod.dim);
             const bool start = q0.size() > 0;
             if (static_cast<std::size_t>(values.shape(1)) != np ||
                 (start && (static_cast<std::size_t>(q0.shape(0)) != n ||
@@ -280,7 +296,7 @@ void bind_simulation(py::module_& m) {
             plan.steps = steps;
             plan.indicators = indicators;
             std::optional<expr::tape> event_tape;
-            if (!event.empty()) event_tape = models::compile_event(event, mod.dim);
+            if (!event.empty()) event_tape = models::compile_event(event, static_cast<int>(d));
             std::vector<member_result> results(n);
             std::vector<std::string> invalid(n);
             const double* v = values.data();
@@ -296,7 +312,12 @@ void bind_simulation(py::module_& m) {
                             st.p0.assign(pa + k * d, pa + (k + 1) * d);
                         }
                         const auto sim =
-                            mod.prepare(std::span<const double>(v + k * np, np), st).simulate(opt);
+                            mod.prepare(std::span<const double>(v + k * np, np), st, lists)
+                                .simulate(opt);
+                        if (static_cast<std::size_t>(sim->dim()) != d)
+                            throw std::invalid_argument(
+                                "the members share the first member's number of coordinates, " +
+                                std::to_string(d) + ": the parameters that set it must not vary");
                         const models::event_function g =
                             event_tape ? models::event_of(*event_tape) : nullptr;
                         results[k] = sim->run_member(plan, g);
@@ -343,5 +364,5 @@ void bind_simulation(py::module_& m) {
         },
         py::arg("name"), py::arg("values"), py::arg("q0"), py::arg("p0"), py::arg("h"),
         py::arg("steps"), py::arg("scheme"), py::arg("degree"), py::arg("indicators"),
-        py::arg("threads"), py::arg("event"));
+        py::arg("threads"), py::arg("event"), py::arg("lists") = models::lists{});
 }

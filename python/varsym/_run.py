@@ -72,8 +72,29 @@ _TOOL_ONLY = {"newton_tol", "newton_max_iter", "predictor", "stats",
               "checkpoint_every", "checkpoint_seconds"}
 
 
+def _parameters_of_options(model, options):
+    """The tool's options of a model's parameters (``lengths=[1, 3, 1, 3]``, ``project=True``)
+    as its parameters' names (crank_length=1, …); other keywords unchanged."""
+    out = {}
+    params = _REGISTRY[model]["parameters"] + _REGISTRY[model]["lists"]
+    names = {p["name"] for p in params}
+    for key, value in options.items():
+        users = [p for p in params if p["option"].replace("-", "_") == key and key not in names]
+        if not users:
+            out[key] = value
+        elif users[0].get("option_index", -1) < 0:
+            out[users[0]["name"]] = value
+        else:
+            values = np.atleast_1d(np.asarray(value, dtype=float)).ravel()
+            if len(values) != len(users):
+                raise UsageError(f"{model}: {key} needs {len(users)} values, got {len(values)}")
+            for p in users:
+                out[p["name"]] = float(values[p["option_index"]])
+    return out
+
+
 def _run_in_process(model, options):
-    names = {p["name"] for p in _REGISTRY[model]["parameters"]}
+    names = {p["name"] for p in _REGISTRY[model]["parameters"] + _REGISTRY[model]["lists"]}
     parameters = {k: v for k, v in options.items() if k in names}
     rest = {k: v for k, v in options.items() if k not in names}
     m = Model(model, **parameters)
@@ -129,7 +150,8 @@ def run(model=None, **options):
 
         options["force"] = [_expression_text(f) for f in options["force"]]
     if model in _REGISTRY:
-        names = {p["name"] for p in _REGISTRY[model]["parameters"]}
+        options = _parameters_of_options(model, options)
+        names = {p["name"] for p in _REGISTRY[model]["parameters"] + _REGISTRY[model]["lists"]}
         for key in options:
             if key not in _IN_PROCESS | names | _TOOL_ONLY:
                 raise _keyword_error("run", key, sorted(_IN_PROCESS | names | _TOOL_ONLY))

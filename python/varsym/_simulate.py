@@ -24,12 +24,15 @@ def _keyword_error(function, key, valid):
                      f"(valid: {', '.join(sorted(valid))})")
 
 
-def _vector(value, d, name):
+def _vector(value, d, name, short=()):
+    """value as a list of d floats ([] for None); `short`: other lengths the model completes
+    (the four-bar's q0 = th1 alone)."""
     if value is None:
         return []
     v = np.atleast_1d(np.asarray(value, dtype=float)).ravel()
-    if len(v) != d:
-        raise UsageError(f"{name} needs {d} value{'s' if d != 1 else ''}, got {len(v)}")
+    if len(v) != d and len(v) not in short:
+        others = "".join(f" or {k}" for k in short)
+        raise UsageError(f"{name} needs {d}{others} value{'s' if d != 1 else ''}, got {len(v)}")
     return v.tolist()
 
 
@@ -50,20 +53,41 @@ class Model:
         self.name = name
         self.info = _REGISTRY[name]
         names = [p["name"] for p in self.info["parameters"]]
+        list_names = [p["name"] for p in self.info["lists"]]
         for key in parameters:
-            if key not in names:
-                raise _keyword_error(f"Model({name!r})", key, names)
+            if key not in names + list_names:
+                raise _keyword_error(f"Model({name!r})", key, names + list_names)
         self.parameters = {p["name"]: float(parameters.get(p["name"], p["default"]))
                            for p in self.info["parameters"]}
-        self.coordinates = [c.strip() for c in self.info["coordinates"].split(",")]
+        # Parameters of several values (the arm's masses, one per link): None is the default.
+        for p in self.info["lists"]:
+            given = parameters.get(p["name"])
+            self.parameters[p["name"]] = (None if given is None else
+                                          np.atleast_1d(np.asarray(given, float)).ravel().tolist())
+        # d, where a parameter sets it (the chain's n, the arm's masses), follows from it.
         self.dim = self.info["dim"]
+        for p in self.info["parameters"]:
+            if p["sets_dimension"]:
+                self.dim = int(self.parameters[p["name"]])
+        for p in self.info["lists"]:
+            if p["sets_dimension"] and self.parameters[p["name"]] is not None:
+                self.dim = len(self.parameters[p["name"]])
+        self.coordinates = [c.strip() for c in self.info["coordinates"].split(",")]
+        if len(self.coordinates) != self.dim:  # "q_1 ... q_n"
+            self.coordinates = [f"q_{i + 1}" for i in range(self.dim)]
 
     def problem(self, q0=None, p0=None, v0=None):
         """The model at its parameters from (q0, p0 or v0; each default: the model's): its
         complete initial state (``q0``, ``p0``) and ``period`` (0 where it has none)."""
-        d = self.dim
-        return _core.prepare(self.name, list(self.parameters.values()), _vector(q0, d, "q0"),
-                             _vector(p0, d, "p0"), _vector(v0, d, "v0"))
+        d, short = self.dim, self.info["short_start"]
+        return _core.prepare(self.name, self._values(), _vector(q0, d, "q0", short),
+                             _vector(p0, d, "p0"), _vector(v0, d, "v0", short), self._lists())
+
+    def _values(self):
+        return [self.parameters[p["name"]] for p in self.info["parameters"]]
+
+    def _lists(self):
+        return [self.parameters[p["name"]] or [] for p in self.info["lists"]]
 
     def stepper(self, h, scheme="simpson", degree=None, q0=None, p0=None, v0=None,
                 iteration="automatic", max_energy_error=None):
@@ -87,7 +111,7 @@ class Model:
         q1..qd, p1..pd and t (as the tool's ``--event``) whose change of sign stops a member
         (status "event", at ``event_time``, located to O(h²))."""
         parameters = dict(parameters or {})
-        names = list(self.parameters)
+        names = [p["name"] for p in self.info["parameters"]]
         for key in parameters:
             if key not in names:
                 raise _keyword_error("ensemble", key, names)
@@ -107,10 +131,11 @@ class Model:
         empty = np.empty((0, self.dim))
         return _core.ensemble(self.name, values, empty if q0 is None else q0,
                               empty if q0 is None else p0, time / steps, steps, scheme,
-                              degree or 0, indicators, threads, event or "")
+                              degree or 0, indicators, threads, event or "", self._lists())
 
     def __repr__(self):
-        par = ", ".join(f"{k}={v:g}" for k, v in self.parameters.items())
+        par = ", ".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}"
+                        for k, v in self.parameters.items() if v is not None)
         return f"varsym.Model({self.name!r}{', ' if par else ''}{par})"
 
 
@@ -345,8 +370,8 @@ def simulate(system, *, t_span=None, steps=None, h=None, q0=None, p0=None, v0=No
     TypeError naming the closest valid ones."""
     model = None
     if isinstance(system, Model) or (isinstance(system, str) and system in _REGISTRY):
-        names = [p["name"] for p in _REGISTRY[system.name if isinstance(system, Model)
-                                              else system]["parameters"]]
+        info = _REGISTRY[system.name if isinstance(system, Model) else system]
+        names = [p["name"] for p in info["parameters"] + info["lists"]]
         for key in parameters:
             if key not in names:
                 raise _keyword_error("simulate", key, _SIMULATE_KEYS + names)

@@ -227,7 +227,7 @@ std::vector<result> model_errors(const converge_options& o, const scheme_spec& s
     };
     recorded_run reference;
     const long long fine = 2 * lcm * per;
-    const int d = m.dim;
+    const int d = static_cast<int>(pr.q0.size()); // the parameters may set it (chain: n)
     std::vector<result> rs;
     for (int n : steps) {
         const recorded_run r = run(spec, n * per);

@@ -82,7 +82,7 @@ void run_members(const ensemble_options& o, const ensemble_model& model, const m
                  const ensemble_setup& setup, const process_group& group);
 
 void run_ensemble(const ensemble_options& o) {
-    const ensemble_model model = find_ensemble_model(o.run.model);
+    ensemble_model model = find_ensemble_model(o.run.model);
     const member_set set = make_member_set(o.run.members, model);
     ensemble_setup setup = make_setup(o.run, model, set.size);
     setup.plan.indicators = !o.no_indicators;

@@ -28,7 +28,7 @@ void print_csv() {
                                      : make_registry_ensemble(*rm).section
                                          ? "run ensemble section converge python"
                                          : "run ensemble converge python";
-        if (rm == nullptr || rm->parameters.empty()) {
+        if (rm == nullptr || (rm->parameters.empty() && rm->lists.empty())) {
             std::cout << m.name << ',' << field(commands) << ",,,,,,\n";
             continue;
         }
@@ -38,6 +38,18 @@ void print_csv() {
             std::cout << m.name << ',' << field(commands) << ',' << p.name << ",--"
                       << p.option_name() << ',' << std::string(buf, r.ptr) << ',' << field(p.unit)
                       << ',' << field(p.range()) << ',' << field(p.doc) << '\n';
+        }
+        for (const auto& l : rm->lists) { // a default of several values: space-separated
+            std::string values;
+            for (double v : l.value) {
+                char buf[32];
+                const auto r = std::to_chars(buf, buf + sizeof buf, v);
+                if (!values.empty()) values += ' ';
+                values.append(buf, r.ptr);
+            }
+            std::cout << m.name << ',' << field(commands) << ',' << l.name << ",--"
+                      << l.option_name() << ',' << values << ',' << field(l.unit) << ','
+                      << field("each " + l.range()) << ',' << field(l.doc) << '\n';
         }
     }
 }
@@ -54,9 +66,9 @@ void add_models_command(CLI::App& app, action& todo) {
         ->check(CLI::IsMember({"text", "csv"}))
         ->capture_default_str();
     cmd->footer("\nEach model runs with 'varsym run --model NAME [its parameters]'; the models of "
-                "the models layer\n(all but the oscillator, chain, mechanisms with constraints or "
-                "controllers, rigid bodies\nand lagrangian) also run in 'varsym ensemble', "
-                "'varsym section' and Python.");
+                "the models layer\n(all but the rigid bodies and lagrangian) also run in 'varsym "
+                "ensemble', 'varsym converge',\n'varsym section' (where the stepper has dense "
+                "output) and Python.");
     cmd->callback([&todo, format] {
         todo = [format] {
             if (*format == "csv") {

@@ -55,7 +55,7 @@ section_plane parse_plane(const std::string& text, const std::string& direction,
 }
 
 void run_section(const section_options& o) {
-    const ensemble_model model = find_ensemble_model(o.run.model);
+    ensemble_model model = find_ensemble_model(o.run.model);
     if (!model.section)
         throw usage_error("varsym section runs pendulum and henon-heiles (their steppers have "
                           "dense output); " +

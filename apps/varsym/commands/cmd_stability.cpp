@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "models.hpp"
 #include "varsym/diagnostics/stability.hpp"
+#include "varsym/models/model.hpp"
 
 namespace varsym::cli {
 
@@ -18,6 +19,31 @@ namespace {
 /// interval of instability (or stability) narrower than 0.01 below 50; the test checks the
 /// edges against closed forms.
 constexpr double scan_step = 0.01;
+
+/// One step of the unit oscillator (m = 1, ω = 1) with step z from x, by the models layer's
+/// oscillator; false if Newton did not converge. The scan steps from two states at each z: the
+/// simulation is kept while z stays.
+bool unit_oscillator_step(const scheme_spec& spec, double z, phase_state<1>& x) {
+    static const models::model& m = models::get("oscillator");
+    thread_local std::unique_ptr<models::simulation> sim;
+    thread_local scheme_spec sim_spec;
+    thread_local double sim_z = 0.0;
+    if (!sim || sim_z != z || sim_spec.label() != spec.label()) {
+        sim = m.prepare(std::vector<double>{1.0}, {}, {{1.0}, {1.0}})
+                  .simulate({spec, newton_options{}, z});
+        sim_z = z;
+        sim_spec = spec;
+    }
+    run_state<dynamic> r = run_state<dynamic>::start(phase_state<dynamic>{x.q, x.p});
+    try {
+        sim->restore(r);
+        sim->advance(1);
+    } catch (const step_failure&) {
+        return false;
+    }
+    x = phase_state<1>{vec<1>{sim->q()[0]}, vec<1>{sim->p()[0]}};
+    return true;
+}
 
 std::vector<instability_interval> intervals_of(const scheme_spec& spec, double z_max) {
     return instability_intervals(

@@ -26,8 +26,9 @@ struct ensemble_setup {
     std::optional<expr::tape> event;
 };
 
-/// One member's data: the full initial state and the model's parameters, in the order of
-/// ensemble_model::parameters.
+/// One member's data: the initial state and the model's parameters, in the order of
+/// ensemble_model::parameters. A NaN in q0 or p0 was not given: the model's default start at the
+/// member's parameters takes its place.
 struct member_input {
     std::vector<double> q0, p0, parameters;
 };
@@ -40,6 +41,10 @@ struct ensemble_model {
     std::vector<std::pair<std::string, double>> parameters; ///< names and defaults (NaN: unset)
     std::string help;                                       ///< for --help: what they mean
     bool fixed_start = false; ///< the initial state follows from the parameters (no q0, p0)
+    /// Where parameters set d (the chain's n): d from the parameters' values, and the names of
+    /// those parameters, which --set gives for all members and no member key may vary.
+    std::function<int(const std::vector<double>&)> dimension;
+    std::vector<std::string> dimension_keys;
     double time = 0.0;                                      ///< default run length
     long long steps = 0;                                    ///< default number of steps
     /// Runs one member; throws std::invalid_argument for data the model refuses (the member's

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string_view>
 
 #include <boost/crc.hpp>
@@ -111,15 +112,10 @@ ensemble_setup make_setup(const member_run_options& o, const ensemble_model& mod
     return setup;
 }
 
-member_set make_member_set(const member_options& o, const ensemble_model& model) {
+member_set make_member_set(const member_options& o, ensemble_model& model) {
     member_set s;
-    const auto d = static_cast<std::size_t>(model.dim);
     if (model.fixed_start && (!o.q0.empty() || !o.p0.empty()))
         throw usage_error(model.name + " starts from its parameters: --q0 and --p0 do not apply");
-    s.base.q0 = o.q0.empty() ? model.q0 : o.q0;
-    s.base.p0 = o.p0.empty() ? model.p0 : o.p0;
-    if (s.base.q0.size() != d || s.base.p0.size() != d)
-        throw usage_error("--q0 and --p0 need " + std::to_string(d) + " values for " + model.name);
     for (const auto& p : model.parameters)
         s.base.parameters.push_back(p.second);
     for (const auto& a : o.set) {
@@ -129,6 +125,14 @@ member_set make_member_set(const member_options& o, const ensemble_model& model)
         if (kind != 2) throw usage_error("--set is for parameters; use --q0/--p0 for " + shown(a));
         s.base.parameters[i] = number(std::string_view(a).substr(eq + 1), "--set", true);
     }
+    if (model.dimension) model.dim = model.dimension(s.base.parameters);
+    const auto d = static_cast<std::size_t>(model.dim);
+    // What --q0 and --p0 do not give is the model's default start at each member's parameters.
+    const double unset = std::numeric_limits<double>::quiet_NaN();
+    s.base.q0 = o.q0.empty() ? std::vector<double>(d, unset) : o.q0;
+    s.base.p0 = o.p0.empty() ? std::vector<double>(d, unset) : o.p0;
+    if (s.base.q0.size() != d || s.base.p0.size() != d)
+        throw usage_error("--q0 and --p0 need " + std::to_string(d) + " values for " + model.name);
     if (!o.grid.empty() && !o.members_file.empty())
         throw usage_error("give --grid or --members, not both");
     if (o.grid.empty() && o.members_file.empty())
@@ -192,6 +196,12 @@ member_set make_member_set(const member_options& o, const ensemble_model& model)
         if (std::count(s.keys.begin(), s.keys.end(), k) > 1)
             throw usage_error("the key " + k + " is given twice");
         s.targets.push_back(target_of(k, model));
+        if (std::find(model.dimension_keys.begin(), model.dimension_keys.end(), k) !=
+            model.dimension_keys.end())
+            throw usage_error(k +
+                              " sets the number of coordinates, which the members share: give "
+                              "it with --set " +
+                              k + "=VALUE, not as a member's key");
     }
     add_identity(s.identity, "q0", s.base.q0);
     add_identity(s.identity, "p0", s.base.p0);

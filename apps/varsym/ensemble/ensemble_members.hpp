@@ -49,7 +49,7 @@ struct member_set {
     void values(std::size_t m, std::vector<double>& out) const;
     [[nodiscard]] member_input input(const std::vector<double>& keys) const;
 };
-member_set make_member_set(const member_options& o, const ensemble_model& model);
+member_set make_member_set(const member_options& o, ensemble_model& model);
 
 /// The setup every member shares: the scheme, the steps and h = time/steps (the model's
 /// defaults where not given). Refuses members × steps beyond max_run_steps (usage_error).

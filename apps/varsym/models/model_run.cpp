@@ -10,15 +10,9 @@ namespace varsym::cli {
 
 std::vector<model> make_models(std::shared_ptr<parameter_options> po) {
     if (!po) po = std::make_shared<parameter_options>();
-    auto mech = std::make_shared<mechanism_options>();
     std::vector<model> all;
     for (const models::model& m : models::registry())
         all.push_back(make_registry_model(m, po));
-    for (auto* make : {make_oscillator_model, make_chain_model})
-        all.push_back(make());
-    for (auto* make : {make_arm_model, make_four_bar_model, make_slider_crank_model,
-                       make_spherical_pendulum_model})
-        all.push_back(make(mech));
     for (model& m : make_rigid_models())
         all.push_back(std::move(m));
     all.push_back(make_expression_model());

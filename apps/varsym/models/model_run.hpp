@@ -1,6 +1,7 @@
-// apps/varsym/models/model_run.hpp: the driver every model's run shares: steps a stepper, streams
-// the CSV rows (state, energy, conserved quantities, exact values), writes checkpoints and resumes
-// from them, and turns a failed step into exit code 3 keeping the rows already written.
+// apps/varsym/models/model_run.hpp: what the tool's run loops share (simulation_run.cpp for the
+// models layer, rigid_run.cpp for the rigid bodies): the run log that streams the CSV rows,
+// writes checkpoints and resumes from them, watches the energy, and turns a failed step into exit
+// code 3 keeping the rows already written.
 #pragma once
 
 #include <chrono>
@@ -112,24 +113,6 @@ class run_log {
     double omega0_ = 0.0;
 };
 
-/// The run state a checkpoint saved, for d coordinates.
-template <int D>
-run_state<D> resumed_state(const checkpoint& ck, int d) {
-    auto as_vec = [d](const std::vector<double>& v) {
-        return vec<D>(Eigen::Map<const vec<D>>(v.data(), d));
-    };
-    run_state<D> r;
-    r.x = phase_state<D>{as_vec(ck.q), as_vec(ck.p)};
-    r.carry_q = as_vec(ck.carry_q);
-    r.carry_p = as_vec(ck.carry_p);
-    r.history = ck.history;
-    r.step = ck.step;
-    r.stats.steps = ck.step;
-    r.stats.newton_iterations = ck.newton_iterations;
-    r.stats.newton_iterations_max = ck.newton_iterations_max;
-    return r;
-}
-
 /// The frequency a run's step must resolve: omega, the highest at the start (NaN: none known),
 /// or the orbit's 2 pi / period if higher.
 inline double resolved_frequency(double omega, double period) {
@@ -150,77 +133,6 @@ template <int D>
 saved_state save_state(const run_state<D>& r) {
     auto list = [](const auto& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
     return {list(r.x.q), list(r.x.p), list(r.carry_q), list(r.carry_p), r.history};
-}
-
-/// Streams `step,t,<state columns><extra header>` rows for plan.steps steps from x, written every
-/// s.every steps and at the end. `with_stepper(f)` calls f(stepper); `extras(t, x, line)` appends
-/// the model's columns (each preceded by a comma) to a row. A resumed run (s.resume) starts from
-/// its checkpoint's state, carries and step instead of x.
-template <int D, class WithStepper, class Extras>
-void stream_trajectory(const run_setup& s, const run_plan& plan, phase_state<D> x,
-                       const std::string& extra_header, WithStepper&& with_stepper,
-                       Extras&& extras) {
-    const int d = static_cast<int>(x.q.size());
-    run_log log(s, plan, d, "step,t," + state_columns(d) + extra_header + "\n");
-    const std::size_t n = plan.steps;
-    std::string line;
-    /// Writes the row of step j if it is one to write; says whether it did.
-    auto row = [&](std::size_t j, double t, const phase_state<D>& y) {
-        if (!log.row_due(j)) return false;
-        line = std::to_string(j);
-        line += ',';
-        append_number(line, t);
-        for (Eigen::Index i = 0; i < d; ++i) {
-            line += ',';
-            append_number(line, y.q(i));
-        }
-        for (Eigen::Index i = 0; i < d; ++i) {
-            line += ',';
-            append_number(line, y.p(i));
-        }
-        extras(t, y, line);
-        line += '\n';
-        log.write(line);
-        return true;
-    };
-    with_stepper([&](auto& stepper) {
-        auto r = run_state<D>::start(x);
-        const double h = stepper.step_size();
-        auto omega_at = [&](const phase_state<D>& y, double t) {
-            try {
-                if constexpr (timed_system<std::remove_cvref_t<decltype(stepper.system())>>)
-                    return highest_frequency(stepper.system(), y, t);
-                else
-                    return highest_frequency(stepper.system(), y);
-            } catch (const std::exception&) { // no estimate: the messages say so
-                return std::numeric_limits<double>::quiet_NaN();
-            }
-        };
-        const double omega0 = resolved_frequency(omega_at(x, 0.0), plan.period);
-        const double bound = energy_watch_bound(s, conserves_energy(stepper.system()), h, omega0);
-        log.set_energy_reference(energy_at(stepper.system(), x, 0.0), omega0, bound);
-        if (const checkpoint* ck = log.resumed()) {
-            r = resumed_state<D>(*ck, d);
-            restore(stepper, r);
-        } else {
-            row(0, 0.0, x);
-        }
-        set_signal_polling(true);
-        try {
-            integrate_from(stepper, r, n, [&](const run_state<D>& y) {
-                const std::size_t j = y.step;
-                log.after_step(
-                    j, y.time(h), row(j, y.time(h), y.x),
-                    [&] { return watched_energy(stepper, y.x, y.time(h)); },
-                    [&] { return save_state(y); }, y.stats);
-            });
-        } catch (const step_failure& e) {
-            set_signal_polling(false);
-            log.fail(e, save_state(r), r.stats, omega_at(r.x, r.time(h)));
-        }
-        set_signal_polling(false);
-        log.finish(save_state(r), r.stats);
-    });
 }
 
 /// Appends ",v" for each value.

@@ -59,26 +59,6 @@ struct model {
 /// tool's own, each with its own parameters bound to the options a command line sets.
 std::vector<model> make_models(std::shared_ptr<class parameter_options> po = nullptr);
 
-/// The parameters the mechanisms share (double-pendulum, arm, four-bar, slider-crank,
-/// spherical-pendulum): each model reads the ones it lists and says how many values it needs.
-struct mechanism_options {
-    std::vector<double> masses, lengths, inertias; ///< empty: the model's default
-    std::vector<double> damping, kp, kd, target;   ///< the arm's joints
-    double gravity = 9.81;
-    double torque = 0.0;    ///< on the crank (four-bar, slider-crank)
-    double move_time = 2.0; ///< the arm's move to its target
-    bool no_compensation = false;
-    bool project = false; ///< move inconsistent initial data onto the constraints
-};
-/// Registers mechanism_options' options (once, for all the mechanisms).
-void add_mechanism_options(CLI::App& cmd, mechanism_options& o);
-
-model make_oscillator_model();
-model make_arm_model(std::shared_ptr<mechanism_options> o);
-model make_four_bar_model(std::shared_ptr<mechanism_options> o);
-model make_slider_crank_model(std::shared_ptr<mechanism_options> o);
-model make_spherical_pendulum_model(std::shared_ptr<mechanism_options> o);
-model make_chain_model();
 /// `rigid-body`, `top` and `pendulum-3d` (model_rigid.cpp), which share their parameters.
 std::vector<model> make_rigid_models();
 /// `lagrangian`: the user's L given by --lagrangian (model_expression.cpp).
@@ -108,14 +88,10 @@ std::string state_columns(int d, const char* suffix = "");
 
 /// The linear stability limit of a scheme: the largest z such that the step map of the harmonic
 /// oscillator with h·ω < z is stable (infinity if it is stable at every h·ω); computed by
-/// running the scheme's stepper on the oscillator (model_oscillator.cpp, stability.cpp).
+/// running the scheme's stepper on the models layer's oscillator (commands/cmd_stability.cpp).
 double linear_stability_limit(const scheme_spec& spec);
 
-/// One step of scheme `spec` with h = z of the unit harmonic oscillator (m = 1, ω = 1) from x;
-/// false if Newton did not converge (model_oscillator.cpp).
-bool unit_oscillator_step(const scheme_spec& spec, double z, phase_state<1>& x);
-
-/// Where h·ω is unstable for `spec`, scanned up to stability_scan_end (stability.cpp).
+/// Where h·ω is unstable for `spec`, scanned up to stability_scan_end (cmd_stability.cpp).
 inline constexpr double stability_scan_end = 50.0;
 
 /// Validators shared by model options.

@@ -44,7 +44,19 @@ std::string values_text(const std::vector<double>& v) {
 /// The lines every generated description ends with: parameters, initial state, run length.
 std::string parameter_lines(const models::model& m, bool ensemble) {
     std::string s;
+    for (const auto& l : m.lists) {
+        s += "\n  " + (ensemble ? l.name : "--" + l.option_name());
+        if (!l.value.empty()) s += " = " + values_text(l.value);
+        if (!l.unit.empty()) s += " [" + l.unit + "]";
+        s += ": " + l.doc;
+        if (l.range() != "finite") s += "; each " + l.range();
+        if (ensemble) s += " (its default in ensembles)";
+    }
     for (const auto& p : m.parameters) {
+        if (p.flag && !ensemble) {
+            s += "\n  " + option_text(m, p) + " (a flag): " + p.doc;
+            continue;
+        }
         s += "\n  " + (ensemble ? p.name : option_text(m, p)) + " = " + number_text(p.value);
         if (!p.unit.empty()) s += " [" + p.unit + "]";
         s += ": " + p.doc + "; " + p.range();
@@ -57,7 +69,7 @@ std::string parameter_lines(const models::model& m, bool ensemble) {
 
 std::string describe(const models::model& m, bool ensemble) {
     std::string s = m.description;
-    if (!m.parameters.empty())
+    if (!m.parameters.empty() || !m.lists.empty())
         s +=
             ensemble ? "\n  Parameters (keys for --grid, --members and --set):" : "\n  Parameters:";
     s += parameter_lines(m, ensemble);
@@ -85,29 +97,47 @@ std::string describe(const models::model& m, bool ensemble) {
 void parameter_options::add(CLI::App& cmd) {
     std::map<std::string, std::string> help; // option → what it sets, model by model
     std::map<std::string, bool> list;        // option → whether it takes several values
-    std::map<std::string, std::vector<const models::parameter*>> uses;
-    for (const auto& m : models::registry())
+    std::map<std::string, std::vector<models::parameter>> uses; // each value's range
+    auto describe_use = [&](const models::model& m, const std::string& option,
+                            const std::string& doc, const std::string& unit) {
+        std::string& h = help[option];
+        h += (h.empty() ? "" : "; ") + m.name + ": " + doc;
+        if (!unit.empty()) h += " [" + unit + "]";
+    };
+    for (const auto& m : models::registry()) {
         for (const auto& p : m.parameters) {
-            uses[p.option_name()].push_back(&p);
+            uses[p.option_name()].push_back(p);
             list[p.option_name()] = list[p.option_name()] || p.option_index >= 0;
-            std::string& h = help[p.option_name()];
-            h += (h.empty() ? "" : "; ") + m.name + ": " + p.doc;
-            if (!p.unit.empty()) h += " [" + p.unit + "]";
+            describe_use(m, p.option_name(), p.doc, p.unit);
         }
+        for (const auto& l : m.lists) { // a list's values, each checked as a scalar would be
+            models::parameter each;
+            each.name = l.name;
+            each.lower = l.lower;
+            each.upper = l.upper;
+            each.lower_open = l.lower_open;
+            uses[l.option_name()].push_back(each);
+            list[l.option_name()] = true;
+            describe_use(m, l.option_name(), l.doc, l.unit);
+        }
+    }
     for (const auto& [name, text] : help) {
         if (CLI::Option* existing = cmd.get_option_no_throw("--" + name)) { // a mechanism's too
             existing->description(existing->get_description() + "; " + text);
             options_[name] = existing;
+        } else if (uses[name].front().flag) { // a switch (the mechanisms' --project)
+            options_[name] = cmd.add_flag("--" + name, text);
         } else {
             options_[name] = cmd.add_option("--" + name, text)
                                  ->delimiter(',')
                                  ->type_name(list[name] ? list_type_name : "FLOAT");
+            if (list[name]) options_[name]->expected(1, CLI::detail::expected_max_vector_size);
             // Checked while parsing (so that a config file's line is named) where every model
             // with this option takes the same range; else when the model runs.
             const auto& ps = uses[name];
-            const models::parameter* first = ps.front();
-            if (std::all_of(ps.begin(), ps.end(), [&](const models::parameter* p) {
-                    return p->range() == first->range() && p->nan_means == first->nan_means;
+            const models::parameter first = ps.front();
+            if (std::all_of(ps.begin(), ps.end(), [&](const models::parameter& p) {
+                    return p.range() == first.range() && p.nan_means == first.nan_means;
                 }))
                 options_[name]->check(CLI::Validator(
                     [first](std::string& value) -> std::string {
@@ -115,13 +145,13 @@ void parameter_options::add(CLI::App& cmd) {
                         if (!CLI::detail::lexical_cast(value, v))
                             return shown(value) + " is not a number";
                         try {
-                            first->check(v);
+                            first.check(v);
                         } catch (const std::invalid_argument& e) {
                             return e.what();
                         }
                         return {};
                     },
-                    first->range()));
+                    first.range()));
         }
     }
 }
@@ -132,6 +162,10 @@ std::vector<double> parameter_options::values(const models::model& m) const {
         const auto& p = m.parameters[i];
         const auto it = options_.find(p.option_name());
         if (it == options_.end() || it->second->count() == 0) continue;
+        if (p.flag) {
+            v[i] = 1.0;
+            continue;
+        }
         const std::string option = "--" + p.option_name();
         std::vector<double> given;
         for (const std::string& r : it->second->results()) {
@@ -152,6 +186,22 @@ std::vector<double> parameter_options::values(const models::model& m) const {
     return v;
 }
 
+models::lists parameter_options::lists(const models::model& m) const {
+    models::lists out(m.lists.size());
+    for (std::size_t i = 0; i < m.lists.size(); ++i) {
+        const auto it = options_.find(m.lists[i].option_name());
+        if (it == options_.end() || it->second->count() == 0) continue;
+        for (const std::string& r : it->second->results()) {
+            double x = 0.0;
+            if (!CLI::detail::lexical_cast(r, x))
+                throw usage_error("--" + m.lists[i].option_name() + ": " + shown(r) +
+                                  " is not a number");
+            out[i].push_back(x);
+        }
+    }
+    return out;
+}
+
 model make_registry_model(const models::model& rm, std::shared_ptr<parameter_options> po) {
     model m;
     m.name = rm.name;
@@ -161,12 +211,14 @@ model make_registry_model(const models::model& rm, std::shared_ptr<parameter_opt
         if (std::find(m.options.begin(), m.options.end(), "--" + p.option_name()) ==
             m.options.end())
             m.options.push_back("--" + p.option_name());
+    for (const auto& l : rm.lists)
+        m.options.push_back("--" + l.option_name());
     m.add_options = [](CLI::App&) {}; // all at once: parameter_options::add
     m.run = [&rm, po](const run_setup& s) {
         const std::vector<double> values = po->values(rm);
         models::problem pr;
         try {
-            pr = rm.prepare(values, {s.q0, s.p0, s.v0});
+            pr = rm.prepare(values, {s.q0, s.p0, s.v0}, po->lists(rm));
         } catch (const std::invalid_argument& e) {
             throw usage_error(e.what());
         }
@@ -187,12 +239,41 @@ model make_registry_model(const models::model& rm, std::shared_ptr<parameter_opt
 
 namespace {
 
+/// A member's q0 or p0 as the model takes it: empty where none of it was given (NaN), the given
+/// leading values alone where the model completes such a short start (the four-bar's crank
+/// angle), else the given values with the rest from `fallback` (the default start at the
+/// member's parameters, made by `fallback()` only when needed).
+template <class Fallback>
+std::vector<double> start_vector(const models::model& rm, const std::vector<double>& v,
+                                 bool may_be_short, Fallback&& fallback) {
+    const auto given = std::count_if(v.begin(), v.end(), [](double x) { return !std::isnan(x); });
+    if (given == 0) return {};
+    if (given == std::ssize(v)) return v;
+    const bool leading =
+        std::all_of(v.begin(), v.begin() + given, [](double x) { return !std::isnan(x); });
+    if (may_be_short && leading &&
+        std::find(rm.short_start.begin(), rm.short_start.end(), given) != rm.short_start.end())
+        return {v.begin(), v.begin() + given};
+    std::vector<double> out = fallback();
+    for (std::size_t i = 0; i < v.size() && i < out.size(); ++i)
+        if (!std::isnan(v[i])) out[i] = v[i];
+    return out;
+}
+
 /// The simulation of one member (the start from its q0 and p0 unless the model's start follows
 /// from its parameters).
 std::unique_ptr<models::simulation>
 member_simulation(const models::model& rm, const member_input& in, const ensemble_setup& e) {
     models::start st;
-    if (rm.fixed_start.empty()) st = {in.q0, in.p0, {}};
+    if (rm.fixed_start.empty()) {
+        std::optional<models::problem> defaults;
+        auto at = [&](bool q) {
+            if (!defaults) defaults = rm.prepare(in.parameters, {});
+            return q ? defaults->q0 : defaults->p0;
+        };
+        st.q0 = start_vector(rm, in.q0, true, [&] { return at(true); });
+        st.p0 = start_vector(rm, in.p0, false, [&] { return at(false); });
+    }
     const models::problem pr = rm.prepare(in.parameters, st);
     return pr.simulate({e.spec, e.newton, e.h});
 }
@@ -206,8 +287,12 @@ ensemble_model make_registry_ensemble(const models::model& rm) {
     m.q0 = rm.q0;
     m.p0 = rm.p0;
     m.fixed_start = !rm.fixed_start.empty();
-    for (const auto& p : rm.parameters)
+    for (const auto& p : rm.parameters) {
         m.parameters.emplace_back(p.name, p.value);
+        if (p.sets_dimension) m.dimension_keys.push_back(p.name);
+    }
+    if (rm.dimension)
+        m.dimension = [&rm](const std::vector<double>& v) { return rm.dimension_at(v); };
     m.help = describe(rm, true);
     m.time = rm.ensemble_time;
     m.steps = rm.ensemble_steps;
@@ -219,14 +304,14 @@ ensemble_model make_registry_ensemble(const models::model& rm) {
     };
     // Sections need dense output: a probe at the defaults says whether the model's steppers have
     // it.
-    const bool dense = rm.make(rm.defaults(), {}).simulate({{}, {}, 0.01})->has_dense_output();
+    const bool dense = rm.prepare(rm.defaults()).simulate({{}, {}, 0.01})->has_dense_output();
     if (dense)
         m.section = [&rm](const member_input& in, const ensemble_setup& e,
                           const section_plane& plane, long long crossings) {
             const auto sim = member_simulation(rm, in, e);
             const models::section_result r = sim->section(plane, e.plan.steps, crossings);
             std::string rows;
-            const std::size_t width = 2 * static_cast<std::size_t>(rm.dim);
+            const std::size_t width = 2 * static_cast<std::size_t>(sim->dim());
             for (std::size_t k = 0; k < r.time.size(); ++k) {
                 append_number(rows, r.time[k]);
                 for (std::size_t i = 0; i < width; ++i) {

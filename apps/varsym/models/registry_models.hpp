@@ -22,6 +22,8 @@ class parameter_options {
     void add(CLI::App& cmd);
     /// Model m's parameter values: its defaults, replaced by the options given.
     [[nodiscard]] std::vector<double> values(const models::model& m) const;
+    /// Model m's lists: the values of each list option given, else empty (its default).
+    [[nodiscard]] models::lists lists(const models::model& m) const;
 
   private:
     std::map<std::string, CLI::Option*> options_;

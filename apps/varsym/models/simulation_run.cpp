@@ -40,7 +40,7 @@ void stream_simulation(const run_setup& s, const run_plan& plan, models::simulat
     log.set_energy_reference(sim.watched_energy(), omega0,
                              energy_watch_bound(s, sim.conserves_energy(), plan.h, omega0));
     if (const checkpoint* ck = log.resumed()) {
-        sim.restore(resumed_state<dynamic>(*ck, d));
+        sim.restore(ck->state());
     } else {
         row(0);
     }

@@ -34,6 +34,13 @@ struct parameter {
     /// "gravity"), or a list option shared by several parameters (its m1 and m2: "masses").
     std::string option;
     int option_index = -1; ///< the parameter's place in a list option (0, 1, …), or −1
+    bool integer = false;  ///< a count (the chain's n): only whole numbers are allowed
+    /// A switch, 0 (off, the default) or 1: the command line's option is a flag that sets 1
+    /// (the constrained mechanisms' `project`).
+    bool flag = false;
+    /// The parameter sets the number of coordinates (the chain's n): ensembles take it once for
+    /// all members, not as a member's key.
+    bool sets_dimension = false;
 
     /// The option's long name without "--".
     [[nodiscard]] std::string option_name() const;
@@ -42,6 +49,31 @@ struct parameter {
     /// Throws std::invalid_argument naming the parameter when v is outside its range.
     void check(double v) const;
 };
+
+/// A parameter of several values: the arm's masses (one per link, their count sets d), the
+/// oscillator's mass matrix (1, d or d² values).
+struct list_parameter {
+    std::string name;          ///< its key: Python keyword, config key (snake_case)
+    std::vector<double> value; ///< the default; empty where the model's rule (in `doc`) sets it
+    std::string unit;          ///< of each value
+    std::string doc;           ///< what it is and how many values, one phrase
+    double lower = -std::numeric_limits<double>::infinity(); ///< each value's range
+    double upper = std::numeric_limits<double>::infinity();
+    bool lower_open = false;
+    std::string option; ///< the command line's option where it is not the name with '-' for '_'
+    /// The values' count sets the number of coordinates (the arm's masses: one per link).
+    bool sets_dimension = false;
+
+    [[nodiscard]] std::string option_name() const;
+    /// Each value's range in words.
+    [[nodiscard]] std::string range() const;
+    /// Throws std::invalid_argument naming the parameter when a value is outside its range.
+    void check(const std::vector<double>& v) const;
+};
+
+/// The values of a model's list parameters, in the order of model::lists; an empty one is its
+/// default.
+using lists = std::vector<std::vector<double>>;
 
 /// Where a run starts. Each vector is empty (the model's default) or holds d values; p0 and v0
 /// (velocities, turned into momenta by the model) exclude each other.
@@ -65,14 +97,22 @@ struct model {
     std::string name;        ///< "pendulum", "cart-pole"
     std::string summary;     ///< one line
     std::string description; ///< the Lagrangian, coordinates, units, conserved quantities
-    int dim = 0;             ///< the number of coordinates d
+    int dim = 0; ///< the number of coordinates d (at the defaults, where `dimension` is set)
+    /// Where d follows from the parameters (the chain's n, the arm's masses): d from all
+    /// parameters' values (each list empty for its default). Null where d is always `dim`.
+    std::function<int(std::span<const double>, const lists&)> dimension;
     std::string coordinates; ///< their names for messages ("th1, th2")
     std::vector<parameter> parameters;
-    std::vector<double> q0, p0; ///< the default initial state (with the default parameters)
+    std::vector<list_parameter> lists; ///< the parameters of several values, if any
+    std::vector<double> q0, p0;        ///< the default initial state (with the default parameters)
     /// Non-empty where the initial state follows from the parameters alone (kepler: at
     /// pericentre): then q0, p0 and v0 are refused with this advice.
     std::string fixed_start;
     bool velocities = true; ///< whether v0 may be given instead of p0
+    /// Sizes besides d that q0 and v0 may have, the model completing the rest (the four-bar's
+    /// crank angle alone: 1), and what such a short vector holds ("th1 alone").
+    std::vector<int> short_start;
+    std::string short_start_doc;
     /// Run length: steps per period where the motion has a period, else time and steps.
     long long steps_per_period = 0;
     double time = 0.0;
@@ -81,17 +121,26 @@ struct model {
     long long ensemble_steps = 0;
     std::string ensemble_note; ///< for the ensemble's help: a typical section or event
     /// Builds the problem from all parameters' values (in the order of `parameters`, already
-    /// checked against their ranges) and the start; throws std::invalid_argument for data the
-    /// model refuses (a state outside the energy surface, a singular mass matrix).
-    std::function<problem(std::span<const double>, const start&)> make;
+    /// checked against their ranges), the lists (one per list parameter, each empty for its
+    /// default, the values checked) and the start; throws std::invalid_argument for data the
+    /// model refuses (a state outside the energy surface, a singular mass matrix, a list of
+    /// the wrong length).
+    std::function<problem(std::span<const double>, const start&, const models::lists&)> make;
 
     /// The parameters' defaults, in order.
     [[nodiscard]] std::vector<double> defaults() const;
+    /// The number of coordinates d at these parameters' values.
+    [[nodiscard]] int dimension_at(std::span<const double> values,
+                                   const models::lists& l = {}) const {
+        return dimension ? dimension(values, l.empty() ? models::lists(lists.size()) : l) : dim;
+    }
     /// The index of parameter `key`, or −1.
     [[nodiscard]] int parameter_index(std::string_view key) const;
-    /// Checks values against the ranges and the start against d and `fixed_start`, then makes
-    /// the problem. Throws std::invalid_argument with a message that names the model.
-    [[nodiscard]] problem prepare(std::span<const double> values, const start& s = {}) const;
+    /// Checks values and lists against the ranges and the start against d and `fixed_start`,
+    /// then makes the problem. `l` holds one list per list parameter (or none: all defaults).
+    /// Throws std::invalid_argument with a message that names the model.
+    [[nodiscard]] problem prepare(std::span<const double> values, const start& s = {},
+                                  const models::lists& l = {}) const;
 };
 
 /// Every built-in model of the layer, in the order `varsym models` lists them.

@@ -1,0 +1,54 @@
+// models/src/spherical_pendulum.cpp: the spherical pendulum in Cartesian coordinates with the
+// constraint |x| = l (problems/mechanisms.hpp), run by the general engine.
+#include <cmath>
+
+#include "constrained_of.hpp"
+
+namespace varsym::models::defs {
+
+model spherical_pendulum() {
+    model m;
+    m.name = "spherical-pendulum";
+    m.summary = "spherical pendulum in Cartesian coordinates with the constraint |x| = l";
+    m.description =
+        "  L = m |x'|^2/2 - m g z, constraint (|x|^2 - l^2)/(2 l) = 0; q = (x, y, z) [m], z up.\n"
+        "  q0: x,y,z, or th,phi [rad] (polar angle from the downward vertical, azimuth; default\n"
+        "  1, 0); v0: x',y',z' or th',phi' (default 0, 1.2 sqrt(g/l)). Conserved: energy and\n"
+        "  spin = x p_y - y p_x (the angular momentum about the vertical, to round-off).\n";
+    m.description += detail::constrained_columns;
+    m.description += "\n  Last column: spin.";
+    m.dim = 3;
+    m.coordinates = "x, y, z";
+    m.short_start = {2};
+    m.short_start_doc = "2 (th, phi)";
+    m.parameters = {detail::positive_value("mass", 1.0, "kg", "mass m of the bob", "masses", 0),
+                    detail::positive_value("length", 1.0, "m", "length l of the rod", "lengths", 0),
+                    detail::gravity_parameter(9.81), detail::project_parameter()};
+    m.time = 10.0;
+    m.steps = 2000;
+    m.ensemble_time = 10.0;
+    m.ensemble_steps = 2000;
+    m.ensemble_note = "The bob rises above the pivot: --event 'q3'.";
+    m.make = [](std::span<const double> v, const start& s, const lists&) {
+        mechanisms::spherical_pendulum p;
+        p.m = v[0], p.length = v[1], p.g = v[2];
+        p.validate();
+        auto pick = [](const std::vector<double>& given, std::vector<double> fallback) {
+            return given.size() == 2 ? given : fallback;
+        };
+        const auto angles = pick(s.q0, {1.0, 0.0});
+        const auto rates = pick(s.v0, {0.0, 1.2 * std::sqrt(p.g / p.length)});
+        auto [q, qdot] = p.state(angles[0], angles[1], rates[0], rates[1]);
+        if (s.q0.size() == 3) q = vec<3>(s.q0[0], s.q0[1], s.q0[2]);
+        if (s.v0.size() == 3) qdot = vec<3>(s.v0[0], s.v0[1], s.v0[2]);
+        const lagrangian_system<mechanisms::spherical_lagrangian> sys({p});
+        return detail::constrained_problem(
+            sys, mechanisms::spherical_rod{p}, unforced{}, detail::state_of(sys, s, q, qdot),
+            v[3] != 0.0, detail::column_set{{"spin"}, [](const phase_state<3>& x, double* out) {
+                                                out[0] = mechanisms::spherical_pendulum::spin(x);
+                                            }});
+    };
+    return m;
+}
+
+} // namespace varsym::models::defs
