@@ -49,6 +49,10 @@ struct member_set {
     void values(std::size_t m, std::vector<double>& out) const;
     [[nodiscard]] member_input input(const std::vector<double>& keys) const;
 };
+/// The members of `o` for `model`: the base input (--set parameters; q0 and p0 from --q0/--p0,
+/// NaN where not given: each member's default start at its own parameters) and the keys of a
+/// grid or a --members file. Where parameters set the model's d (the chain's n), sets model.dim
+/// from the --set values, and refuses those parameters as member keys.
 member_set make_member_set(const member_options& o, ensemble_model& model);
 
 /// The setup every member shares: the scheme, the steps and h = time/steps (the model's
