@@ -17,13 +17,13 @@ using composition::method;
 
 namespace {
 
-const pendulum::system sys = pendulum::make_system(1.0, 2 * std::numbers::pi);
+const pendulum::system composed_pendulum = pendulum::make_system(1.0, 2 * std::numbers::pi);
 
 /// max |q_j − q(t_j)| over one period of the paper's pendulum at n steps (tests/
 /// pendulum_period_error.hpp).
 double period_error(method m, int n) {
     const double h = static_cast<double>(test::paper_pendulum_exact().period() / n);
-    composition::stepper stepper(sys, h, m);
+    composition::stepper stepper(composed_pendulum, h, m);
     return test::period_error(stepper, n);
 }
 
@@ -64,7 +64,8 @@ TEST(Composition, OrdersOnThePendulum) {
 // Symmetric: a step of −h after a step of h returns to the start, to round-off of |p| ≈ 6.
 TEST(Composition, StepBackUndoesTheStep) {
     for (auto m : {method::yoshida6, method::kahan_li8}) {
-        composition::stepper forward(sys, 0.05, m), backward(sys, -0.05, m);
+        composition::stepper forward(composed_pendulum, 0.05, m),
+            backward(composed_pendulum, -0.05, m);
         const phase_state<1> x0{vec<1>{1.0}, vec<1>{2.0}};
         phase_state<1> x = x0;
         forward.step(x);
@@ -79,13 +80,13 @@ TEST(Composition, StepBackUndoesTheStep) {
 TEST(Composition, EnergyErrorStaysBounded) {
     const double period =
         pendulum::exact_solution(1.0, 2 * std::numbers::pi, std::numbers::pi / 2, 0.0).period();
-    composition::stepper stepper(sys, period / 20, method::kahan_li8);
+    composition::stepper stepper(composed_pendulum, period / 20, method::kahan_li8);
     phase_state<1> x{vec<1>{std::numbers::pi / 2}, vec<1>{0.0}};
-    const double e0 = sys.energy(x);
+    const double e0 = composed_pendulum.energy(x);
     double first = 0, last = 0;
     const std::size_t n = 20 * 10000, window = 20 * 100;
     integrate(stepper, x, 0.0, n, [&](std::size_t j, double, const phase_state<1>& y) {
-        const double err = std::abs(sys.energy(y) - e0) / e0;
+        const double err = std::abs(composed_pendulum.energy(y) - e0) / e0;
         if (j <= window) first = std::max(first, err);
         if (j >= n - window) last = std::max(last, err);
     });

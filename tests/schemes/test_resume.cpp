@@ -21,7 +21,7 @@ using namespace varsym;
 
 namespace {
 
-const auto pendulum_sys = pendulum::make_system(1.0, 2 * std::numbers::pi);
+const auto resume_pendulum = pendulum::make_system(1.0, 2 * std::numbers::pi);
 const phase_state<1> start{vec<1>{std::numbers::pi / 2}, vec<1>{0.0}};
 
 /// Runs n steps straight, and k steps, then a fresh stepper restored from the saved run_state
@@ -66,15 +66,15 @@ auto oscillator_step(Make make) {
 TEST(Resume, EveryStepperContinuesBitForBit) {
     // 500 steps of h = 0.02 (about 8.5 periods), interrupted at an arbitrary step.
     const double h = 0.02;
-    expect_bitwise_resume([&] { return simpson::stepper(pendulum_sys, h); }, 500, 187);
-    expect_bitwise_resume([&] { return newmark::stepper(pendulum_sys, h); }, 500, 213);
+    expect_bitwise_resume([&] { return simpson::stepper(resume_pendulum, h); }, 500, 187);
+    expect_bitwise_resume([&] { return newmark::stepper(resume_pendulum, h); }, 500, 213);
     using galerkin::rule_kind;
-    expect_bitwise_resume([&] { return galerkin::stepper(pendulum_sys, h, rule_kind::gauss, 3); },
-                          500, 251);
+    expect_bitwise_resume(
+        [&] { return galerkin::stepper(resume_pendulum, h, rule_kind::gauss, 3); }, 500, 251);
     using lag = separable_lagrangian<pendulum::system>;
     expect_bitwise_resume(
         [&] {
-            return general::stepper<lag>(lagrangian_system<lag>({pendulum_sys}), h,
+            return general::stepper<lag>(lagrangian_system<lag>({resume_pendulum}), h,
                                          scheme_spec(scheme_kind::lobatto, 3));
         },
         500, 99);
@@ -114,16 +114,17 @@ TEST(Stability, StormerVerletLimitIsTwoAndGaussHasNone) {
 TEST(Stability, HighestFrequency) {
     // Pendulum: ∇²V = m ω² cos q, so ω_max = ω √cos q, and 0 at q = π/2 (no restoring force).
     const double w = 2 * std::numbers::pi;
-    EXPECT_NEAR(highest_frequency(pendulum_sys, phase_state<1>{vec<1>{0.0}, vec<1>{0.0}}), w,
+    EXPECT_NEAR(highest_frequency(resume_pendulum, phase_state<1>{vec<1>{0.0}, vec<1>{0.0}}), w,
                 1e-12);
-    EXPECT_NEAR(highest_frequency(pendulum_sys, phase_state<1>{vec<1>{1.0}, vec<1>{0.0}}),
+    EXPECT_NEAR(highest_frequency(resume_pendulum, phase_state<1>{vec<1>{1.0}, vec<1>{0.0}}),
                 w * std::sqrt(std::cos(1.0)), 1e-12);
-    EXPECT_NEAR(highest_frequency(pendulum_sys, start), 0.0, 1e-6);
+    EXPECT_NEAR(highest_frequency(resume_pendulum, start), 0.0, 1e-6);
     // The general engine's estimate agrees with the separable one through separable_lagrangian.
     using lag = separable_lagrangian<pendulum::system>;
-    const lagrangian_system<lag> ls({pendulum_sys});
+    const lagrangian_system<lag> ls({resume_pendulum});
     EXPECT_NEAR(highest_frequency(ls, phase_state<1>{vec<1>{0.3}, vec<1>{0.7}}),
-                highest_frequency(pendulum_sys, phase_state<1>{vec<1>{0.3}, vec<1>{0.7}}), 1e-10);
+                highest_frequency(resume_pendulum, phase_state<1>{vec<1>{0.3}, vec<1>{0.7}}),
+                1e-10);
     // The chain's Gershgorin bound is an upper bound of the exact largest eigenvalue, and for
     // the linear chain (β = 0, eigenvalues 2 − 2 cos(kπ/(n+1))) within 2 % at n = 50.
     const chain::system c(50, 0.0, 2.0);
