@@ -82,21 +82,23 @@ std::string list_parameter::option_name() const {
     return p.option_name();
 }
 
-std::string list_parameter::range() const {
-    parameter p;
-    p.name = "each";
-    p.lower = lower;
-    p.upper = upper;
-    p.lower_open = lower_open;
-    return p.range();
-}
-
-void list_parameter::check(const std::vector<double>& v) const {
+parameter list_parameter::each() const {
     parameter p;
     p.name = name;
     p.lower = lower;
     p.upper = upper;
     p.lower_open = lower_open;
+    return p;
+}
+
+std::string list_parameter::range() const {
+    parameter p = each();
+    p.name = "each";
+    return p.range();
+}
+
+void list_parameter::check(const std::vector<double>& v) const {
+    const parameter p = each();
     for (double x : v)
         p.check(x);
 }

@@ -267,5 +267,7 @@ expect_error 2 "bench zero steps" bench --steps 0 -o out.csv
 
 "$VARSYM" --help | grep -q 'Exit codes' && ok || bad "--help"
 "$VARSYM" run --help | grep -q 'step,t,q,p,energy,q_exact,p_exact' && ok || bad "run --help"
+"$VARSYM" run --help | grep -Eq -- '--n INT:a whole number' && "$VARSYM" run --help | grep -Eq -- '--omega FLOAT:' && ok ||
+  bad "run --help: a count (--n) shows INT, a real parameter (--omega) FLOAT"
 
 finish

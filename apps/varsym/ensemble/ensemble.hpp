@@ -37,7 +37,6 @@ struct member_input {
 struct ensemble_model {
     std::string name;
     int dim = 0;
-    std::vector<double> q0, p0;                             ///< the default initial state
     std::vector<std::pair<std::string, double>> parameters; ///< names and defaults (NaN: unset)
     std::string help;                                       ///< for --help: what they mean
     bool fixed_start = false; ///< the initial state follows from the parameters (no q0, p0)

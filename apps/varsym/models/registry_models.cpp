@@ -111,12 +111,7 @@ void parameter_options::add(CLI::App& cmd) {
             describe_use(m, p.option_name(), p.doc, p.unit);
         }
         for (const auto& l : m.lists) { // a list's values, each checked as a scalar would be
-            models::parameter each;
-            each.name = l.name;
-            each.lower = l.lower;
-            each.upper = l.upper;
-            each.lower_open = l.lower_open;
-            uses[l.option_name()].push_back(each);
+            uses[l.option_name()].push_back(l.each());
             list[l.option_name()] = true;
             describe_use(m, l.option_name(), l.doc, l.unit);
         }
@@ -128,9 +123,13 @@ void parameter_options::add(CLI::App& cmd) {
         } else if (uses[name].front().flag) { // a switch (the mechanisms' --project)
             options_[name] = cmd.add_flag("--" + name, text);
         } else {
+            const bool whole = std::all_of(uses[name].begin(), uses[name].end(),
+                                           [](const models::parameter& p) { return p.integer; });
             options_[name] = cmd.add_option("--" + name, text)
                                  ->delimiter(',')
-                                 ->type_name(list[name] ? list_type_name : "FLOAT");
+                                 ->type_name(list[name] ? list_type_name
+                                             : whole    ? "INT"
+                                                        : "FLOAT");
             if (list[name]) options_[name]->expected(1, CLI::detail::expected_max_vector_size);
             // Checked while parsing (so that a config file's line is named) where every model
             // with this option takes the same range; else when the model runs.
@@ -284,8 +283,6 @@ ensemble_model make_registry_ensemble(const models::model& rm) {
     ensemble_model m;
     m.name = rm.name;
     m.dim = rm.dim;
-    m.q0 = rm.q0;
-    m.p0 = rm.p0;
     m.fixed_start = !rm.fixed_start.empty();
     for (const auto& p : rm.parameters) {
         m.parameters.emplace_back(p.name, p.value);

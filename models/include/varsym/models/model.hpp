@@ -65,6 +65,8 @@ struct list_parameter {
     bool sets_dimension = false;
 
     [[nodiscard]] std::string option_name() const;
+    /// One of its values as a scalar parameter: the list's name and each value's range.
+    [[nodiscard]] parameter each() const;
     /// Each value's range in words.
     [[nodiscard]] std::string range() const;
     /// Throws std::invalid_argument naming the parameter when a value is outside its range.
