@@ -5,7 +5,8 @@
 # MODE subdirectory: the consumer embeds SOURCE with add_subdirectory. Runs the consumer, which
 # prints OK. Only the library is configured: no models, tool, tests or benchmarks are built.
 # MODE models: `cmake --install` of the built tree BUILD, then a consumer of varsym::models.
-# The consumers are compiled at -O1 (the tests' level; unoptimised, their code takes longer).
+# The consumers are compiled with the tests' flags, VARSYM_TEST_FLAGS from the environment (CTest
+# sets it from the CMake option of that name).
 set -euo pipefail
 mode=$1 src=$2 work=$3 cxx=$4 # $5: BUILD, for mode models
 rm -rf "$work"
@@ -23,7 +24,8 @@ install)
     [ -f "$work/prefix/$f" ] || { echo "FAILED: $f not installed"; exit 1; }
   done
   quiet cmake -S "$consumer" -B "$work/consumer" -DCMAKE_CXX_COMPILER="$cxx" \
-    -DCMAKE_PREFIX_PATH="$work/prefix" -DVARSYM_CONSUME=package -DCMAKE_CXX_FLAGS=-O1
+    -DCMAKE_PREFIX_PATH="$work/prefix" -DVARSYM_CONSUME=package \
+    -DCMAKE_CXX_FLAGS="${VARSYM_TEST_FLAGS-}"
   ;;
 models)
   # The build tree given as SOURCE's sibling BUILD (already built by make test) installed, and a
@@ -40,7 +42,8 @@ models)
   ;;
 subdirectory)
   quiet cmake -S "$consumer" -B "$work/consumer" -DCMAKE_CXX_COMPILER="$cxx" \
-    -DVARSYM_CONSUME=subdirectory -DVARSYM_SOURCE_DIR="$src" -DCMAKE_CXX_FLAGS=-O1
+    -DVARSYM_CONSUME=subdirectory -DVARSYM_SOURCE_DIR="$src" \
+    -DCMAKE_CXX_FLAGS="${VARSYM_TEST_FLAGS-}"
   ;;
 *) echo "usage: package_test.sh install|subdirectory|models SOURCE WORK CXX [BUILD]"; exit 2 ;;
 esac
