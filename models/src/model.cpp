@@ -193,3 +193,25 @@ std::vector<std::string> closest(std::string_view word,
 }
 
 } // namespace varsym::models
+
+namespace varsym::models {
+
+std::vector<std::string> simulation::state_columns() const {
+    const int d = dim();
+    if (d == 1) return {"q", "p"};
+    std::vector<std::string> names;
+    for (const char* prefix : {"q_", "p_"})
+        for (int i = 1; i <= d; ++i)
+            names.push_back(prefix + std::to_string(i));
+    return names;
+}
+
+void simulation::state_values(std::span<double> out) const {
+    const auto qs = q(), ps = p();
+    if (out.size() < qs.size() + ps.size())
+        throw std::invalid_argument("simulation::state_values: room for " +
+                                    std::to_string(qs.size() + ps.size()) + " values needed");
+    std::copy(ps.begin(), ps.end(), std::copy(qs.begin(), qs.end(), out.begin()));
+}
+
+} // namespace varsym::models

@@ -16,7 +16,10 @@
     X(arm)                                                                                         \
     X(four_bar)                                                                                    \
     X(slider_crank)                                                                                \
-    X(spherical_pendulum)
+    X(spherical_pendulum)                                                                          \
+    X(rigid_body)                                                                                  \
+    X(top)                                                                                         \
+    X(pendulum_3d)
 
 namespace varsym::models {
 

@@ -49,6 +49,21 @@ py::array_t<double> array_of(std::span<const double> v) {
     return py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
 }
 
+/// The columns a row shows besides t, q and p: the state's own (a rigid body's quaternion and
+/// Ω, where they are not q and p) and the model's.
+std::vector<std::string> row_columns(const models::simulation& sim) {
+    std::vector<std::string> names = sim.state_columns();
+    if (names == sim.models::simulation::state_columns()) names.clear();
+    names.insert(names.end(), sim.columns().begin(), sim.columns().end());
+    return names;
+}
+
+/// Their values at the current state; `state` = the state's own columns' count (0 or 2d+).
+void row_values(const models::simulation& sim, std::size_t state, std::vector<double>& out) {
+    if (state > 0) sim.state_values(out);
+    sim.values(std::span<double>(out).subspan(state));
+}
+
 /// What record() did: the rows written; whether SIGINT's handler raised KeyboardInterrupt (then
 /// cleared, for the caller to raise varsym.Interrupted with the rows); whether the energy watch
 /// stopped the run, and its relative error then.
@@ -67,7 +82,8 @@ recorded record(models::simulation& sim, std::size_t last, std::size_t every, py
                 py::array_t<double> q, py::array_t<double> p, py::array_t<double> columns,
                 std::size_t row, const py::object& progress, const energy_watch& watch) {
     const auto d = static_cast<std::size_t>(sim.dim());
-    const std::size_t ncol = sim.columns().size();
+    const std::size_t ncol = row_columns(sim).size();
+    const std::size_t state = ncol - sim.columns().size();
     auto tw = t.mutable_unchecked<1>();
     auto qw = q.mutable_unchecked<2>();
     auto pw = p.mutable_unchecked<2>();
@@ -85,7 +101,7 @@ recorded record(models::simulation& sim, std::size_t last, std::size_t every, py
             qw(r, static_cast<py::ssize_t>(i)) = sim.q()[i];
             pw(r, static_cast<py::ssize_t>(i)) = sim.p()[i];
         }
-        sim.values(values);
+        row_values(sim, state, values);
         for (std::size_t k = 0; k < ncol; ++k)
             cw(r, static_cast<py::ssize_t>(k)) = values[k];
         ++out.rows;
@@ -142,13 +158,15 @@ void bind_simulation(py::module_& m) {
         .def_property_readonly("t", &models::simulation::time)
         .def_property_readonly("q", [](const models::simulation& s) { return array_of(s.q()); })
         .def_property_readonly("p", [](const models::simulation& s) { return array_of(s.p()); })
-        .def_property_readonly("columns", &models::simulation::columns)
+        .def_property_readonly("columns", &row_columns)
         .def_property_readonly("values",
                                [](const models::simulation& s) {
-                                   std::vector<double> v(s.columns().size());
-                                   s.values(v);
+                                   const std::size_t n = row_columns(s).size();
+                                   std::vector<double> v(n);
+                                   row_values(s, n - s.columns().size(), v);
                                    return v;
                                })
+        .def_property_readonly("has_tangent_map", &models::simulation::has_tangent_map)
         .def_property_readonly("watched_energy", &models::simulation::watched_energy)
         .def_property_readonly("conserves_energy", &models::simulation::conserves_energy)
         .def_property_readonly(
@@ -201,6 +219,11 @@ void bind_simulation(py::module_& m) {
         .def_property_readonly("p0", [](const models::problem& p) { return p.p0; })
         .def_property_readonly("period", [](const models::problem& p) { return p.period; })
         .def_property_readonly("no_period", [](const models::problem& p) { return p.no_period; })
+        .def_property_readonly("integrator",
+                               [](const models::problem& p) -> py::object {
+                                   if (p.integrator.label.empty()) return py::none();
+                                   return py::make_tuple(p.integrator.label, p.integrator.order);
+                               })
         .def(
             "simulate",
             [](const models::problem& p, double h, const std::string& scheme, int degree,
@@ -242,7 +265,8 @@ void bind_simulation(py::module_& m) {
                 py::arg("short_start") = mod.short_start, py::arg("lists") = lists,
                 py::arg("steps_per_period") = mod.steps_per_period, py::arg("time") = mod.time,
                 py::arg("steps") = mod.steps, py::arg("ensemble_time") = mod.ensemble_time,
-                py::arg("ensemble_steps") = mod.ensemble_steps));
+                py::arg("ensemble_steps") = mod.ensemble_steps,
+                py::arg("integrator_note") = mod.integrator_note));
         }
         return out;
     });

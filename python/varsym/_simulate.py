@@ -89,7 +89,7 @@ class Model:
     def _lists(self):
         return [self.parameters[p["name"]] or [] for p in self.info["lists"]]
 
-    def stepper(self, h, scheme="simpson", degree=None, q0=None, p0=None, v0=None,
+    def stepper(self, h, scheme=None, degree=None, q0=None, p0=None, v0=None,
                 iteration="automatic", max_energy_error=None):
         """A Stepper of this model with step h from (q0, p0 or v0)."""
         return Stepper(self, h, scheme=scheme, degree=degree, q0=q0, p0=p0, v0=v0,
@@ -100,7 +100,7 @@ class Model:
         return simulate(self, **options)
 
     def ensemble(self, parameters=None, q0=None, p0=None, *, t_span=None, steps=None,
-                 scheme="simpson", degree=None, indicators=True, threads=0, event=None):
+                 scheme=None, degree=None, indicators=True, threads=0, event=None):
         """Runs one member per row, on every core (``threads``: 0 = all): ``parameters`` maps
         parameter names to arrays of one value per member (the others stay at this model's),
         ``q0`` and ``p0`` are (members × d) arrays of initial states (default: the model's).
@@ -129,9 +129,13 @@ class Model:
         time = self.info["ensemble_time"] if t_span is None else float(t_span)
         steps = self.info["ensemble_steps"] if steps is None else int(steps)
         empty = np.empty((0, self.dim))
+        if self.info["integrator_note"] and (scheme is not None or degree is not None):
+            raise UsageError(f"{self.name}: scheme and degree do not apply: "
+                             f"{self.info['integrator_note']} (order=2|4|6)")
         return _core.ensemble(self.name, values, empty if q0 is None else q0,
-                              empty if q0 is None else p0, time / steps, steps, scheme,
-                              degree or 0, indicators, threads, event or "", self._lists())
+                              empty if q0 is None else p0, time / steps, steps,
+                              scheme or "simpson", degree or 0, indicators, threads,
+                              event or "", self._lists())
 
     def __repr__(self):
         par = ", ".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}"
@@ -147,7 +151,10 @@ class Stepper:
 
     ``system``: a built-in model's name, a Model, or a Lagrangian (or its expression). scheme:
     "simpson" (default, the paper's), "newmark", "lobatto" or "gauss" with ``degree`` (order
-    2·degree). Start from q0 with p0 or v0 (defaults: the model's, or zero for a Lagrangian).
+    2·degree). The rigid bodies (rigid-body, top, pendulum-3d) have their own integrator, the
+    Lie group one of the parameter ``order`` (2, 4, 6), and refuse a scheme; their q is the
+    z-x-z Euler angles, p the body angular momentum Π, and their rows also hold the attitude
+    quaternion q_w..q_z and Ω. Start from q0 with p0 or v0 (defaults: the model's, or zero for a Lagrangian).
     ``force``: for a Lagrangian, a generalized force, one expression per coordinate, e.g.
     ``["-c*th_dot"]`` (``work`` then gives the forces' work: E − E0 − work is the scheme's
     energy balance error). ``iteration``: "automatic", "newton", "simplified" or
@@ -159,11 +166,13 @@ class Stepper:
     default 100 (h ω)^order at the start, between 0.01 and 0.5; 0 turns it off. It is off
     where the energy is not conserved (an L that depends on t)."""
 
-    def __init__(self, system, h, scheme="simpson", degree=None, q0=None, v0=None, p0=None,
+    def __init__(self, system, h, scheme=None, degree=None, q0=None, v0=None, p0=None,
                  t0=0.0, force=None, iteration="automatic", max_energy_error=None,
                  **parameters):
         self.h = float(h)
         self._max_energy_error = max_energy_error
+        chosen = scheme is not None or degree is not None
+        scheme = scheme or "simpson"
         self._order = _core.scheme_order(scheme, degree or 0)
         if isinstance(system, (str, Model)) and not (isinstance(system, str)
                                                      and system not in _REGISTRY
@@ -176,6 +185,11 @@ class Stepper:
             self.lagrangian = None
             self.coordinates = self.model.coordinates
             problem = self.model.problem(q0, p0, v0)
+            if problem.integrator is not None:  # the model's own (the rigid bodies')
+                if chosen:
+                    raise UsageError(f"{self.model.name}: scheme and degree do not apply: "
+                                     f"{self.model.info['integrator_note']} (order=2|4|6)")
+                self._order = problem.integrator[1]
             self._sim = problem.simulate(self.h, scheme, degree or 0, iteration)
             self._watch(problem.period)
             return
@@ -287,7 +301,11 @@ class Stepper:
 
     def tangent_map(self):
         """The 2d × 2d Jacobian ∂(q_{j+1}, p_{j+1})/∂(q_j, p_j) of the next step (symplectic:
-        JᵀΩJ = Ω); the state is not changed."""
+        JᵀΩJ = Ω); the state is not changed. The rigid bodies' integrator has none
+        (UsageError)."""
+        if not self._sim.has_tangent_map:
+            raise UsageError("this model's integrator (the rigid bodies' Lie group one) has no "
+                             "tangent map")
         return self._sim.tangent_map()
 
     def section(self, plane="q1=0", direction="+", steps=10000, crossings=100):
@@ -352,7 +370,7 @@ _SIMULATE_KEYS = ["t_span", "steps", "h", "q0", "p0", "v0", "scheme", "degree", 
 
 
 def simulate(system, *, t_span=None, steps=None, h=None, q0=None, p0=None, v0=None,
-             scheme="simpson", degree=None, every=1, progress=False, iteration="automatic",
+             scheme=None, degree=None, every=1, progress=False, iteration="automatic",
              force=None, max_energy_error=None, **parameters):
     """Integrates a system and returns its Trajectory.
 

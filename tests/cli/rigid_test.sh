@@ -93,6 +93,29 @@ wait "$pid" 2> /dev/null
 [ -e k.ckpt ] && "$VARSYM" run --resume k.ckpt 2> /dev/null && cmp -s k.csv ref.csv && ok ||
   bad "top resumed after SIGKILL differs from the uninterrupted run"
 
+# --- ensembles and converge: the same model, from the models layer ---------------------------
+# Two members over the weight: member 0 (the default weight) ends at the run's last tilt to
+# round-off (one stepper, two drivers); member 1 elsewhere (the negative control). No tangent
+# map: lambda and MEGNO are nan.
+"$VARSYM" ensemble --model top --grid weight=1:2:2 --time 1 --steps 100 -o ens.csv 2> err.txt &&
+  "$VARSYM" run --model top --time 1 --steps 100 -o run.csv || bad "top ensemble: $(cat err.txt)"
+a=$(tail -1 run.csv | cut -d, -f"$(col run.csv theta)")
+b=$(awk -F, -v c="$(col ens.csv q_1)" 'NR == 2 { print $c }' ens.csv)
+c=$(awk -F, -v c="$(col ens.csv q_1)" 'NR == 3 { print $c }' ens.csv)
+awk -v a="$a" -v b="$b" -v c="$c" 'BEGIN { e = a - b; f = a - c; e = e < 0 ? -e : e;
+  f = f < 0 ? -f : f; exit !(e < 1e-13 && f > 1e-3) }' && ok ||
+  bad "top ensemble tilt: run $a, members $b $c"
+[ "$(awk -F, -v c="$(col ens.csv lyapunov)" 'NR > 1 { print $c }' ens.csv | sort -u)" = nan ] &&
+  ok || bad "a rigid body's lambda is not nan: $(cat ens.csv)"
+# converge: lgvi of --set order, against lgvi-6: observed orders 2 and 4 on the 3-D pendulum.
+for k in 2 4; do
+  "$VARSYM" converge --model pendulum-3d --set order=$k --time 1 --steps 100,200,400,800 > c.txt &&
+    awk -v k=$k '$1 == "fitted" { exit !($2 > k - 0.1 && $2 < k + 0.1) }' c.txt &&
+    grep -q "lgvi-$k (order $k) on pendulum-3d" c.txt && ok || bad "converge order $k: $(cat c.txt)"
+done
+expect_error 2 "converge --scheme for a rigid body" converge --model top --scheme gauss
+expect_error 2 "section of a rigid body" section --model top --plane q1=1 -o out.csv
+
 # --- bad input ---------------------------------------------------------------------------------
 expect_error 2 "scheme for a rigid body" run --model top --scheme gauss -o out.csv
 expect_error 2 "degree for a rigid body" run --model rigid-body --degree 3 -o out.csv

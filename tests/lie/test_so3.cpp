@@ -1,6 +1,8 @@
 // tests/lie/test_so3.cpp: the rotation-group helpers against their definitions: the Cayley
 // increment is orthogonal and matches (I + f̂)(I − f̂)⁻¹, quaternions and Euler angles round-trip,
 // and body_rate is the Ω of Ω̂ = RᵀṘ (by central differences).
+#include <numbers>
+
 #include <gtest/gtest.h>
 
 #include "varsym/lie/so3.hpp"
@@ -47,6 +49,20 @@ TEST(So3, EulerAnglesRoundTripAndTiltIsTheAngleBetweenThirdAxes) {
     EXPECT_NEAR(f, phi, 1e-14);
     EXPECT_NEAR(s, psi, 1e-14);
     EXPECT_NEAR(vec3::UnitZ().dot(r * vec3::UnitZ()), std::cos(theta), 1e-15);
+}
+
+// At θ = 0 and π only φ ± ψ is defined: the angles found give R back, with ψ = 0; the general
+// formula (atan2 of two zeros) would not (at the identity it gave φ = π, ψ = 0).
+TEST(So3, EulerAnglesAtTheVerticalGiveTheSameRotation) {
+    for (const double theta : {0.0, std::numbers::pi})
+        for (const double sum : {0.0, 0.7, -2.5}) {
+            const mat3 r = from_euler(theta, sum, 0.0);
+            const auto [t, f, s] = euler_angles(r);
+            EXPECT_EQ(s, 0.0);
+            EXPECT_LT((from_euler(t, f, s) - r).norm(), 1e-15) << theta << " " << sum;
+        }
+    const auto at_identity = euler_angles(mat3::Identity());
+    EXPECT_EQ(at_identity[1], 0.0);
 }
 
 TEST(So3, BodyRateIsRTransposeTimesRDot) {

@@ -32,6 +32,19 @@ struct converge_options {
     double time = 0.0;            ///< the span of a model without a period (0: the model's)
 };
 
+/// The method measured: a scheme of the family, or a model's own integrator (the rigid bodies'
+/// lgvi of an order).
+struct method {
+    std::string label; ///< "simpson", "gauss-3", "lgvi-4"
+    int order = 0;
+    std::string scheme; ///< the CSV's scheme and degree (lgvi: its order as the degree)
+    int degree = 0;
+};
+
+method method_of(const scheme_spec& spec) {
+    return {spec.label(), spec.order(), std::string(scheme_name(spec.kind)), spec.degree};
+}
+
 struct result {
     int steps;
     double err[3]; // momentum, state, energy
@@ -62,7 +75,7 @@ std::string format_order(double p) {
     return buf;
 }
 
-std::string text_table(const converge_options& o, const scheme_spec& spec, double period,
+std::string text_table(const converge_options& o, const method& spec, double period,
                        const std::vector<result>& rs, const std::string& against) {
     char buf[600];
     if (o.model == "pendulum")
@@ -70,14 +83,14 @@ std::string text_table(const converge_options& o, const scheme_spec& spec, doubl
                       "%s (order %d) on the pendulum (m = %g, omega = %g, q0 = %g, p0 = %g),\n"
                       "%d period(s) of T = %.6g s. Errors in the maximum norm over all steps;\n"
                       "in parentheses the order observed from the previous row.\n\n",
-                      spec.label().c_str(), spec.order(), o.pendulum.mass, o.pendulum.omega,
+                      spec.label.c_str(), spec.order, o.pendulum.mass, o.pendulum.omega,
                       o.pendulum.q0, o.pendulum.p0, o.periods, period);
     else
         std::snprintf(buf, sizeof buf,
                       "%s (order %d) on %s over t = 0..%.6g, against %s.\nErrors in the maximum "
                       "norm over all steps; in parentheses the order observed\nfrom the previous "
                       "row. Energy: E - W under forces; absolute where E0 = 0.\n\n",
-                      spec.label().c_str(), spec.order(), o.model.c_str(), period, against.c_str());
+                      spec.label.c_str(), spec.order, o.model.c_str(), period, against.c_str());
     std::string s = buf;
     std::snprintf(buf, sizeof buf, "%8s   %-20s %-20s %-20s\n", "steps", quantity_titles[0],
                   quantity_titles[1], quantity_titles[2]);
@@ -101,13 +114,13 @@ std::string text_table(const converge_options& o, const scheme_spec& spec, doubl
     return s + buf;
 }
 
-std::string csv_table(const scheme_spec& spec, const std::vector<result>& rs) {
+std::string csv_table(const method& spec, const std::vector<result>& rs) {
     std::string s = "scheme,degree,quantity,steps,error\n";
     char buf[160];
     for (int q = 0; q < 3; ++q)
         for (const auto& r : rs) {
             std::snprintf(buf, sizeof buf, "%s,%d,%s,%d,%.6e\n",
-                          std::string(scheme_name(spec.kind)).c_str(), spec.degree,
+                          spec.scheme.c_str(), spec.degree,
                           std::string(paper::quantity_name(paper::all_quantities[q])).c_str(),
                           r.steps, r.err[q]);
             s += buf;
@@ -115,14 +128,14 @@ std::string csv_table(const scheme_spec& spec, const std::vector<result>& rs) {
     return s;
 }
 
-figure convergence_plot(const scheme_spec& spec, const std::vector<result>& rs,
+figure convergence_plot(const method& spec, const std::vector<result>& rs,
                         const std::string& model) {
     // Reference slope N^(−2s), a decade below the first state error so that it stays visible.
     std::string data = "steps,momentum,state,energy,reference\n";
     for (const auto& r : rs) {
         std::string line = std::to_string(r.steps);
         const double ref = 0.1 * rs.front().err[1] *
-                           std::pow(static_cast<double>(r.steps) / rs.front().steps, -spec.order());
+                           std::pow(static_cast<double>(r.steps) / rs.front().steps, -spec.order);
         for (double v : {r.err[0], r.err[1], r.err[2], ref}) {
             line += ',';
             append_number(line, v);
@@ -132,7 +145,7 @@ figure convergence_plot(const scheme_spec& spec, const std::vector<result>& rs,
     char title[200];
     std::snprintf(title, sizeof title,
                   "set title \"Convergence of %s (order %d) on the %s\" font ',15'\n",
-                  spec.label().c_str(), spec.order(), model.c_str());
+                  spec.label.c_str(), spec.order, model.c_str());
     std::string script = script_preamble(900, 650) + R"(set logscale xy
 set autoscale xfix
 set offsets graph 0.04, graph 0.04, graph 0.04, graph 0.04
@@ -152,7 +165,7 @@ set ylabel 'error (max norm over all steps)'
               "     stem.'.csv' using 1:3 with linespoints lw 2 pt 5 title 'state', \\\n"
               "     stem.'.csv' using 1:4 with linespoints lw 2 pt 9 title 'relative energy', \\\n"
               "     stem.'.csv' using 1:5 with lines dt 2 lw 2 lc rgb '#666666' title 'slope −" +
-              std::to_string(spec.order()) + "'\n";
+              std::to_string(spec.order) + "'\n";
     return {{{".csv", data}}, script};
 }
 
@@ -192,10 +205,12 @@ recorded_run record_run(models::simulation& sim, std::size_t n) {
 
 /// The errors of scheme `spec` on a model of the models layer at each step count over `span`:
 /// against its exact solution where it has one, else against gauss-8 (order 16) at twice the
-/// step counts' least common multiple. Sets `against` to say which.
+/// step counts' least common multiple. A model with its own integrator (the rigid bodies) is
+/// measured with that, of the order its parameters choose, against its highest order at those
+/// steps; `measured` says which method ran. Sets `against` to say which reference.
 std::vector<result> model_errors(const converge_options& o, const scheme_spec& spec,
                                  const std::vector<int>& steps, double& span,
-                                 std::string& against) {
+                                 std::string& against, method& measured) {
     const models::model& m = models::get(o.model);
     std::vector<double> values = m.defaults();
     for (const auto& a : o.set) {
@@ -207,12 +222,21 @@ std::vector<result> model_errors(const converge_options& o, const scheme_spec& s
                               shown(a) + " (see 'varsym models')");
         values[static_cast<std::size_t>(i)] = v;
     }
-    models::problem pr;
+    models::problem pr, best; // best: the own integrator's highest order, the reference
     try {
         pr = m.prepare(values);
+        if (!m.integrator_note.empty()) {
+            const auto i = static_cast<std::size_t>(m.parameter_index(m.integrator_parameter));
+            std::vector<double> top = values;
+            top[i] = m.parameters[i].upper;
+            best = m.prepare(top);
+        }
     } catch (const std::invalid_argument& e) {
         throw usage_error(e.what());
     }
+    measured = pr.integrator.label.empty()
+                   ? method_of(spec)
+                   : method{pr.integrator.label, pr.integrator.order, "lgvi", pr.integrator.order};
     const bool periodic = pr.period > 0.0 && m.steps_per_period > 0;
     span = periodic ? pr.period * o.periods : o.time > 0.0 ? o.time : m.time;
     long long lcm = 1;
@@ -232,7 +256,11 @@ std::vector<result> model_errors(const converge_options& o, const scheme_spec& s
     for (int n : steps) {
         const recorded_run r = run(spec, n * per);
         if (!r.has_exact && reference.state.empty())
-            reference = run(scheme_spec(scheme_kind::gauss, 8), fine);
+            reference = best.simulate ? record_run(*best.simulate({spec, o.newton,
+                                                                    span / static_cast<double>(
+                                                                               fine)}),
+                                                   static_cast<std::size_t>(fine))
+                                      : run(scheme_spec(scheme_kind::gauss, 8), fine);
         const long long stride = fine / (n * per);
         result e{n, {0.0, 0.0, 0.0}};
         const double e0 = r.energy.front(), scale = std::abs(e0) > 1e-12 ? std::abs(e0) : 1.0;
@@ -251,13 +279,15 @@ std::vector<result> model_errors(const converge_options& o, const scheme_spec& s
         }
         rs.push_back(e);
         against = r.has_exact ? "the exact solution"
-                              : "gauss-8 at " + std::to_string(fine) + " steps";
+                              : (best.simulate ? best.integrator.label : "gauss-8") + " at " +
+                                    std::to_string(fine) + " steps";
     }
     return rs;
 }
 
 void converge(const converge_options& o, const CLI::App& cmd) {
     const scheme_spec spec = make_spec(o.scheme);
+    method measured = method_of(spec);
     const bool pendulum = o.model == "pendulum";
     if (pendulum) {
         make_system(o.pendulum); // validates the parameters before any work
@@ -268,7 +298,10 @@ void converge(const converge_options& o, const CLI::App& cmd) {
             if (cmd.count(opt) > 0)
                 throw usage_error(std::string(opt) + " is the pendulum's; give " + o.model +
                                   "'s parameters with --set NAME=VALUE");
-        (void)models::get(o.model);
+        const models::model& m = models::get(o.model);
+        if (!m.integrator_note.empty() && cmd.count("--scheme") + cmd.count("--degree") > 0)
+            throw usage_error("--scheme and --degree do not apply to --model " + m.name + ": " +
+                              m.integrator_note + " (--set order=K)");
     }
     file_roles roles;
     roles.add("--output", o.output);
@@ -293,12 +326,13 @@ void converge(const converge_options& o, const CLI::App& cmd) {
             rs.push_back({n, {e.momentum, e.state, e.energy}});
         }
     } else {
-        rs = model_errors(o, spec, steps, period, against);
+        rs = model_errors(o, spec, steps, period, against, measured);
     }
-    out.write(o.format == "csv" ? csv_table(spec, rs) : text_table(o, spec, period, rs, against));
+    out.write(o.format == "csv" ? csv_table(measured, rs)
+                                : text_table(o, measured, period, rs, against));
     file_roles others;
     others.add("--output", o.output);
-    if (!o.plot.empty()) render_figure(convergence_plot(spec, rs, o.model), o.plot, others);
+    if (!o.plot.empty()) render_figure(convergence_plot(measured, rs, o.model), o.plot, others);
     out.commit();
 }
 
@@ -329,7 +363,9 @@ void add_converge_command(CLI::App& app, action& todo) {
     cmd->add_option("--model", o->model,
                     "Model: " + list +
                         " (the models layer's; errors against the exact solution where the "
-                        "model has one, else against gauss-8 at twice the steps' common multiple)")
+                        "model has one, else against gauss-8 at twice the steps' common "
+                        "multiple; the rigid bodies run their Lie group integrator, its order "
+                        "by --set order=2|4|6, against order 6; their q: Euler angles, p: Pi)")
         ->check(CLI::IsMember(names))
         ->capture_default_str();
     cmd->add_option("--set", o->set,

@@ -66,9 +66,9 @@ void add_models_command(CLI::App& app, action& todo) {
         ->check(CLI::IsMember({"text", "csv"}))
         ->capture_default_str();
     cmd->footer("\nEach model runs with 'varsym run --model NAME [its parameters]'; the models of "
-                "the models layer\n(all but the rigid bodies and lagrangian) also run in 'varsym "
-                "ensemble', 'varsym converge',\n'varsym section' (where the stepper has dense "
-                "output) and Python.");
+                "the models layer\n(all but lagrangian) also run in 'varsym ensemble', 'varsym "
+                "converge',\n'varsym section' (where the stepper has dense output: not the rigid "
+                "bodies) and Python.");
     cmd->callback([&todo, format] {
         todo = [format] {
             if (*format == "csv") {

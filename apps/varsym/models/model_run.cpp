@@ -13,8 +13,6 @@ std::vector<model> make_models(std::shared_ptr<parameter_options> po) {
     std::vector<model> all;
     for (const models::model& m : models::registry())
         all.push_back(make_registry_model(m, po));
-    for (model& m : make_rigid_models())
-        all.push_back(std::move(m));
     all.push_back(make_expression_model());
     return all;
 }

@@ -1,5 +1,5 @@
 // apps/varsym/models/model_run.hpp: what the tool's run loops share (simulation_run.cpp for the
-// models layer, rigid_run.cpp for the rigid bodies): the run log that streams the CSV rows,
+// models layer, model_expression.cpp for `lagrangian`): the run log that streams the CSV rows,
 // writes checkpoints and resumes from them, watches the energy, and turns a failed step into exit
 // code 3 keeping the rows already written.
 #pragma once

@@ -35,7 +35,9 @@ struct run_setup {
     std::vector<std::string> args;   ///< the run's arguments, kept in its checkpoints
     std::shared_ptr<const cli::checkpoint> resume; ///< the checkpoint a resumed run continues
     bool scheme_given = false; ///< --scheme or --degree was set (the rigid bodies refuse them)
-    std::string method;        ///< the integrator where it is not `spec` (rigid bodies: "lgvi-4")
+    /// The model's own integrator where it is not `spec` (the rigid bodies: "lgvi-4"; from
+    /// models::problem::integrator).
+    std::string method;
     int method_order = 0;      ///< its order
     double method_limit = 0.0; ///< the largest h·ω its steps are defined at (advice only)
 
@@ -59,8 +61,6 @@ struct model {
 /// tool's own, each with its own parameters bound to the options a command line sets.
 std::vector<model> make_models(std::shared_ptr<class parameter_options> po = nullptr);
 
-/// `rigid-body`, `top` and `pendulum-3d` (model_rigid.cpp), which share their parameters.
-std::vector<model> make_rigid_models();
 /// `lagrangian`: the user's L given by --lagrangian (model_expression.cpp).
 model make_expression_model();
 

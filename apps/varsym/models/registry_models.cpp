@@ -213,14 +213,21 @@ model make_registry_model(const models::model& rm, std::shared_ptr<parameter_opt
     for (const auto& l : rm.lists)
         m.options.push_back("--" + l.option_name());
     m.add_options = [](CLI::App&) {}; // all at once: parameter_options::add
-    m.run = [&rm, po](const run_setup& s) {
+    m.run = [&rm, po](const run_setup& setup) {
+        if (setup.scheme_given && !rm.integrator_note.empty())
+            throw usage_error("--scheme and --degree do not apply to --model " + rm.name + ": " +
+                              rm.integrator_note);
         const std::vector<double> values = po->values(rm);
         models::problem pr;
         try {
-            pr = rm.prepare(values, {s.q0, s.p0, s.v0}, po->lists(rm));
+            pr = rm.prepare(values, {setup.q0, setup.p0, setup.v0}, po->lists(rm));
         } catch (const std::invalid_argument& e) {
             throw usage_error(e.what());
         }
+        run_setup s = setup; // with the model's own integrator, if it has one
+        s.method = pr.integrator.label;
+        s.method_order = pr.integrator.order;
+        s.method_limit = pr.integrator.step_limit;
         if (pr.period == 0.0 && rm.steps_per_period > 0 && !s.by_time && !pr.no_period.empty())
             throw usage_error(rm.name + ": " + pr.no_period);
         const run_plan plan =

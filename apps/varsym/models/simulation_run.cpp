@@ -1,6 +1,7 @@
 // apps/varsym/models/simulation_run.cpp: the run loop of `varsym run` for a simulation of the
-// models layer: streams its rows, checkpoints and resumes it, watches its energy and stops on
-// signals (run_log), turning a failed step into exit code 3 with the rows kept.
+// models layer (every model, the rigid bodies too): streams its rows, checkpoints and resumes it,
+// watches its energy and stops on signals (run_log), turning a failed step into exit code 3 with
+// the rows kept.
 #include <numbers>
 
 #include "model_run.hpp"
@@ -9,12 +10,16 @@
 namespace varsym::cli {
 
 void stream_simulation(const run_setup& s, const run_plan& plan, models::simulation& sim) {
-    const int d = sim.dim();
-    std::string header = "step,t," + state_columns(d);
-    for (const std::string& c : sim.columns())
-        header += "," + c;
-    run_log log(s, plan, d, header + "\n");
-    std::vector<double> extra(sim.columns().size());
+    std::string header = "step,t";
+    const std::vector<std::string> state = sim.state_columns();
+    for (const auto* names : {&state, &sim.columns()})
+        for (const std::string& c : *names)
+            header += "," + c;
+    // A checkpoint keeps the state as the simulation saves it (a rigid body: R and Π, 9 and 3).
+    const run_state<dynamic> start = sim.save();
+    run_log log(s, plan, static_cast<int>(start.x.q.size()), header + "\n",
+                static_cast<int>(start.x.p.size()));
+    std::vector<double> extra(state.size() + sim.columns().size());
     std::string line;
     /// Writes the row of step j (the simulation's current state) if it is one to write.
     auto row = [&](std::size_t j) {
@@ -22,12 +27,8 @@ void stream_simulation(const run_setup& s, const run_plan& plan, models::simulat
         line = std::to_string(j);
         line += ',';
         append_number(line, sim.time());
-        for (const auto values : {sim.q(), sim.p()})
-            for (double v : values) {
-                line += ',';
-                append_number(line, v);
-            }
-        sim.values(extra);
+        sim.state_values(extra);
+        sim.values(std::span<double>(extra).subspan(state.size()));
         for (double v : extra) {
             line += ',';
             append_number(line, v);

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
@@ -70,10 +71,14 @@ inline mat3 from_euler(double theta, double phi, double psi) {
         .toRotationMatrix();
 }
 
-/// The z-x-z Euler angles (θ, φ, ψ) of R; φ and ψ are not defined where θ = 0 or π.
+/// The z-x-z Euler angles (θ, φ, ψ) of R. Where θ = 0 or π only φ ± ψ is defined: there
+/// (sin θ = 0 to round-off) ψ = 0 and φ is the angle of R's first column, so that
+/// from_euler(θ, φ, ψ) is R again.
 inline std::array<double, 3> euler_angles(const mat3& r) {
-    return {std::acos(std::clamp(r(2, 2), -1.0, 1.0)), std::atan2(r(0, 2), -r(1, 2)),
-            std::atan2(r(2, 0), r(2, 1))};
+    const double theta = std::acos(std::clamp(r(2, 2), -1.0, 1.0));
+    if (std::hypot(r(0, 2), r(1, 2)) <= 4.0 * std::numeric_limits<double>::epsilon())
+        return {theta, std::atan2(r(1, 0), r(0, 0)), 0.0};
+    return {theta, std::atan2(r(0, 2), -r(1, 2)), std::atan2(r(2, 0), r(2, 1))};
 }
 
 /// The body angular velocity Ω of z-x-z Euler angles (θ, φ, ψ) moving at rates (θ̇, φ̇, ψ̇).

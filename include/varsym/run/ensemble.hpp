@@ -86,21 +86,53 @@ struct member_plan {
     double t0 = 0.0;
 };
 
+/// What a member's loop watches after each step, for run_member and for the steppers of other
+/// state spaces (the rigid bodies'): the largest relative energy error and the event, a change
+/// of sign of a number g(t, x) from its first non-zero sign, located by linear interpolation of
+/// g over the step (error O(h²) in time).
+class member_watch {
+  public:
+    member_watch(double e0, double g0)
+        : e0_(e0), scale_(e0 != 0.0 ? std::abs(e0) : 1.0), g_prev_(g0), sign_(g0) {}
+    /// After a step of h ending at t with energy e and event value g: updates r's largest
+    /// energy error, and returns true, with r's status and event time set, at the event.
+    bool after_step(member_result& r, double t, double h, double e, double g) {
+        r.max_energy_error = std::max(r.max_energy_error, std::abs(e - e0_) / scale_);
+        if (sign_ == 0.0) {
+            sign_ = g;
+        } else if (g * sign_ <= 0.0 && g != g_prev_) {
+            r.status = member_result::outcome::event;
+            r.event_time = t - h * g / (g - g_prev_); // the zero of the line through both ends
+            return true;
+        }
+        g_prev_ = g;
+        return false;
+    }
+    /// Ends r as failed at a step that did not converge (or, converged, left a non-finite state).
+    static void fail(member_result& r, const newton_report& rep) {
+        r.status = member_result::outcome::failed;
+        r.cause = rep.converged
+                      ? "a non-finite state"
+                      : "Newton did not converge (residual " + std::to_string(rep.residual) + ")";
+    }
+
+  private:
+    double e0_, scale_, g_prev_, sign_;
+};
+
 /// Runs one member of s from x. `energy(x)` gives E; `event(t, x)` a number whose change of sign
-/// (from its first non-zero sign) is the event: the run stops there, with the event's time
-/// located by linear interpolation of that number over the step (error O(h²) in time); pass
-/// a function returning 1.0 for none. A step that fails (Newton, NaN) ends the member with
-/// outcome::failed and the state before it.
+/// (from its first non-zero sign) is the event (member_watch); pass a function returning 1.0
+/// for none. A step that fails (Newton, NaN) ends the member with outcome::failed and the state
+/// before it.
 template <tangent_stepper S, class Energy, class Event>
 member_result run_member(S& s, phase_state<S::dim> x, const member_plan& plan, Energy&& energy,
                          Event&& event) {
     member_result r;
-    const double h = s.step_size(), e0 = energy(x);
-    const double scale = e0 != 0.0 ? std::abs(e0) : 1.0;
+    const double h = s.step_size();
+    member_watch watch(energy(x), event(plan.t0, x));
     std::optional<chaos_indicators> chaos;
     if (plan.indicators) chaos.emplace(static_cast<int>(x.q.size()), h);
     Eigen::MatrixXd j;
-    double g_prev = event(plan.t0, x), sign = g_prev;
     phase_state<S::dim> from = x;
     long long k = 0;
     for (; k < plan.steps; ++k) {
@@ -112,10 +144,7 @@ member_result run_member(S& s, phase_state<S::dim> x, const member_plan& plan, E
         const newton_report rep = s.step(x);
         if (!rep.converged || !x.q.allFinite() || !x.p.allFinite()) {
             x = from;
-            r.status = member_result::outcome::failed;
-            r.cause = rep.converged ? "a non-finite state"
-                                    : "Newton did not converge (residual " +
-                                          std::to_string(rep.residual) + ")";
+            member_watch::fail(r, rep);
             break;
         }
         if (chaos) {
@@ -123,17 +152,10 @@ member_result run_member(S& s, phase_state<S::dim> x, const member_plan& plan, E
             chaos->advance(j);
         }
         const double t = plan.t0 + static_cast<double>(k + 1) * h;
-        r.max_energy_error = std::max(r.max_energy_error, std::abs(energy(x) - e0) / scale);
-        const double g = event(t, x);
-        if (sign == 0.0) {
-            sign = g;
-        } else if (g * sign <= 0.0 && g != g_prev) {
-            r.status = member_result::outcome::event;
-            r.event_time = t - h * g / (g - g_prev); // the zero of the line through both ends
+        if (watch.after_step(r, t, h, energy(x), event(t, x))) {
             ++k;
             break;
         }
-        g_prev = g;
     }
     r.steps = k;
     r.time = plan.t0 + static_cast<double>(k) * h;

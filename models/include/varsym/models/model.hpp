@@ -91,6 +91,9 @@ struct problem {
     /// Where a model that usually has a period has none at this state, why (the pendulum on its
     /// separatrix): a run must then be given by time and steps.
     std::string no_period;
+    /// The model's own integrator at these parameters (the rigid bodies': lgvi of their
+    /// `order`), which step_options' scheme does not choose; empty label: the scheme's.
+    own_integrator integrator;
     std::function<std::unique_ptr<simulation>(const step_options&)> simulate;
 };
 
@@ -107,6 +110,12 @@ struct model {
     std::vector<parameter> parameters;
     std::vector<list_parameter> lists; ///< the parameters of several values, if any
     std::vector<double> q0, p0;        ///< the default initial state (with the default parameters)
+    /// Non-empty where the model has its own integrator rather than the schemes (the rigid
+    /// bodies): why, and how to choose its order; a scheme given then is refused with this.
+    std::string integrator_note;
+    /// The parameter that chooses the order of that integrator ("order"); its upper bound is
+    /// its most accurate member, which `varsym converge` measures against.
+    std::string integrator_parameter;
     /// Non-empty where the initial state follows from the parameters alone (kepler: at
     /// pericentre): then q0, p0 and v0 are refused with this advice.
     std::string fixed_start;

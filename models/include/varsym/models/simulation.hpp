@@ -29,6 +29,14 @@ struct step_options {
     double h = 0.0;
 };
 
+/// The integrator of a model that has its own rather than the scheme of step_options (the rigid
+/// bodies' Lie group integrator of order 2, 4 or 6); an empty label: the scheme's.
+struct own_integrator {
+    std::string label;       ///< as messages and checkpoints name it: "lgvi-4"
+    int order = 0;           ///< its order of accuracy
+    double step_limit = 0.0; ///< the largest h·ω its steps are defined at (a guide, for advice)
+};
+
 /// The crossings of a Poincaré section by one orbit.
 struct section_result {
     std::vector<double> time;   ///< the crossings' times
@@ -47,9 +55,15 @@ class simulation {
     /// The index j of the current state (0 at the start) and its time t_j = t0 + j h.
     [[nodiscard]] virtual std::size_t step() const = 0;
     [[nodiscard]] virtual double time() const = 0;
-    /// The current state (q_j, p_j): d values each.
+    /// The current state (q_j, p_j): d values each, in the coordinates the model's start takes
+    /// (a rigid body: its z-x-z Euler angles θ, φ, ψ and its body angular momentum Π).
     [[nodiscard]] virtual std::span<const double> q() const = 0;
     [[nodiscard]] virtual std::span<const double> p() const = 0;
+    /// The state as a row shows it: the names ("q_1".."q_d", "p_1".."p_d"; "q", "p" where
+    /// d = 1; a rigid body: its attitude quaternion q_w..q_z and body angular velocity
+    /// Omega_1..Omega_3) and the current values, written to `out` from its start.
+    [[nodiscard]] virtual std::vector<std::string> state_columns() const;
+    virtual void state_values(std::span<double> out) const;
     /// The model's own columns (energy, conserved quantities, exact solution) and their values at
     /// the current state: as many as columns() names, written to `out` from its start.
     [[nodiscard]] virtual const std::vector<std::string>& columns() const = 0;
@@ -79,12 +93,16 @@ class simulation {
     [[nodiscard]] virtual run_state<dynamic> save() const = 0;
     virtual void restore(const run_state<dynamic>& saved) = 0;
 
+    /// Whether the stepper has a tangent map, which tangent_map() and the chaos indicators of
+    /// run_member() need (the rigid bodies' Lie group integrator has none).
+    [[nodiscard]] virtual bool has_tangent_map() const { return true; }
     /// The 2d × 2d tangent map ∂(q_{j+1}, p_{j+1})/∂(q_j, p_j) of the step from the current
-    /// state (the state is not changed).
+    /// state (the state is not changed); throws std::logic_error where !has_tangent_map().
     virtual void tangent_map(Eigen::MatrixXd& jacobian) = 0;
     /// One ensemble member from the current state: `plan.steps` steps with the chaos
     /// indicators and the event `event(t, q, p)` (a change of its sign stops the member; null:
-    /// none). The simulation's own state is not changed.
+    /// none). Without a tangent map λ and MEGNO are NaN. The simulation's own state is not
+    /// changed.
     [[nodiscard]] virtual member_result run_member(
         const member_plan& plan,
         const std::function<double(double, std::span<const double>, std::span<const double>)>&
