@@ -88,11 +88,8 @@ model make_rigid(const std::string& name, const std::string& summary,
                            .value = d.com,
                            .unit = "m",
                            .doc = "centre of mass x,y,z in the body frame, from the pivot"});
-        m.parameters.push_back({.name = "weight",
-                                .value = d.weight,
-                                .unit = "N",
-                                .doc = "weight m g",
-                                .lower = 0.0});
+        m.parameters.push_back(
+            {.name = "weight", .value = d.weight, .unit = "N", .doc = "weight m g", .lower = 0.0});
     }
     m.parameters.push_back({.name = "order",
                             .value = 4,
@@ -120,15 +117,15 @@ model make_rigid(const std::string& name, const std::string& summary,
         if (gravity && !l[1].empty() && l[1].size() != 3)
             throw std::invalid_argument("com needs 3 values (x,y,z of the centre of mass), got " +
                                         std::to_string(l[1].size()));
-        const std::vector<double>& com = !gravity ? std::vector<double>{0, 0, 0}
+        const std::vector<double>& com = !gravity       ? std::vector<double>{0, 0, 0}
                                          : l[1].empty() ? d.com
                                                         : l[1];
-        detail::rigid_setup r{
-            lie::rigid_body(inertia_of(l[0].empty() ? d.inertia : l[0]),
-                            lie::vec3(com[0], com[1], com[2]), gravity ? v[0] : 0.0),
-            {},
-            order,
-            v[k + 1] != 0.0};
+        detail::rigid_setup r{lie::rigid_body(inertia_of(l[0].empty() ? d.inertia : l[0]),
+                                              lie::vec3(com[0], com[1], com[2]),
+                                              gravity ? v[0] : 0.0),
+                              {},
+                              order,
+                              v[k + 1] != 0.0};
         if (s.v0.size() == 4) throw std::invalid_argument("v0 needs 3 values (Omega), got 4");
         r.x0.R = attitude_of(s.q0, d);
         r.x0.pi = !s.p0.empty() ? lie::vec3(s.p0[0], s.p0[1], s.p0[2])

@@ -52,7 +52,7 @@ expect_error 2 "converge repeated step count" converge --steps 50,50 -o out.csv
 expect_error 2 "converge zero steps" converge --steps 0,50 -o out.csv
 expect_error 2 "converge text in steps" converge --steps 25,abc -o out.csv
 expect_error 2 "converge unknown model" converge --model nosuch -o out.csv
-expect_error 2 "converge, a model outside the models layer" converge --model top -o out.csv
+expect_error 2 "converge, a scheme for a rigid body" converge --model top --scheme gauss -o out.csv
 expect_error 2 "converge zero periods" converge --periods 0 -o out.csv
 expect_error 2 "converge bad plot extension" converge --plot out.pdf -o out.csv
 
