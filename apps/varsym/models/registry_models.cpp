@@ -95,14 +95,20 @@ std::string describe(const models::model& m, bool ensemble) {
 }
 
 void parameter_options::add(CLI::App& cmd) {
-    std::map<std::string, std::string> help; // option → what it sets, model by model
-    std::map<std::string, bool> list;        // option → whether it takes several values
+    // option → what it sets: (the models, their text), models with the same text together
+    std::map<std::string, std::vector<std::pair<std::string, std::string>>> texts;
+    std::map<std::string, bool> list; // option → whether it takes several values
     std::map<std::string, std::vector<models::parameter>> uses; // each value's range
     auto describe_use = [&](const models::model& m, const std::string& option,
                             const std::string& doc, const std::string& unit) {
-        std::string& h = help[option];
-        h += (h.empty() ? "" : "; ") + m.name + ": " + doc;
-        if (!unit.empty()) h += " [" + unit + "]";
+        const std::string text = doc + (unit.empty() ? "" : " [" + unit + "]");
+        auto& known = texts[option];
+        for (auto& [names, t] : known)
+            if (t == text) {
+                names += ", " + m.name;
+                return;
+            }
+        known.emplace_back(m.name, text);
     };
     for (const auto& m : models::registry()) {
         for (const auto& p : m.parameters) {
@@ -116,6 +122,10 @@ void parameter_options::add(CLI::App& cmd) {
             describe_use(m, l.option_name(), l.doc, l.unit);
         }
     }
+    std::map<std::string, std::string> help; // option → its help text
+    for (const auto& [option, known] : texts)
+        for (const auto& [names, text] : known)
+            help[option] += (help[option].empty() ? "" : "; ") + names + ": " + text;
     for (const auto& [name, text] : help) {
         if (CLI::Option* existing = cmd.get_option_no_throw("--" + name)) { // a mechanism's too
             existing->description(existing->get_description() + "; " + text);
