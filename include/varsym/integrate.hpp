@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
+#include <exception>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -16,10 +18,12 @@
 
 namespace varsym {
 
-/// Thrown when a step's Newton iteration does not converge. The state passed to integrate()
-/// is left at the last good step (index step − 1, time t_from). `cause`, where the stepper could
-/// name one (its diagnose(): NaN from the Lagrangian, a force or a constraint, a singular mass
-/// matrix or constraint Jacobian), follows the residual in the message.
+/// Thrown when a step fails: its Newton iteration does not converge, or (other()) anything else
+/// goes wrong in it, such as an exception from the model (a singular mass matrix, a force that
+/// cannot be evaluated). The state passed to integrate() is left at the last good step (index
+/// step − 1, time t_from). `cause`, where the stepper could name one (its diagnose(): NaN from
+/// the Lagrangian, a force or a constraint, a singular mass matrix or constraint Jacobian),
+/// follows the residual in the message.
 class step_failure : public std::runtime_error {
   public:
     step_failure(std::size_t step, double t_from, double t_to, const newton_report& rep,
@@ -27,6 +31,12 @@ class step_failure : public std::runtime_error {
         : std::runtime_error(describe(step, t_from, t_to, rep, cause) +
                              (cause.empty() ? "; use a smaller time step" : "")),
           step_(step), time_(t_from), time_to_(t_to), report_(rep), cause_(std::move(cause)) {}
+    /// A step that failed for another reason than Newton's: `cause` says what.
+    static step_failure other(std::size_t step, double t_from, double t_to, std::string cause) {
+        newton_report rep;
+        rep.residual = std::numeric_limits<double>::quiet_NaN();
+        return step_failure(step, t_from, t_to, rep, std::move(cause), false);
+    }
     [[nodiscard]] std::size_t step() const { return step_; }
     [[nodiscard]] double time() const { return time_; }
     [[nodiscard]] const newton_report& report() const { return report_; }
@@ -35,10 +45,20 @@ class step_failure : public std::runtime_error {
     [[nodiscard]] const std::string& cause() const { return cause_; }
     /// what() without its closing advice, for a caller that has better advice to append.
     [[nodiscard]] std::string diagnosis() const {
-        return describe(step_, time_, time_to_, report_, cause_);
+        return newton_ ? describe(step_, time_, time_to_, report_, cause_) : what();
     }
 
   private:
+    step_failure(std::size_t step, double t_from, double t_to, const newton_report& rep,
+                 std::string cause, bool)
+        : std::runtime_error(describe_other(step, t_from, t_to, cause)), step_(step),
+          time_(t_from), time_to_(t_to), report_(rep), cause_(std::move(cause)), newton_(false) {}
+    static std::string describe_other(std::size_t step, double t0, double t1,
+                                      const std::string& cause) {
+        char buf[120];
+        std::snprintf(buf, sizeof buf, "step %zu (t = %.9g -> %.9g) failed: ", step, t0, t1);
+        return buf + cause;
+    }
     static std::string describe(std::size_t step, double t0, double t1, const newton_report& r,
                                 const std::string& cause) {
         char buf[320];
@@ -54,6 +74,7 @@ class step_failure : public std::runtime_error {
     double time_to_;
     newton_report report_;
     std::string cause_;
+    bool newton_ = true;
 };
 
 /// Newton statistics of a run.
@@ -70,15 +91,22 @@ struct run_summary {
 /// Step j of a run: advances x from t_{j−1} to t_j = t0 + j h and returns t_j, adding the
 /// step's Newton statistics to `sum`. Throws step_failure if Newton does not converge; x is then
 /// left at the last good state, and the stepper's diagnose(x), if it has one, names the cause.
-/// The one step of both integrate and integrate_from.
+/// An exception from inside the step (the model's: a singular mass matrix, …) becomes a
+/// step_failure too, naming it: the steppers write x only once a step has converged, so x is
+/// still the step's start. The one step of both integrate and integrate_from.
 template <stepper Stepper>
 double advance(Stepper& stepper, phase_state<Stepper::dim>& x, double t0, std::size_t j,
                run_summary& sum) {
     const double h = stepper.step_size();
     if constexpr (requires { stepper.set_time(t0); }) // a forced step depends on t_{j−1}
         stepper.set_time(t0 + static_cast<double>(j - 1) * h);
-    const newton_report rep = stepper.step(x);
     const double t = t0 + static_cast<double>(j) * h;
+    newton_report rep;
+    try {
+        rep = stepper.step(x);
+    } catch (const std::exception& e) {
+        throw step_failure::other(j, t - h, t, e.what());
+    }
     if (!rep.converged) {
         std::string cause; // x is still the step's start
         if constexpr (requires { stepper.diagnose(x); }) cause = stepper.diagnose(x);

@@ -115,11 +115,11 @@ recorded record(models::simulation& sim, std::size_t last, std::size_t every, py
             sim.advance(last, [&] {
                 const std::size_t j = sim.step();
                 const bool written = (every != 0 && j % every == 0) || j == last;
-                if (written) write();
+                if (written) models::evaluated(sim, write);
                 // The energy watch at each written row and every 256 steps (an energy costs
                 // about a step), as the tool's.
                 if (watch.on() && (written || (j & 255U) == 0) &&
-                    watch.exceeded(sim.watched_energy())) {
+                    watch.exceeded(models::evaluated(sim, [&] { return sim.watched_energy(); }))) {
                     out.energy = true;
                     out.energy_error = watch.error(sim.watched_energy());
                     return true;

@@ -154,6 +154,19 @@ def test_step_failure_carries_step_time_cause_state_and_rows():
     assert len(f.partial) == f.step and f.partial.t[-1] == pytest.approx(f.time)
 
 
+def test_a_failure_that_is_not_newtons_is_a_step_failure_too():
+    # L = (1 - t) x'^2 / 2 - x^2 / 2: the mass matrix vanishes at t = 1 (step 1000 of 2000 at
+    # h = 1e-3), where the row's energy cannot be evaluated. The rows of steps 0..999 and the
+    # state of step 1000 come back with the cause, as after a Newton failure.
+    lag = varsym.Lagrangian("0.5*(1-t)*x_dot**2 - 0.5*x**2", ["x"])
+    with pytest.raises(varsym.StepFailure) as e:
+        varsym.simulate(lag, q0=[1.0], t_span=2.0, steps=2000, max_energy_error=0)
+    f = e.value
+    assert f.step == 1001 and f.time == pytest.approx(1.0)
+    assert "singular" in f.cause
+    assert len(f.partial) == 1000 and f.partial.t[-1] == pytest.approx(0.999)
+
+
 def test_the_energy_watch_stops_a_meaningless_run_keeping_its_rows():
     # x'' = -100 x (omega = 10) at h = 0.5: h omega = 5, past Simpson's linear stability limit
     # (2.45; varsym stability), so the energy grows without bound. The default bound is 0.5 at

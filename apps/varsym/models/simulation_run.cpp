@@ -27,8 +27,10 @@ void stream_simulation(const run_setup& s, const run_plan& plan, models::simulat
         line = std::to_string(j);
         line += ',';
         append_number(line, sim.time());
-        sim.state_values(extra);
-        sim.values(std::span<double>(extra).subspan(state.size()));
+        models::evaluated(sim, [&] {
+            sim.state_values(extra);
+            sim.values(std::span<double>(extra).subspan(state.size()));
+        });
         for (double v : extra) {
             line += ',';
             append_number(line, v);
@@ -50,7 +52,8 @@ void stream_simulation(const run_setup& s, const run_plan& plan, models::simulat
         sim.advance(plan.steps, [&] {
             const std::size_t j = sim.step();
             log.after_step(
-                j, sim.time(), row(j), [&] { return sim.watched_energy(); },
+                j, sim.time(), row(j),
+                [&] { return models::evaluated(sim, [&] { return sim.watched_energy(); }); },
                 [&] { return save_state(sim.save()); }, sim.stats());
             return false;
         });

@@ -115,4 +115,22 @@ class simulation {
                                                  long long crossings) = 0;
 };
 
+/// Runs f(), an evaluation of the model at the simulation's current state (its row's values,
+/// its energy). An exception from it becomes the step_failure of the step after this state,
+/// naming the cause, so that every front end handles it as a failed step: the rows so far
+/// kept, and the current state (the last one the steps reached) saved as the last good one.
+template <class F>
+decltype(auto) evaluated(const simulation& sim, F&& f) {
+    try {
+        return f();
+    } catch (const step_failure&) {
+        throw;
+    } catch (const std::exception& e) {
+        const double t = sim.time();
+        throw step_failure::other(sim.step() + 1, t, t + sim.step_size(),
+                                  "the model cannot be evaluated at the state of step " +
+                                      std::to_string(sim.step()) + ": " + e.what());
+    }
+}
+
 } // namespace varsym::models
