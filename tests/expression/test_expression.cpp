@@ -136,6 +136,18 @@ TEST(ExpressionDerivatives, MatchAutomaticDifferentiation) {
     EXPECT_GT((b.lqq - c.lqq).norm(), 0.05);
 }
 
+// Time dependence is ∂L/∂t not identically zero once simplified, not the name t in the text:
+// the energy watch is on for an autonomous L however it is written. No name may hide t.
+TEST(ExpressionLagrangian, DependsOnTimeWhereDLdtIsNotZero) {
+    for (const char* autonomous : {"0.5*x_dot**2 - x**2", "0.5*x_dot**2 + 0*t", "x_dot**2 + t - t"})
+        EXPECT_FALSE(expression_lagrangian(autonomous, {"x"}).depends_on_time()) << autonomous;
+    for (const char* timed : {"0.5*x_dot**2*exp(t)", "0.5*x_dot**2 + t*x", "x_dot**2 + t**2"})
+        EXPECT_TRUE(expression_lagrangian(timed, {"x"}).depends_on_time()) << timed;
+    EXPECT_THROW(expression_lagrangian("0.5*t_dot**2", {"t"}), std::invalid_argument);
+    EXPECT_THROW(expression_lagrangian("0.5*x_dot**2*t", {"x"}, {{"t", 2.0}}),
+                 std::invalid_argument);
+}
+
 TEST(ExpressionDerivatives, EveryFunctionAgainstFiniteDifferences) {
     // Reference: central differences of the value (first derivatives) and of the symbolic
     // gradient (second), step 1e-5: truncation ~1e-10 times the third derivatives.

@@ -48,6 +48,9 @@ class variables {
             if (n == "pi" || n == "E" || functions().contains(n))
                 throw std::invalid_argument(std::string(what) + " name '" + n +
                                             "' is taken by a constant or a function");
+            if (n == "t")
+                throw std::invalid_argument(std::string(what) +
+                                            " name 't' is taken by the time; choose another");
             if (std::find(seen.begin(), seen.end(), n) != seen.end())
                 throw std::invalid_argument("the name '" + n + "' is given twice");
             seen.push_back(n);
@@ -82,7 +85,7 @@ class variables {
             }
             for (const auto& p : parameters_)
                 if (id == p.name) return g.constant(p.value);
-            if (id == "t") {
+            if (id == "t") { // no coordinate or parameter may be called t
                 uses_time_ = true;
                 return g.input(2 * d);
             }

@@ -5,8 +5,8 @@
 // them are then compiled into straight-line code over doubles (expression/tape.hpp). A step
 // evaluates that code: no parsing, no allocation, no call back into the caller.
 //
-// Names: each coordinate x has the velocity x_dot; t is the time (unless a coordinate or a
-// parameter is called t); pi and E are the constants; parameters are numbers fixed when the
+// Names: each coordinate x has the velocity x_dot; t is the time (no coordinate or parameter
+// may be called t); pi and E are the constants; parameters are numbers fixed when the
 // Lagrangian is made. The syntax is Python's (expression/parse.hpp), so str() of a SymPy
 // expression in these symbols parses.
 #pragma once
@@ -36,6 +36,8 @@ class expression_lagrangian {
         const int d = dimension();
         expr::graph g;
         const int l = vars_.parse(text_, g);
+        // Autonomous where ∂L/∂t simplifies to zero (t * 0, t - t), whatever the text names.
+        time_dependent_ = vars_.uses_time() && !g.is(g.derivative(l, 2 * d), 0.0);
         // Outputs: L; ∂L/∂q, ∂L/∂q̇; then ∂²L/∂q∂q (i ≤ j), ∂²L/∂q∂q̇ (all), ∂²L/∂q̇∂q̇ (i ≤ j).
         std::vector<int> out{l}, lq(static_cast<std::size_t>(d)), lv(static_cast<std::size_t>(d));
         for (int i = 0; i < d; ++i) {
@@ -67,8 +69,9 @@ class expression_lagrangian {
     [[nodiscard]] const std::vector<expression_parameter>& parameters() const {
         return vars_.parameters();
     }
-    /// Whether the expression names the time t (its energy is then not conserved).
-    [[nodiscard]] bool depends_on_time() const { return vars_.uses_time(); }
+    /// Whether L depends on the time t (its energy is then not conserved): whether ∂L/∂t is not
+    /// identically zero once simplified, not merely whether the text names t.
+    [[nodiscard]] bool depends_on_time() const { return time_dependent_; }
     /// The length of the compiled code of L and all its derivatives (instructions).
     [[nodiscard]] std::size_t instructions() const { return all_.instructions(); }
 
@@ -124,6 +127,7 @@ class expression_lagrangian {
     expr::variables vars_;
     expr::tape value_, gradient_, all_;
     mutable std::vector<double> input_;
+    bool time_dependent_ = false;
 };
 
 } // namespace varsym
