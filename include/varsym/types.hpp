@@ -57,6 +57,17 @@ vec<N> solve_dense(const mat<N>& a, const vec<N>& b) {
     }
 }
 
+/// Whether the symmetric matrix a is positive definite (its LDLᵀ pivots all positive).
+template <int N>
+bool positive_definite(const mat<N>& a) {
+    if constexpr (N == 1) {
+        return a(0, 0) > 0.0;
+    } else {
+        const auto f = a.ldlt();
+        return f.info() == Eigen::Success && (f.vectorD().array() > 0.0).all();
+    }
+}
+
 /// Solves A x = b for a small symmetric A (a mass matrix): a division when N == 1, LDLᵀ else.
 template <int N>
 vec<N> solve_symmetric(const mat<N>& a, const vec<N>& b) {

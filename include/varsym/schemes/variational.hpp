@@ -228,12 +228,14 @@ class stepper {
     void predict_kept(const phase_state<dim>& x);
 
     /// Taylor predictor X_l ≈ τ_l v + ½ τ_l² a, τ_l = d_l h, with v from ∂L/∂q̇(q, v) = p and
-    /// a from the Euler–Lagrange equations L_vv a = L_q − L_vq v at (q_j, v).
+    /// a from the Euler–Lagrange equations L_vv a = L_q − L_vq v at (q_j, v). v: two Newton
+    /// iterations from q̇ = 0, or from q̇ = p where ∂²L/∂q̇² is singular at 0 (L = q̇⁴/4).
     void predict(const phase_state<dim>& x) {
         lagrangian_terms<dim>& t = terms_[0];
         vk_.setZero();
         evaluate(sys_.lagrangian(), x.q, vk_, t_, t);
-        vec<dim> v = solve_symmetric<dim>(t.lvv, x.p - t.lv);
+        vec<dim> v = x.p; // from p where ∂²L/∂q̇² is not positive definite at q̇ = 0
+        if (positive_definite<dim>(t.lvv)) v = solve_symmetric<dim>(t.lvv, x.p - t.lv);
         evaluate(sys_.lagrangian(), x.q, v, t_, t);
         if constexpr (forced) add_force(0, x.q, v, t_, true);
         q_bar_ = x.q; // terms_[0] (and fterms_[0]) now hold the derivatives at (q̄, v̄)

@@ -64,18 +64,17 @@ std::string stepper<L, F>::diagnose(const phase_state<dim>& x) {
     // Newton's last iterate first: predict() replaces it.
     const std::string iterate =
         x_.allFinite() ? diagnose_points(x, "at Newton's last iterate") : std::string();
-    // The step's start: L at (q_j, 0), then the force at (q_j, q̇_j).
+    // The step's start: L at (q_j, q̇_j) as the predictor finds q̇_j (from q̇ = 0, or from p
+    // where ∂²L/∂q̇² is singular at 0), then the force there.
     std::string cause;
-    lagrangian_terms<dim>& t = terms_[0];
-    vk_.setZero();
-    evaluate(sys_.lagrangian(), x.q, vk_, t_, t);
+    predict(x);
+    const lagrangian_terms<dim>& t = terms_[0];
     if (!finite_terms(t))
         cause = "the Lagrangian or its derivatives are NaN or infinite" +
                 where_when("at the step's start", t_);
     else if (std::string m = mass_matrix_problem<dim>(t.lvv); !m.empty())
         cause = m + where_when("at the step's start", t_);
     if (cause.empty()) {
-        predict(x);
         if constexpr (forced)
             if (!finite_force(fterms_[0]))
                 cause = "the force or its Jacobians are NaN or infinite" +

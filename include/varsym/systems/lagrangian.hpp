@@ -319,25 +319,31 @@ class lagrangian_system {
         return momentum(q, v, 0.0);
     }
 
-    /// Solves ∂L/∂q̇(q, v) = p for v by Newton (one iteration when L is quadratic in q̇).
-    /// Throws std::domain_error if ∂²L/∂q̇² is not positive definite there or Newton fails.
+    /// Solves ∂L/∂q̇(q, v) = p for v by Newton from v = 0 (one iteration when L is quadratic
+    /// in q̇). Where ∂²L/∂q̇² is singular on the way but not at the solution (L = q̇⁴/4 at
+    /// q̇ = 0), Newton starts again from v = p. Throws std::domain_error if ∂²L/∂q̇² is not
+    /// positive definite from both starts, or Newton fails.
     [[nodiscard]] vec<dim> velocity(const vec<dim>& q, const vec<dim>& p, double time) const {
-        vec<dim> v = vec<dim>::Zero(q.size());
         lagrangian_terms<dim> t;
-        for (int it = 0; it < 50; ++it) {
-            evaluate(l_, q, v, time, t);
-            const Eigen::LLT<mat<dim>> llt(t.lvv);
-            if (llt.info() != Eigen::Success || !t.lvv.allFinite())
-                throw std::domain_error("the mass matrix d2L/dqdot2 is singular or not positive "
-                                        "definite at this state");
-            const vec<dim> dv = llt.solve(p - t.lv);
-            v += dv;
-            if (!v.allFinite()) break;
-            // Quadratic Lagrangians are done after one iteration; the next confirms it.
-            if (it > 0 && dv.template lpNorm<Eigen::Infinity>() <=
-                              1e-13 * v.template lpNorm<Eigen::Infinity>())
-                return v;
-            if (dv.isZero(0.0)) return v;
+        for (const bool from_p : {false, true}) {
+            vec<dim> v = from_p ? vec<dim>(p) : vec<dim>(vec<dim>::Zero(q.size()));
+            for (int it = 0; it < 50; ++it) {
+                evaluate(l_, q, v, time, t);
+                const Eigen::LLT<mat<dim>> llt(t.lvv);
+                if (llt.info() != Eigen::Success || !t.lvv.allFinite()) {
+                    if (!from_p) break; // the second start
+                    throw std::domain_error("the mass matrix d2L/dqdot2 is singular or not "
+                                            "positive definite at this state");
+                }
+                const vec<dim> dv = llt.solve(p - t.lv);
+                v += dv;
+                if (!v.allFinite()) break;
+                // Quadratic Lagrangians are done after one iteration; the next confirms it.
+                if (it > 0 && dv.template lpNorm<Eigen::Infinity>() <=
+                                  1e-13 * v.template lpNorm<Eigen::Infinity>())
+                    return v;
+                if (dv.isZero(0.0)) return v;
+            }
         }
         throw std::domain_error("could not solve dL/dqdot = p for the velocity");
     }
