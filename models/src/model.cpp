@@ -150,12 +150,19 @@ problem model::prepare(std::span<const double> values, const start& s,
         for (double x : *v)
             if (!std::isfinite(x)) fail(std::string(what) + " must be finite");
     }
+    problem pr;
     try {
-        return make(values, s, l);
+        pr = make(values, s, l);
     } catch (const std::invalid_argument& e) {
         fail(e.what());
     }
-    return {};
+    // Parameters in range may still give a start that is not a number (henon-heiles' energy
+    // 1e308: p = inf): refused here, before any step or row.
+    for (const auto* v : {&pr.q0, &pr.p0})
+        if (!std::all_of(v->begin(), v->end(), [](double x) { return std::isfinite(x); }))
+            fail(std::string("the initial state is not finite (") + (v == &pr.q0 ? "q0" : "p0") +
+                 "): check the parameters and the start");
+    return pr;
 }
 
 const model* find(std::string_view name) {

@@ -47,8 +47,12 @@ std::pair<int, std::size_t> target_of(const std::string& k, const ensemble_model
             const char* b = k.data() + prefix.size();
             const auto [p, ec] = std::from_chars(b, k.data() + k.size(), i);
             if (ec == std::errc() && p == k.data() + k.size() && i >= 1 &&
-                i <= static_cast<std::size_t>(model.dim))
+                i <= static_cast<std::size_t>(model.dim)) {
+                if (k != prefix + std::to_string(i)) // q0_01: one spelling per key
+                    throw usage_error("'" + k + "' is not a key of " + model.name +
+                                      "; did you mean " + prefix + std::to_string(i) + "?");
                 return {kind, i - 1};
+            }
         }
     }
     for (std::size_t j = 0; j < model.parameters.size(); ++j)
@@ -171,7 +175,11 @@ member_set make_member_set(const member_options& o, ensemble_model& model) {
         crc.process_bytes(text.data(), text.size());
         s.identity = "members=" + o.members_file + " crc=" + std::to_string(crc.checksum());
         std::size_t line_no = 0;
-        for (std::string_view line : split(text, '\n')) {
+        // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first key.
+        const std::string_view body =
+            std::string_view(text).starts_with("\xEF\xBB\xBF") ? std::string_view(text).substr(3)
+                                                                 : std::string_view(text);
+        for (std::string_view line : split(body, '\n')) {
             ++line_no;
             if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
             if (line.empty() || line.front() == '#') continue;

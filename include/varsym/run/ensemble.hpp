@@ -10,6 +10,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <exception>
 #include <limits>
 #include <mutex>
@@ -45,10 +46,12 @@ class grid {
             if (a.count == 0) throw std::invalid_argument("axis " + a.name + " has no points");
     }
     [[nodiscard]] const std::vector<grid_axis>& axes() const { return axes_; }
+    /// The number of members: the product of the counts, saturated at the largest std::size_t
+    /// (a product that does not fit is refused as too large, never wrapped around to a few).
     [[nodiscard]] std::size_t size() const {
         std::size_t n = 1;
         for (const auto& a : axes_)
-            n *= a.count;
+            if (__builtin_mul_overflow(n, a.count, &n)) return SIZE_MAX;
         return n;
     }
     /// The values of member m along each axis.
@@ -96,8 +99,16 @@ class member_watch {
         : e0_(e0), scale_(e0 != 0.0 ? std::abs(e0) : 1.0), g_prev_(g0), sign_(g0) {}
     /// After a step of h ending at t with energy e and event value g: updates r's largest
     /// energy error, and returns true, with r's status and event time set, at the event.
+    /// A value of g that is not finite (g = q1/0) ends r as failed, naming it: its sign would
+    /// say nothing.
     bool after_step(member_result& r, double t, double h, double e, double g) {
         r.max_energy_error = std::max(r.max_energy_error, std::abs(e - e0_) / scale_);
+        if (!std::isfinite(g) || !std::isfinite(g_prev_)) {
+            r.status = member_result::outcome::failed;
+            r.cause = "the event's value is not a finite number at t = " +
+                      std::to_string(std::isfinite(g_prev_) ? t : t - h);
+            return true;
+        }
         if (sign_ == 0.0) {
             sign_ = g;
         } else if (g * sign_ <= 0.0 && g != g_prev_) {
