@@ -1,5 +1,5 @@
 // apps/varsym/models/model_run.cpp: what the models of `varsym run` share: the registry, step plans,
-// initial vectors, CSV column names and option validators.
+// initial vectors and option validators.
 #include <algorithm>
 #include <cmath>
 
@@ -63,17 +63,6 @@ vec<dynamic> initial_vector(const std::vector<double>& given, const char* option
                           (d == 1 ? "" : "s") + " (" + names + "), got " +
                           std::to_string(given.size()));
     return Eigen::Map<const vec<dynamic>>(given.data(), d);
-}
-
-std::string state_columns(int d, const char* suffix) {
-    if (d == 1) return std::string("q") + suffix + ",p" + suffix;
-    std::string cols;
-    for (const char* name : {"q_", "p_"})
-        for (int i = 1; i <= d; ++i) {
-            if (!cols.empty()) cols += ',';
-            cols += name + std::to_string(i) + suffix;
-        }
-    return cols;
 }
 
 const CLI::Validator eccentricity_range = number_in(0.0, 1.0, "0<=E<1", true);

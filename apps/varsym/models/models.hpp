@@ -83,9 +83,6 @@ run_plan plan_steps(const run_setup& s, const std::string& model, double period,
 vec<dynamic> initial_vector(const std::vector<double>& given, const char* option, int d,
                             const std::string& names, const vec<dynamic>& fallback);
 
-/// The CSV columns q and p of a d-dimensional state: "q,p" for d = 1, else "q_1,…,q_d,p_1,…,p_d".
-std::string state_columns(int d, const char* suffix = "");
-
 /// The linear stability limit of a scheme: the largest z such that the step map of the harmonic
 /// oscillator with h·ω < z is stable (infinity if it is stable at every h·ω); computed by
 /// running the scheme's stepper on the models layer's oscillator (commands/cmd_stability.cpp).
