@@ -57,15 +57,19 @@ vec<N> solve_dense(const mat<N>& a, const vec<N>& b) {
     }
 }
 
-/// Whether the symmetric matrix a is positive definite (its LDLᵀ pivots all positive).
+/// Solves A x = b where the symmetric A is positive definite, by one LDLᵀ (a division when
+/// N == 1), and returns true; returns false, x unchanged, where A is not (a pivot ≤ 0).
 template <int N>
-bool positive_definite(const mat<N>& a) {
+bool solve_positive_definite(const mat<N>& a, const vec<N>& b, vec<N>& x) {
     if constexpr (N == 1) {
-        return a(0, 0) > 0.0;
+        if (!(a(0, 0) > 0.0)) return false;
+        x = vec<N>{b(0) / a(0, 0)};
     } else {
         const auto f = a.ldlt();
-        return f.info() == Eigen::Success && (f.vectorD().array() > 0.0).all();
+        if (f.info() != Eigen::Success || !(f.vectorD().array() > 0.0).all()) return false;
+        x = f.solve(b);
     }
+    return true;
 }
 
 /// Solves A x = b for a small symmetric A (a mass matrix): a division when N == 1, LDLᵀ else.

@@ -235,7 +235,7 @@ class stepper {
         vk_.setZero();
         evaluate(sys_.lagrangian(), x.q, vk_, t_, t);
         vec<dim> v = x.p; // from p where ∂²L/∂q̇² is not positive definite at q̇ = 0
-        if (positive_definite<dim>(t.lvv)) v = solve_symmetric<dim>(t.lvv, x.p - t.lv);
+        solve_positive_definite<dim>(t.lvv, x.p - t.lv, v);
         evaluate(sys_.lagrangian(), x.q, v, t_, t);
         if constexpr (forced) add_force(0, x.q, v, t_, true);
         q_bar_ = x.q; // terms_[0] (and fterms_[0]) now hold the derivatives at (q̄, v̄)
