@@ -129,13 +129,18 @@ class Model:
         time = self.info["ensemble_time"] if t_span is None else float(t_span)
         steps = self.info["ensemble_steps"] if steps is None else int(steps)
         empty = np.empty((0, self.dim))
-        if self.info["integrator_note"] and (scheme is not None or degree is not None):
-            raise UsageError(f"{self.name}: scheme and degree do not apply: "
-                             f"{self.info['integrator_note']} (order=2|4|6)")
+        self._refuse_scheme(scheme, degree)
         return _core.ensemble(self.name, values, empty if q0 is None else q0,
                               empty if q0 is None else p0, time / steps, steps,
                               scheme or "simpson", degree or 0, indicators, threads,
                               event or "", self._lists())
+
+    def _refuse_scheme(self, scheme, degree):
+        """Raises UsageError where a scheme or degree is given to a model with its own
+        integrator (the rigid bodies')."""
+        if self.info["integrator_note"] and (scheme is not None or degree is not None):
+            raise UsageError(f"{self.name}: scheme and degree do not apply: "
+                             f"{self.info['integrator_note']} (order=2|4|6)")
 
     def __repr__(self):
         par = ", ".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}"
@@ -171,7 +176,7 @@ class Stepper:
                  **parameters):
         self.h = float(h)
         self._max_energy_error = max_energy_error
-        chosen = scheme is not None or degree is not None
+        chosen = (scheme, degree)  # as given: a model with its own integrator refuses them
         scheme = scheme or "simpson"
         self._order = _core.scheme_order(scheme, degree or 0)
         if isinstance(system, (str, Model)) and not (isinstance(system, str)
@@ -185,10 +190,8 @@ class Stepper:
             self.lagrangian = None
             self.coordinates = self.model.coordinates
             problem = self.model.problem(q0, p0, v0)
+            self.model._refuse_scheme(*chosen)
             if problem.integrator is not None:  # the model's own (the rigid bodies')
-                if chosen:
-                    raise UsageError(f"{self.model.name}: scheme and degree do not apply: "
-                                     f"{self.model.info['integrator_note']} (order=2|4|6)")
                 self._order = problem.integrator[1]
             self._sim = problem.simulate(self.h, scheme, degree or 0, iteration)
             self._watch(problem.period)
