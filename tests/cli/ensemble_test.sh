@@ -58,11 +58,69 @@ grep -q "resuming, $done_rows of 900 members already done" resume.txt && ok ||
 { cat saved.journal; printf '899,0.6,0.4,compl'; } > cut.csv.journal
 "$VARSYM" "${big[@]}" -o cut.csv 2> /dev/null && cmp -s straight.csv cut.csv && ok ||
   bad "a journal with a cut row"
-# A journal of another ensemble is refused (exit 2) and left alone.
-{ echo "# varsym ensemble: another"; echo "0,1"; } > other.csv.journal
+# A journal of another ensemble is refused (exit 2) and left alone; so is one of a varsym before
+# row checksums (first line "# varsym ensemble: ...").
+{ echo "# varsym ensemble journal 2: another"; echo "0,1 #00000000"; } > other.csv.journal
 cp other.csv.journal other.keep
 expect_error 2 "another ensemble's journal" "${hh[@]}" -o other.csv
 cmp -s other.csv.journal other.keep && ok || bad "the other journal was changed"
+{ echo "# varsym ensemble: another"; echo "0,1"; } > other.csv.journal
+expect_error 2 "an old journal" "${hh[@]}" -o other.csv
+grep -q "older varsym" stderr.txt && ok || bad "old journal message: $(cat stderr.txt)"
+
+# --- journal rows carry their CRC-32: a forged or damaged row is computed again, never copied ---
+# Reference for the checksum: zlib's CRC-32 of the row (Python), the same polynomial as Boost's.
+crc_rows() { /usr/bin/python3 -c 'import sys, zlib
+for line in sys.stdin.read().splitlines(): print("%s #%08x" % (line, zlib.crc32(line.encode())))'; }
+[ "$(sed -n 2p saved.journal)" = "$(sed -n 2p saved.journal | sed 's/ #[0-9a-f]*$//' | crc_rows)" ] &&
+  ok || bad "journal row checksum: $(sed -n 2p saved.journal)"
+# Forged: member 899's row with q_1 = 42, once without a checksum, once with a wrong one; damaged:
+# a digit put into row 3. Each is ignored and its member computed again: the straight file.
+forged=$(tail -1 straight.csv | awk -F, -v OFS=, '{ $7 = 42; print }')
+{ head -2 saved.journal; sed -n 3p saved.journal | sed 's/,/,0/'
+  sed -n '4,$p' saved.journal; echo "$forged"; echo "$forged #00000000"; } > forged.csv.journal
+"$VARSYM" "${big[@]}" -o forged.csv 2> forged.txt && cmp -s straight.csv forged.csv && ok ||
+  bad "forged journal rows were copied: $(diff straight.csv forged.csv | head -3)"
+grep -q "3 damaged journal rows ignored" forged.txt && ok || bad "forged rows: $(cat forged.txt)"
+
+# --- killed during the final write: OUTPUT.part beside complete journals; the same command again
+# writes the output. A stray OUTPUT.part without a journal is refused before any member runs. ---
+{ head -1 saved.journal; tail -n +2 straight.csv | crc_rows; } > last.csv.journal
+head -c 1000 straight.csv > last.csv.part
+"$VARSYM" "${big[@]}" -o last.csv 2> last.txt && cmp -s straight.csv last.csv &&
+  [ ! -e last.csv.part ] && [ ! -e last.csv.journal ] && ok || bad "resume after the final write: $(cat last.txt)"
+grep -q "resuming, 900 of 900 members already done" last.txt && ok || bad "final-write resume: $(cat last.txt)"
+echo "mine" > stray.csv.part
+"$VARSYM" "${big[@]}" -o stray.csv 2> stray.txt
+rc=$?
+[ "$rc" -eq 2 ] && [ "$(wc -l < stray.txt)" -eq 1 ] && grep -q "stray.csv.part' exists" stray.txt &&
+  ! grep -q "varsym run --resume" stray.txt && [ "$(cat stray.csv.part)" = mine ] &&
+  [ ! -e stray.csv.journal ] && [ ! -e stray.csv ] && ok || bad "stray .part: exit $rc, $(cat stray.txt)"
+
+# --- one ensemble per output: a second one is refused while the first runs, and one started as
+# the first finishes is refused or starts afresh; never exit 1, never a journal left behind -----
+"$VARSYM" "${big[@]}" --threads 1 -o busy.csv 2> /dev/null &
+pid=$!
+for _ in $(seq 200); do [ -s busy.csv.journal ] && break; sleep 0.05; done
+expect_error 2 "a second ensemble of the output" "${big[@]}" -o busy.csv
+grep -q "in use by another running ensemble" stderr.txt && ok || bad "busy: $(cat stderr.txt)"
+kill -KILL "$pid" 2> /dev/null
+wait "$pid" 2> /dev/null
+small=(ensemble --model pendulum --grid q0_1=0:1:200 --time 1 --steps 100)
+"$VARSYM" "${small[@]}" -o race_ref.csv 2> /dev/null
+for i in $(seq 12); do
+  "$VARSYM" "${small[@]}" -o race.csv 2> race1.txt &
+  pid=$!
+  sleep "0.0$((i % 10))"
+  "$VARSYM" "${small[@]}" -o race.csv 2> race2.txt
+  rc2=$?
+  wait "$pid"
+  rc1=$?
+  { [ "$rc1" -eq 0 ] || [ "$rc1" -eq 2 ]; } && { [ "$rc2" -eq 0 ] || [ "$rc2" -eq 2 ]; } &&
+    [ $((rc1 + rc2)) -lt 4 ] && cmp -s race.csv race_ref.csv && ! ls race.csv.journal* > /dev/null 2>&1 ||
+    { bad "start/finish race $i: exits $rc1 and $rc2: $(cat race1.txt race2.txt)"; break; }
+done
+ok
 
 # --- events: the double pendulum's second link flips -------------------------------------------
 printf 'q0_1,q0_2\n2.0,2.5\n0.1,0.1\n' > dp.csv
@@ -98,6 +156,23 @@ if ldd "$VARSYM" | grep -q libmpi && command -v mpirun > /dev/null; then
       cmp -s one.csv mpi$n.csv && ok || bad "mpirun -np $n differs: $(tail -2 mpi$n.log)"
   done
   ls mpi4.csv.journal* > /dev/null 2>&1 && bad "rank journals left behind" || ok
+  # A plain ensemble and an mpirun one of the same output exclude each other, either way round.
+  "$VARSYM" "${big[@]}" --threads 1 -o both.csv 2> /dev/null &
+  pid=$!
+  for _ in $(seq 200); do [ -s both.csv.journal ] && break; sleep 0.05; done
+  mpirun -np 2 "$VARSYM" "${big[@]}" --threads 1 -o both.csv > both.log 2>&1
+  rc=$?
+  [ "$rc" -eq 2 ] && grep -q "in use by another running ensemble" both.log && ok ||
+    bad "mpirun beside a plain ensemble: exit $rc, $(tail -3 both.log)"
+  kill -KILL "$pid" 2> /dev/null
+  wait "$pid" 2> /dev/null
+  rm -f both.csv.journal*
+  mpirun -np 2 "$VARSYM" "${big[@]}" --threads 1 -o both.csv > /dev/null 2>&1 &
+  pid=$!
+  for _ in $(seq 200); do [ -s both.csv.journal.1 ] && break; sleep 0.05; done
+  expect_error 2 "a plain ensemble beside mpirun" "${big[@]}" -o both.csv
+  kill -TERM "$pid" 2> /dev/null
+  wait "$pid" 2> /dev/null
 else
   echo "skipped: MPI (this varsym is built without MPI, or mpirun is missing)"
 fi

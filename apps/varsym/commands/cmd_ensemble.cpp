@@ -132,8 +132,21 @@ void run_members(const ensemble_options& o, const ensemble_model& model, const m
         identity += c == '\n' || c == '\r' ? ' ' : c;
     identity += "] " + set.identity;
     ensemble_journal journal(o.output, identity, set.size, fields);
+    // OUTPUT.journal's lock, taken by the plain process or rank 0 before anything is read, is
+    // the ensemble's: no other ensemble of this output, plain or MPI, runs meanwhile.
+    if (group.rank() == 0) journal.lock(".journal");
+    group.barrier();
+    if (group.rank() != 0) journal.lock(".journal." + std::to_string(group.rank()));
+    journal.read();
+    // A FILE.part left by this ensemble's final write (killed then) is redone; any other
+    // is refused now, before the work.
+    if (group.rank() == 0) claim_partial(o.output, journal.found());
+    if (journal.rejected() > 0 && group.rank() == 0)
+        std::fprintf(stderr, "varsym ensemble: %zu damaged journal rows ignored (their members "
+                             "are computed again)\n",
+                     journal.rejected());
     group.barrier(); // every rank read the journals before any rank writes its own
-    journal.open(group.size() == 1 ? ".journal" : ".journal." + std::to_string(group.rank()));
+    journal.start();
 
     // This process's members: m ≡ rank (mod size), those not in a journal yet.
     std::vector<std::size_t> todo;

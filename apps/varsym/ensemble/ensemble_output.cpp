@@ -42,8 +42,9 @@ std::string ensemble_help() {
         "data; with the reason in `cause`), steps, t, q_1.., p_1.. (the last state),\n"
         "max_energy_error (max |E - E0|/|E0|), lyapunov [1/time], mean_megno, event_time.\n"
         "The file is the same for any --threads and any number of MPI ranks. While running, rows\n"
-        "go to OUTPUT.journal (OUTPUT.journal.R for MPI rank R): after a kill, the same command\n"
-        "again skips the members done. A progress line is shown when stderr is a terminal.\n"
+        "go to OUTPUT.journal (OUTPUT.journal.R for MPI rank R > 0), each with its CRC-32: after\n"
+        "a kill, the same command again skips the members done. OUTPUT.journal is locked while\n"
+        "the ensemble runs. A progress line is shown when stderr is a terminal.\n"
         "Exit 0 when every member has its row (failed members included), 2 on bad input,\n"
         "130/143 when stopped by SIGINT/SIGTERM (the journal kept).\n\n"
         "Models:\n";

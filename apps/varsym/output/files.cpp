@@ -60,13 +60,34 @@ std::pair<file_kind, std::string> resolve(const std::string& path) {
     if (locked)
         throw usage_error("another varsym run is writing '" + file + "' (its partial file '" +
                           part + "' is locked); wait for it, or choose another output");
+    std::error_code ec;
+    if (fs::exists(file + ".ckpt", ec))
+        throw usage_error("cannot write '" + file + "': '" + part +
+                          "' exists, the rows of a run that stopped with its checkpoint '" +
+                          file + ".ckpt': resume that run with 'varsym run --resume " + file +
+                          ".ckpt', or move both away");
     throw usage_error("cannot write '" + file + "': '" + part +
-                      "' exists (the rows of a run that stopped, or a file of yours); resume "
-                      "that run with 'varsym run --resume CHECKPOINT', or move '" +
-                      part + "' away");
+                      "' exists (the rows of a run that stopped, or a file of yours): move it "
+                      "away or remove it");
 }
 
 } // namespace
+
+void claim_partial(const std::string& file, bool ours) {
+    const auto [kind, target] = resolve(file);
+    if (kind != file_kind::absent && kind != file_kind::regular) return; // written through
+    const std::string part = target + ".part";
+    struct stat st {};
+    if (::lstat(part.c_str(), &st) != 0) return;
+    if (ours && S_ISREG(st.st_mode)) {
+        const int fd = ::open(part.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+        const bool free = fd >= 0 && ::flock(fd, LOCK_EX | LOCK_NB) == 0;
+        if (free) ::unlink(part.c_str()); // under the lock: no run is writing it
+        if (fd >= 0) ::close(fd);
+        if (free) return;
+    }
+    refuse_existing_part(file, part);
+}
 
 file_kind kind_of(const std::string& path) {
     return resolve(path).first;

@@ -41,6 +41,11 @@ class file_roles {
     std::vector<entry> entries_;
 };
 
+/// Before any work on FILE: its partial file FILE.part, if there is one, is removed where it
+/// is `ours` (the interrupted final write of this very command, say an ensemble whose journals
+/// are this one's) and no run holds it; else it is refused as output_file would refuse it.
+void claim_partial(const std::string& file, bool ours);
+
 /// An output destination: standard output for "" or "-"; a FIFO, device or other special file
 /// written through; else FILE written as FILE.part and renamed to FILE by commit().
 ///
