@@ -5,7 +5,7 @@
 set -euo pipefail
 
 packages=(
-  cmake make g++            # toolchain
+  cmake make g++ clang      # toolchain (make builds with clang++: it compiles twice as fast)
   libeigen3-dev             # linear algebra
   libboost-dev              # Boost.Math (elliptic functions, quadrature), Boost.Odeint
   libcli11-dev              # command line

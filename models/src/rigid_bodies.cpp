@@ -125,7 +125,9 @@ model make_rigid(const std::string& name, const std::string& summary,
                                               gravity ? v[0] : 0.0),
                               {},
                               order,
-                              v[k + 1] != 0.0};
+                              v[k + 1] != 0.0,
+                              {},
+                              {}};
         if (s.v0.size() == 4) throw std::invalid_argument("v0 needs 3 values (Omega), got 4");
         r.x0.R = attitude_of(s.q0, d);
         r.x0.pi = !s.p0.empty() ? lie::vec3(s.p0[0], s.p0[1], s.p0[2])

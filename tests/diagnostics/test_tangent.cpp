@@ -53,7 +53,8 @@ struct tangent_case {
 class tangent_map : public ::testing::TestWithParam<tangent_case> {};
 
 TEST_P(tangent_map, matches_finite_differences_and_is_symplectic) {
-    const auto [spec, h] = GetParam();
+    const auto spec = GetParam().spec; // not a structured binding: clang 14 cannot capture
+    const double h = GetParam().h;     // those in a lambda
     SCOPED_TRACE(spec.label());
     newton_options opt;
     opt.predictor = predictor_kind::taylor; // each step independent of the previous one

@@ -174,19 +174,19 @@ TEST(Chain, EnergyBounded) {
 // (measured 4.4e-7 on the group, 2.2e-8 in Euler angles, where θ obeys a reduced 1-D equation and
 // the fast spin ψ does not enter it; bench/bench_rigid.cpp compares them at equal accuracy).
 TEST(HeavyTop, AgreesWithTheTopOnSo3) {
-    const lie::rigid_body top(lie::vec3(1.0, 1.0, 0.5).asDiagonal().toDenseMatrix(),
-                              lie::vec3(0, 0, 1), 1.0); // the `top` model's default
+    const lie::rigid_body body(lie::vec3(1.0, 1.0, 0.5).asDiagonal().toDenseMatrix(),
+                               lie::vec3(0, 0, 1), 1.0); // the `top` model's default
     lie::body_state x0;
     x0.R = so3::from_euler(1.0, 0.0, 0.0);
-    x0.pi = top.inertia() * so3::body_rate(1.0, 0.0, 0.0, 0.5, 8.0);
-    const auto nut = lie::nutation_of(top, x0);
+    x0.pi = body.inertia() * so3::body_rate(1.0, 0.0, 0.0, 0.5, 8.0);
+    const auto nut = lie::nutation_of(body, x0);
     const double t = 1.3 * nut.period(); // not a turning point of θ, where errors hide
     const std::size_t n = 400;
     lie::body_state xg = x0;
-    lie::lgvi group(top, t / n, 4);
+    lie::lgvi group(body, t / n, 4);
     for (std::size_t k = 0; k < n; ++k)
         ASSERT_TRUE(group.step(xg).converged);
-    const auto sys = heavy_top::make_system(lie::euler_lagrangian(top));
+    const auto sys = heavy_top::make_system(lie::euler_lagrangian(body));
     phase_state<3> xe = lie::euler_state(x0);
     general::stepper euler(sys, t / n, scheme_kind::simpson);
     integrate(euler, xe, 0.0, n, [](auto, auto, const auto&) {});
