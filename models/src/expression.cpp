@@ -56,4 +56,69 @@ vec<dynamic> expression_momentum(const expression_lagrangian& l, const vec<dynam
     return sys.momentum(q, v, t);
 }
 
+model expression_model(const std::string& text, const std::vector<std::string>& coordinates,
+                       const std::vector<expression_parameter>& parameters,
+                       const std::vector<std::string>& force) {
+    // L and the force at the parameters' values `par` (each member of an ensemble may have
+    // its own: the expressions are parsed again, a matter of microseconds).
+    auto build = [=](std::span<const double> par) {
+        std::vector<expression_parameter> given = parameters;
+        for (std::size_t i = 0; i < given.size(); ++i)
+            given[i].value = par[i];
+        expression_lagrangian l(text, coordinates, given);
+        expression_force f = force.empty() ? expression_force(l.dimension())
+                                           : expression_force(force, coordinates, given);
+        return std::pair{std::move(l), std::move(f)};
+    };
+    model m;
+    m.name = "lagrangian";
+    m.summary = "your own L(q, qdot, t) given as an expression, no compiling";
+    std::vector<double> defaults;
+    for (const auto& p : parameters) {
+        m.parameters.push_back({.name = p.name, .value = p.value, .doc = "parameter of L"});
+        defaults.push_back(p.value);
+    }
+    const auto [l0, f0] = build(defaults); // refuses what does not parse, before any run
+    m.dim = l0.dimension();
+    for (const auto& c : coordinates)
+        m.coordinates += (m.coordinates.empty() ? "" : ", ") + c;
+    m.description = "  L = " + text + " over " + m.coordinates +
+                    (force.empty() ? "" : "; a generalized force") + ".";
+    m.time = 10.0;
+    m.steps = 10000;
+    m.ensemble_time = 10.0;
+    m.ensemble_steps = 1000;
+    const vec<dynamic> zero = vec<dynamic>::Zero(m.dim);
+    m.make = [build, zero](std::span<const double> par, const start& s, const lists&) {
+        auto [l, f] = build(par);
+        const expression_system sys(l);
+        phase_state<dynamic> x0;
+        auto vector = [&](const std::vector<double>& v) {
+            return v.empty() ? zero
+                             : vec<dynamic>(Eigen::Map<const vec<dynamic>>(v.data(), zero.size()));
+        };
+        x0.q = vector(s.q0);
+        const vec<dynamic> v = vector(s.v0);
+        sys.check_regular(x0.q, v, 0.0);
+        x0.p = s.p0.empty() ? sys.momentum(x0.q, v, 0.0) : vector(s.p0);
+        sys.check_regular(x0.q, sys.velocity(x0.q, x0.p, 0.0), 0.0);
+        problem pr;
+        pr.q0.assign(x0.q.data(), x0.q.data() + x0.q.size());
+        pr.p0.assign(x0.p.data(), x0.p.data() + x0.p.size());
+        pr.simulate = [l = std::move(l), f = std::move(f), x0](const step_options& o) {
+            return simulate_expression(l, f, x0, o);
+        };
+        return pr;
+    };
+    // The default start, q = 0 and q̇ = 0, as far as L allows it there (1/sqrt(q) does not:
+    // then a run must give its own start, and p0 is shown as 0).
+    m.q0.assign(static_cast<std::size_t>(m.dim), 0.0);
+    m.p0 = m.q0;
+    try {
+        m.p0 = m.make(defaults, {}, {}).p0;
+    } catch (const std::exception&) {
+    }
+    return m;
+}
+
 } // namespace varsym::models

@@ -5,11 +5,19 @@
 
 #include <cstddef>
 #include <span>
+#include <string>
 
 #include "varsym/integrate.hpp"
+#include "varsym/schemes/scheme_kind.hpp"
 
 /// The models layer's registry, problems and simulations (simulation.cpp).
 void bind_simulation(pybind11::module_& m);
+/// Ensembles of a built-in model or of a Lagrangian typed as an expression (ensemble.cpp).
+void bind_ensemble(pybind11::module_& m);
+
+/// The scheme named `scheme` ("simpson", "gauss", …) of `degree` (0: the scheme's default);
+/// throws std::invalid_argument naming the choices (simulation.cpp).
+varsym::scheme_spec spec_of(const std::string& scheme, int degree);
 
 /// Raises varsym.StepFailure for e: its message, step, time and cause, the last good state
 /// (q, p) and the number of rows recorded before it (module.cpp). Needs the GIL.

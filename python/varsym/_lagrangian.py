@@ -21,6 +21,14 @@ def _expression_text(expression):
     return sympy.sstr(expression, full_prec=True)
 
 
+def _force_list(force):
+    """A generalized force as the list of its components' expressions (a single expression
+    or SymPy object: d = 1; None: no force)."""
+    if isinstance(force, (str, bytes)) or (force is not None and not np.iterable(force)):
+        force = [force]
+    return [_expression_text(f) for f in (force or [])]
+
+
 class Lagrangian:
     """L(q, q̇, t) given as an expression over named coordinates (their velocities are
     NAME_dot), the time t and named parameters, e.g.::
@@ -90,6 +98,26 @@ class Lagrangian:
         """E = q̇ᵀp − L at (q, p, t)."""
         v = self.velocity(q, p, t)
         return float(v @ np.atleast_1d(p) - self(q, v, t))
+
+    def ensemble(self, q0=None, p0=None, *, parameters=None, force=None, t_span=10.0,
+                 steps=1000, scheme=None, degree=None, indicators=True, threads=0, event=None):
+        """Runs one member per row on every core (``threads``: 0 = all), as Model.ensemble
+        does: ``q0`` and ``p0`` are (members × d) arrays of initial states (default: q = 0,
+        q̇ = 0), ``parameters`` maps parameter names to one value per member (the others stay
+        at this Lagrangian's), ``force`` a generalized force as for varsym.simulate. Each
+        member runs ``steps`` steps over ``t_span``. Returns the same dict of arrays: status,
+        t, q, p, lyapunov, mean_megno, max_energy_error, event_time, cause."""
+        from ._simulate import _member_arrays  # noqa: PLC0415 (it imports this module)
+
+        # The compiled Lagrangian holds its parameters sorted by name (a std::map).
+        values, q0, p0 = _member_arrays("ensemble", parameters, self.parameters,
+                                        sorted(self.parameters), q0, p0, self.dimension)
+        steps = int(steps)
+        if steps < 1 or not float(t_span) > 0:
+            raise UsageError("t_span and steps must be positive")
+        return _core.expression_ensemble(self._core, _force_list(force), values, q0, p0,
+                                         float(t_span) / steps, steps, scheme or "simpson",
+                                         degree or 0, indicators, threads, event or "")
 
     def __repr__(self):
         return (f"varsym.Lagrangian({self.expression!r}, {self.coordinates!r}, "

@@ -10,7 +10,7 @@ import sys
 import numpy as np
 
 from . import _core
-from ._lagrangian import Lagrangian, _expression_text
+from ._lagrangian import Lagrangian, _force_list
 from ._trajectory import Trajectory
 from .errors import EnergyError, Interrupted, StepFailure, UsageError
 
@@ -34,6 +34,29 @@ def _vector(value, d, name, short=()):
         others = "".join(f" or {k}" for k in short)
         raise UsageError(f"{name} needs {d}{others} value{'s' if d != 1 else ''}, got {len(v)}")
     return v.tolist()
+
+
+def _member_arrays(function, parameters, defaults, names, q0, p0, d):
+    """An ensemble's arrays, one row per member: the parameters' values (``parameters`` maps
+    names to one value per member, the others at ``defaults``), q0 and p0 (members × d; empty
+    where not given: each member's default start; p0 zero where q0 alone is given)."""
+    parameters = dict(parameters or {})
+    for key in parameters:
+        if key not in names:
+            raise _keyword_error(function, key, names)
+    sizes = {len(np.atleast_1d(v)) for v in parameters.values()}
+    if q0 is not None:
+        q0 = np.atleast_2d(np.asarray(q0, dtype=float))
+        p0 = np.zeros_like(q0) if p0 is None else np.atleast_2d(np.asarray(p0, dtype=float))
+        sizes.add(len(q0))
+    if len(sizes) > 1:
+        raise UsageError(f"the members' arrays have different lengths: {sorted(sizes)}")
+    n = sizes.pop() if sizes else 1
+    values = np.empty((n, len(names)))
+    for k, name in enumerate(names):
+        values[:, k] = np.broadcast_to(parameters.get(name, defaults[name]), n)
+    empty = np.empty((0, d))
+    return values, (empty if q0 is None else q0), (empty if q0 is None else p0)
 
 
 class Model:
@@ -110,28 +133,13 @@ class Model:
         event_time, cause (why a member failed or was invalid). ``event``: an expression in
         q1..qd, p1..pd and t (as the tool's ``--event``) whose change of sign stops a member
         (status "event", at ``event_time``, located to O(h²))."""
-        parameters = dict(parameters or {})
-        names = [p["name"] for p in self.info["parameters"]]
-        for key in parameters:
-            if key not in names:
-                raise _keyword_error("ensemble", key, names)
-        sizes = {len(np.atleast_1d(v)) for v in parameters.values()}
-        if q0 is not None:
-            q0 = np.atleast_2d(np.asarray(q0, dtype=float))
-            p0 = np.zeros_like(q0) if p0 is None else np.atleast_2d(np.asarray(p0, dtype=float))
-            sizes.add(len(q0))
-        if len(sizes) > 1:
-            raise UsageError(f"the members' arrays have different lengths: {sorted(sizes)}")
-        n = sizes.pop() if sizes else 1
-        values = np.empty((n, len(names)))
-        for k, name in enumerate(names):
-            values[:, k] = np.broadcast_to(parameters.get(name, self.parameters[name]), n)
+        values, q0, p0 = _member_arrays("ensemble", parameters, self.parameters,
+                                        [p["name"] for p in self.info["parameters"]], q0, p0,
+                                        self.dim)
         time = self.info["ensemble_time"] if t_span is None else float(t_span)
         steps = self.info["ensemble_steps"] if steps is None else int(steps)
-        empty = np.empty((0, self.dim))
         self._refuse_scheme(scheme, degree)
-        return _core.ensemble(self.name, values, empty if q0 is None else q0,
-                              empty if q0 is None else p0, time / steps, steps,
+        return _core.ensemble(self.name, values, q0, p0, time / steps, steps,
                               scheme or "simpson", degree or 0, indicators, threads,
                               event or "", self._lists())
 
@@ -213,10 +221,7 @@ class Stepper:
             v0 = np.zeros(d) if v0 is None else np.asarray(_vector(v0, d, "v0"))
             system._core.check_regular(q0, v0, t0)
             p0 = system.momentum(q0, v0, t0)
-        if isinstance(force, (str, bytes)) or (force is not None and not np.iterable(force)):
-            force = [force]  # one expression: d = 1
-        force = [_expression_text(f) for f in (force or [])]
-        self._sim = _core.simulate_expression(system._core, force, list(q0),
+        self._sim = _core.simulate_expression(system._core, _force_list(force), list(q0),
                                               _vector(p0, d, "p0"), float(t0), self.h, scheme,
                                               degree or 0, iteration)
         self._watch(0.0)

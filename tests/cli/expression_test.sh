@@ -80,4 +80,41 @@ rc=$?
 [ "$rc" -eq 3 ] && grep -q 'NaN' stderr.txt && [ -s nan.csv.part ] && [ ! -e nan.csv ] && ok ||
   bad "NaN step: exit $rc, $(cat stderr.txt)"
 
+# --- ensembles of a typed Lagrangian -------------------------------------------------------
+# The oscillator L = x_dot^2/2 - k x^2/2 over t = pi: x(pi) = q0 cos(sqrt(k) pi). Members over
+# q0_1 and over the parameter k: k = 1 gives -q0, k = 4 gives +q0 (a k ignored would give -q0
+# for both: the negative control). Simpson at h = pi/1000: error ~ (h omega)^4 ~ 1e-10.
+osc=(--model lagrangian --lagrangian "0.5*x_dot**2 - 0.5*k*x**2" --coordinates x --parameters k=1
+  --time 3.141592653589793 --steps 1000)
+"$VARSYM" ensemble "${osc[@]}" --grid q0_1=0.5:1:2 --grid k=1:4:2 -o lens.csv 2> lens.log ||
+  bad "lagrangian ensemble: $(cat lens.log)"
+head -1 lens.csv | grep -q '^member,q0_1,k,status,steps,t,q_1,p_1,' && ok || bad "header: $(head -1 lens.csv)"
+awk -F, 'NR > 1 { want = ($3 == 1 ? -$2 : $2); d = $7 - want; if (d < 0) d = -d
+  if ($4 != "completed" || d > 1e-8) bad++; n++ } END { exit !(n == 4 && bad == 0) }' lens.csv &&
+  ok || bad "lagrangian ensemble members: $(cat lens.csv)"
+# A member ends where `varsym run` of the same L ends (the same engine: bit-identical).
+"$VARSYM" run "${osc[@]}" --q0 0.5 --every 0 -o lrun.csv 2> /dev/null || bad "lagrangian run"
+[ "$(tail -1 lrun.csv | cut -d, -f3-4)" = "$(awk -F, '$1 == 0 { print $7 "," $8 }' lens.csv)" ] &&
+  ok || bad "ensemble member 0 $(sed -n 2p lens.csv) vs run $(tail -1 lrun.csv)"
+# Another L on the same output is another ensemble: the stopped one's journal is refused, not
+# continued (the journal's first line names the expressions, not only the model).
+long=(--coordinates x --parameters k=1 --time 1 --steps 100000 --grid q0_1=0:1:400 --threads 1
+  -o lother.csv)
+"$VARSYM" ensemble --model lagrangian --lagrangian "0.5*x_dot**2 - 0.5*k*x**2" "${long[@]}" \
+  2> /dev/null &
+pid=$!
+for _ in $(seq 200); do [ -s lother.csv.journal ] && [ "$(wc -l < lother.csv.journal)" -gt 2 ] && break
+  sleep 0.05; done
+kill -TERM "$pid" 2> /dev/null
+wait "$pid" 2> /dev/null
+[ -s lother.csv.journal ] && ok || bad "the stopped ensemble kept no journal"
+expect_error 2 "another Lagrangian's journal" ensemble --model lagrangian \
+  --lagrangian "0.5*x_dot**2 - 0.5*k*x**2 - x**4" "${long[@]}"
+# No sections: the general engine has no dense output; said, exit 2.
+expect_error 2 "lagrangian section" section "${osc[@]}" --grid q0_1=0.5:1:2 --plane q1=0 -o out.csv
+grep -q "dense output" stderr.txt && ok || bad "lagrangian section: $(cat stderr.txt)"
+expect_error 2 "--lagrangian with another model" ensemble --model pendulum --lagrangian "0.5*q_dot**2" \
+  --grid q0_1=0:1:2 -o out.csv
+expect_error 2 "lagrangian ensemble without L" ensemble --model lagrangian --grid q0_1=0:1:2 -o out.csv
+
 finish

@@ -10,6 +10,7 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "plot.hpp"
+#include "registry_models.hpp"
 #include "shared_options.hpp"
 #include "varsym/models/model.hpp"
 #include "varsym/problems/paper.hpp"
@@ -234,9 +235,10 @@ std::vector<result> model_errors(const converge_options& o, const scheme_spec& s
     } catch (const std::invalid_argument& e) {
         throw usage_error(e.what());
     }
-    measured = pr.integrator.label.empty()
-                   ? method_of(spec)
-                   : method{pr.integrator.label, pr.integrator.order, "lgvi", pr.integrator.order};
+    const std::string& own = pr.integrator.label; // "lgvi-4": the CSV's scheme is "lgvi"
+    measured = own.empty() ? method_of(spec)
+                           : method{own, pr.integrator.order, own.substr(0, own.find('-')),
+                                    pr.integrator.order};
     const bool periodic = pr.period > 0.0 && m.steps_per_period > 0;
     span = periodic ? pr.period * o.periods : o.time > 0.0 ? o.time : m.time;
     long long lcm = 1;
@@ -245,8 +247,8 @@ std::vector<result> model_errors(const converge_options& o, const scheme_spec& s
         if (lcm > 1'000'000) throw usage_error("--steps: their least common multiple passes 1e6");
     }
     const long long per = periodic ? o.periods : 1;
-    auto run = [&](const scheme_spec& sp, long long n) {
-        const auto sim = pr.simulate({sp, o.newton, span / static_cast<double>(n)});
+    auto run = [&](const models::problem& p, const scheme_spec& sp, long long n) {
+        const auto sim = p.simulate({sp, o.newton, span / static_cast<double>(n)});
         return record_run(*sim, static_cast<std::size_t>(n));
     };
     recorded_run reference;
@@ -254,13 +256,10 @@ std::vector<result> model_errors(const converge_options& o, const scheme_spec& s
     const int d = static_cast<int>(pr.q0.size()); // the parameters may set it (chain: n)
     std::vector<result> rs;
     for (int n : steps) {
-        const recorded_run r = run(spec, n * per);
+        const recorded_run r = run(pr, spec, n * per);
         if (!r.has_exact && reference.state.empty())
-            reference = best.simulate ? record_run(*best.simulate({spec, o.newton,
-                                                                    span / static_cast<double>(
-                                                                               fine)}),
-                                                   static_cast<std::size_t>(fine))
-                                      : run(scheme_spec(scheme_kind::gauss, 8), fine);
+            reference = best.simulate ? run(best, spec, fine)
+                                      : run(pr, scheme_spec(scheme_kind::gauss, 8), fine);
         const long long stride = fine / (n * per);
         result e{n, {0.0, 0.0, 0.0}};
         const double e0 = r.energy.front(), scale = std::abs(e0) > 1e-12 ? std::abs(e0) : 1.0;
@@ -298,10 +297,8 @@ void converge(const converge_options& o, const CLI::App& cmd) {
             if (cmd.count(opt) > 0)
                 throw usage_error(std::string(opt) + " is the pendulum's; give " + o.model +
                                   "'s parameters with --set NAME=VALUE");
-        const models::model& m = models::get(o.model);
-        if (!m.integrator_note.empty() && cmd.count("--scheme") + cmd.count("--degree") > 0)
-            throw usage_error("--scheme and --degree do not apply to --model " + m.name + ": " +
-                              m.integrator_note + " (--set order=K)");
+        refuse_scheme(models::get(o.model), cmd.count("--scheme") + cmd.count("--degree") > 0,
+                      "--set order=K");
     }
     file_roles roles;
     roles.add("--output", o.output);

@@ -82,7 +82,7 @@ void run_members(const ensemble_options& o, const ensemble_model& model, const m
                  const ensemble_setup& setup, const process_group& group);
 
 void run_ensemble(const ensemble_options& o) {
-    ensemble_model model = find_ensemble_model(o.run.model);
+    ensemble_model model = find_ensemble_model(o.run);
     const member_set set = make_member_set(o.run.members, model);
     ensemble_setup setup = make_setup(o.run, model, set.size);
     setup.plan.indicators = !o.no_indicators;
@@ -124,7 +124,7 @@ void run_members(const ensemble_options& o, const ensemble_model& model, const m
         static_cast<std::size_t>(std::count(header.begin(), header.end(), ',')) + 1;
     // Everything a member's row depends on, numbers to 17 digits and the event in full, so
     // that a journal is continued only by the very same ensemble.
-    std::string identity = "model=" + model.name + " scheme=" + setup.spec.label() +
+    std::string identity = "model=" + model.identity + " scheme=" + setup.spec.label() +
                            " steps=" + std::to_string(setup.plan.steps) + " h=";
     append_number(identity, setup.h);
     identity += std::string(" indicators=") + (setup.plan.indicators ? "on" : "off") + " event=[";

@@ -24,8 +24,10 @@ void print_csv() {
     std::cout << "model,commands,parameter,option,default,unit,range,meaning\n";
     for (const model& m : make_models()) {
         const models::model* rm = models::find(m.name);
-        const std::string commands = rm == nullptr ? "run"
-                                     : make_registry_ensemble(*rm).section
+        // lagrangian, made from its options (Python: Lagrangian); the general engine it runs
+        // has no dense output, so no sections.
+        const std::string commands = rm == nullptr ? "run ensemble python"
+                                     : make_registry_ensemble(unowned(*rm)).section
                                          ? "run ensemble section converge python"
                                          : "run ensemble converge python";
         if (rm == nullptr || (rm->parameters.empty() && rm->lists.empty())) {
@@ -65,10 +67,10 @@ void add_models_command(CLI::App& app, action& todo) {
                     "run it, parameter, option, default, unit, range, meaning)")
         ->check(CLI::IsMember({"text", "csv"}))
         ->capture_default_str();
-    cmd->footer("\nEach model runs with 'varsym run --model NAME [its parameters]'; the models of "
-                "the models layer\n(all but lagrangian) also run in 'varsym ensemble', 'varsym "
-                "converge',\n'varsym section' (where the stepper has dense output: not the rigid "
-                "bodies) and Python.");
+    cmd->footer("\nEach model runs with 'varsym run --model NAME [its parameters]', and also in "
+                "'varsym ensemble'\nand Python; all but lagrangian in 'varsym converge'; and in "
+                "'varsym section' where its\nstepper has dense output (the separable models: not "
+                "the rigid bodies or lagrangian).");
     cmd->callback([&todo, format] {
         todo = [format] {
             if (*format == "csv") {

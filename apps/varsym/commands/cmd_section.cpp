@@ -55,11 +55,10 @@ section_plane parse_plane(const std::string& text, const std::string& direction,
 }
 
 void run_section(const section_options& o) {
-    ensemble_model model = find_ensemble_model(o.run.model);
+    ensemble_model model = find_ensemble_model(o.run);
     if (!model.section)
-        throw usage_error("varsym section runs pendulum and henon-heiles (their steppers have "
-                          "dense output); " +
-                          model.name + " does not");
+        throw usage_error("varsym section needs a stepper with dense output (the separable "
+                          "models'); " + model.name + "'s has none (see 'varsym models')");
     const member_set set = make_member_set(o.run.members, model);
     const int d = model.dim;
     const section_plane plane = parse_plane(o.plane, o.direction, d);

@@ -36,6 +36,9 @@ struct member_input {
 /// A model as `varsym ensemble` knows it.
 struct ensemble_model {
     std::string name;
+    /// What the journal's first line says of the model: its name, and for `lagrangian` its
+    /// expressions (one line).
+    std::string identity;
     int dim = 0;
     std::vector<std::pair<std::string, double>> parameters; ///< names and defaults (NaN: unset)
     std::string help;                                       ///< for --help: what they mean

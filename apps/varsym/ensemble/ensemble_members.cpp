@@ -10,6 +10,7 @@
 
 #include <boost/crc.hpp>
 
+#include "expression_options.hpp"
 #include "files.hpp"
 #include "models.hpp"
 #include "registry_models.hpp"
@@ -93,6 +94,7 @@ void add_member_options(CLI::App& cmd, member_options& o) {
 
 void add_member_run_options(CLI::App& cmd, member_run_options& o, const std::string& models) {
     cmd.add_option("--model", o.model, "Model: " + models)->required();
+    add_expression_options(cmd, o.expression);
     add_scheme_options(cmd, o.scheme);
     cmd.add_option("--time", o.time, "Length of every member's run (default: the model's)")
         ->transform(positive_number);
@@ -238,14 +240,25 @@ member_input member_set::input(const std::vector<double>& v) const {
 std::vector<ensemble_model> ensemble_models() {
     std::vector<ensemble_model> all;
     for (const models::model& m : models::registry())
-        all.push_back(make_registry_ensemble(m));
+        all.push_back(make_registry_ensemble(unowned(m)));
     return all;
 }
 
-ensemble_model find_ensemble_model(const std::string& name) {
+ensemble_model find_ensemble_model(const member_run_options& o) {
+    if (o.model == "lagrangian") {
+        ensemble_model m = make_registry_ensemble(expression_model_of(o.expression));
+        m.identity = "lagrangian L=[" + o.expression.lagrangian + "] coordinates=[" +
+                     o.expression.coordinates + "] parameters=[" + o.expression.parameters +
+                     "] force=[" + o.expression.force + "]";
+        std::replace_if(m.identity.begin(), m.identity.end(),
+                        [](char c) { return c == '\n' || c == '\r'; }, ' ');
+        return m;
+    }
+    if (!o.expression.lagrangian.empty())
+        throw usage_error("--lagrangian is for --model lagrangian, not " + shown(o.model));
     for (auto& m : ensemble_models())
-        if (m.name == name) return m;
-    throw usage_error("varsym ensemble has no model " + shown(name) + "; it runs " +
+        if (m.name == o.model) return m;
+    throw usage_error("varsym ensemble has no model " + shown(o.model) + "; it runs " +
                       ensemble_model_names());
 }
 
@@ -253,7 +266,7 @@ std::string ensemble_model_names() {
     std::string s;
     for (const auto& m : ensemble_models())
         s += (s.empty() ? "" : ", ") + m.name;
-    return s;
+    return s + ", lagrangian";
 }
 
 expr::tape compile_event(const std::string& text, int d) {

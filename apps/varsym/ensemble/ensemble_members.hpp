@@ -8,6 +8,7 @@
 
 #include "cli_common.hpp"
 #include "ensemble.hpp"
+#include "expression_options.hpp"
 #include "plot.hpp"
 #include "shared_options.hpp"
 
@@ -26,6 +27,7 @@ void add_member_options(CLI::App& cmd, member_options& o);
 /// (0: the model's default) and the members.
 struct member_run_options {
     std::string model;
+    expression_spec expression; ///< --lagrangian etc., for --model lagrangian
     scheme_options scheme;
     double time = 0.0;
     long long steps = 0;
@@ -61,7 +63,8 @@ ensemble_setup make_setup(const member_run_options& o, const ensemble_model& mod
                           std::size_t members);
 
 std::vector<ensemble_model> ensemble_models();
-ensemble_model find_ensemble_model(const std::string& name);
+/// The model of --model (`lagrangian`: made from --lagrangian and its options).
+ensemble_model find_ensemble_model(const member_run_options& o);
 std::string ensemble_model_names();
 std::string ensemble_help();
 

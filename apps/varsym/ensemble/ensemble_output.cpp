@@ -50,6 +50,9 @@ std::string ensemble_help() {
         "Models:\n";
     for (const auto& m : ensemble_models())
         h += m.name + "\n" + m.help + "\n";
+    h += "lagrangian\n  your own L: --lagrangian EXPR with --coordinates, --parameters and --force as\n"
+         "  for 'varsym run'. Keys: q0_I, p0_I and the names of --parameters. Default member\n"
+         "  run: 10 s in 1000 steps.\n";
     h += "\nExamples:\n"
          "  varsym ensemble --model henon-heiles --set energy=0.125 --grid q0_2=-0.45:0.65:200 \\\n"
          "      --grid p0_2=-0.5:0.5:200 --output hh.csv --plot hh.png   # a MEGNO map\n"

@@ -1,6 +1,6 @@
-// apps/varsym/models/model_expression.cpp: `varsym run --lagrangian EXPR` (the model `lagrangian`): the
-// user's own Lagrangian, given as an expression, run by the general engine with its symbolic
-// derivatives (the models layer's simulate_expression, shared with the Python package).
+// apps/varsym/models/model_expression.cpp: the options of the model `lagrangian`, the user's own
+// Lagrangian given as an expression (--lagrangian EXPR): parsed into the models layer's
+// expression_model, which `varsym run`, `ensemble` and `section` run like any registry model.
 #include <charconv>
 #include <memory>
 #include <numbers>
@@ -15,17 +15,11 @@ namespace varsym::cli {
 
 namespace {
 
-using expression_system = lagrangian_system<expression_lagrangian>;
-
 std::string trimmed(const std::string& s) {
     const auto a = s.find_first_not_of(" \t");
     if (a == std::string::npos) return {};
     return s.substr(a, s.find_last_not_of(" \t") - a + 1);
 }
-
-struct expression_options {
-    std::string lagrangian, coordinates = "q", parameters, force;
-};
 
 /// The force of --force: components separated by commas (none: the zero force).
 expression_force make_force(const std::string& text, const expression_lagrangian& l) {
@@ -75,8 +69,50 @@ std::vector<expression_parameter> parse_parameters(const std::string& list) {
     return out;
 }
 
+std::shared_ptr<const models::model> expression_model_of(const expression_spec& e) {
+    if (e.lagrangian.empty())
+        throw usage_error("--model lagrangian needs --lagrangian EXPR (see 'varsym models')");
+    const std::vector<std::string> coordinates =
+        split_list(e.coordinates, "--coordinates", "th1,th2");
+    const std::vector<expression_parameter> parameters = parse_parameters(e.parameters);
+    std::optional<expression_lagrangian> l; // parsed first here, for messages naming the option
+    try {
+        l.emplace(e.lagrangian, coordinates, parameters);
+    } catch (const expr::parse_error& err) {
+        throw usage_error(std::string("--lagrangian: ") + err.what());
+    } catch (const std::invalid_argument& err) {
+        throw usage_error(std::string("--lagrangian: ") + err.what());
+    }
+    const expression_force force = make_force(e.force, *l);
+    if (force.dimension() != l->dimension())
+        throw usage_error("--force: " + std::to_string(force.dimension()) +
+                          " components for the Lagrangian's " + std::to_string(l->dimension()) +
+                          " coordinates");
+    try {
+        return std::make_shared<const models::model>(models::expression_model(
+            e.lagrangian, coordinates, parameters,
+            e.force.empty() ? std::vector<std::string>{} : split_list(e.force, "--force", "")));
+    } catch (const std::exception& err) { // the start at the defaults (a singular mass matrix)
+        throw usage_error(std::string("--lagrangian: ") + err.what());
+    }
+}
+
+void add_expression_options(CLI::App& cmd, expression_spec& e) {
+    cmd.add_option("--lagrangian", e.lagrangian,
+                   "lagrangian: L as an expression (implies --model lagrangian; see "
+                   "'varsym models')");
+    cmd.add_option("--coordinates", e.coordinates,
+                   "lagrangian: the coordinates' names, comma-separated (velocities: NAME_dot)")
+        ->capture_default_str();
+    cmd.add_option("--parameters", e.parameters,
+                   "lagrangian: parameters of the expression, NAME=VALUE,...");
+    cmd.add_option("--force", e.force,
+                   "lagrangian: a generalized force, one expression per coordinate, "
+                   "comma-separated (e.g. -c*th_dot)");
+}
+
 model make_expression_model() {
-    auto par = std::make_shared<expression_options>();
+    auto par = std::make_shared<expression_spec>();
     model m;
     m.name = "lagrangian";
     m.summary = "your own L(q, qdot, t) given as an expression (--lagrangian), no compiling";
@@ -92,65 +128,17 @@ model make_expression_model() {
         "  q_i, p_i in that order. Conserved: energy, unless L depends on t (then E(t) is\n"
         "  written but not watched). --force f_1,...,f_d adds a generalized force (same\n"
         "  names; units of dL/dq_i), e.g. damping -c*th_dot; then the columns work and\n"
-        "  energy_balance (E - E0 - W) follow. No period: default --time 10 --steps 10000.";
+        "  energy_balance (E - E0 - W) follow. No period: default --time 10 --steps 10000.\n"
+        "  Ensembles take the same options; their keys are q0_I, p0_I and the names of\n"
+        "  --parameters (default run: 10 s in 1000 steps). No sections (no dense output).";
     m.options = {"--lagrangian", "--coordinates", "--parameters", "--force"};
-    m.add_options = [par](CLI::App& cmd) {
-        cmd.add_option("--lagrangian", par->lagrangian,
-                       "lagrangian: L as an expression (implies --model lagrangian; see "
-                       "'varsym models')");
-        cmd.add_option("--coordinates", par->coordinates,
-                       "lagrangian: the coordinates' names, comma-separated (velocities: "
-                       "NAME_dot)")
-            ->capture_default_str();
-        cmd.add_option("--parameters", par->parameters,
-                       "lagrangian: parameters of the expression, NAME=VALUE,...");
-        cmd.add_option("--force", par->force,
-                       "lagrangian: a generalized force, one expression per coordinate, "
-                       "comma-separated (e.g. -c*th_dot)");
-    };
+    m.add_options = [par](CLI::App& cmd) { add_expression_options(cmd, *par); };
     m.run = [par](const run_setup& s) {
-        if (par->lagrangian.empty())
-            throw usage_error("--model lagrangian needs --lagrangian EXPR (see 'varsym models')");
         if (s.newton.predictor != predictor_kind::taylor)
             throw usage_error("--predictor previous is for the separable models; --lagrangian "
                               "runs the general engine: use --predictor taylor");
-        std::unique_ptr<expression_system> sys;
-        try {
-            sys = std::make_unique<expression_system>(expression_lagrangian(
-                par->lagrangian, split_list(par->coordinates, "--coordinates", "th1,th2"),
-                parse_parameters(par->parameters)));
-        } catch (const expr::parse_error& e) {
-            throw usage_error(std::string("--lagrangian: ") + e.what());
-        } catch (const std::invalid_argument& e) {
-            throw usage_error(std::string("--lagrangian: ") + e.what());
-        }
-        const expression_lagrangian& l = sys->lagrangian();
-        if (l.depends_on_time() && s.max_energy_error > 0.0)
-            throw usage_error("--max-energy-error: this Lagrangian depends on t, so its energy "
-                              "is not conserved; leave the energy watch out");
-        const int d = l.dimension();
-        std::string names;
-        for (const auto& c : l.coordinates())
-            names += (names.empty() ? "" : ", ") + c;
-        if (!s.p0.empty() && !s.v0.empty()) throw usage_error("give --p0 or --v0, not both");
-        const vec<dynamic> zero = vec<dynamic>::Zero(d);
-        phase_state<dynamic> x0;
-        x0.q = initial_vector(s.q0, "--q0", d, names, zero);
-        const vec<dynamic> v = initial_vector(s.v0, "--v0", d, "the velocities of " + names, zero);
-        try {
-            sys->check_regular(x0.q, v, 0.0);
-            x0.p = s.p0.empty() ? sys->momentum(x0.q, v, 0.0)
-                                : initial_vector(s.p0, "--p0", d, "the momenta of " + names, {});
-            sys->check_regular(x0.q, sys->velocity(x0.q, x0.p, 0.0), 0.0);
-        } catch (const usage_error&) {
-            throw;
-        } catch (const std::exception& e) {
-            throw usage_error(std::string("--lagrangian: ") + e.what());
-        }
-        const expression_force force = make_force(par->force, l);
-        const run_plan plan = plan_steps(s, "lagrangian", 0.0, 0, 10.0, 10000);
-        const auto sim = models::simulate_expression(l, force, x0, {s.spec, s.newton, plan.h});
-        stream_simulation(s, plan, *sim);
+        const auto em = expression_model_of(*par);
+        run_model(*em, s, em->defaults(), {});
     };
     return m;
 }

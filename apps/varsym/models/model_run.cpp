@@ -65,6 +65,4 @@ vec<dynamic> initial_vector(const std::vector<double>& given, const char* option
     return Eigen::Map<const vec<dynamic>>(given.data(), d);
 }
 
-const CLI::Validator eccentricity_range = number_in(0.0, 1.0, "0<=E<1", true);
-
 } // namespace varsym::cli

@@ -91,7 +91,4 @@ double linear_stability_limit(const scheme_spec& spec);
 /// Where h·ω is unstable for `spec`, scanned up to stability_scan_end (cmd_stability.cpp).
 inline constexpr double stability_scan_end = 50.0;
 
-/// Validators shared by model options.
-extern const CLI::Validator eccentricity_range;
-
 } // namespace varsym::cli

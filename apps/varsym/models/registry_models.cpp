@@ -211,6 +211,12 @@ models::lists parameter_options::lists(const models::model& m) const {
     return out;
 }
 
+void refuse_scheme(const models::model& m, bool given, const std::string& how) {
+    if (given && !m.integrator_note.empty())
+        throw usage_error("--scheme and --degree do not apply to --model " + m.name + ": " +
+                          m.integrator_note + (how.empty() ? "" : " (" + how + ")"));
+}
+
 model make_registry_model(const models::model& rm, std::shared_ptr<parameter_options> po) {
     model m;
     m.name = rm.name;
@@ -224,33 +230,38 @@ model make_registry_model(const models::model& rm, std::shared_ptr<parameter_opt
         m.options.push_back("--" + l.option_name());
     m.add_options = [](CLI::App&) {}; // all at once: parameter_options::add
     m.run = [&rm, po](const run_setup& setup) {
-        if (setup.scheme_given && !rm.integrator_note.empty())
-            throw usage_error("--scheme and --degree do not apply to --model " + rm.name + ": " +
-                              rm.integrator_note);
-        const std::vector<double> values = po->values(rm);
-        models::problem pr;
-        try {
-            pr = rm.prepare(values, {setup.q0, setup.p0, setup.v0}, po->lists(rm));
-        } catch (const std::invalid_argument& e) {
-            throw usage_error(e.what());
-        }
-        run_setup s = setup; // with the model's own integrator, if it has one
-        s.method = pr.integrator.label;
-        s.method_order = pr.integrator.order;
-        s.method_limit = pr.integrator.step_limit;
-        if (pr.period == 0.0 && rm.steps_per_period > 0 && !s.by_time && !pr.no_period.empty())
-            throw usage_error(rm.name + ": " + pr.no_period);
-        const run_plan plan =
-            plan_steps(s, rm.name, pr.period, rm.steps_per_period, rm.time, rm.steps);
-        std::unique_ptr<models::simulation> sim;
-        try {
-            sim = pr.simulate({s.spec, s.newton, plan.h});
-        } catch (const std::invalid_argument& e) {
-            throw usage_error(rm.name + ": " + e.what());
-        }
-        stream_simulation(s, plan, *sim);
+        run_model(rm, setup, po->values(rm), po->lists(rm));
     };
     return m;
+}
+
+void run_model(const models::model& rm, const run_setup& setup, const std::vector<double>& values,
+               const models::lists& lists) {
+    refuse_scheme(rm, setup.scheme_given, "");
+    models::problem pr;
+    try {
+        pr = rm.prepare(values, {setup.q0, setup.p0, setup.v0}, lists);
+    } catch (const std::invalid_argument& e) {
+        throw usage_error(e.what());
+    }
+    run_setup s = setup; // with the model's own integrator, if it has one
+    s.method = pr.integrator.label;
+    s.method_order = pr.integrator.order;
+    s.method_limit = pr.integrator.step_limit;
+    if (pr.period == 0.0 && rm.steps_per_period > 0 && !s.by_time && !pr.no_period.empty())
+        throw usage_error(rm.name + ": " + pr.no_period);
+    const run_plan plan = plan_steps(s, rm.name, pr.period, rm.steps_per_period, rm.time, rm.steps);
+    std::unique_ptr<models::simulation> sim;
+    try {
+        sim = pr.simulate({s.spec, s.newton, plan.h});
+    } catch (const std::invalid_argument& e) {
+        throw usage_error(rm.name + ": " + e.what());
+    }
+    if (!sim->conserves_energy() && s.max_energy_error > 0.0)
+        throw usage_error("--max-energy-error: " + rm.name +
+                          "'s energy is not conserved (its "
+                          "Lagrangian depends on t); leave the energy watch out");
+    stream_simulation(s, plan, *sim);
 }
 
 namespace {
@@ -296,8 +307,10 @@ member_simulation(const models::model& rm, const member_input& in, const ensembl
 
 } // namespace
 
-ensemble_model make_registry_ensemble(const models::model& rm) {
+ensemble_model make_registry_ensemble(std::shared_ptr<const models::model> model) {
+    const models::model& rm = *model;
     ensemble_model m;
+    m.identity = rm.name;
     m.name = rm.name;
     m.dim = rm.dim;
     m.fixed_start = !rm.fixed_start.empty();
@@ -306,23 +319,27 @@ ensemble_model make_registry_ensemble(const models::model& rm) {
         if (p.sets_dimension) m.dimension_keys.push_back(p.name);
     }
     if (rm.dimension)
-        m.dimension = [&rm](const std::vector<double>& v) { return rm.dimension_at(v); };
+        m.dimension = [model](const std::vector<double>& v) { return model->dimension_at(v); };
     m.help = describe(rm, true);
     m.time = rm.ensemble_time;
     m.steps = rm.ensemble_steps;
-    m.run = [&rm](const member_input& in, const ensemble_setup& e) {
-        const auto sim = member_simulation(rm, in, e);
+    m.run = [model](const member_input& in, const ensemble_setup& e) {
+        const auto sim = member_simulation(*model, in, e);
         // Each member evaluates its own copy of the tape: members run concurrently.
         const models::event_function event = e.event ? models::event_of(*e.event) : nullptr;
         return sim->run_member(e.plan, event);
     };
     // Sections need dense output: a probe at the defaults says whether the model's steppers have
-    // it.
-    const bool dense = rm.prepare(rm.defaults()).simulate({{}, {}, 0.01})->has_dense_output();
+    // it (a lagrangian whose default start L refuses has the general engine's: none).
+    bool dense = false;
+    try {
+        dense = rm.prepare(rm.defaults()).simulate({{}, {}, 0.01})->has_dense_output();
+    } catch (const std::invalid_argument&) {
+    }
     if (dense)
-        m.section = [&rm](const member_input& in, const ensemble_setup& e,
-                          const section_plane& plane, long long crossings) {
-            const auto sim = member_simulation(rm, in, e);
+        m.section = [model](const member_input& in, const ensemble_setup& e,
+                            const section_plane& plane, long long crossings) {
+            const auto sim = member_simulation(*model, in, e);
             const models::section_result r = sim->section(plane, e.plan.steps, crossings);
             std::string rows;
             const std::size_t width = 2 * static_cast<std::size_t>(sim->dim());

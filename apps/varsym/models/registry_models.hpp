@@ -33,10 +33,26 @@ class parameter_options {
 /// parameters (as options, or as ensemble keys), initial state and default run length.
 std::string describe(const models::model& m, bool ensemble);
 
+/// Throws usage_error where --scheme or --degree was given (`given`) to a model with its own
+/// integrator (the rigid bodies): the model's note, then `how`, how this command chooses the
+/// integrator's order (may be empty).
+void refuse_scheme(const models::model& m, bool given, const std::string& how);
+
 /// `varsym run --model NAME` for a model of the registry.
 model make_registry_model(const models::model& m, std::shared_ptr<parameter_options> po);
-/// `varsym ensemble` and `varsym section` for a model of the registry.
-ensemble_model make_registry_ensemble(const models::model& m);
+/// Runs model m at these parameter values and lists: `varsym run --model NAME` for a model of
+/// the registry (or `lagrangian`). Data the model refuses is a usage_error.
+void run_model(const models::model& m, const run_setup& setup, const std::vector<double>& values,
+               const models::lists& lists);
+
+/// A model of the registry, which lives as long as the program, as a shared pointer that owns
+/// nothing.
+inline std::shared_ptr<const models::model> unowned(const models::model& m) {
+    return {std::shared_ptr<void>(), &m};
+}
+
+/// `varsym ensemble` and `varsym section` for a model of the registry (or `lagrangian`).
+ensemble_model make_registry_ensemble(std::shared_ptr<const models::model> m);
 
 /// Streams the rows of a simulation for plan.steps steps: step,t, q, p, then the model's
 /// columns; checkpoints, resumes, watches the energy, stops on signals, and turns a failed step

@@ -1,11 +1,14 @@
-// apps/varsym/options/expression_options.hpp: the options of Lagrangians given as expressions (`varsym run
-// --lagrangian`); their stepper is the models layer's (varsym/models/expression.hpp).
+// apps/varsym/options/expression_options.hpp: the options of Lagrangians given as expressions
+// (`varsym run`, `ensemble` and `section` with --lagrangian): the model `lagrangian` they make is
+// the models layer's (varsym/models/expression.hpp).
 #pragma once
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "cli_common.hpp"
+#include "varsym/models/model.hpp"
 #include "varsym/systems/expression_force.hpp"
 #include "varsym/systems/expression_lagrangian.hpp"
 
@@ -17,5 +20,15 @@ std::vector<expression_parameter> parse_parameters(const std::string& list);
 /// empty entry, with `example` of a good list.
 std::vector<std::string> split_list(const std::string& list, const char* option,
                                     const char* example);
+
+/// --lagrangian, --coordinates, --parameters and --force as given.
+struct expression_spec {
+    std::string lagrangian, coordinates = "q", parameters, force;
+};
+
+/// Adds --lagrangian, --coordinates, --parameters and --force to cmd.
+void add_expression_options(CLI::App& cmd, expression_spec& e);
+/// The model `lagrangian` of these options; throws usage_error naming the option at fault.
+std::shared_ptr<const models::model> expression_model_of(const expression_spec& e);
 
 } // namespace varsym::cli

@@ -4,7 +4,10 @@
 #pragma once
 
 #include <memory>
+#include <string>
+#include <vector>
 
+#include "varsym/models/model.hpp"
 #include "varsym/models/simulation.hpp"
 #include "varsym/systems/expression_force.hpp"
 #include "varsym/systems/expression_lagrangian.hpp"
@@ -24,5 +27,16 @@ std::unique_ptr<simulation> simulate_expression(const expression_lagrangian& l,
 /// (std::invalid_argument).
 vec<dynamic> expression_momentum(const expression_lagrangian& l, const vec<dynamic>& q,
                                  const vec<dynamic>& v, double t = 0.0);
+
+/// The model `lagrangian`: L typed as `text` over `coordinates` (velocities NAME_dot), with the
+/// expression's parameters as the model's (each unbounded, its given value the default) and a
+/// generalized force, one expression per coordinate (`force` empty: none). Its start: q0
+/// (default 0) with v0 (default 0) or p0. No period: 10 s in 10 000 steps by default (an
+/// ensemble member 10 s in 1000). Every command and the Python package run it like a built-in
+/// model, its ensembles over q0, p0 and the parameters. Throws expr::parse_error or
+/// std::invalid_argument where the expressions do not make a Lagrangian and force.
+model expression_model(const std::string& text, const std::vector<std::string>& coordinates,
+                       const std::vector<expression_parameter>& parameters,
+                       const std::vector<std::string>& force = {});
 
 } // namespace varsym::models
