@@ -1,6 +1,7 @@
 // apps/varsym/commands/cmd_ensemble.cpp: `varsym ensemble`, one model run from many initial states or
 // parameter sets (a grid or a CSV file), on every core and, built with MPI, across processes:
 // one CSV row per member in member order, resumable after a kill, and a heat map.
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include "ensemble_journal.hpp"
 #include "ensemble_members.hpp"
 #include "ensemble_processes.hpp"
+#include "ensemble_writer.hpp"
 #include "files.hpp"
 #include "models.hpp"
 #include "plot.hpp"
@@ -148,34 +150,29 @@ void run_members(const ensemble_options& o, const ensemble_model& model, const m
     group.barrier(); // every rank read the journals before any rank writes its own
     journal.start();
 
-    // This process's members: m ≡ rank (mod size), those not in a journal yet.
-    std::vector<std::size_t> todo;
-    for (std::size_t m = static_cast<std::size_t>(group.rank()); m < set.size;
-         m += static_cast<std::size_t>(group.size()))
-        if (!journal.done(m)) todo.push_back(m);
-    if (journal.done_count() > 0 && group.rank() == 0)
+    // This process's members, m ≡ rank (mod size): its k-th is rank + k·size; those found in a
+    // journal are skipped as they come (no list of members is made).
+    const auto rank = static_cast<std::size_t>(group.rank());
+    const auto ranks = static_cast<std::size_t>(group.size());
+    const std::size_t mine = set.size > rank ? (set.size - rank + ranks - 1) / ranks : 0;
+    if (journal.done_count() > 0 && rank == 0)
         std::fprintf(stderr, "varsym ensemble: resuming, %zu of %zu members already done\n",
                      journal.done_count(), set.size);
 
-    std::mutex mutex;
-    std::string buffer;
-    auto last_flush = std::chrono::steady_clock::now();
-    std::size_t done = journal.done_count();
-    progress_line progress("varsym ensemble", "members", set.size, done);
-    auto flush = [&] {
-        journal.append(buffer);
-        buffer.clear();
-        last_flush = std::chrono::steady_clock::now();
-    };
+    ordered_writer writer(journal);
+    std::atomic<std::size_t> done{journal.done_count()};
+    std::mutex progress_mutex;
+    progress_line progress("varsym ensemble", "members", set.size, journal.done_count());
     set_signal_polling(true);
     try {
         const unsigned threads = o.threads > 0 ? o.threads : group.default_threads();
-        for_each_member(todo.size(), threads, [&](std::size_t k) {
+        for_each_member(mine, threads, [&](std::size_t k) {
+            const std::size_t m = rank + k * ranks;
+            if (journal.done(m)) return writer.done(k, {});
             if (const int sig = pending_signal(); sig != 0)
                 throw interrupted(sig, "stopped by signal " + std::to_string(sig) +
                                            "; the members done are in " + o.output +
                                            ".journal*: run the same command again to continue");
-            const std::size_t m = todo[k];
             std::vector<double> keys;
             set.values(m, keys);
             member_result r;
@@ -186,36 +183,42 @@ void run_members(const ensemble_options& o, const ensemble_model& model, const m
                 invalid = true;
                 r.cause = e.what();
             }
-            const std::string row = member_row(m, keys, r, invalid, d);
-            const std::lock_guard lock(mutex);
-            buffer += row;
-            ++done;
-            if (buffer.size() > (1U << 16) ||
-                std::chrono::steady_clock::now() - last_flush > std::chrono::milliseconds(250))
-                flush();
-            progress.update(done * static_cast<std::size_t>(group.size()));
+            writer.done(k, member_row(m, keys, r, invalid, d));
+            const std::size_t now = ++done;
+            const std::lock_guard lock(progress_mutex);
+            progress.update(now * ranks);
         });
     } catch (...) {
-        flush();
+        writer.flush_all();
         set_signal_polling(false);
         throw;
     }
-    flush();
+    writer.flush_all();
     set_signal_polling(false);
     progress.update(set.size, true);
     group.barrier();
-    if (group.rank() != 0) return;
-    const std::string body = journal.merged_rows();
+    if (rank != 0) return;
+    // The output streamed from the journals, in member order; the summary and the heat map's
+    // data taken on the way.
+    row_digest digest(set, header, o.plot.empty() ? "" : o.plot_value);
     output_file out(o.output);
     out.write(header);
-    out.write(body);
+    std::string chunk;
+    journal.merge([&](std::string_view row) {
+        digest.add(row);
+        chunk.append(row).push_back('\n');
+        if (chunk.size() > (std::size_t{1} << 16)) {
+            out.write(chunk);
+            chunk.clear();
+        }
+    });
+    out.write(chunk);
     file_roles others;
     others.add("--output", o.output);
-    if (!o.plot.empty())
-        render_figure(heat_map(set, header, body, o.plot_value, model), o.plot, others);
+    if (!o.plot.empty()) render_figure(digest.heat_map(model), o.plot, others);
     out.commit();
     journal.remove_all();
-    print_summary(body, set.size);
+    digest.print_summary(set.size);
 }
 
 } // namespace

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -40,7 +41,7 @@ class ensemble_journal {
     void start();
 
     /// Whether member m's row was found in a journal by read().
-    [[nodiscard]] bool done(std::size_t m) const { return done_[m] != 0; }
+    [[nodiscard]] bool done(std::size_t m) const { return !done_.empty() && done_[m]; }
     [[nodiscard]] std::size_t done_count() const { return done_count_; }
     /// Whether read() found a journal of this very ensemble (even one without rows).
     [[nodiscard]] bool found() const { return found_; }
@@ -49,10 +50,11 @@ class ensemble_journal {
     /// Appends rows (each ending in '\n'), each with its CRC-32; written through to the file at
     /// once (a SIGKILL after this returns loses none of them).
     void append(const std::string& rows);
-    /// Every journal of the output, rows sorted by member (one per member, without their
-    /// checksums), after a barrier where other processes wrote theirs: the output's body.
-    /// Throws std::runtime_error if a member has no valid row.
-    [[nodiscard]] std::string merged_rows() const;
+    /// Calls emit(row) for each member in order, its row without checksum and '\n', merged
+    /// from every journal of the output after a barrier where the other processes wrote theirs;
+    /// memory independent of the members' count. Throws std::runtime_error if a member has no
+    /// valid row.
+    void merge(const std::function<void(std::string_view)>& emit) const;
     /// Removes every journal of the output (after the output was committed).
     void remove_all();
 
@@ -60,7 +62,7 @@ class ensemble_journal {
     void write_all(const std::string& text);
     std::string output_, path_, identity_;
     std::size_t members_, fields_;
-    std::vector<char> done_;
+    std::vector<bool> done_;
     std::size_t done_count_ = 0, rejected_ = 0;
     bool found_ = false;
     int fd_ = -1;

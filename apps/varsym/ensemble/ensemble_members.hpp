@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cli_common.hpp"
@@ -80,10 +81,25 @@ std::string state_columns_of(int d);
 /// Refuses --plot unless the members are a grid with two axes of more than one point and the
 /// value is a numeric column.
 void check_heat_map(const member_set& set, const std::string& value);
-/// The heat map of `value` over the grid, from the output's header and rows.
-figure heat_map(const member_set& set, const std::string& header, const std::string& rows,
-                const std::string& value, const ensemble_model& model);
-/// One line on standard error: how many members completed, met the event, failed, were invalid.
-void print_summary(const std::string& rows, std::size_t members);
+/// What the output's rows say as they are written: the count of each status, and the heat
+/// map's data (three fields a member) where one is drawn.
+class row_digest {
+  public:
+    /// `value`: the column the heat map draws (usage_error if it is not one), or "" for none.
+    row_digest(const member_set& set, const std::string& header, std::string value);
+    /// One row, without its '\n'.
+    void add(std::string_view row);
+    /// The heat map of `value` over the grid.
+    [[nodiscard]] figure heat_map(const ensemble_model& model) const;
+    /// One line on standard error: how many members completed, met the event, failed, were
+    /// invalid.
+    void print_summary(std::size_t members) const;
+
+  private:
+    const member_set& set_;
+    std::string value_, data_;
+    std::size_t column_ = 0, rows_ = 0;
+    std::size_t counts_[4] = {};
+};
 
 } // namespace varsym::cli

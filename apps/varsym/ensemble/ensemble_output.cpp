@@ -76,64 +76,62 @@ void check_heat_map(const member_set& set, const std::string& value) {
                           "event_time, t, steps, q_I, p_I)");
 }
 
-figure heat_map(const member_set& set, const std::string& header, const std::string& rows,
-                const std::string& value, const ensemble_model& model) {
-    const std::size_t col = column_of(header, value);
-    if (col == std::string::npos)
-        throw usage_error("--plot-value " + shown(value) + " is not a column of this ensemble");
+row_digest::row_digest(const member_set& set, const std::string& header, std::string value)
+    : set_(set), value_(std::move(value)) {
+    if (value_.empty()) return;
+    column_ = column_of(header, value_);
+    if (column_ == std::string::npos)
+        throw usage_error("--plot-value " + shown(value_) + " is not a column of this ensemble");
     // x: the second (fastest) axis, y: the first; a blank line after each row of the grid.
-    std::string data = "# " + set.keys[1] + "," + set.keys[0] + "," + value + "\n";
-    std::size_t at = 0, member = 0;
-    while (at < rows.size()) {
-        const std::size_t end = rows.find('\n', at);
-        const std::string_view line(rows.data() + at, end - at);
-        std::size_t c = 0, f = 0;
-        std::string_view fields[3];
-        for (std::size_t i = 0; i <= line.size(); ++i)
-            if (i == line.size() || line[i] == ',') {
-                const std::string_view field = line.substr(f, i - f);
-                if (c == 1) fields[1] = field;
-                if (c == 2) fields[0] = field;
-                if (c == col) fields[2] = field;
-                ++c;
-                f = i + 1;
-            }
-        data.append(fields[0]).append(",").append(fields[1]).append(",").append(fields[2]);
-        data += '\n';
-        if (++member % set.axes[1].count == 0) data += '\n';
-        at = end + 1;
-    }
-    const bool megno = value == "mean_megno";
-    std::string script = script_preamble(820, 700) + "set xlabel '" + set.keys[1] +
-                         "' noenhanced\nset ylabel '" + set.keys[0] + "' noenhanced\nset title \"" +
-                         model.name + ": " + value +
+    data_ = "# " + set.keys[1] + "," + set.keys[0] + "," + value_ + "\n";
+}
+
+void row_digest::add(std::string_view line) {
+    static constexpr std::string_view names[4] = {",completed,", ",event,", ",failed,",
+                                                  ",invalid,"};
+    for (int k = 0; k < 4; ++k)
+        if (line.find(names[k]) != std::string_view::npos) ++counts_[k];
+    ++rows_;
+    if (value_.empty()) return;
+    std::size_t c = 0, f = 0;
+    std::string_view fields[3];
+    for (std::size_t i = 0; i <= line.size(); ++i)
+        if (i == line.size() || line[i] == ',') {
+            const std::string_view field = line.substr(f, i - f);
+            if (c == 1) fields[1] = field;
+            if (c == 2) fields[0] = field;
+            if (c == column_) fields[2] = field;
+            ++c;
+            f = i + 1;
+        }
+    data_.append(fields[0]).append(",").append(fields[1]).append(",").append(fields[2]);
+    data_ += '\n';
+    if (rows_ % set_.axes[1].count == 0) data_ += '\n';
+}
+
+figure row_digest::heat_map(const ensemble_model& model) const {
+    const bool megno = value_ == "mean_megno";
+    std::string script = script_preamble(820, 700) + "set xlabel '" + set_.keys[1] +
+                         "' noenhanced\nset ylabel '" + set_.keys[0] + "' noenhanced\nset title \"" +
+                         model.name + ": " + value_ +
                          (megno ? " (clipped to [0, 8]; 2: regular, > 2: chaotic)" : "") +
                          "\" font ',14' noenhanced\n"
                          "set autoscale xfix\nset autoscale yfix\nset grid front\n"
                          "set palette defined (0 '#000004', 1 '#3b0f70', 2 '#8c2981', "
                          "3 '#de4968', 4 '#fe9f6d', 5 '#fcfdbf')\n";
     if (megno) script += "set cbrange [0:8]\n";
-    script += "set cblabel '" + value +
+    script += "set cblabel '" + value_ +
               "' noenhanced\n"
               "plot stem.'.grid.csv' using 1:2:(" +
               std::string(megno ? "$3 > 8 ? 8 : $3" : "$3") + ") with image notitle\n";
-    return {{{".grid.csv", data}}, script};
+    return {{{".grid.csv", data_}}, script};
 }
 
-void print_summary(const std::string& rows, std::size_t members) {
-    std::size_t counts[4] = {};
-    const char* names[4] = {",completed,", ",event,", ",failed,", ",invalid,"};
-    for (std::size_t at = 0; at < rows.size();) {
-        const std::size_t end = rows.find('\n', at);
-        const std::string_view line(rows.data() + at, end - at);
-        for (int k = 0; k < 4; ++k)
-            if (line.find(names[k]) != std::string_view::npos) ++counts[k];
-        at = end + 1;
-    }
+void row_digest::print_summary(std::size_t members) const {
     std::fprintf(stderr,
                  "varsym ensemble: %zu members: %zu completed, %zu met the event, %zu failed, "
                  "%zu invalid\n",
-                 members, counts[0], counts[1], counts[2], counts[3]);
+                 members, counts_[0], counts_[1], counts_[2], counts_[3]);
 }
 
 } // namespace varsym::cli

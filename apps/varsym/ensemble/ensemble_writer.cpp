@@ -1,0 +1,44 @@
+// apps/varsym/ensemble/ensemble_writer.cpp: rows put in member order before the journal.
+#include "ensemble_writer.hpp"
+
+namespace varsym::cli {
+
+void ordered_writer::done(std::size_t k, std::string row) {
+    const std::lock_guard lock(mutex_);
+    waiting_.emplace(k, std::move(row));
+    for (;;) { // every row from next_ on that is done goes out, in order
+        if (!waiting_.empty() && waiting_.begin()->first == next_) {
+            buffer_ += waiting_.begin()->second;
+            waiting_.erase(waiting_.begin());
+        } else if (ahead_.erase(next_) == 0) {
+            break;
+        }
+        ++next_;
+    }
+    if (waiting_.size() > max_waiting) { // a member far slower than the rest: do not wait
+        for (auto& [j, r] : waiting_) {
+            buffer_ += r;
+            ahead_.insert(j);
+        }
+        waiting_.clear();
+    }
+    if (buffer_.size() > (std::size_t{1} << 16) ||
+        std::chrono::steady_clock::now() - last_ > std::chrono::milliseconds(250))
+        write();
+}
+
+void ordered_writer::flush_all() {
+    const std::lock_guard lock(mutex_);
+    for (auto& [j, r] : waiting_)
+        buffer_ += r;
+    waiting_.clear();
+    write();
+}
+
+void ordered_writer::write() {
+    if (!buffer_.empty()) journal_.append(buffer_);
+    buffer_.clear();
+    last_ = std::chrono::steady_clock::now();
+}
+
+} // namespace varsym::cli
