@@ -3,6 +3,9 @@
 #include "varsym/models/expression.hpp"
 
 #include <cmath>
+#include <cstdio>
+
+#include <unistd.h>
 
 #include "simulation_of.hpp"
 
@@ -56,11 +59,29 @@ vec<dynamic> expression_momentum(const expression_lagrangian& l, const vec<dynam
     return sys.momentum(q, v, t);
 }
 
+void check_expression_size(int d, std::size_t length) {
+    const double d2 = static_cast<double>(d) * d;
+    const double seconds = 6.6e-10 * d2 * static_cast<double>(length);
+    const double bytes = 1000.0 * d2;
+    const double have = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
+                        static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+    if (seconds <= 60.0 && !(have > 0.0 && bytes > 0.8 * have)) return;
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "a Lagrangian of %d coordinates typed in %zu characters would take about %.0f s "
+                  "and %.1f GB to differentiate (the limits: 60 s, 80 %% of this machine's "
+                  "%.0f GB): write it as a C++ system for the general engine "
+                  "(docs/library.md), or use fewer coordinates",
+                  d, length, seconds, bytes / 1e9, have / 1e9);
+    throw std::invalid_argument(buf);
+}
+
 model expression_model(const std::string& text, const std::vector<std::string>& coordinates,
                        const std::vector<expression_parameter>& parameters,
                        const std::vector<std::string>& force) {
     // L and the force at the parameters' values `par` (each member of an ensemble may have
     // its own: the expressions are parsed again, a matter of microseconds).
+    check_expression_size(static_cast<int>(coordinates.size()), text.size());
     auto build = [=](std::span<const double> par) {
         std::vector<expression_parameter> given = parameters;
         for (std::size_t i = 0; i < given.size(); ++i)

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bindings.hpp"
+#include "varsym/models/expression.hpp"
 #include "varsym/systems/expression_lagrangian.hpp"
 #include "varsym/version.hpp"
 
@@ -87,6 +88,7 @@ PYBIND11_MODULE(_core, m) {
                  std::vector<expression_parameter> par;
                  for (const auto& [name, value] : parameters)
                      par.push_back({name, value});
+                 models::check_expression_size(static_cast<int>(coordinates.size()), text.size());
                  return expression_lagrangian(text, coordinates, par);
              }),
              py::arg("expression"), py::arg("coordinates"), py::arg("parameters"))

@@ -73,6 +73,20 @@ expect_error 2 "repeated name" run --lagrangian "0.5*q_dot**2" --coordinates q,q
 expect_error 2 "other model's option" run --lagrangian "0.5*q_dot**2" --eccentricity 0.5 -o out.csv
 expect_error 2 "watch on a timed L" run --lagrangian "0.5*q_dot**2*exp(t)" --max-energy-error 0.1 \
   -o out.csv
+# --- size guard: a typed chain of 2000 masses would take minutes and GBs to differentiate -----
+# (measured 0.7 s at d = 200, growing as d^2 times the text's length): refused at once, with the
+# estimate. Control: the same chain of 100 masses runs.
+chain_l() { awk -v d="$1" 'BEGIN { for (i = 0; i < d; i++) printf "%s0.5*x%d_dot**2", (i ? " + " : ""), i
+  printf " - ("; for (i = 0; i + 1 < d; i++) printf "%s0.5*(x%d - x%d)**2", (i ? " + " : ""), i + 1, i
+  printf ")" }'; }
+chain_c() { awk -v d="$1" 'BEGIN { for (i = 0; i < d; i++) printf "%sx%d", (i ? "," : ""), i }'; }
+expect_error 2 "typed chain of 2000" run --lagrangian "$(chain_l 2000)" --coordinates "$(chain_c 2000)" \
+  -o out.csv
+grep -q "would take about" stderr.txt && ok || bad "size guard: $(cut -c1-200 stderr.txt)"
+"$VARSYM" run --lagrangian "$(chain_l 100)" --coordinates "$(chain_c 100)" --q0 "1$(printf ',0%.0s' $(seq 99))" \
+  --time 0.1 --steps 10 --every 0 -o chain100.csv 2> stderr.txt && [ "$(wc -l < chain100.csv)" -eq 2 ] &&
+  ok || bad "typed chain of 100: $(cut -c1-200 stderr.txt)"
+
 # --- NaN during a step: exit 3, the cause named, the rows before it kept ------------------------
 "$VARSYM" run --lagrangian "0.5*q_dot**2 + 1/sqrt(q)" --q0 1 --time 10 --steps 1000 \
   --max-energy-error 0 -o nan.csv 2> stderr.txt

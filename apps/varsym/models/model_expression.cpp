@@ -77,6 +77,7 @@ std::shared_ptr<const models::model> expression_model_of(const expression_spec& 
     const std::vector<expression_parameter> parameters = parse_parameters(e.parameters);
     std::optional<expression_lagrangian> l; // parsed first here, for messages naming the option
     try {
+        models::check_expression_size(static_cast<int>(coordinates.size()), e.lagrangian.size());
         l.emplace(e.lagrangian, coordinates, parameters);
     } catch (const expr::parse_error& err) {
         throw usage_error(std::string("--lagrangian: ") + err.what());
