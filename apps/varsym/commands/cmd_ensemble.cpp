@@ -159,7 +159,8 @@ void run_members(const ensemble_options& o, const ensemble_model& model, const m
         std::fprintf(stderr, "varsym ensemble: resuming, %zu of %zu members already done\n",
                      journal.done_count(), set.size);
 
-    ordered_writer writer(journal);
+    // At most 4096 rows wait behind a slow member (then they start a new run of the journal).
+    ordered_writer writer([&journal](const std::string& rows) { journal.append(rows); }, 4096);
     std::atomic<std::size_t> done{journal.done_count()};
     std::mutex progress_mutex;
     progress_line progress("varsym ensemble", "members", set.size, journal.done_count());

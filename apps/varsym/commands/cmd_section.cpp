@@ -7,11 +7,14 @@
 #include <charconv>
 #include <cstdio>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "commands.hpp"
 #include "ensemble_members.hpp"
+#include "ensemble_writer.hpp"
 #include "files.hpp"
 #include "models.hpp"
 #include "plot.hpp"
@@ -93,56 +96,66 @@ void run_section(const section_options& o) {
     }
     roles.check();
     output_file out(o.output);
-    std::vector<std::string> rows(set.size);
-    std::atomic<long long> invalid{0}, failed{0};
-    for_each_member(set.size, o.threads, [&](std::size_t m) {
-        std::vector<double> keys;
-        set.values(m, keys);
-        std::string prefix = std::to_string(m);
-        for (double v : keys) {
-            prefix += ',';
-            append_number(prefix, v);
-        }
-        std::string body;
-        try {
-            body = model.section(set.input(keys), setup, plane, o.crossings);
-        } catch (const std::exception&) {
-            ++invalid;
-            return;
-        }
-        std::string& r = rows[m];
-        long long k = 0;
-        for (std::size_t at = 0; at < body.size();) {
-            const std::size_t end = body.find('\n', at);
-            if (body.compare(at, end - at, "failed") == 0) {
-                ++failed;
-                break;
-            }
-            r += prefix + ',' + std::to_string(k++) + ',';
-            r.append(body, at, end + 1 - at);
-            at = end + 1;
-        }
-    });
     out.write(header);
+    // Each member's rows go out as soon as the members before it are done: memory holds the
+    // rows of members finished ahead of a slower one, not the output (and the plot's points
+    // where a plot is drawn).
+    ordered_writer writer([&out](const std::string& rows) { out.write(rows); }, 0);
     std::string points = "# member," + x + "," + y + "\n";
-    long long count = 0;
-    for (std::size_t m = 0; m < rows.size(); ++m) {
-        out.write(rows[m]);
-        for (std::size_t at = 0; at < rows[m].size();) {
-            const std::size_t end = rows[m].find('\n', at);
-            std::vector<std::string> f;
-            std::size_t b = at;
-            for (std::size_t i = at; i <= end; ++i)
-                if (i == end || rows[m][i] == ',') {
-                    f.push_back(rows[m].substr(b, i - b));
-                    b = i + 1;
+    std::mutex points_mutex;
+    std::atomic<long long> invalid{0}, failed{0}, count{0};
+    const std::size_t base = 2 + set.keys.size(); // member, keys, crossing
+    try {
+        for_each_member(set.size, o.threads, [&](std::size_t m) {
+            std::vector<double> keys;
+            set.values(m, keys);
+            std::string prefix = std::to_string(m);
+            for (double v : keys) {
+                prefix += ',';
+                append_number(prefix, v);
+            }
+            std::string body;
+            try {
+                body = model.section(set.input(keys), setup, plane, o.crossings);
+            } catch (const std::exception&) {
+                ++invalid;
+                return writer.done(m, {});
+            }
+            std::string r, p;
+            long long k = 0;
+            for (std::size_t at = 0; at < body.size();) {
+                const std::size_t end = body.find('\n', at);
+                if (body.compare(at, end - at, "failed") == 0) {
+                    ++failed;
+                    break;
                 }
-            const std::size_t base = 2 + set.keys.size(); // member, keys, crossing
-            points += f[0] + "," + f[base + cx] + "," + f[base + cy] + "\n";
-            ++count;
-            at = end + 1;
-        }
+                const std::size_t first = r.size();
+                r += prefix + ',' + std::to_string(k++) + ',';
+                r.append(body, at, end + 1 - at);
+                at = end + 1;
+                if (o.plot.empty()) continue;
+                std::vector<std::string_view> f; // the row's fields, for the plot's points
+                const std::string_view row(r.data() + first, r.size() - first - 1);
+                for (std::size_t i = 0, from = 0; i <= row.size(); ++i)
+                    if (i == row.size() || row[i] == ',') {
+                        f.push_back(row.substr(from, i - from));
+                        from = i + 1;
+                    }
+                p.append(f[0]).append(",").append(f[base + cx]).append(",");
+                p.append(f[base + cy]).append("\n");
+            }
+            count += k;
+            if (!p.empty()) {
+                const std::lock_guard lock(points_mutex);
+                points += p;
+            }
+            writer.done(m, std::move(r));
+        });
+    } catch (...) {
+        writer.flush_all();
+        throw;
     }
+    writer.flush_all();
     if (!o.plot.empty()) {
         const std::string title = model.name + ": section " + o.plane + " (" +
                                   (plane.direction > 0   ? "upwards"
@@ -166,7 +179,7 @@ void run_section(const section_options& o) {
     }
     out.commit();
     std::fprintf(stderr, "varsym section: %zu orbits, %lld crossings, %lld invalid, %lld failed\n",
-                 set.size, count, invalid.load(), failed.load());
+                 set.size, count.load(), invalid.load(), failed.load());
 }
 
 } // namespace

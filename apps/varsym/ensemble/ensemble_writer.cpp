@@ -1,4 +1,4 @@
-// apps/varsym/ensemble/ensemble_writer.cpp: rows put in member order before the journal.
+// apps/varsym/ensemble/ensemble_writer.cpp: rows put in member order on their way to a file.
 #include "ensemble_writer.hpp"
 
 namespace varsym::cli {
@@ -15,7 +15,8 @@ void ordered_writer::done(std::size_t k, std::string row) {
         }
         ++next_;
     }
-    if (waiting_.size() > max_waiting) { // a member far slower than the rest: do not wait
+    // A member far slower than the rest: the rows behind it do not wait (where allowed).
+    if (max_waiting_ > 0 && waiting_.size() > max_waiting_) {
         for (auto& [j, r] : waiting_) {
             buffer_ += r;
             ahead_.insert(j);
@@ -36,7 +37,7 @@ void ordered_writer::flush_all() {
 }
 
 void ordered_writer::write() {
-    if (!buffer_.empty()) journal_.append(buffer_);
+    if (!buffer_.empty()) sink_(buffer_);
     buffer_.clear();
     last_ = std::chrono::steady_clock::now();
 }

@@ -1,36 +1,37 @@
-// apps/varsym/ensemble/ensemble_writer.hpp: one process's rows on their way to its journal, in
-// member order. Threads finish members out of order; a row waits here until every member
-// before it has finished, so that the journal holds long runs of rows in increasing member
-// order and the final merge (ensemble_journal::merge) streams them with little memory.
+// apps/varsym/ensemble/ensemble_writer.hpp: rows of members on their way to a file, in member
+// order. Threads finish members out of order; a row waits here until every member before it
+// has finished. An ensemble's journal so holds long runs of rows in increasing member order,
+// which the final merge (ensemble_journal::merge) streams with little memory; a section's
+// output is written as its members finish, not held to the end.
 #pragma once
 
 #include <chrono>
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <set>
 #include <string>
 
-#include "ensemble_journal.hpp"
-
 namespace varsym::cli {
 
 class ordered_writer {
   public:
-    explicit ordered_writer(ensemble_journal& journal) : journal_(journal) {}
-    /// This process's k-th member (counting from 0, in increasing member order) is done, with
-    /// its row (ending in '\n'; empty for a member skipped because a journal has it). Rows in
-    /// order go to the journal every 0.25 s or 64 KiB; more than `max_waiting` rows waiting
-    /// behind a slow member are written at once (a new run of the journal begins).
+    /// Rows go to `sink` every 0.25 s or 64 KiB. More than `max_waiting` rows waiting behind a
+    /// slow member are written at once, out of order (a journal: a new run begins); 0: rows
+    /// always wait (a section's output, which has no merge after it).
+    ordered_writer(std::function<void(const std::string&)> sink, std::size_t max_waiting)
+        : sink_(std::move(sink)), max_waiting_(max_waiting) {}
+    /// The k-th member (counting from 0, in increasing member order) is done, with its rows
+    /// (each ending in '\n'; empty for a member skipped or without rows).
     void done(std::size_t k, std::string row);
     /// Writes every row done, in member order (at the end, or when the work stops).
     void flush_all();
 
-    static constexpr std::size_t max_waiting = 4096;
-
   private:
-    void write(); // under the lock: buffer_ to the journal
-    ensemble_journal& journal_;
+    void write(); // under the lock: buffer_ to the sink
+    std::function<void(const std::string&)> sink_;
+    std::size_t max_waiting_;
     std::mutex mutex_;
     std::size_t next_ = 0;                       ///< the first member not yet written
     std::map<std::size_t, std::string> waiting_; ///< rows after next_, done early
