@@ -108,11 +108,16 @@ void run_ensemble(const ensemble_options& o) {
     try {
         run_members(o, model, set, setup, group);
     } catch (const std::exception& e) {
-        // One rank's failure ends every rank (the others would wait at a barrier forever).
+        // One rank's failure ends every rank (the others would wait at a barrier forever),
+        // with the code a single process would exit with: 2, 128 + the signal (130, 143), or
+        // 1. (Open MPI's mpirun, itself signalled, exits 1 whatever its ranks give.)
         if (group.size() > 1) {
-            std::fprintf(stderr, "varsym: error: (MPI rank %d) %s\n", group.rank(), e.what());
+            const auto* stop = dynamic_cast<const interrupted*>(&e);
+            std::fprintf(stderr, "varsym: %s(MPI rank %d) %s\n", stop ? "" : "error: ",
+                         group.rank(), e.what());
             group.abort(dynamic_cast<const usage_error*>(&e) != nullptr ? exit_usage
-                                                                        : exit_failure);
+                        : stop != nullptr                             ? 128 + stop->signal
+                                                                      : exit_failure);
         }
         throw;
     }
