@@ -2,8 +2,10 @@
 // force, compiled here once for the tool (`varsym run --lagrangian`) and the Python package.
 #include "varsym/models/expression.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include <unistd.h>
 
@@ -99,8 +101,11 @@ model expression_model(const std::string& text, const std::vector<std::string>& 
         m.parameters.push_back({.name = p.name, .value = p.value, .doc = "parameter of L"});
         defaults.push_back(p.value);
     }
-    const auto [l0, f0] = build(defaults); // refuses what does not parse, before any run
-    m.dim = l0.dimension();
+    // L and the force at the defaults, built once (refusing what does not parse, before any
+    // run) and copied for every problem at these values: differentiating a large L is costly.
+    const auto at_defaults =
+        std::make_shared<const std::pair<expression_lagrangian, expression_force>>(build(defaults));
+    m.dim = at_defaults->first.dimension();
     for (const auto& c : coordinates)
         m.coordinates += (m.coordinates.empty() ? "" : ", ") + c;
     m.description = "  L = " + text + " over " + m.coordinates +
@@ -110,8 +115,11 @@ model expression_model(const std::string& text, const std::vector<std::string>& 
     m.ensemble_time = 10.0;
     m.ensemble_steps = 1000;
     const vec<dynamic> zero = vec<dynamic>::Zero(m.dim);
-    m.make = [build, zero](std::span<const double> par, const start& s, const lists&) {
-        auto [l, f] = build(par);
+    m.make = [build, zero, at_defaults, defaults](std::span<const double> par, const start& s,
+                                                  const lists&) {
+        auto [l, f] = std::equal(par.begin(), par.end(), defaults.begin(), defaults.end())
+                          ? *at_defaults
+                          : build(par);
         const expression_system sys(l);
         phase_state<dynamic> x0;
         auto vector = [&](const std::vector<double>& v) {

@@ -1,10 +1,9 @@
 // apps/varsym/models/model_expression.cpp: the options of the model `lagrangian`, the user's own
 // Lagrangian given as an expression (--lagrangian EXPR): parsed into the models layer's
-// expression_model, which `varsym run`, `ensemble` and `section` run like any registry model.
+// expression_model, which `varsym run` and `varsym ensemble` run like any registry model.
 #include <charconv>
 #include <memory>
 #include <numbers>
-#include <optional>
 
 #include "expression_options.hpp"
 #include "model_run.hpp"
@@ -21,15 +20,22 @@ std::string trimmed(const std::string& s) {
     return s.substr(a, s.find_last_not_of(" \t") - a + 1);
 }
 
-/// The force of --force: components separated by commas (none: the zero force).
-expression_force make_force(const std::string& text, const expression_lagrangian& l) {
-    if (text.empty()) return expression_force(l.dimension());
-    const std::vector<std::string> parts = split_list(text, "--force", "-c*q1_dot,0");
+/// The components of --force, checked over the coordinates and parameters (none: no force).
+std::vector<std::string> force_of(const std::string& text,
+                                  const std::vector<std::string>& coordinates,
+                                  const std::vector<expression_parameter>& parameters) {
+    if (text.empty()) return {};
+    std::vector<std::string> parts = split_list(text, "--force", "-c*q1_dot,0");
+    if (parts.size() != coordinates.size())
+        throw usage_error("--force: " + std::to_string(parts.size()) +
+                          " components for the Lagrangian's " +
+                          std::to_string(coordinates.size()) + " coordinates");
     try {
-        return expression_force(parts, l.coordinates(), l.parameters());
+        (void)expression_force(parts, coordinates, parameters);
     } catch (const std::exception& e) {
         throw usage_error(std::string("--force: ") + e.what());
     }
+    return parts;
 }
 
 } // namespace
@@ -75,25 +81,12 @@ std::shared_ptr<const models::model> expression_model_of(const expression_spec& 
     const std::vector<std::string> coordinates =
         split_list(e.coordinates, "--coordinates", "th1,th2");
     const std::vector<expression_parameter> parameters = parse_parameters(e.parameters);
-    std::optional<expression_lagrangian> l; // parsed first here, for messages naming the option
+    // The force is checked first, alone, so that what the layer refuses next is L's.
+    const std::vector<std::string> force = force_of(e.force, coordinates, parameters);
     try {
-        models::check_expression_size(static_cast<int>(coordinates.size()), e.lagrangian.size());
-        l.emplace(e.lagrangian, coordinates, parameters);
-    } catch (const expr::parse_error& err) {
-        throw usage_error(std::string("--lagrangian: ") + err.what());
-    } catch (const std::invalid_argument& err) {
-        throw usage_error(std::string("--lagrangian: ") + err.what());
-    }
-    const expression_force force = make_force(e.force, *l);
-    if (force.dimension() != l->dimension())
-        throw usage_error("--force: " + std::to_string(force.dimension()) +
-                          " components for the Lagrangian's " + std::to_string(l->dimension()) +
-                          " coordinates");
-    try {
-        return std::make_shared<const models::model>(models::expression_model(
-            e.lagrangian, coordinates, parameters,
-            e.force.empty() ? std::vector<std::string>{} : split_list(e.force, "--force", "")));
-    } catch (const std::exception& err) { // the start at the defaults (a singular mass matrix)
+        return std::make_shared<const models::model>(
+            models::expression_model(e.lagrangian, coordinates, parameters, force));
+    } catch (const std::exception& err) { // a parse error, a bad name, the size guard
         throw usage_error(std::string("--lagrangian: ") + err.what());
     }
 }
