@@ -281,8 +281,10 @@ expr::tape compile_event(const std::string& text, int d) {
 std::string state_columns_of(int d) {
     std::string cols;
     for (const char* name : {"q_", "p_"})
-        for (int i = 1; i <= d; ++i)
-            cols += (cols.empty() ? "" : ",") + std::string(name) + std::to_string(i);
+        for (int i = 1; i <= d; ++i) {
+            if (!cols.empty()) cols += ',';
+            cols.append(name).append(std::to_string(i));
+        }
     return cols;
 }
 
