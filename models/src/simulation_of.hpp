@@ -137,6 +137,7 @@ class simulation_of final : public simulation {
         section_result out;
         if constexpr (dense_stepper<S>) {
             S s = s_;
+            timed(s, time());
             phase_state<D> x = r_.x;
             const double h = s.step_size();
             for (long long j = 0; j < steps && std::ssize(out.time) < crossings; ++j) {

@@ -319,8 +319,9 @@ class Stepper:
     def section(self, plane="q1=0", direction="+", steps=10000, crossings=100):
         """Where the orbit from the current state crosses ``plane`` ("qI=VALUE" or
         "pI=VALUE", I from 1) in ``direction`` ("+", "-" or "both") within ``steps`` steps:
-        (times, states) with states (crossings × 2d, q then p). Needs a model whose stepper has
-        dense output (the separable ones); the state is not changed."""
+        (times, states) with states (crossings × 2d, q then p). Needs a stepper with dense
+        output (not the rigid bodies' or the constrained mechanisms'); the state is not
+        changed."""
         try:
             lhs, value = plane.split("=")
             momentum = lhs[0] == "p"

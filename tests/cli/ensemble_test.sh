@@ -222,7 +222,7 @@ out_kb=$(($(stat -c %s secm.csv) / 1024))
   awk -F, 'NR > 1 && ($1 < m || ($1 == m && $3 != c + 1 && NR > 2)) { bad++ } NR > 1 { m = $1; c = $3 }
     END { exit bad > 0 }' secm.csv && ok || bad "section memory: peak ${peak_kb} KiB for ${out_kb} KiB"
 expect_error 2 "bad plane" section --model henon-heiles --grid q0_2=0:0.1:2 --plane x1=0 -o out.csv
-expect_error 2 "no dense output" section --model double-pendulum --grid q0_1=0:0.1:2 -o out.csv
+expect_error 2 "no dense output" section --model four-bar --grid torque=0:0.1:2 -o out.csv
 
 # --- errors: one line, exit 2 ------------------------------------------------------------------
 expect_error 2 "unknown key" ensemble --model henon-heiles --grid z=0:1:2 -o out.csv

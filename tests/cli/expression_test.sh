@@ -124,9 +124,32 @@ wait "$pid" 2> /dev/null
 [ -s lother.csv.journal ] && ok || bad "the stopped ensemble kept no journal"
 expect_error 2 "another Lagrangian's journal" ensemble --model lagrangian \
   --lagrangian "0.5*x_dot**2 - 0.5*k*x**2 - x**4" "${long[@]}"
-# No sections: the general engine has no dense output; said, exit 2.
-expect_error 2 "lagrangian section" section "${osc[@]}" --grid q0_1=0.5:1:2 --plane q1=0 -o out.csv
-grep -q "dense output" stderr.txt && ok || bad "lagrangian section: $(cat stderr.txt)"
+
+# --- sections and converge of a typed Lagrangian ---------------------------------------------
+# The oscillator with k = 4 (omega = 2) from q0 crosses x = 0 upwards at t_n = (3 pi/2 + 2 pi n)/2
+# with p = 2 q0 (exact solution): six crossings in 20 s. Gauss-2 (order 4) at h = 0.01: phase
+# error ~ (h omega)^4 omega t / 720 ~ 1e-8 at t = 20; bound 1e-6.
+sosc=(--model lagrangian --lagrangian "0.5*x_dot**2 - 0.5*k*x**2" --coordinates x --parameters k=4
+  --time 20 --steps 2000 --scheme gauss --degree 2)
+"$VARSYM" section "${sosc[@]}" --grid q0_1=0.5:1:2 --plane q1=0 -o lsec.csv 2> lsec.log ||
+  bad "lagrangian section: $(cat lsec.log)"
+awk -F, -v pi=3.141592653589793 'NR > 1 { dt = $4 - (1.5 * pi + 2 * pi * $3) / 2; dp = $6 - 2 * $2
+  if (dt < 0) dt = -dt; if (dp < 0) dp = -dp; if (dt > 1e-6 || dp > 1e-6 || $5 > 1e-9) bad++; n++ }
+  END { exit !(n == 12 && bad == 0) }' lsec.csv && ok || bad "lagrangian crossings: $(cat lsec.csv)"
+# converge: a quartic oscillator (no exact solution in the model: against gauss-8) from
+# --set q0_1=1; Simpson's fitted order 4, Newmark's 2 (the control: the orders differ).
+quartic=(--model lagrangian --lagrangian "0.5*x_dot**2 - 0.25*x**4" --coordinates x --set q0_1=1
+  --time 10 --steps 50,100,200,400)
+for want in "simpson 4" "newmark 2"; do
+  read -r scheme order <<< "$want"
+  "$VARSYM" converge "${quartic[@]}" --scheme "$scheme" > lconv.txt 2> lconv.log &&
+    awk -v p="$order" '$1 == "fitted" { f = 1; exit !($3 > p - 0.3 && $3 < p + 0.3) }
+      END { if (!f) exit 1 }' lconv.txt && ok ||
+    bad "lagrangian converge $scheme: $(cat lconv.txt lconv.log)"
+done
+expect_error 2 "converge: a start key past d" converge "${quartic[@]}" --set q0_2=1
+expect_error 2 "converge: --lagrangian with another model" converge --model kepler \
+  --lagrangian "0.5*x_dot**2" --set eccentricity=0.5
 expect_error 2 "--lagrangian with another model" ensemble --model pendulum --lagrangian "0.5*q_dot**2" \
   --grid q0_1=0:1:2 -o out.csv
 expect_error 2 "lagrangian ensemble without L" ensemble --model lagrangian --grid q0_1=0:1:2 -o out.csv

@@ -59,6 +59,19 @@ def test_command_line_lagrangian_equals_the_stepper():
     assert np.array_equal(by_cli.p, by_stepper["p"])
 
 
+def test_lagrangian_section_finds_the_exact_crossings():
+    # L = x_dot²/2 − 2x² (ω = 2) from x = 1 crosses x = 0 upwards at t_n = (3π/2 + 2πn)/2 with
+    # p = 2 (exact solution); gauss-2 at h = 0.01: phase error ~ (hω)⁴ωt/720 ~ 1e-8 at t = 20.
+    lag = varsym.Lagrangian("0.5*x_dot**2 - 2*x**2", ["x"])
+    s = varsym.Stepper(lag, 0.01, scheme="gauss", degree=2, q0=[1.0])
+    times, states = s.section("q1=0", "+", 2000, 100)
+    n = np.arange(len(times))
+    assert len(times) == 6
+    assert np.allclose(times, (1.5 * np.pi + 2 * np.pi * n) / 2, rtol=0, atol=1e-6)
+    assert np.allclose(states[:, 1], 2.0, rtol=0, atol=1e-6)
+    assert np.allclose(states[:, 0], 0.0, rtol=0, atol=1e-9)
+
+
 def test_cyclic_coordinate_keeps_its_momentum_to_round_off():
     # Kepler in polar coordinates: phi is cyclic, so p_phi is conserved exactly by the
     # discrete Noether theorem; the energy error stays bounded.

@@ -1,6 +1,8 @@
 // apps/varsym/commands/cmd_converge.cpp: `varsym converge`, the error table of any scheme at several
 // step counts with observed orders (the generalisation of the paper's Table 1), and its plot.
 #include <algorithm>
+#include <charconv>
+#include <memory>
 #include <numeric>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +11,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "expression_options.hpp"
 #include "plot.hpp"
 #include "registry_models.hpp"
 #include "shared_options.hpp"
@@ -29,9 +32,28 @@ struct converge_options {
     std::string output;
     std::vector<std::string> plot;
     newton_options newton;
-    std::vector<std::string> set; ///< NAME=VALUE: a parameter of a model other than the pendulum
+    std::vector<std::string> set; ///< NAME=VALUE: a parameter or q0_I/p0_I (not the pendulum)
     double time = 0.0;            ///< the span of a model without a period (0: the model's)
+    expression_spec expression;   ///< --lagrangian etc., for --model lagrangian
 };
+
+/// The model of --model: the registry's, or `lagrangian` made from its options.
+std::shared_ptr<const models::model> model_of(const converge_options& o) {
+    if (o.model == "lagrangian") return expression_model_of(o.expression);
+    if (!o.expression.lagrangian.empty())
+        throw usage_error("--lagrangian is for --model lagrangian, not " + shown(o.model));
+    return unowned(models::get(o.model));
+}
+
+/// The index I − 1 of a key q0_I or p0_I (prefix "q0_" or "p0_") of a model of d coordinates, or
+/// −1 if `key` is not one.
+int start_index(const std::string& key, const char* prefix, int d) {
+    if (key.rfind(prefix, 0) != 0 || key.size() < 4 || key[3] == '0') return -1;
+    int i = 0;
+    const auto [end, ec] = std::from_chars(key.data() + 3, key.data() + key.size(), i);
+    if (ec != std::errc() || end != key.data() + key.size() || i < 1 || i > d) return -1;
+    return i - 1;
+}
 
 /// The method measured: a scheme of the family, or a model's own integrator (the rigid bodies'
 /// lgvi of an order).
@@ -212,20 +234,38 @@ recorded_run record_run(models::simulation& sim, std::size_t n) {
 std::vector<result> model_errors(const converge_options& o, const scheme_spec& spec,
                                  const std::vector<int>& steps, double& span,
                                  std::string& against, method& measured) {
-    const models::model& m = models::get(o.model);
+    const std::shared_ptr<const models::model> owned = model_of(o);
+    const models::model& m = *owned;
     std::vector<double> values = m.defaults();
+    std::vector<std::pair<int, double>> q0, p0; // --set q0_I=…, p0_I=…
     for (const auto& a : o.set) {
         const std::size_t eq = a.find('=');
-        const int i = eq == std::string::npos ? -1 : m.parameter_index(a.substr(0, eq));
+        const std::string key = a.substr(0, std::min(eq, a.size()));
+        const int i = eq == std::string::npos ? -1 : m.parameter_index(key);
+        const int iq = m.fixed_start.empty() ? start_index(key, "q0_", m.dim) : -1;
+        const int ip = m.fixed_start.empty() ? start_index(key, "p0_", m.dim) : -1;
         double v = 0.0;
-        if (i < 0 || !CLI::detail::lexical_cast(a.substr(eq + 1), v))
-            throw usage_error("--set needs NAME=VALUE with a parameter of " + m.name + ", got " +
-                              shown(a) + " (see 'varsym models')");
-        values[static_cast<std::size_t>(i)] = v;
+        if ((i < 0 && iq < 0 && ip < 0) || !CLI::detail::lexical_cast(a.substr(eq + 1), v) ||
+            !std::isfinite(v))
+            throw usage_error("--set needs NAME=VALUE with a parameter of " + m.name +
+                              (m.fixed_start.empty() ? " or a start key q0_I, p0_I" : "") +
+                              " and a finite value, got " + shown(a) + " (see 'varsym models')");
+        if (i >= 0)
+            values[static_cast<std::size_t>(i)] = v;
+        else
+            (iq >= 0 ? q0 : p0).emplace_back(iq >= 0 ? iq : ip, v);
     }
     models::problem pr, best; // best: the own integrator's highest order, the reference
     try {
         pr = m.prepare(values);
+        if (!q0.empty() || !p0.empty()) { // the model's start, the keys given replaced (as in
+            models::start st{pr.q0, pr.p0, {}}; // an ensemble's members)
+            for (const auto& [i, v] : q0)
+                st.q0[static_cast<std::size_t>(i)] = v;
+            for (const auto& [i, v] : p0)
+                st.p0[static_cast<std::size_t>(i)] = v;
+            pr = m.prepare(values, st);
+        }
         if (!m.integrator_note.empty()) {
             const auto i = static_cast<std::size_t>(m.parameter_index(m.integrator_parameter));
             std::vector<double> top = values;
@@ -292,12 +332,15 @@ void converge(const converge_options& o, const CLI::App& cmd) {
         make_system(o.pendulum); // validates the parameters before any work
         if (!o.set.empty()) throw usage_error("--set is for the other models; the pendulum's "
                                               "parameters are --mass, --omega, --q0, --p0");
+        if (!o.expression.lagrangian.empty())
+            throw usage_error("--lagrangian is for --model lagrangian, not " + shown(o.model));
     } else {
         for (const char* opt : {"--mass", "--omega", "--q0", "--p0"})
             if (cmd.count(opt) > 0)
                 throw usage_error(std::string(opt) + " is the pendulum's; give " + o.model +
-                                  "'s parameters with --set NAME=VALUE");
-        refuse_scheme(models::get(o.model), cmd.count("--scheme") + cmd.count("--degree") > 0,
+                                  "'s parameters and start with --set NAME=VALUE (NAME: a "
+                                  "parameter, q0_I or p0_I)");
+        refuse_scheme(*model_of(o), cmd.count("--scheme") + cmd.count("--degree") > 0,
                       "--set order=K");
     }
     file_roles roles;
@@ -350,24 +393,30 @@ void add_converge_command(CLI::App& app, action& todo) {
         "  varsym converge --scheme gauss --degree 3 --steps 16,32,64,128 --plot conv.png\n"
         "  varsym converge --scheme lobatto --degree 2 --format csv\n"
         "  varsym converge --model kepler --set eccentricity=0.9 --scheme gauss --degree 2\n"
-        "  varsym converge --model acrobot --set torque=1 --time 2 --steps 50,100,200,400\n");
+        "  varsym converge --model acrobot --set torque=1 --time 2 --steps 50,100,200,400\n"
+        "  varsym converge --model lagrangian --lagrangian \"0.5*x_dot**2 - 0.25*x**4\" "
+        "--coordinates x \\\n    --set q0_1=1 --time 10 --scheme gauss --degree 2\n");
     std::vector<std::string> names;
     for (const auto& m : models::registry())
         names.push_back(m.name);
+    names.emplace_back("lagrangian");
     std::string list;
     for (const auto& n : names)
         list += (list.empty() ? "" : ", ") + n;
     cmd->add_option("--model", o->model,
                     "Model: " + list +
-                        " (the models layer's; errors against the exact solution where the "
+                        " (the models layer's; lagrangian: your L, from --lagrangian and its "
+                        "options; errors against the exact solution where the "
                         "model has one, else against gauss-8 at twice the steps' common "
                         "multiple; the rigid bodies run their Lie group integrator, its order "
                         "by --set order=2|4|6, against order 6; their q: Euler angles, p: Pi)")
         ->check(CLI::IsMember(names))
         ->capture_default_str();
     cmd->add_option("--set", o->set,
-                    "NAME=VALUE: a parameter of a model other than the pendulum (repeat; "
-                    "'varsym models')");
+                    "NAME=VALUE: a parameter of a model other than the pendulum, or its start "
+                    "q0_I, p0_I (the others from the model's start, as in an ensemble's "
+                    "members; repeat; 'varsym models')");
+    add_expression_options(*cmd, o->expression);
     cmd->add_option("--time", o->time,
                     "Span of a model without a period (default: the model's run length)")
         ->transform(positive_number);

@@ -24,9 +24,8 @@ void print_csv() {
     std::cout << "model,commands,parameter,option,default,unit,range,meaning\n";
     for (const model& m : make_models()) {
         const models::model* rm = models::find(m.name);
-        // lagrangian, made from its options (Python: Lagrangian); the general engine it runs
-        // has no dense output, so no sections.
-        const std::string commands = rm == nullptr ? "run ensemble python"
+        // lagrangian, made from its options (Python: Lagrangian), runs in every command.
+        const std::string commands = rm == nullptr ? "run ensemble section converge python"
                                      : make_registry_ensemble(unowned(*rm)).section
                                          ? "run ensemble section converge python"
                                          : "run ensemble converge python";
@@ -68,9 +67,9 @@ void add_models_command(CLI::App& app, action& todo) {
         ->check(CLI::IsMember({"text", "csv"}))
         ->capture_default_str();
     cmd->footer("\nEach model runs with 'varsym run --model NAME [its parameters]', and also in "
-                "'varsym ensemble'\nand Python; all but lagrangian in 'varsym converge'; and in "
-                "'varsym section' where its\nstepper has dense output (the separable models: not "
-                "the rigid bodies or lagrangian).");
+                "'varsym ensemble',\n'varsym converge' and Python; and in 'varsym section' where "
+                "its stepper has dense\noutput (all but the rigid bodies and the constrained "
+                "mechanisms).");
     cmd->callback([&todo, format] {
         todo = [format] {
             if (*format == "csv") {

@@ -60,8 +60,9 @@ section_plane parse_plane(const std::string& text, const std::string& direction,
 void run_section(const section_options& o) {
     ensemble_model model = find_ensemble_model(o.run);
     if (!model.section)
-        throw usage_error("varsym section needs a stepper with dense output (the separable "
-                          "models'); " + model.name + "'s has none (see 'varsym models')");
+        throw usage_error("varsym section needs a stepper with dense output (not the rigid "
+                          "bodies' or the constrained mechanisms'); " + model.name +
+                          "'s has none (see 'varsym models')");
     const member_set set = make_member_set(o.run.members, model);
     const int d = model.dim;
     const section_plane plane = parse_plane(o.plane, o.direction, d);

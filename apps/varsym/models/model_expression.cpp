@@ -124,7 +124,8 @@ model make_expression_model() {
         "  names; units of dL/dq_i), e.g. damping -c*th_dot; then the columns work and\n"
         "  energy_balance (E - E0 - W) follow. No period: default --time 10 --steps 10000.\n"
         "  Ensembles take the same options; their keys are q0_I, p0_I and the names of\n"
-        "  --parameters (default run: 10 s in 1000 steps). No sections (no dense output).";
+        "  --parameters (default run: 10 s in 1000 steps); converge takes q0_I, p0_I and\n"
+        "  the parameters by --set. Sections: on the step's own polynomial (dense output).";
     m.options = {"--lagrangian", "--coordinates", "--parameters", "--force"};
     m.add_options = [par](CLI::App& cmd) { add_expression_options(cmd, *par); };
     m.run = [par](const run_setup& s) {

@@ -330,7 +330,8 @@ ensemble_model make_registry_ensemble(std::shared_ptr<const models::model> model
         return sim->run_member(e.plan, event);
     };
     // Sections need dense output: a probe at the defaults says whether the model's steppers have
-    // it (a lagrangian whose default start L refuses has the general engine's: none).
+    // it (not the rigid bodies' or the constrained mechanisms'; a lagrangian whose default
+    // start L refuses: none).
     bool dense = false;
     try {
         dense = rm.prepare(rm.defaults()).simulate({{}, {}, 0.01})->has_dense_output();

@@ -229,21 +229,7 @@ class stepper {
     /// The step's own polynomial of degree s through its control values (q_j + X_l at d_l) on
     /// the step just taken from `from`, at τ ∈ [0, 1] (t = t_j + τh): q(τ) and dq/dτ.
     void dense_output(const phase_state<dim>& from, double tau, vec<dim>& q, vec<dim>& dq) const {
-        q = from.q;
-        dq.setZero(from.q.size());
-        const auto& d = tab_.control;
-        for (int l = 1; l <= s_; ++l) {
-            double value = 1.0, slope = 0.0;
-            const double dl = d[static_cast<std::size_t>(l)];
-            for (int m = 0; m <= s_; ++m) {
-                if (m == l) continue;
-                const double dm = d[static_cast<std::size_t>(m)], inv = 1.0 / (dl - dm);
-                slope = slope * (tau - dm) * inv + value * inv; // product rule
-                value *= (tau - dm) * inv;
-            }
-            q += value * xm_.col(l - 1);
-            dq += slope * xm_.col(l - 1);
-        }
+        tab_.polynomial(from.q, xm_, tau, q, dq);
     }
     /// The same stepper with another step size (for a step to a section, run/section.hpp).
     [[nodiscard]] stepper with_step_size(double h) const { return stepper(sys_, h, tab_, opt_); }

@@ -189,6 +189,28 @@ struct tableau {
         wphi = split_of(u, r);
         wdphi = split_of(g, r);
     }
+
+  public:
+    /// A step's own polynomial of degree s through its control values, q(τ) = q_j + Σ_{l≥1}
+    /// ℓ_l(τ) X_l (t = t_j + τh, τ ∈ [0, 1]), from q_j and the increments X (d × s): q(τ) and
+    /// dq/dτ. The dense output of the family stepper and the general engine.
+    template <class Q, class X>
+    void polynomial(const Q& q_j, const X& x, double tau, Q& q, Q& dq) const {
+        q = q_j;
+        dq.setZero(q_j.size());
+        for (int l = 1; l <= degree; ++l) {
+            double value = 1.0, slope = 0.0;
+            const double dl = control[static_cast<std::size_t>(l)];
+            for (int m = 0; m <= degree; ++m) {
+                if (m == l) continue;
+                const double dm = control[static_cast<std::size_t>(m)], inv = 1.0 / (dl - dm);
+                slope = slope * (tau - dm) * inv + value * inv; // product rule
+                value *= (tau - dm) * inv;
+            }
+            q += value * x.col(l - 1);
+            dq += slope * x.col(l - 1);
+        }
+    }
 };
 
 /// Number of quadrature points of a member: s + 1 for Lobatto, s for Gauss.

@@ -77,7 +77,7 @@ class stepper {
 
     stepper(system_type sys, F force, double h, const scheme_spec& spec,
             const newton_options& opt = {})
-        : sys_(std::move(sys)), force_(std::move(force)), h_(h), opt_(opt),
+        : sys_(std::move(sys)), force_(std::move(force)), h_(h), opt_(opt), spec_(spec),
           tab_(galerkin::tableau::make(family_member(spec).first, family_member(spec).second)) {
         if (opt_.iteration == iteration_kind::automatic)
             opt_.iteration = lagrangian_with_derivatives<at_time_t<L>> ? iteration_kind::newton
@@ -154,6 +154,16 @@ class stepper {
     /// the predicted motion or at Newton's last iterate), empty otherwise
     /// (variational_failure.hpp). integrate.hpp's drivers call it.
     std::string diagnose(const phase_state<dim>& x);
+
+    /// The step's own polynomial through its control values q_j + X_l, on the step just taken
+    /// from `from`, at τ ∈ [0, 1] (t = t_j + τh): q(τ) and dq/dτ (run/section.hpp).
+    void dense_output(const phase_state<dim>& from, double tau, vec<dim>& q, vec<dim>& dq) const {
+        tab_.polynomial(from.q, x_, tau, q, dq);
+    }
+    /// The same stepper with another step size, starting afresh (for a step to a section).
+    [[nodiscard]] stepper with_step_size(double h) const {
+        return stepper(sys_, force_, h, spec_, opt_);
+    }
 
     newton_report step(phase_state<dim>& x) {
         newton_report rep;
@@ -317,6 +327,7 @@ class stepper {
     [[no_unique_address]] F force_;
     double h_;
     newton_options opt_;
+    scheme_spec spec_;
     galerkin::tableau tab_;
     int s_ = 0, r_ = 0, d_ = 0;
     Eigen::Matrix<double, dim, Eigen::Dynamic> x_;
