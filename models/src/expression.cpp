@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -33,6 +35,19 @@ std::unique_ptr<simulation> simulate_expression(const expression_lagrangian& l,
         throw std::invalid_argument("the time step must be a finite positive number");
     detail::check_general(o);
     const expression_system sys(l);
+    // E − E0 − W, W the energy put in by the force and by L's time dependence (−∫∂L/∂t dt):
+    // what is conserved up to the scheme's error.
+    const double e0 = sys.energy(x0, t0);
+    auto balance = [e0](double t, const auto& x, const auto& st, double* out) {
+        out[0] = st.system().energy(x, t);
+        out[1] = st.total_work();
+        out[2] = out[0] - e0 - out[1];
+    };
+    const std::vector<std::string> balanced{"energy", "work", "energy_balance"};
+    if (f.zero() && l.depends_on_time())
+        return detail::simulate_general(
+            general::stepper<expression_lagrangian>(sys, o.h, o.spec, o.newton), x0,
+            detail::column_set{balanced, balance}, t0);
     if (f.zero())
         return detail::simulate_general(
             general::stepper<expression_lagrangian>(sys, o.h, o.spec, o.newton), x0,
@@ -41,17 +56,9 @@ std::unique_ptr<simulation> simulate_expression(const expression_lagrangian& l,
                                    out[0] = st.system().energy(x, t);
                                }},
             t0);
-    const double e0 = sys.energy(x0, t0);
     return detail::simulate_general(
         general::stepper<expression_lagrangian, expression_force>(sys, f, o.h, o.spec, o.newton),
-        x0,
-        detail::column_set{{"energy", "work", "energy_balance"},
-                           [e0](double t, const auto& x, const auto& st, double* out) {
-                               out[0] = st.system().energy(x, t);
-                               out[1] = st.total_work();
-                               out[2] = out[0] - e0 - out[1];
-                           }},
-        t0);
+        x0, detail::column_set{balanced, balance}, t0);
 }
 
 vec<dynamic> expression_momentum(const expression_lagrangian& l, const vec<dynamic>& q,

@@ -127,9 +127,17 @@ class simulation_of final : public simulation {
             return event(t, {y.q.data(), static_cast<std::size_t>(y.q.size())},
                          {y.p.data(), static_cast<std::size_t>(y.p.size())});
         };
+        // The member's energy error is that of what the run's watch follows: E, or E − W under a
+        // force or an L that depends on t, at the stepper's time (after a step: its end).
         return varsym::run_member(
             s, r_.x, from_here,
-            [&](const phase_state<D>& y) { return energy_at(s.system(), y, 0.0); }, g);
+            [&](const phase_state<D>& y) {
+                if constexpr (requires { s.time(); })
+                    return varsym::watched_energy(s, y, s.time());
+                else
+                    return varsym::watched_energy(s, y, 0.0);
+            },
+            g);
     }
     [[nodiscard]] bool has_dense_output() const override { return dense_stepper<S>; }
     [[nodiscard]] section_result section(const section_plane& plane, long long steps,

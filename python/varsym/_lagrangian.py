@@ -70,7 +70,8 @@ class Lagrangian:
 
     @property
     def depends_on_time(self):
-        """Whether L names t (its energy is then not conserved)."""
+        """Whether L depends on t (∂L/∂t is not identically zero): its energy E then changes
+        by −∫∂L/∂t dt, which a run's ``work`` column holds (E − E0 − work is kept)."""
         return self._core.depends_on_time
 
     @property

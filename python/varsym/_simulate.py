@@ -177,7 +177,8 @@ class Stepper:
     The energy watch, as the tool's: a run stops with EnergyError (its ``partial`` holding the
     rows) once the relative error of E (E − W under forces) passes ``max_energy_error``;
     default 100 (h ω)^order at the start, between 0.01 and 0.5; 0 turns it off. It is off
-    where the energy is not conserved (an L that depends on t)."""
+    where the energy is not conserved; for a typed L that depends on t it follows E − W with
+    W = −∫∂L/∂t dt (plus the forces' work)."""
 
     def __init__(self, system, h, scheme=None, degree=None, q0=None, v0=None, p0=None,
                  t0=0.0, force=None, iteration="automatic", max_energy_error=None,

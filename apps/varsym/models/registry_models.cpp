@@ -259,8 +259,8 @@ void run_model(const models::model& rm, const run_setup& setup, const std::vecto
     }
     if (!sim->conserves_energy() && s.max_energy_error > 0.0)
         throw usage_error("--max-energy-error: " + rm.name +
-                          "'s energy is not conserved (its "
-                          "Lagrangian depends on t); leave the energy watch out");
+                          "'s energy is not conserved (it depends on t); leave the energy "
+                          "watch out");
     stream_simulation(s, plan, *sim);
 }
 

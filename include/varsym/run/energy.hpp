@@ -26,10 +26,16 @@ double energy_at(const System& sys, const phase_state<D>& x, double t) {
         return sys.energy(x);
 }
 
-/// Whether the system's energy is conserved (not for a Lagrangian that depends on time).
+/// Whether the energy a run watches (E, or E − W) is conserved up to the scheme's error: not
+/// for a Lagrangian that depends on time, unless it gives ∂L/∂t, which the general engine then
+/// puts into W (schemes/variational.hpp; the expression Lagrangian does).
 template <class System>
 bool conserves_energy(const System& sys) {
-    if constexpr (requires { sys.lagrangian().depends_on_time(); })
+    if constexpr (requires(const vec<System::dim>& q) {
+                      sys.lagrangian().time_derivative(q, q, 0.0);
+                  })
+        return true;
+    else if constexpr (requires { sys.lagrangian().depends_on_time(); })
         return !sys.lagrangian().depends_on_time();
     else
         return !timed_system<System>;

@@ -31,6 +31,11 @@
 // beside L_vq: f is not differentiated in q̇ by the principle). Then
 //   p_{j+1} = p_j + h Σ_k w_k (L_q(k) + f_k),
 // and the step's work h Σ_k w_k f_k·v_k is kept (last_work) for the energy balance.
+//
+// A Lagrangian that depends on time changes the energy by dE/dt = −∂L/∂t (+ f·q̇): where L gives
+// ∂L/∂t (time_derivative; the expression Lagrangian does), the step's work also holds
+// −h Σ_k w_k ∂L/∂t(q_k, v_k, t_j + c_k h), so that E − E0 − total_work() measures the scheme's
+// error for a time-dependent L as for a forced one.
 #pragma once
 
 #include <cmath>
@@ -123,16 +128,17 @@ class stepper {
     /// autonomous step ignores it).
     [[nodiscard]] double time() const { return t_; }
     void set_time(double t) { t_ = t; }
-    /// The work of the forces over the last step, h Σ_k w_k f_k·q̇_k (0 without forces): the
-    /// energy balance E_{j+1} − E_j ≈ W_j holds to the scheme's order.
+    /// The energy put in over the last step: the forces' work h Σ_k w_k f_k·q̇_k, less
+    /// h Σ_k w_k ∂L/∂t for an L that gives its time derivative (0 for neither): the energy
+    /// balance E_{j+1} − E_j ≈ W_j holds to the scheme's order.
     [[nodiscard]] double last_work() const { return work_; }
-    /// The work of the forces since the start (or the restored history): Σ_j W_j, summed with
-    /// compensation. E(t_j) − E(t_0) − total_work() is the energy balance's error.
+    /// The energy put in since the start (or the restored history): Σ_j W_j (last_work), summed
+    /// with compensation. E(t_j) − E(t_0) − total_work() is the energy balance's error.
     [[nodiscard]] double total_work() const { return total_work_ + work_carry_; }
 
     /// With a linear iteration: whether a Jacobian is kept and the point (q̄, v̄) it was taken
     /// at (1 + 2d numbers); with a force, then that point's time and the total work with its
-    /// carry (3 numbers; also for a time-dependent L, with a work of 0); empty for an autonomous,
+    /// carry (3 numbers; also for a time-dependent L, its −∫∂L/∂t); empty for an autonomous,
     /// unforced Newton stepper. run_state::history keeps it for
     /// a checkpoint.
     void save_history(std::vector<double>& out) const;
@@ -191,6 +197,14 @@ class stepper {
     /// conserved to the last bit.
     bool momentum_change(const phase_state<dim>& x) {
         evaluate_points(x.q, false);
+        if constexpr (requires(const L& l) { l.time_derivative(x.q, x.q, 0.0); }) {
+            if (sys_.lagrangian().depends_on_time())
+                for (int k = 0; k < r_; ++k) {
+                    set_point(x.q, k);
+                    work_ -= tab_.quad.weights[static_cast<std::size_t>(k)] *
+                             sys_.lagrangian().time_derivative(qk_, vk_, point_time(k));
+                }
+        }
         dp_.setZero();
         for (int k = 0; k < r_; ++k) {
             dp_ += tab_.quad.weights[k] * terms_[k].lq;
@@ -265,16 +279,8 @@ class stepper {
     void evaluate_points(const vec<dim>& q, bool second) {
         work_ = 0.0;
         for (int k = 0; k < r_; ++k) {
-            qk_ = q;
-            vk_.setZero();
-            for (int l = 0; l < s_; ++l) {
-                qk_ += tab_.phi(l + 1, k) * x_.col(l);
-                vk_ += tab_.dphi(l + 1, k) * x_.col(l);
-            }
-            for (int l = 0; l < s_; ++l)
-                vk_ += tab_.dphi_lo(l + 1, k) * x_.col(l);
-            vk_ /= h_;
-            const double tk = t_ + tab_.quad.nodes[static_cast<std::size_t>(k)] * h_;
+            set_point(q, k);
+            const double tk = point_time(k);
             if (second)
                 evaluate(sys_.lagrangian(), qk_, vk_, tk, terms_[k]);
             else
@@ -285,6 +291,22 @@ class stepper {
                          fterms_[static_cast<std::size_t>(k)].f.dot(vk_);
             }
         }
+    }
+
+    /// (q_k, v_k) of quadrature point k for the current increments from q_j = q.
+    void set_point(const vec<dim>& q, int k) {
+        qk_ = q;
+        vk_.setZero();
+        for (int l = 0; l < s_; ++l) {
+            qk_ += tab_.phi(l + 1, k) * x_.col(l);
+            vk_ += tab_.dphi(l + 1, k) * x_.col(l);
+        }
+        for (int l = 0; l < s_; ++l)
+            vk_ += tab_.dphi_lo(l + 1, k) * x_.col(l);
+        vk_ /= h_;
+    }
+    [[nodiscard]] double point_time(int k) const {
+        return t_ + tab_.quad.nodes[static_cast<std::size_t>(k)] * h_;
     }
 
     /// f at point k joins L_q there (and its Jacobians are evaluated if `jacobian`).

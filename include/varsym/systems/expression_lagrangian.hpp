@@ -58,6 +58,7 @@ class expression_lagrangian {
             for (int j = i; j < d; ++j)
                 out.push_back(g.derivative(lv[static_cast<std::size_t>(i)], d + j));
         all_ = expr::tape(g, out, vars_.inputs());
+        if (time_dependent_) time_rate_ = expr::tape(g, {g.derivative(l, 2 * d)}, vars_.inputs());
         input_.assign(static_cast<std::size_t>(vars_.inputs()), 0.0);
     }
 
@@ -72,6 +73,14 @@ class expression_lagrangian {
     /// Whether L depends on the time t (its energy is then not conserved): whether ∂L/∂t is not
     /// identically zero once simplified, not merely whether the text names t.
     [[nodiscard]] bool depends_on_time() const { return time_dependent_; }
+    /// ∂L/∂t at (q, q̇, t); 0 for an L that does not depend on time. The general engine sums it
+    /// over each step's quadrature points into the energy balance (schemes/variational.hpp).
+    [[nodiscard]] double time_derivative(const vec<dynamic>& q, const vec<dynamic>& v,
+                                         double t) const {
+        if (!time_dependent_) return 0.0;
+        time_rate_.run(load(q, v, t));
+        return time_rate_.output(0);
+    }
     /// The length of the compiled code of L and all its derivatives (instructions).
     [[nodiscard]] std::size_t instructions() const { return all_.instructions(); }
 
@@ -125,7 +134,7 @@ class expression_lagrangian {
 
     std::string text_;
     expr::variables vars_;
-    expr::tape value_, gradient_, all_;
+    expr::tape value_, gradient_, all_, time_rate_;
     mutable std::vector<double> input_;
     bool time_dependent_ = false;
 };

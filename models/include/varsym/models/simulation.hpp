@@ -71,7 +71,8 @@ class simulation {
     /// The energy the watch follows at the current state: E, or E − W with forces (W the work of
     /// the forces since the start), constant up to the scheme's error when energy is conserved.
     [[nodiscard]] virtual double watched_energy() const = 0;
-    /// Whether E (or E − W) is conserved: false for a Lagrangian that depends on time.
+    /// Whether E (or E − W) is conserved: false for a Lagrangian that depends on time and does
+    /// not give ∂L/∂t (a typed L does: W then holds −∫∂L/∂t dt).
     [[nodiscard]] virtual bool conserves_energy() const = 0;
     /// The highest frequency of the linearized motion at the current state [rad per time unit],
     /// or NaN where it cannot be estimated.
