@@ -85,9 +85,13 @@ void check_expression_size(int d, std::size_t length) {
     throw std::invalid_argument(buf);
 }
 
-model expression_model(const std::string& text, const std::vector<std::string>& coordinates,
-                       const std::vector<expression_parameter>& parameters,
-                       const std::vector<std::string>& force) {
+namespace {
+
+/// expression_model, with L at the defaults already built where `built` is given.
+model make_expression_model(const std::string& text, const std::vector<std::string>& coordinates,
+                            const std::vector<expression_parameter>& parameters,
+                            const std::vector<std::string>& force,
+                            const expression_lagrangian* built) {
     // L and the force at the parameters' values `par` (each member of an ensemble may have
     // its own: the expressions are parsed again, a matter of microseconds).
     check_expression_size(static_cast<int>(coordinates.size()), text.size());
@@ -111,7 +115,12 @@ model expression_model(const std::string& text, const std::vector<std::string>& 
     // L and the force at the defaults, built once (refusing what does not parse, before any
     // run) and copied for every problem at these values: differentiating a large L is costly.
     const auto at_defaults =
-        std::make_shared<const std::pair<expression_lagrangian, expression_force>>(build(defaults));
+        built == nullptr
+            ? std::make_shared<const std::pair<expression_lagrangian, expression_force>>(
+                  build(defaults))
+            : std::make_shared<const std::pair<expression_lagrangian, expression_force>>(
+                  *built, force.empty() ? expression_force(built->dimension())
+                                        : expression_force(force, coordinates, parameters));
     m.dim = at_defaults->first.dimension();
     for (const auto& c : coordinates)
         m.coordinates += (m.coordinates.empty() ? "" : ", ") + c;
@@ -155,6 +164,18 @@ model expression_model(const std::string& text, const std::vector<std::string>& 
     } catch (const std::exception&) {
     }
     return m;
+}
+
+} // namespace
+
+model expression_model(const std::string& text, const std::vector<std::string>& coordinates,
+                       const std::vector<expression_parameter>& parameters,
+                       const std::vector<std::string>& force) {
+    return make_expression_model(text, coordinates, parameters, force, nullptr);
+}
+
+model expression_model(const expression_lagrangian& l, const std::vector<std::string>& force) {
+    return make_expression_model(l.text(), l.coordinates(), l.parameters(), force, &l);
 }
 
 } // namespace varsym::models

@@ -130,8 +130,7 @@ void bind_ensemble(py::module_& m) {
            py::array_t<double, py::array::c_style> q0, py::array_t<double, py::array::c_style> p0,
            double h, long long steps, const std::string& scheme, int degree, bool indicators,
            unsigned threads, const std::string& event) {
-            const models::model mod =
-                models::expression_model(l.text(), l.coordinates(), l.parameters(), force);
+            const models::model mod = models::expression_model(l, force); // L built once
             return run_ensemble(mod, values, q0, p0, h, steps, scheme, degree, indicators, threads,
                                 event, {});
         },

@@ -231,11 +231,9 @@ recorded_run record_run(models::simulation& sim, std::size_t n) {
 /// step counts' least common multiple. A model with its own integrator (the rigid bodies) is
 /// measured with that, of the order its parameters choose, against its highest order at those
 /// steps; `measured` says which method ran. Sets `against` to say which reference.
-std::vector<result> model_errors(const converge_options& o, const scheme_spec& spec,
-                                 const std::vector<int>& steps, double& span,
-                                 std::string& against, method& measured) {
-    const std::shared_ptr<const models::model> owned = model_of(o);
-    const models::model& m = *owned;
+std::vector<result> model_errors(const converge_options& o, const models::model& m,
+                                 const scheme_spec& spec, const std::vector<int>& steps,
+                                 double& span, std::string& against, method& measured) {
     std::vector<double> values = m.defaults();
     std::vector<std::pair<int, double>> q0, p0; // --set q0_I=…, p0_I=…
     for (const auto& a : o.set) {
@@ -328,6 +326,7 @@ void converge(const converge_options& o, const CLI::App& cmd) {
     const scheme_spec spec = make_spec(o.scheme);
     method measured = method_of(spec);
     const bool pendulum = o.model == "pendulum";
+    std::shared_ptr<const models::model> model; // the other models'
     if (pendulum) {
         make_system(o.pendulum); // validates the parameters before any work
         if (!o.set.empty()) throw usage_error("--set is for the other models; the pendulum's "
@@ -340,8 +339,8 @@ void converge(const converge_options& o, const CLI::App& cmd) {
                 throw usage_error(std::string(opt) + " is the pendulum's; give " + o.model +
                                   "'s parameters and start with --set NAME=VALUE (NAME: a "
                                   "parameter, q0_I or p0_I)");
-        refuse_scheme(*model_of(o), cmd.count("--scheme") + cmd.count("--degree") > 0,
-                      "--set order=K");
+        model = model_of(o); // lagrangian: L parsed and differentiated once
+        refuse_scheme(*model, cmd.count("--scheme") + cmd.count("--degree") > 0, "--set order=K");
     }
     file_roles roles;
     roles.add("--output", o.output);
@@ -366,7 +365,7 @@ void converge(const converge_options& o, const CLI::App& cmd) {
             rs.push_back({n, {e.momentum, e.state, e.energy}});
         }
     } else {
-        rs = model_errors(o, spec, steps, period, against, measured);
+        rs = model_errors(o, *model, spec, steps, period, against, measured);
     }
     out.write(o.format == "csv" ? csv_table(measured, rs)
                                 : text_table(o, measured, period, rs, against));

@@ -45,5 +45,8 @@ void check_expression_size(int d, std::size_t length);
 model expression_model(const std::string& text, const std::vector<std::string>& coordinates,
                        const std::vector<expression_parameter>& parameters,
                        const std::vector<std::string>& force = {});
+/// The same model of an L already built (parsed and differentiated): its members at the
+/// default parameters copy it instead of differentiating L again (Python's Lagrangian).
+model expression_model(const expression_lagrangian& l, const std::vector<std::string>& force = {});
 
 } // namespace varsym::models
