@@ -1,7 +1,6 @@
 // apps/varsym/commands/cmd_converge.cpp: `varsym converge`, the error table of any scheme at several
 // step counts with observed orders (the generalisation of the paper's Table 1), and its plot.
 #include <algorithm>
-#include <charconv>
 #include <memory>
 #include <numeric>
 #include <cmath>
@@ -11,6 +10,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "ensemble_members.hpp"
 #include "expression_options.hpp"
 #include "plot.hpp"
 #include "registry_models.hpp"
@@ -45,15 +45,6 @@ std::shared_ptr<const models::model> model_of(const converge_options& o) {
     return unowned(models::get(o.model));
 }
 
-/// The index I − 1 of a key q0_I or p0_I (prefix "q0_" or "p0_") of a model of d coordinates, or
-/// −1 if `key` is not one.
-int start_index(const std::string& key, const char* prefix, int d) {
-    if (key.rfind(prefix, 0) != 0 || key.size() < 4 || key[3] == '0') return -1;
-    int i = 0;
-    const auto [end, ec] = std::from_chars(key.data() + 3, key.data() + key.size(), i);
-    if (ec != std::errc() || end != key.data() + key.size() || i < 1 || i > d) return -1;
-    return i - 1;
-}
 
 /// The method measured: a scheme of the family, or a model's own integrator (the rigid bodies'
 /// lgvi of an order).
@@ -235,23 +226,25 @@ std::vector<result> model_errors(const converge_options& o, const models::model&
                                  const scheme_spec& spec, const std::vector<int>& steps,
                                  double& span, std::string& against, method& measured) {
     std::vector<double> values = m.defaults();
-    std::vector<std::pair<int, double>> q0, p0; // --set q0_I=…, p0_I=…
+    ensemble_model keys; // the keys an ensemble member of m takes: q0_I, p0_I, the parameters
+    keys.name = m.name;
+    keys.dim = m.dim;
+    keys.fixed_start = !m.fixed_start.empty();
+    for (const auto& p : m.parameters)
+        keys.parameters.emplace_back(p.name, p.value);
+    std::vector<std::pair<std::size_t, double>> q0, p0; // --set q0_I=…, p0_I=…
     for (const auto& a : o.set) {
         const std::size_t eq = a.find('=');
-        const std::string key = a.substr(0, std::min(eq, a.size()));
-        const int i = eq == std::string::npos ? -1 : m.parameter_index(key);
-        const int iq = m.fixed_start.empty() ? start_index(key, "q0_", m.dim) : -1;
-        const int ip = m.fixed_start.empty() ? start_index(key, "p0_", m.dim) : -1;
         double v = 0.0;
-        if ((i < 0 && iq < 0 && ip < 0) || !CLI::detail::lexical_cast(a.substr(eq + 1), v) ||
+        if (eq == std::string::npos || !CLI::detail::lexical_cast(a.substr(eq + 1), v) ||
             !std::isfinite(v))
-            throw usage_error("--set needs NAME=VALUE with a parameter of " + m.name +
-                              (m.fixed_start.empty() ? " or a start key q0_I, p0_I" : "") +
-                              " and a finite value, got " + shown(a) + " (see 'varsym models')");
-        if (i >= 0)
-            values[static_cast<std::size_t>(i)] = v;
+            throw usage_error("--set needs NAME=VALUE with a finite value, got " + shown(a) +
+                              " (NAME: a parameter of " + m.name + ", q0_I or p0_I)");
+        const auto [kind, i] = target_of(a.substr(0, eq), keys);
+        if (kind == 2)
+            values[i] = v;
         else
-            (iq >= 0 ? q0 : p0).emplace_back(iq >= 0 ? iq : ip, v);
+            (kind == 0 ? q0 : p0).emplace_back(i, v);
     }
     models::problem pr, best; // best: the own integrator's highest order, the reference
     try {
@@ -259,9 +252,9 @@ std::vector<result> model_errors(const converge_options& o, const models::model&
         if (!q0.empty() || !p0.empty()) { // the model's start, the keys given replaced (as in
             models::start st{pr.q0, pr.p0, {}}; // an ensemble's members)
             for (const auto& [i, v] : q0)
-                st.q0[static_cast<std::size_t>(i)] = v;
+                st.q0[i] = v;
             for (const auto& [i, v] : p0)
-                st.p0[static_cast<std::size_t>(i)] = v;
+                st.p0[i] = v;
             pr = m.prepare(values, st);
         }
         if (!m.integrator_note.empty()) {

@@ -39,6 +39,17 @@ std::vector<std::string_view> split(std::string_view s, char sep) {
     }
 }
 
+void add_identity(std::string& id, const char* name, const std::vector<double>& v) {
+    id += ' ';
+    id += name;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        id += i == 0 ? '=' : ':';
+        append_number(id, v[i]);
+    }
+}
+
+} // namespace
+
 /// Where key `k` goes for `model`: q0_i, p0_i (1 ≤ i ≤ d) or a parameter's name.
 std::pair<int, std::size_t> target_of(const std::string& k, const ensemble_model& model) {
     for (int kind = 0; kind < 2 && !model.fixed_start; ++kind) {
@@ -65,17 +76,6 @@ std::pair<int, std::size_t> target_of(const std::string& k, const ensemble_model
         known += " " + p.first;
     throw usage_error("'" + k + "' is not a key of " + model.name + "; its keys:" + known);
 }
-
-void add_identity(std::string& id, const char* name, const std::vector<double>& v) {
-    id += ' ';
-    id += name;
-    for (std::size_t i = 0; i < v.size(); ++i) {
-        id += i == 0 ? '=' : ':';
-        append_number(id, v[i]);
-    }
-}
-
-} // namespace
 
 void add_member_options(CLI::App& cmd, member_options& o) {
     cmd.add_option("--grid", o.grid,

@@ -64,6 +64,11 @@ ensemble_setup make_setup(const member_run_options& o, const ensemble_model& mod
                           std::size_t members);
 
 std::vector<ensemble_model> ensemble_models();
+/// Where key `k` goes for `model`: {0, i} for q0_{i+1}, {1, i} for p0_{i+1} (1 ≤ i + 1 ≤ d, not
+/// for a model whose start follows from its parameters), {2, j} for parameter j. Throws
+/// usage_error naming the model's keys (and the one spelling of q0_01).
+std::pair<int, std::size_t> target_of(const std::string& k, const ensemble_model& model);
+
 /// The model of --model (`lagrangian`: made from --lagrangian and its options).
 ensemble_model find_ensemble_model(const member_run_options& o);
 std::string ensemble_model_names();
