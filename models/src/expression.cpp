@@ -95,13 +95,16 @@ model make_expression_model(const std::string& text, const std::vector<std::stri
     // L and the force at the parameters' values `par` (each member of an ensemble may have
     // its own: the expressions are parsed again, a matter of microseconds).
     check_expression_size(static_cast<int>(coordinates.size()), text.size());
+    // The force at parameters `given`, beside an L of `d` coordinates.
+    auto force_at = [=](const std::vector<expression_parameter>& given, int d) {
+        return force.empty() ? expression_force(d) : expression_force(force, coordinates, given);
+    };
     auto build = [=](std::span<const double> par) {
         std::vector<expression_parameter> given = parameters;
         for (std::size_t i = 0; i < given.size(); ++i)
             given[i].value = par[i];
         expression_lagrangian l(text, coordinates, given);
-        expression_force f = force.empty() ? expression_force(l.dimension())
-                                           : expression_force(force, coordinates, given);
+        expression_force f = force_at(given, l.dimension());
         return std::pair{std::move(l), std::move(f)};
     };
     model m;
@@ -119,8 +122,7 @@ model make_expression_model(const std::string& text, const std::vector<std::stri
             ? std::make_shared<const std::pair<expression_lagrangian, expression_force>>(
                   build(defaults))
             : std::make_shared<const std::pair<expression_lagrangian, expression_force>>(
-                  *built, force.empty() ? expression_force(built->dimension())
-                                        : expression_force(force, coordinates, parameters));
+                  *built, force_at(parameters, built->dimension()));
     m.dim = at_defaults->first.dimension();
     for (const auto& c : coordinates)
         m.coordinates += (m.coordinates.empty() ? "" : ", ") + c;
