@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
+#include "varsym/systems/lagrangian_time.hpp"
 #include "varsym/types.hpp"
 
 namespace varsym {
@@ -27,18 +29,16 @@ double energy_at(const System& sys, const phase_state<D>& x, double t) {
 }
 
 /// Whether the energy a run watches (E, or E − W) is conserved up to the scheme's error: not
-/// for a Lagrangian that depends on time, unless it gives ∂L/∂t, which the general engine then
-/// puts into W (schemes/variational.hpp; the expression Lagrangian does).
+/// for a Lagrangian that depends on time, unless ∂L/∂t is known (systems/lagrangian_time.hpp),
+/// which the general engine then puts into W (schemes/variational.hpp).
 template <class System>
 bool conserves_energy(const System& sys) {
-    if constexpr (requires(const vec<System::dim>& q) {
-                      sys.lagrangian().time_derivative(q, q, 0.0);
-                  })
-        return true;
-    else if constexpr (requires { sys.lagrangian().depends_on_time(); })
-        return !sys.lagrangian().depends_on_time();
-    else
+    if constexpr (requires { sys.lagrangian(); }) {
+        using L = std::remove_cvref_t<decltype(sys.lagrangian())>;
+        return lagrangian_time_known<L> || !depends_on_time(sys.lagrangian());
+    } else {
         return !timed_system<System>;
+    }
 }
 
 /// What the energy watch follows: E, or E − W for a stepper with forces, at time t.

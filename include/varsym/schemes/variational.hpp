@@ -33,7 +33,8 @@
 // and the step's work h Σ_k w_k f_k·v_k is kept (last_work) for the energy balance.
 //
 // A Lagrangian that depends on time changes the energy by dE/dt = −∂L/∂t (+ f·q̇): where L gives
-// ∂L/∂t (time_derivative; the expression Lagrangian does), the step's work also holds
+// ∂L/∂t (systems/lagrangian_time.hpp: by hand, as the expression Lagrangian does, or by
+// differentiating a call templated on the time), the step's work also holds
 // −h Σ_k w_k ∂L/∂t(q_k, v_k, t_j + c_k h), so that E − E0 − total_work() measures the scheme's
 // error for a time-dependent L as for a forced one.
 #pragma once
@@ -49,6 +50,7 @@
 #include "varsym/solvers/newton.hpp"
 #include "varsym/systems/forcing.hpp"
 #include "varsym/systems/lagrangian.hpp"
+#include "varsym/systems/lagrangian_time.hpp"
 
 namespace varsym::general {
 
@@ -197,12 +199,12 @@ class stepper {
     /// conserved to the last bit.
     bool momentum_change(const phase_state<dim>& x) {
         evaluate_points(x.q, false);
-        if constexpr (requires(const L& l) { l.time_derivative(x.q, x.q, 0.0); }) {
-            if (sys_.lagrangian().depends_on_time())
+        if constexpr (time_dependent_lagrangian<L> && lagrangian_time_known<L>) {
+            if (depends_on_time(sys_.lagrangian()))
                 for (int k = 0; k < r_; ++k) {
                     set_point(x.q, k);
                     work_ -= tab_.quad.weights[static_cast<std::size_t>(k)] *
-                             sys_.lagrangian().time_derivative(qk_, vk_, point_time(k));
+                             time_derivative(sys_.lagrangian(), qk_, vk_, point_time(k));
                 }
         }
         dp_.setZero();
