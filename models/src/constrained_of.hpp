@@ -88,7 +88,8 @@ problem constrained_problem(const lagrangian_system<L>& sys, const C& c, const F
     }
     std::vector<std::string> names{"energy", "work", "energy_balance", "constraint_residual",
                                    "hidden_residual"};
-    for (int a = 1; a <= C::count; ++a)
+    const int m = constraint_count(c);
+    for (int a = 1; a <= m; ++a)
         names.push_back("lambda_" + std::to_string(a));
     names.insert(names.end(), extra.names.begin(), extra.names.end());
     const double e0 = sys.energy(x0);
@@ -102,8 +103,8 @@ problem constrained_problem(const lagrangian_system<L>& sys, const C& c, const F
         run.check_initial(x0); // passes (checked above), and sets the reference for diagnoses
         return simulate_general(
             std::move(run), x0,
-            column_set{names, [sys, e0, fill = extra.fill](double, const phase_state<L::dim>& x,
-                                                           const stepper& st, double* out) {
+            column_set{names, [sys, e0, m, fill = extra.fill](double, const phase_state<L::dim>& x,
+                                                              const stepper& st, double* out) {
                            const double e = sys.energy(x), w = st.total_work();
                            out[0] = e;
                            out[1] = w;
@@ -111,9 +112,9 @@ problem constrained_problem(const lagrangian_system<L>& sys, const C& c, const F
                            out[3] = st.residual(x.q);
                            out[4] = st.hidden_residual(x);
                            const vec<C::count> lambda = st.mean_multiplier();
-                           for (int a = 0; a < C::count; ++a)
+                           for (int a = 0; a < m; ++a)
                                out[5 + a] = lambda(a);
-                           fill(x, out + 5 + C::count);
+                           fill(x, out + 5 + m);
                        }});
     });
 }

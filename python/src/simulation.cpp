@@ -295,5 +295,25 @@ void bind_simulation(py::module_& m) {
         },
         py::arg("lagrangian"), py::arg("force"), py::arg("q0"), py::arg("p0"), py::arg("t0"),
         py::arg("h"), py::arg("scheme"), py::arg("degree"), py::arg("iteration"));
+    m.def(
+        "simulate_constrained_expression",
+        [](const expression_lagrangian& l, const std::vector<std::string>& constraints,
+           const std::vector<std::string>& force, const std::vector<double>& q0,
+           const std::vector<double>& p0, double t0, double h, const std::string& scheme,
+           int degree, const std::string& iteration, bool project) {
+            const expression_constraint c(constraints, l.coordinates(), l.parameters());
+            const expression_force f =
+                force.empty() ? expression_force(l.dimension())
+                              : expression_force(force, l.coordinates(), l.parameters());
+            const auto map = [](const std::vector<double>& v) {
+                return vec<dynamic>(Eigen::Map<const vec<dynamic>>(v.data(), std::ssize(v)));
+            };
+            return models::simulate_constrained_expression(
+                l, c, f, {map(q0), map(p0)}, {spec_of(scheme, degree), newton_of(iteration), h}, t0,
+                project);
+        },
+        py::arg("lagrangian"), py::arg("constraints"), py::arg("force"), py::arg("q0"),
+        py::arg("p0"), py::arg("t0"), py::arg("h"), py::arg("scheme"), py::arg("degree"),
+        py::arg("iteration"), py::arg("project"));
     bind_ensemble(m);
 }

@@ -170,7 +170,12 @@ class Stepper:
     quaternion q_w..q_z and Ω. Start from q0 with p0 or v0 (defaults: the model's, or zero for a Lagrangian).
     ``force``: for a Lagrangian, a generalized force, one expression per coordinate, e.g.
     ``["-c*th_dot"]`` (``work`` then gives the forces' work: E − E0 − work is the scheme's
-    energy balance error). ``iteration``: "automatic", "newton", "simplified" or
+    energy balance error). ``constraints``: for a Lagrangian, holonomic constraints g(q) = 0,
+    one expression per equation, e.g. ``["x**2 + y**2 - l**2"]``: the constrained engine then
+    steps it (Newton on the saddle-point system), the rows adding constraint_residual,
+    hidden_residual and the multipliers lambda_1..m; the start must lie on the constraints with
+    a tangent velocity, or ``project=True`` moves it there (for a constrained model, ``project``
+    is its parameter of that name). ``iteration``: "automatic", "newton", "simplified" or
     "fixed-point" (docs/library.md). Raises StepFailure when a step does not converge, leaving
     the state at the last good step.
 
@@ -182,7 +187,7 @@ class Stepper:
 
     def __init__(self, system, h, scheme=None, degree=None, q0=None, v0=None, p0=None,
                  t0=0.0, force=None, iteration="automatic", max_energy_error=None,
-                 **parameters):
+                 constraints=None, project=False, **parameters):
         self.h = float(h)
         self._max_energy_error = max_energy_error
         chosen = (scheme, degree)  # as given: a model with its own integrator refuses them
@@ -191,8 +196,11 @@ class Stepper:
         if isinstance(system, (str, Model)) and not (isinstance(system, str)
                                                      and system not in _REGISTRY
                                                      and "_dot" in system):
-            if force is not None:
-                raise UsageError("force= is for a Lagrangian; a model's forces are parameters")
+            if project is not False:  # the constrained models' parameter of that name
+                parameters = {**parameters, "project": project}
+            if force is not None or constraints is not None:
+                raise UsageError("force= and constraints= are for a Lagrangian; a model's forces "
+                                 "and constraints are its own")
             if t0 != 0.0:
                 raise UsageError("t0 is for a Lagrangian; a model starts at t = 0")
             self.model = Model(system, **parameters)
@@ -208,7 +216,7 @@ class Stepper:
         if parameters:
             raise _keyword_error("Stepper", next(iter(parameters)),
                                  ["scheme", "degree", "q0", "v0", "p0", "t0", "force",
-                                  "iteration", "max_energy_error"])
+                                  "iteration", "max_energy_error", "constraints", "project"])
         if not isinstance(system, Lagrangian):
             system = Lagrangian(system)
         self.model = None
@@ -222,9 +230,15 @@ class Stepper:
             v0 = np.zeros(d) if v0 is None else np.asarray(_vector(v0, d, "v0"))
             system._core.check_regular(q0, v0, t0)
             p0 = system.momentum(q0, v0, t0)
-        self._sim = _core.simulate_expression(system._core, _force_list(force), list(q0),
-                                              _vector(p0, d, "p0"), float(t0), self.h, scheme,
-                                              degree or 0, iteration)
+        if constraints is not None:
+            self._sim = _core.simulate_constrained_expression(
+                system._core, _force_list(constraints), _force_list(force), list(q0),
+                _vector(p0, d, "p0"), float(t0), self.h, scheme, degree or 0, iteration,
+                bool(project))
+        else:
+            self._sim = _core.simulate_expression(system._core, _force_list(force), list(q0),
+                                                  _vector(p0, d, "p0"), float(t0), self.h,
+                                                  scheme, degree or 0, iteration)
         self._watch(0.0)
 
     def _watch(self, period):
@@ -376,12 +390,14 @@ def _progress(progress, total, first):
 
 
 _SIMULATE_KEYS = ["t_span", "steps", "h", "q0", "p0", "v0", "scheme", "degree", "every",
-                  "progress", "iteration", "force", "t0", "max_energy_error"]
+                  "progress", "iteration", "force", "t0", "max_energy_error", "constraints",
+                  "project"]
 
 
 def simulate(system, *, t_span=None, steps=None, h=None, q0=None, p0=None, v0=None,
              scheme=None, degree=None, every=1, progress=False, iteration="automatic",
-             force=None, max_energy_error=None, **parameters):
+             force=None, max_energy_error=None, constraints=None, project=False,
+             **parameters):
     """Integrates a system and returns its Trajectory.
 
     ``system``: a built-in model's name (``varsym.models()``), a Model, or a Lagrangian (or its
@@ -395,9 +411,12 @@ def simulate(system, *, t_span=None, steps=None, h=None, q0=None, p0=None, v0=No
     (``step``, ``time``, ``cause``, ``q``, ``p``, ``partial``). ``max_energy_error``: the
     energy watch's bound (default 100 (h ω)^order, between 0.01 and 0.5; 0: off): past it the
     run stops with EnergyError and its rows in ``.partial``. An unknown keyword raises
-    TypeError naming the closest valid ones."""
+    TypeError naming the closest valid ones. ``constraints`` and ``project``: holonomic
+    constraints g(q) = 0 of a Lagrangian, as for Stepper."""
     model = None
     if isinstance(system, Model) or (isinstance(system, str) and system in _REGISTRY):
+        if project is not False:  # the constrained models' parameter of that name
+            parameters = {**parameters, "project": project}
         info = _REGISTRY[system.name if isinstance(system, Model) else system]
         names = [p["name"] for p in info["parameters"] + info["lists"]]
         for key in parameters:
@@ -448,9 +467,11 @@ def simulate(system, *, t_span=None, steps=None, h=None, q0=None, p0=None, v0=No
         raise UsageError("steps must be a positive whole number")
     if model is not None:
         stepper = Stepper(model, length / steps, scheme=scheme, degree=degree, q0=q0, p0=p0,
-                          v0=v0, iteration=iteration, max_energy_error=max_energy_error)
+                          v0=v0, iteration=iteration, max_energy_error=max_energy_error,
+                          force=force, constraints=constraints)
     else:
         stepper = Stepper(system, length / steps, scheme=scheme, degree=degree, q0=q0, p0=p0,
                           v0=v0, t0=t0, force=force, iteration=iteration,
-                          max_energy_error=max_energy_error)
+                          max_energy_error=max_energy_error, constraints=constraints,
+                          project=project)
     return stepper.run(steps, every=every, progress=progress)

@@ -44,12 +44,13 @@ class constrained_stepper : public stepper<L, F> {
 
     constrained_stepper(lagrangian_system<L> sys, C c, F f, double h, const scheme_spec& spec,
                         const newton_options& opt = {})
-        : base(std::move(sys), std::move(f), h, spec, newton_only(opt)), c_(std::move(c)) {
-        const int s = this->s_, d = this->d_, n = s * (d + count);
-        lam_.setZero(count, s);
-        g_.assign(static_cast<std::size_t>(s + 1), vec<count>::Zero());
-        jc_.assign(static_cast<std::size_t>(s + 1), jacobian_type::Zero(count, d));
-        mu_.setZero();
+        : base(std::move(sys), std::move(f), h, spec, newton_only(opt)), c_(std::move(c)),
+          m_(constraint_count(c_)) {
+        const int s = this->s_, d = this->d_, n = s * (d + m_);
+        lam_.setZero(m_, s);
+        g_.assign(static_cast<std::size_t>(s + 1), vec<count>::Zero(m_));
+        jc_.assign(static_cast<std::size_t>(s + 1), jacobian_type::Zero(m_, d));
+        mu_.setZero(m_);
         hc_.setZero(d, d);
         k_.setZero(n, n);
         rk_.setZero(n);
@@ -58,6 +59,8 @@ class constrained_stepper : public stepper<L, F> {
     }
 
     [[nodiscard]] const C& constraint() const { return c_; }
+    /// m, the number of constraint equations.
+    [[nodiscard]] int constraints() const { return m_; }
 
     /// Impulses of the last step: Λ_0 … Λ_{s−1} (columns) and the projection's μ. Their sum over
     /// a step divided by h is the mean constraint force λ̄ (units of L_q · 1/G).
@@ -76,7 +79,7 @@ class constrained_stepper : public stepper<L, F> {
     /// manifold's cotangent space.
     [[nodiscard]] double hidden_residual(const phase_state<dim>& x) const {
         vec<count> g;
-        jacobian_type jac(count, x.q.size());
+        jacobian_type jac(m_, x.q.size());
         evaluate_constraint(c_, x.q, g, jac);
         return (jac * this->sys_.velocity(x.q, x.p, this->t_)).template lpNorm<Eigen::Infinity>();
     }
@@ -87,7 +90,7 @@ class constrained_stepper : public stepper<L, F> {
     /// std::invalid_argument with the residual.
     void check_initial(const phase_state<dim>& x, double tolerance = 1e-12) const {
         vec<count> g;
-        jacobian_type jac(count, x.q.size());
+        jacobian_type jac(m_, x.q.size());
         evaluate_constraint(c_, x.q, g, jac);
         check_independent<dim, count>(jac, "at the initial state");
         sigma_ref_ = Eigen::JacobiSVD<Eigen::MatrixXd>(jac).singularValues().minCoeff();
@@ -117,7 +120,7 @@ class constrained_stepper : public stepper<L, F> {
     [[nodiscard]] phase_state<dim> project(phase_state<dim> x) const {
         project_position(c_, x.q);
         vec<count> g;
-        jacobian_type jac(count, x.q.size());
+        jacobian_type jac(m_, x.q.size());
         evaluate_constraint(c_, x.q, g, jac);
         check_independent<dim, count>(jac, "at the projected initial state");
         sigma_ref_ = Eigen::JacobiSVD<Eigen::MatrixXd>(jac).singularValues().minCoeff();
@@ -150,6 +153,7 @@ class constrained_stepper : public stepper<L, F> {
     std::string constraint_problem(const vec<dim>& q, const char* where, double t) const;
 
     C c_;
+    int m_;                                            // constraint_count(c_)
     Eigen::Matrix<double, count, Eigen::Dynamic> lam_; // Λ_0 … Λ_{s−1}
     vec<count> mu_;                                    // the projection's impulse
     std::vector<vec<count>> g_;                        // g(Q_0 … Q_s)
@@ -187,7 +191,7 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
         for (int l = 0; l < s; ++l)
             X.col(l) -= dk_.segment(l * d, d);
         for (int i = 0; i < s; ++i)
-            lam_.col(i) -= dk_.segment(s * d + i * count, count);
+            lam_.col(i) -= dk_.segment(s * d + i * m_, m_);
         if (monitor.converged(update, X.template lpNorm<Eigen::Infinity>())) break;
     }
     // p̃ − p_j, then the projection onto the hidden constraint at q_{j+1}.
@@ -228,13 +232,13 @@ void constrained_stepper<L, C, F>::assemble_constrained(const phase_state<dim>& 
         const auto n = static_cast<std::size_t>(l);
         this->qk_ = x.q + X.col(l - 1);
         evaluate_constraint(c_, this->qk_, g_[n], jc_[n]);
-        rk_.segment(sd + (l - 1) * count, count) = g_[n];
-        k_.block(sd + (l - 1) * count, (l - 1) * d, count, d) = jc_[n];
+        rk_.segment(sd + (l - 1) * m_, m_) = g_[n];
+        k_.block(sd + (l - 1) * m_, (l - 1) * d, m_, d) = jc_[n];
     }
     for (int i = 0; i < s; ++i) { // − G_iᵀΛ_i in equation i
         const auto& jac = jc_[static_cast<std::size_t>(i)];
         rk_.segment(i * d, d).noalias() -= jac.transpose() * lam_.col(i);
-        k_.block(i * d, sd + i * count, d, count) = -jac.transpose();
+        k_.block(i * d, sd + i * m_, d, m_) = -jac.transpose();
         if (i == 0) continue; // G_0 is at q_j, which the step does not move
         this->qk_ = x.q + X.col(i - 1);
         constraint_curvature(c_, this->qk_, vec<count>(lam_.col(i)), hc_);

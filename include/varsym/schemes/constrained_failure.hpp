@@ -22,7 +22,7 @@ template <lagrangian L, holonomic_constraint C, class F>
 std::string constrained_stepper<L, C, F>::constraint_problem(const vec<dim>& q, const char* where,
                                                              double t) const {
     vec<count> g;
-    jacobian_type jac(count, q.size());
+    jacobian_type jac(m_, q.size());
     evaluate_constraint(c_, q, g, jac);
     if (!g.allFinite() || !jac.allFinite())
         return "the constraint or its Jacobian is NaN or infinite" + detail::where_when(where, t);

@@ -15,7 +15,7 @@ namespace varsym::general {
 template <lagrangian L, holonomic_constraint C, class F>
 void constrained_stepper<L, C, F>::step_jacobian(const phase_state<dim>& from,
                                                  Eigen::MatrixXd& out) {
-    const int s = this->s_, d = this->d_, sd = s * d, n = s * (d + count), m = count;
+    const int s = this->s_, d = this->d_, sd = s * d, n = s * (d + m_), m = m_;
     const auto& X = this->x_;
     const double work = this->work_, now = this->t_;
     this->t_ = this->t_step_; // the forces at the step's own times
@@ -67,7 +67,7 @@ void constrained_stepper<L, C, F>::step_jacobian(const phase_state<dim>& from,
     constraint_curvature(c_, q1, mu_, hmu);
     Eigen::MatrixXd gvq(m, d); // ∂(G q̇)/∂q at fixed q̇: row a = (∇²g_a q̇)ᵀ
     for (int a = 0; a < m; ++a) {
-        constraint_curvature(c_, q1, vec<count>(vec<count>::Unit(a)), hv);
+        constraint_curvature(c_, q1, vec<count>(vec<count>::Unit(m_, a)), hv);
         gvq.row(a) = (hv * v1).transpose();
     }
     const Eigen::MatrixXd dq1 = j.topRows(d);

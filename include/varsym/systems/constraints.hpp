@@ -22,19 +22,33 @@
 namespace varsym {
 
 /// What a set of holonomic constraints must provide: `static constexpr int dim` (the
-/// Lagrangian's), `static constexpr int count` (m ≥ 1) and
+/// Lagrangian's), `static constexpr int count` (m ≥ 1, or `dynamic` with a member
+/// `int size() const` giving m) and
 /// `template <class T> tvec<T, count> operator()(const tvec<T, dim>& q) const`, the residuals
 /// g(q) (zero on the manifold), callable with double and the automatic-differentiation scalars.
 /// A constraint may give its derivatives by hand instead: jacobian(q, G) (G: m × dim) and
-/// curvature(q, λ, H) (H = Σ_a λ_a ∇²g_a, dim × dim).
+/// curvature(q, λ, H) (H = Σ_a λ_a ∇²g_a, dim × dim); with dim or count `dynamic` it must.
 template <class C>
 concept holonomic_constraint = requires {
     C::dim;
     C::count;
 }
-&&(C::count >= 1) && requires(const C& c, const vec<C::dim>& q) {
+&&(C::count >= 1 || (C::count == dynamic &&
+                     requires(const C& c) {
+                         { c.size() } -> std::convertible_to<int>;
+                     })) &&
+    requires(const C& c, const vec<C::dim>& q) {
     { c(q) } -> std::convertible_to<vec<C::count>>;
 };
+
+/// m, the number of constraint equations.
+template <holonomic_constraint C>
+int constraint_count(const C& c) {
+    if constexpr (C::count == dynamic)
+        return c.size();
+    else
+        return C::count;
+}
 
 template <class C>
 concept constraint_with_derivatives = holonomic_constraint<C> &&
@@ -57,8 +71,9 @@ void evaluate_constraint(const C& c, const vec<C::dim>& q, vec<C::count>& g,
         g = c(q);
         c.jacobian(q, jac);
     } else {
-        static_assert(D != dynamic, "automatic derivatives need a compile-time dimension: give "
-                                    "the constraint jacobian() and curvature() by hand");
+        static_assert(D != dynamic && M != dynamic,
+                      "automatic derivatives need compile-time sizes: give the constraint "
+                      "jacobian() and curvature() by hand");
         using J = ad::first_order<D>;
         tvec<J, D> qj;
         for (int i = 0; i < D; ++i)
@@ -79,6 +94,9 @@ void constraint_curvature(const C& c, const vec<C::dim>& q, const vec<C::count>&
     if constexpr (constraint_with_derivatives<C>) {
         c.curvature(q, lambda, h);
     } else {
+        static_assert(D != dynamic && M != dynamic,
+                      "automatic derivatives need compile-time sizes: give the constraint "
+                      "jacobian() and curvature() by hand");
         using J = ad::second_order<D>;
         tvec<J, D> qj;
         for (int i = 0; i < D; ++i)
@@ -127,9 +145,9 @@ void check_independent(const constraint_jacobian<D, M>& jac, const std::string& 
 template <lagrangian L, int M>
 vec<M> tangent_momentum(const L& l, const vec<L::dim>& q, const vec<L::dim>& p,
                         const constraint_jacobian<L::dim, M>& jac, vec<L::dim>& v) {
-    const int d = static_cast<int>(q.size()), m = M;
+    const int d = static_cast<int>(q.size()), m = static_cast<int>(jac.rows());
     lagrangian_terms<L::dim> t;
-    vec<M> mu = vec<M>::Zero();
+    vec<M> mu = vec<M>::Zero(m);
     Eigen::MatrixXd k = Eigen::MatrixXd::Zero(d + m, d + m);
     Eigen::VectorXd r(d + m);
     double previous = std::numeric_limits<double>::infinity();
@@ -164,7 +182,7 @@ vec<M> tangent_momentum(const L& l, const vec<L::dim>& q, const vec<L::dim>& p,
 template <holonomic_constraint C>
 void project_position(const C& c, vec<C::dim>& q) {
     vec<C::count> g;
-    constraint_jacobian<C::dim, C::count> jac(C::count, q.size());
+    constraint_jacobian<C::dim, C::count> jac(constraint_count(c), q.size());
     for (int it = 0; it < 50; ++it) {
         evaluate_constraint(c, q, g, jac);
         const mat<C::count> ggt = jac * jac.transpose();

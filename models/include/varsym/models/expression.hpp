@@ -9,6 +9,7 @@
 
 #include "varsym/models/model.hpp"
 #include "varsym/models/simulation.hpp"
+#include "varsym/systems/expression_constraint.hpp"
 #include "varsym/systems/expression_force.hpp"
 #include "varsym/systems/expression_lagrangian.hpp"
 
@@ -22,6 +23,21 @@ std::unique_ptr<simulation> simulate_expression(const expression_lagrangian& l,
                                                 const expression_force& f,
                                                 const phase_state<dynamic>& x0,
                                                 const step_options& o, double t0 = 0.0);
+
+/// A simulation of L with holonomic constraints c, g(q) = 0, and force f (zero: none) from x0 at
+/// time t0, by the constrained general engine (schemes/constrained.hpp; Newton on the
+/// saddle-point system). x0 must lie on the constraints with a tangent velocity, else
+/// std::invalid_argument; `project` moves it onto them first (the simulation's state at t0 is
+/// then the projected one). Columns: energy, work, energy_balance (E − E0 − W),
+/// constraint_residual (max |g(q)|), hidden_residual (max |G(q) q̇|), lambda_1..m (the
+/// multipliers averaged over the last step). Throws std::invalid_argument as simulate_expression
+/// does, and for constraints on other coordinates or an iteration other than Newton.
+std::unique_ptr<simulation> simulate_constrained_expression(const expression_lagrangian& l,
+                                                            const expression_constraint& c,
+                                                            const expression_force& f,
+                                                            const phase_state<dynamic>& x0,
+                                                            const step_options& o,
+                                                            double t0 = 0.0, bool project = false);
 
 /// The initial momenta p = ∂L/∂q̇ at (q, v, t), refusing a singular mass matrix ∂²L/∂q̇² there
 /// (std::invalid_argument).
