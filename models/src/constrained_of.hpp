@@ -46,16 +46,6 @@ inline parameter crank_torque_parameter() {
         .name = "torque", .value = 0.0, .unit = "N m", .doc = "constant torque tau on the crank"};
 }
 
-/// The parameter `project` every constrained model has (its last).
-inline parameter project_parameter() {
-    return {.name = "project",
-            .value = 0.0,
-            .doc = "move initial data onto the constraints (else inconsistent data is refused)",
-            .lower = 0.0,
-            .upper = 1.0,
-            .flag = true};
-}
-
 /// The state from q and q' with p = dL/dq' (or the given p0 instead).
 template <class L>
 phase_state<L::dim> state_of(const lagrangian_system<L>& sys, const start& s, const vec<L::dim>& q,

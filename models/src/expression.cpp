@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -91,6 +92,7 @@ namespace {
 model make_expression_model(const std::string& text, const std::vector<std::string>& coordinates,
                             const std::vector<expression_parameter>& parameters,
                             const std::vector<std::string>& force,
+                            const std::vector<std::string>& constraints,
                             const expression_lagrangian* built) {
     // L and the force at the parameters' values `par` (each member of an ensemble may have
     // its own: the expressions are parsed again, a matter of microseconds).
@@ -99,6 +101,13 @@ model make_expression_model(const std::string& text, const std::vector<std::stri
     auto force_at = [=](const std::vector<expression_parameter>& given, int d) {
         return force.empty() ? expression_force(d) : expression_force(force, coordinates, given);
     };
+    // The constraints at parameters `given` (checked once here, at the defaults).
+    auto constraints_at = [=](const std::vector<expression_parameter>& given) {
+        return constraints.empty() ? std::optional<expression_constraint>()
+                                   : std::optional<expression_constraint>(
+                                         std::in_place, constraints, coordinates, given);
+    };
+    (void)constraints_at(parameters);
     auto build = [=](std::span<const double> par) {
         std::vector<expression_parameter> given = parameters;
         for (std::size_t i = 0; i < given.size(); ++i)
@@ -127,17 +136,26 @@ model make_expression_model(const std::string& text, const std::vector<std::stri
     for (const auto& c : coordinates)
         m.coordinates += (m.coordinates.empty() ? "" : ", ") + c;
     m.description = "  L = " + text + " over " + m.coordinates +
-                    (force.empty() ? "" : "; a generalized force") + ".";
+                    (force.empty() ? "" : "; a generalized force") +
+                    (constraints.empty() ? "" : "; holonomic constraints") + ".";
+    // With constraints, the constrained models' flag `project` follows L's parameters.
+    const std::size_t n_par = parameters.size();
+    if (!constraints.empty()) {
+        m.parameters.push_back(detail::project_parameter());
+        defaults.push_back(0.0);
+    }
     m.time = 10.0;
     m.steps = 10000;
     m.ensemble_time = 10.0;
     m.ensemble_steps = 1000;
     const vec<dynamic> zero = vec<dynamic>::Zero(m.dim);
-    m.make = [build, zero, at_defaults, defaults](std::span<const double> par, const start& s,
-                                                  const lists&) {
-        auto [l, f] = std::equal(par.begin(), par.end(), defaults.begin(), defaults.end())
-                          ? *at_defaults
-                          : build(par);
+    m.make = [build, zero, at_defaults, defaults, constraints_at, parameters,
+              n_par](std::span<const double> par, const start& s, const lists&) {
+        auto [l, f] =
+            std::equal(par.begin(), par.begin() + static_cast<std::ptrdiff_t>(n_par),
+                       defaults.begin(), defaults.begin() + static_cast<std::ptrdiff_t>(n_par))
+                ? *at_defaults
+                : build(par.first(n_par));
         const expression_system sys(l);
         phase_state<dynamic> x0;
         auto vector = [&](const std::vector<double>& v) {
@@ -150,11 +168,25 @@ model make_expression_model(const std::string& text, const std::vector<std::stri
         x0.p = s.p0.empty() ? sys.momentum(x0.q, v, 0.0) : vector(s.p0);
         sys.check_regular(x0.q, sys.velocity(x0.q, x0.p, 0.0), 0.0);
         problem pr;
+        if (par.size() > n_par) { // constrained: checked (or projected) here, before any run
+            std::vector<expression_parameter> given = parameters;
+            for (std::size_t i = 0; i < n_par; ++i)
+                given[i].value = par[i];
+            expression_constraint c = *constraints_at(given);
+            const auto probe = simulate_constrained_expression(
+                l, c, f, x0, {scheme_spec(scheme_kind::simpson), {}, 1.0}, 0.0, par[n_par] != 0.0);
+            x0 = probe->save().x;
+            pr.simulate = [l = std::move(l), c = std::move(c), f = std::move(f),
+                           x0](const step_options& o) {
+                return simulate_constrained_expression(l, c, f, x0, o);
+            };
+        } else {
+            pr.simulate = [l = std::move(l), f = std::move(f), x0](const step_options& o) {
+                return simulate_expression(l, f, x0, o);
+            };
+        }
         pr.q0.assign(x0.q.data(), x0.q.data() + x0.q.size());
         pr.p0.assign(x0.p.data(), x0.p.data() + x0.p.size());
-        pr.simulate = [l = std::move(l), f = std::move(f), x0](const step_options& o) {
-            return simulate_expression(l, f, x0, o);
-        };
         return pr;
     };
     // The default start, q = 0 and q̇ = 0, as far as L allows it there (1/sqrt(q) does not:
@@ -172,12 +204,14 @@ model make_expression_model(const std::string& text, const std::vector<std::stri
 
 model expression_model(const std::string& text, const std::vector<std::string>& coordinates,
                        const std::vector<expression_parameter>& parameters,
-                       const std::vector<std::string>& force) {
-    return make_expression_model(text, coordinates, parameters, force, nullptr);
+                       const std::vector<std::string>& force,
+                       const std::vector<std::string>& constraints) {
+    return make_expression_model(text, coordinates, parameters, force, constraints, nullptr);
 }
 
-model expression_model(const expression_lagrangian& l, const std::vector<std::string>& force) {
-    return make_expression_model(l.text(), l.coordinates(), l.parameters(), force, &l);
+model expression_model(const expression_lagrangian& l, const std::vector<std::string>& force,
+                       const std::vector<std::string>& constraints) {
+    return make_expression_model(l.text(), l.coordinates(), l.parameters(), force, constraints, &l);
 }
 
 } // namespace varsym::models

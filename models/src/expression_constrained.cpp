@@ -38,14 +38,16 @@ simulate_constrained_expression(const expression_lagrangian& l, const expression
     run.set_time(t0);
     phase_state<dynamic> x = x0;
     if (project) x = run.project(x);
-    // Refuses inconsistent data (naming project=True where that would help), and sets the
+    // Refuses inconsistent data (naming the projection where it would help), and sets the
     // reference the diagnosis of a singular configuration compares with.
     try {
         run.check_initial(x);
     } catch (const std::invalid_argument& e) {
         const std::string what = e.what();
         const bool projectable = what.find("project it onto") != std::string::npos;
-        throw std::invalid_argument(what + (projectable && !project ? " (project=True)" : ""));
+        throw std::invalid_argument(
+            what + (projectable && !project ? " (project = 1: --project, or project=True in Python)"
+                                            : ""));
     }
     const int m = c.size();
     std::vector<std::string> names{"energy", "work", "energy_balance", "constraint_residual",

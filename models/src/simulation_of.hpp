@@ -197,6 +197,17 @@ std::unique_ptr<simulation> simulate_general(Stepper stepper, const phase_state<
     return std::make_unique<simulation_of<Stepper, Fill>>(std::move(stepper), x0, std::move(cols),
                                                           t0);
 }
+
+/// The parameter `project` every constrained model has (its last).
+inline parameter project_parameter() {
+    return {.name = "project",
+            .value = 0.0,
+            .doc = "move initial data onto the constraints (else inconsistent data is refused)",
+            .lower = 0.0,
+            .upper = 1.0,
+            .flag = true};
+}
+
 inline void check_general(const step_options& o) {
     if (o.newton.predictor != predictor_kind::taylor)
         throw std::invalid_argument("the predictor 'previous' is for the separable models (the "

@@ -126,15 +126,17 @@ void bind_ensemble(py::module_& m) {
     m.def(
         "expression_ensemble",
         [](const expression_lagrangian& l, const std::vector<std::string>& force,
+           const std::vector<std::string>& constraints,
            py::array_t<double, py::array::c_style> values,
            py::array_t<double, py::array::c_style> q0, py::array_t<double, py::array::c_style> p0,
            double h, long long steps, const std::string& scheme, int degree, bool indicators,
            unsigned threads, const std::string& event) {
-            const models::model mod = models::expression_model(l, force); // L built once
+            const models::model mod =
+                models::expression_model(l, force, constraints); // L built once
             return run_ensemble(mod, values, q0, p0, h, steps, scheme, degree, indicators, threads,
                                 event, {});
         },
-        py::arg("lagrangian"), py::arg("force"), py::arg("values"), py::arg("q0"), py::arg("p0"),
-        py::arg("h"), py::arg("steps"), py::arg("scheme"), py::arg("degree"), py::arg("indicators"),
-        py::arg("threads"), py::arg("event"));
+        py::arg("lagrangian"), py::arg("force"), py::arg("constraints"), py::arg("values"),
+        py::arg("q0"), py::arg("p0"), py::arg("h"), py::arg("steps"), py::arg("scheme"),
+        py::arg("degree"), py::arg("indicators"), py::arg("threads"), py::arg("event"));
 }

@@ -100,12 +100,14 @@ class Lagrangian:
         v = self.velocity(q, p, t)
         return float(v @ np.atleast_1d(p) - self(q, v, t))
 
-    def ensemble(self, q0=None, p0=None, *, parameters=None, force=None, t_span=10.0,
-                 steps=1000, scheme=None, degree=None, indicators=True, threads=0, event=None):
+    def ensemble(self, q0=None, p0=None, *, parameters=None, force=None, constraints=None,
+                 project=False, t_span=10.0, steps=1000, scheme=None, degree=None,
+                 indicators=True, threads=0, event=None):
         """Runs one member per row on every core (``threads``: 0 = all), as Model.ensemble
         does: ``q0`` and ``p0`` are (members × d) arrays of initial states (default: q = 0,
         q̇ = 0), ``parameters`` maps parameter names to one value per member (the others stay
-        at this Lagrangian's), ``force`` a generalized force as for varsym.simulate. Each
+        at this Lagrangian's), ``force`` a generalized force and ``constraints`` holonomic
+        constraints as for varsym.simulate (``project``: move each start onto them). Each
         member runs ``steps`` steps over ``t_span``. Returns the same dict of arrays: status,
         t, q, p, lyapunov, mean_megno, max_energy_error, event_time, cause."""
         from ._simulate import _member_arrays  # noqa: PLC0415 (it imports this module)
@@ -113,10 +115,13 @@ class Lagrangian:
         # The compiled Lagrangian holds its parameters sorted by name (a std::map).
         values, q0, p0 = _member_arrays("ensemble", parameters, self.parameters,
                                         sorted(self.parameters), q0, p0, self.dimension)
+        if constraints is not None:  # the model's flag `project` follows L's parameters
+            values = np.column_stack([values, np.full(len(values), float(bool(project)))])
         steps = int(steps)
         if steps < 1 or not float(t_span) > 0:
             raise UsageError("t_span and steps must be positive")
-        return _core.expression_ensemble(self._core, _force_list(force), values, q0, p0,
+        return _core.expression_ensemble(self._core, _force_list(force),
+                                         _force_list(constraints), values, q0, p0,
                                          float(t_span) / steps, steps, scheme or "simpson",
                                          degree or 0, indicators, threads, event or "")
 

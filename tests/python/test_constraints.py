@@ -65,3 +65,18 @@ def test_what_is_not_a_holonomic_constraint_is_refused():
         varsym.simulate("pendulum", constraints=["q"], t_span=0.1, steps=10)
     with pytest.raises(TypeError, match="constraints"):
         varsym.simulate(ROD, constrains=["x"], t_span=0.1, steps=10)
+
+
+def test_lagrangian_ensemble_with_constraints():
+    # Two starts on the rod's circle at rest (0.9² + 1.2² = 1.5²) and one off it, which is an
+    # invalid member naming its cause unless projected.
+    starts = [[0.9, -1.2], [1.2, -0.9], [0.3, -1.0]]
+    members = ROD.ensemble(q0=starts, constraints=["x**2 + y**2 - l**2"], t_span=1.0, steps=100)
+    assert list(members["status"]) == ["completed", "completed", "invalid"]
+    assert "off the constraints" in members["cause"][2]
+    projected = ROD.ensemble(q0=starts, constraints=["x**2 + y**2 - l**2"], project=True,
+                             t_span=1.0, steps=100)
+    assert list(projected["status"]) == ["completed"] * 3
+    # The circle is kept: |q| = l at the end of every member; E to the scheme's error (7e-10).
+    assert np.max(np.abs(np.hypot(projected["q"][:, 0], projected["q"][:, 1]) - 1.5)) < 1e-13
+    assert np.max(projected["max_energy_error"]) < 1e-7

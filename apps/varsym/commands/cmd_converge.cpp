@@ -248,9 +248,18 @@ std::vector<result> model_errors(const converge_options& o, const models::model&
     }
     models::problem pr, best; // best: the own integrator's highest order, the reference
     try {
-        pr = m.prepare(values);
-        if (!q0.empty() || !p0.empty()) { // the model's start, the keys given replaced (as in
-            models::start st{pr.q0, pr.p0, {}}; // an ensemble's members)
+        if (q0.empty() && p0.empty()) {
+            pr = m.prepare(values);
+        } else { // the model's start, the keys given replaced (as in an ensemble's members)
+            models::start st{m.q0, m.p0, {}};
+            try {
+                pr = m.prepare(values);
+                st = {pr.q0, pr.p0, {}};
+            } catch (const std::invalid_argument&) {
+                // The default start is refused (a typed mechanism at q = 0, off its
+                // constraints): the keys given replace the model's listed start instead.
+                if (st.q0.size() != static_cast<std::size_t>(m.dim)) throw;
+            }
             for (const auto& [i, v] : q0)
                 st.q0[i] = v;
             for (const auto& [i, v] : p0)

@@ -249,7 +249,8 @@ ensemble_model find_ensemble_model(const member_run_options& o) {
         ensemble_model m = make_registry_ensemble(expression_model_of(o.expression));
         m.identity = "lagrangian L=[" + o.expression.lagrangian + "] coordinates=[" +
                      o.expression.coordinates + "] parameters=[" + o.expression.parameters +
-                     "] force=[" + o.expression.force + "]";
+                     "] force=[" + o.expression.force + "] constraints=[" +
+                     o.expression.constraints + "]";
         std::replace_if(m.identity.begin(), m.identity.end(),
                         [](char c) { return c == '\n' || c == '\r'; }, ' ');
         return m;

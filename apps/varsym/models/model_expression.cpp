@@ -38,6 +38,20 @@ std::vector<std::string> force_of(const std::string& text,
     return parts;
 }
 
+/// The equations of --constraints, checked over the coordinates and parameters (none: none).
+std::vector<std::string> constraints_of(const std::string& text,
+                                        const std::vector<std::string>& coordinates,
+                                        const std::vector<expression_parameter>& parameters) {
+    if (text.empty()) return {};
+    std::vector<std::string> parts = split_list(text, "--constraints", "x**2+y**2-l**2");
+    try {
+        (void)expression_constraint(parts, coordinates, parameters);
+    } catch (const std::exception& e) {
+        throw usage_error(std::string("--constraints: ") + e.what());
+    }
+    return parts;
+}
+
 } // namespace
 
 std::vector<std::string> split_list(const std::string& list, const char* option,
@@ -81,11 +95,14 @@ std::shared_ptr<const models::model> expression_model_of(const expression_spec& 
     const std::vector<std::string> coordinates =
         split_list(e.coordinates, "--coordinates", "th1,th2");
     const std::vector<expression_parameter> parameters = parse_parameters(e.parameters);
-    // The force is checked first, alone, so that what the layer refuses next is L's.
+    // The force and constraints are checked first, alone, so that what the layer refuses next
+    // is L's.
     const std::vector<std::string> force = force_of(e.force, coordinates, parameters);
+    const std::vector<std::string> constraints =
+        constraints_of(e.constraints, coordinates, parameters);
     try {
         return std::make_shared<const models::model>(
-            models::expression_model(e.lagrangian, coordinates, parameters, force));
+            models::expression_model(e.lagrangian, coordinates, parameters, force, constraints));
     } catch (const std::exception& err) { // a parse error, a bad name, the size guard
         throw usage_error(std::string("--lagrangian: ") + err.what());
     }
@@ -103,9 +120,12 @@ void add_expression_options(CLI::App& cmd, expression_spec& e) {
     cmd.add_option("--force", e.force,
                    "lagrangian: a generalized force, one expression per coordinate, "
                    "comma-separated (e.g. -c*th_dot)");
+    cmd.add_option("--constraints", e.constraints,
+                   "lagrangian: holonomic constraints g(q) = 0, one expression per equation, "
+                   "comma-separated (e.g. x**2+y**2-l**2)");
 }
 
-model make_expression_model() {
+model make_expression_model(std::shared_ptr<parameter_options> po) {
     auto par = std::make_shared<expression_spec>();
     model m;
     m.name = "lagrangian";
@@ -123,18 +143,32 @@ model make_expression_model() {
         "  force, E - W (W = integral of f.qdot - dL/dt: the columns work, energy_balance),\n"
         "  which the energy watch follows. --force f_1,...,f_d adds a generalized force (same\n"
         "  names; units of dL/dq_i), e.g. damping -c*th_dot; then the columns work and\n"
-        "  energy_balance (E - E0 - W) follow. No period: default --time 10 --steps 10000.\n"
+        "  energy_balance (E - E0 - W) follow. --constraints g_1,...,g_m adds holonomic\n"
+        "  constraints g(q) = 0 (no velocities, no t), run by the constrained engine\n"
+        "  (Newton): then the columns work, energy_balance, constraint_residual,\n"
+        "  hidden_residual, lambda_1..m; the start must be on the constraints with a tangent\n"
+        "  velocity, or --project moves it there. No period: default --time 10 --steps 10000.\n"
         "  Ensembles take the same options; their keys are q0_I, p0_I and the names of\n"
         "  --parameters (default run: 10 s in 1000 steps); converge takes q0_I, p0_I and\n"
-        "  the parameters by --set. Sections: on the step's own polynomial (dense output).";
-    m.options = {"--lagrangian", "--coordinates", "--parameters", "--force"};
+        "  the parameters by --set. Sections: on the step's own polynomial (dense output;\n"
+        "  not with --constraints).";
+    m.options = {"--lagrangian", "--coordinates", "--parameters", "--force", "--constraints",
+                 "--project"};
     m.add_options = [par](CLI::App& cmd) { add_expression_options(cmd, *par); };
-    m.run = [par](const run_setup& s) {
+    m.run = [par, po](const run_setup& s) {
         if (s.newton.predictor != predictor_kind::taylor)
             throw usage_error("--predictor previous is for the separable models; --lagrangian "
                               "runs the general engine: use --predictor taylor");
+        const bool project = po && po->given("project");
+        if (project && par->constraints.empty())
+            throw usage_error("--project moves the start onto the constraints: it needs "
+                              "--constraints");
         const auto em = expression_model_of(*par);
-        run_model(*em, s, em->defaults(), {});
+        // L's parameters come from --parameters; --project is the flag a model with
+        // --constraints has (the constrained models' parameter `project`, its last).
+        std::vector<double> values = em->defaults();
+        if (project) values.back() = 1.0;
+        run_model(*em, s, values, {});
     };
     return m;
 }

@@ -13,7 +13,7 @@ std::vector<model> make_models(std::shared_ptr<parameter_options> po) {
     std::vector<model> all;
     for (const models::model& m : models::registry())
         all.push_back(make_registry_model(m, po));
-    all.push_back(make_expression_model());
+    all.push_back(make_expression_model(po));
     return all;
 }
 

@@ -61,8 +61,9 @@ struct model {
 /// tool's own, each with its own parameters bound to the options a command line sets.
 std::vector<model> make_models(std::shared_ptr<class parameter_options> po = nullptr);
 
-/// `lagrangian`: the user's L given by --lagrangian (model_expression.cpp).
-model make_expression_model();
+/// `lagrangian`: the user's L given by --lagrangian (model_expression.cpp); --project read
+/// from `po`.
+model make_expression_model(std::shared_ptr<class parameter_options> po = nullptr);
 
 /// The most steps one run may take (1e15; the fuzz target lowers it to run actions cheaply).
 extern double max_run_steps;

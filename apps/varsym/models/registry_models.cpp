@@ -165,6 +165,11 @@ void parameter_options::add(CLI::App& cmd) {
     }
 }
 
+bool parameter_options::given(const std::string& name) const {
+    const auto it = options_.find(name);
+    return it != options_.end() && it->second->count() > 0;
+}
+
 std::vector<double> parameter_options::values(const models::model& m) const {
     std::vector<double> v = m.defaults();
     for (std::size_t i = 0; i < m.parameters.size(); ++i) {

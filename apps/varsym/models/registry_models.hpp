@@ -24,6 +24,8 @@ class parameter_options {
     [[nodiscard]] std::vector<double> values(const models::model& m) const;
     /// Model m's lists: the values of each list option given, else empty (its default).
     [[nodiscard]] models::lists lists(const models::model& m) const;
+    /// Whether the option --NAME was given.
+    [[nodiscard]] bool given(const std::string& name) const;
 
   private:
     std::map<std::string, CLI::Option*> options_;

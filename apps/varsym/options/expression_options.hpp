@@ -9,6 +9,7 @@
 
 #include "cli_common.hpp"
 #include "varsym/models/model.hpp"
+#include "varsym/systems/expression_constraint.hpp"
 #include "varsym/systems/expression_force.hpp"
 #include "varsym/systems/expression_lagrangian.hpp"
 
@@ -21,12 +22,12 @@ std::vector<expression_parameter> parse_parameters(const std::string& list);
 std::vector<std::string> split_list(const std::string& list, const char* option,
                                     const char* example);
 
-/// --lagrangian, --coordinates, --parameters and --force as given.
+/// --lagrangian, --coordinates, --parameters, --force and --constraints as given.
 struct expression_spec {
-    std::string lagrangian, coordinates = "q", parameters, force;
+    std::string lagrangian, coordinates = "q", parameters, force, constraints;
 };
 
-/// Adds --lagrangian, --coordinates, --parameters and --force to cmd.
+/// Adds --lagrangian, --coordinates, --parameters, --force and --constraints to cmd.
 void add_expression_options(CLI::App& cmd, expression_spec& e);
 /// The model `lagrangian` of these options; throws usage_error naming the option at fault.
 std::shared_ptr<const models::model> expression_model_of(const expression_spec& e);

@@ -56,13 +56,18 @@ void check_expression_size(int d, std::size_t length);
 /// generalized force, one expression per coordinate (`force` empty: none). Its start: q0
 /// (default 0) with v0 (default 0) or p0. No period: 10 s in 10 000 steps by default (an
 /// ensemble member 10 s in 1000). Every command and the Python package run it like a built-in
-/// model, its ensembles over q0, p0 and the parameters. Throws expr::parse_error or
-/// std::invalid_argument where the expressions do not make a Lagrangian and force.
+/// model, its ensembles over q0, p0 and the parameters. `constraints` (none: unconstrained),
+/// holonomic constraints g(q) = 0 over the same names, one per equation, make it a mechanism
+/// run by the constrained engine (simulate_constrained_expression), with the constrained
+/// models' flag parameter `project` after L's. Throws expr::parse_error or
+/// std::invalid_argument where the expressions do not make a Lagrangian, force and constraints.
 model expression_model(const std::string& text, const std::vector<std::string>& coordinates,
                        const std::vector<expression_parameter>& parameters,
-                       const std::vector<std::string>& force = {});
+                       const std::vector<std::string>& force = {},
+                       const std::vector<std::string>& constraints = {});
 /// The same model of an L already built (parsed and differentiated): its members at the
 /// default parameters copy it instead of differentiating L again (Python's Lagrangian).
-model expression_model(const expression_lagrangian& l, const std::vector<std::string>& force = {});
+model expression_model(const expression_lagrangian& l, const std::vector<std::string>& force = {},
+                       const std::vector<std::string>& constraints = {});
 
 } // namespace varsym::models
