@@ -3,7 +3,9 @@
 // general engine at run-time d) against the built-in model of the same system, in one run:
 // the double pendulum (built in: the general engine, fixed d = 2, automatic derivatives) and
 // Kepler (built in: the separable fast path `varsym run --model kepler` takes, and the general
-// engine with automatic derivatives). Simpson (arg 0) and gauss-4 (arg 1); docs/python.md.
+// engine with automatic derivatives), the expression Kepler by the general engine and by the
+// separable steppers that models::simulate_expression picks for it (expression_separable.hpp).
+// Simpson (arg 0) and gauss-4 (arg 1); docs/python.md.
 #include <benchmark/benchmark.h>
 
 #include "bench_support.hpp"
@@ -11,7 +13,7 @@
 #include "varsym/problems/double_pendulum.hpp"
 #include "varsym/problems/kepler.hpp"
 #include "varsym/schemes/variational.hpp"
-#include "varsym/systems/expression_lagrangian.hpp"
+#include "varsym/systems/expression_separable.hpp"
 
 using namespace varsym;
 
@@ -53,12 +55,20 @@ void kepler_builtin_general(benchmark::State& s) {
     general::stepper stepper(lagrangian_system<kepler::lagrangian>({}), kepler_h, member(s));
     run_steps(s, stepper, orbit.at(0.0));
 }
+const expression_lagrangian kepler_l("0.5*(x_dot**2 + y_dot**2) + mu/sqrt(x**2 + y**2)", {"x", "y"},
+                                     {{"mu", 1.0}});
+
 void kepler_expression(benchmark::State& s) {
-    const expression_lagrangian l("0.5*(x_dot**2 + y_dot**2) + mu/sqrt(x**2 + y**2)", {"x", "y"},
-                                  {{"mu", 1.0}});
-    general::stepper stepper(lagrangian_system<expression_lagrangian>(l), kepler_h, member(s));
+    general::stepper stepper(lagrangian_system<expression_lagrangian>(kepler_l), kepler_h,
+                             member(s));
     const phase_state<2> x0 = orbit.at(0.0);
     run_steps(s, stepper, phase_state<dynamic>{x0.q, x0.p});
+}
+void kepler_expression_separable(benchmark::State& s) {
+    const phase_state<2> x0 = orbit.at(0.0);
+    with_stepper(member(s), separable_system_of(kepler_l), kepler_h, {}, [&](auto& stepper) {
+        run_steps(s, stepper, phase_state<dynamic>{x0.q, x0.p});
+    });
 }
 
 } // namespace
@@ -68,3 +78,4 @@ BENCHMARK(double_pendulum_expression_step)->Arg(0)->Arg(1);
 BENCHMARK(kepler_builtin_separable)->Arg(0)->Arg(1);
 BENCHMARK(kepler_builtin_general)->Arg(0)->Arg(1);
 BENCHMARK(kepler_expression)->Arg(0)->Arg(1);
+BENCHMARK(kepler_expression_separable)->Arg(0)->Arg(1);

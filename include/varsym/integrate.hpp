@@ -10,10 +10,12 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "varsym/solvers/newton.hpp"
 #include "varsym/stepper.hpp"
+#include "varsym/systems/separable_failure.hpp"
 #include "varsym/types.hpp"
 
 namespace varsym {
@@ -22,8 +24,9 @@ namespace varsym {
 /// goes wrong in it, such as an exception from the model (a singular mass matrix, a force that
 /// cannot be evaluated). The state passed to integrate() is left at the last good step (index
 /// step − 1, time t_from). `cause`, where the stepper could name one (its diagnose(): NaN from
-/// the Lagrangian, a force or a constraint, a singular mass matrix or constraint Jacobian),
-/// follows the residual in the message.
+/// the Lagrangian, a force or a constraint, a singular mass matrix or constraint Jacobian; for
+/// the separable steppers, NaN from the potential: systems/separable_failure.hpp), follows the
+/// residual in the message.
 class step_failure : public std::runtime_error {
   public:
     step_failure(std::size_t step, double t_from, double t_to, const newton_report& rep,
@@ -109,7 +112,12 @@ double advance(Stepper& stepper, phase_state<Stepper::dim>& x, double t0, std::s
     }
     if (!rep.converged) {
         std::string cause; // x is still the step's start
-        if constexpr (requires { stepper.diagnose(x); }) cause = stepper.diagnose(x);
+        if constexpr (requires { stepper.diagnose(x); })
+            cause = stepper.diagnose(x);
+        else if constexpr (requires {
+                               requires separable<std::remove_cvref_t<decltype(stepper.system())>>;
+                           })
+            cause = separable_failure(stepper.system(), x, t - h, h);
         throw step_failure(j, t - h, t, rep, std::move(cause));
     }
     ++sum.steps;

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "simulation_of.hpp"
+#include "varsym/systems/expression_separable.hpp"
 
 namespace varsym::models {
 
@@ -49,6 +50,14 @@ std::unique_ptr<simulation> simulate_expression(const expression_lagrangian& l,
         return detail::simulate_general(
             general::stepper<expression_lagrangian>(sys, o.h, o.spec, o.newton), x0,
             detail::column_set{balanced, balance}, t0);
+    if (f.zero() && l.separable()) // ½ q̇ᵀ M q̇ − V(q): the paper's steppers and the family's
+        return detail::simulate_family(
+            separable_system_of(l), x0, o,
+            detail::column_set{{"energy"},
+                               [](double, const auto& x, const auto& st, double* out) {
+                                   out[0] = st.system().energy(x);
+                               }},
+            t0);
     if (f.zero())
         return detail::simulate_general(
             general::stepper<expression_lagrangian>(sys, o.h, o.spec, o.newton), x0,

@@ -178,14 +178,15 @@ class simulation_of final : public simulation {
 };
 
 /// A simulation of a separable system by the scheme's own stepper (newmark, simpson or the
-/// family member).
+/// family member), from x0 at time t0.
 template <class System, int D, class Fill>
 std::unique_ptr<simulation> simulate_family(const System& sys, const phase_state<D>& x0,
-                                            const step_options& o, column_set<Fill> cols) {
+                                            const step_options& o, column_set<Fill> cols,
+                                            double t0 = 0.0) {
     return with_stepper(o.spec, sys, o.h, o.newton, [&](auto& s) -> std::unique_ptr<simulation> {
         using S = std::remove_cvref_t<decltype(s)>;
         phase_state<S::dim> x{x0.q, x0.p};
-        return std::make_unique<simulation_of<S, Fill>>(std::move(s), x, std::move(cols));
+        return std::make_unique<simulation_of<S, Fill>>(std::move(s), x, std::move(cols), t0);
     });
 }
 

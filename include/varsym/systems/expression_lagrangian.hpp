@@ -60,6 +60,7 @@ class expression_lagrangian {
         all_ = expr::tape(g, out, vars_.inputs());
         if (time_dependent_) time_rate_ = expr::tape(g, {g.derivative(l, 2 * d)}, vars_.inputs());
         input_.assign(static_cast<std::size_t>(vars_.inputs()), 0.0);
+        find_separable(g, lq, out);
     }
 
     [[nodiscard]] int dimension() const { return vars_.dimension(); }
@@ -80,6 +81,35 @@ class expression_lagrangian {
         if (!time_dependent_) return 0.0;
         time_rate_.run(load(q, v, t));
         return time_rate_.output(0);
+    }
+    /// Whether L = ½ q̇ᵀ M q̇ − V(q) with a constant M (decided symbolically: ∂²L/∂q̇² constant,
+    /// ∂²L/∂q∂q̇ ≡ 0, no term linear in q̇, no t): then the separable steppers (the paper's
+    /// Simpson, Newmark, the family) can run it, faster than the general engine.
+    [[nodiscard]] bool separable() const { return separable_; }
+    /// M, where separable().
+    [[nodiscard]] const mat<dynamic>& separable_mass() const { return mass_; }
+    /// V(q) = −L(q, 0), ∇V and ∇²V, where separable() (straight-line code of its own).
+    [[nodiscard]] double potential(const vec<dynamic>& q) const {
+        value_.run(load_position(q));
+        return -value_.output(0);
+    }
+    [[nodiscard]] vec<dynamic> potential_gradient(const vec<dynamic>& q) const {
+        const int d = dimension();
+        potential_gradient_.run(load_position(q));
+        vec<dynamic> r(d);
+        for (int i = 0; i < d; ++i)
+            r(i) = -potential_gradient_.output(static_cast<std::size_t>(i));
+        return r;
+    }
+    [[nodiscard]] mat<dynamic> potential_hessian(const vec<dynamic>& q) const {
+        const int d = dimension();
+        potential_hessian_.run(load_position(q));
+        mat<dynamic> h(d, d);
+        std::size_t k = 0;
+        for (int i = 0; i < d; ++i)
+            for (int j = i; j < d; ++j)
+                h(i, j) = h(j, i) = -potential_hessian_.output(k++);
+        return h;
     }
     /// The length of the compiled code of L and all its derivatives (instructions).
     [[nodiscard]] std::size_t instructions() const { return all_.instructions(); }
@@ -127,6 +157,53 @@ class expression_lagrangian {
     }
 
   private:
+    /// Sets separable_, mass_ and potential_ from the graph: `out` holds L, L_q, L_v, then
+    /// L_qq (i ≤ j), L_qv (all), L_vv (i ≤ j), as the constructor laid them out.
+    void find_separable(const expr::graph& g, const std::vector<int>& lq,
+                        const std::vector<int>& out) {
+        const int d = dimension();
+        if (time_dependent_) return;
+        const std::size_t n_qq = static_cast<std::size_t>(d * (d + 1) / 2);
+        const std::size_t qv = static_cast<std::size_t>(1 + 2 * d) + n_qq;
+        const std::size_t vv = qv + static_cast<std::size_t>(d * d);
+        for (std::size_t k = qv; k < vv; ++k)
+            if (!g.is(out[k], 0.0)) return;
+        mass_.resize(d, d);
+        std::size_t k = vv;
+        for (int i = 0; i < d; ++i)
+            for (int j = i; j < d; ++j, ++k) {
+                if (!g.is_constant(out[k])) return;
+                mass_(i, j) = mass_(j, i) = g[out[k]].value;
+            }
+        // L_q̇ = M q̇ + a with a constant (L_vv constant, L_qv = 0): a term aᵀq̇ changes p, so
+        // it must be absent. Its value at any point is a; take q = 1, q̇ = 0.
+        gradient_.run(load(vec<dynamic>::Ones(d), vec<dynamic>::Zero(d), 0.0));
+        for (int i = 0; i < d; ++i)
+            if (gradient_.output(static_cast<std::size_t>(1 + d + i)) != 0.0) return;
+        const Eigen::LLT<mat<dynamic>> llt(mass_);
+        if (llt.info() != Eigen::Success) return; // not positive definite: the general engine
+        // ∇V and ∇²V each by its own code: a step asks for gradients far more often.
+        potential_gradient_ = expr::tape(g, lq, vars_.inputs());
+        potential_hessian_ =
+            expr::tape(g,
+                       std::vector<int>(out.begin() + 1 + 2 * d,
+                                        out.begin() + static_cast<std::ptrdiff_t>(qv)),
+                       vars_.inputs());
+        separable_ = true;
+    }
+
+    /// q with q̇ = 0 and t = 0 (for V(q) = −L(q, 0)): the inputs past q stay 0.
+    std::span<const double> load_position(const vec<dynamic>& q) const {
+        const int d = dimension();
+        if (q.size() != d)
+            throw std::invalid_argument("q must have " + std::to_string(d) +
+                                        " entries, one per coordinate");
+        position_input_.resize(static_cast<std::size_t>(vars_.inputs()), 0.0);
+        for (int i = 0; i < d; ++i)
+            position_input_[static_cast<std::size_t>(i)] = q(i);
+        return position_input_;
+    }
+
     std::span<const double> load(const vec<dynamic>& q, const vec<dynamic>& v, double t) const {
         vars_.load(q, v, t, input_);
         return input_;
@@ -134,9 +211,10 @@ class expression_lagrangian {
 
     std::string text_;
     expr::variables vars_;
-    expr::tape value_, gradient_, all_, time_rate_;
-    mutable std::vector<double> input_;
-    bool time_dependent_ = false;
+    expr::tape value_, gradient_, all_, time_rate_, potential_gradient_, potential_hessian_;
+    mutable std::vector<double> input_, position_input_;
+    bool time_dependent_ = false, separable_ = false;
+    mat<dynamic> mass_;
 };
 
 } // namespace varsym

@@ -15,8 +15,10 @@
 
 namespace varsym::models {
 
-/// A simulation of L with force f (a zero force takes the unforced engine, about 20 % faster)
-/// from x0 at time t0. Its columns: energy E(t) = q̇ᵀp − L, and with a force work (W since the
+/// A simulation of L with force f from x0 at time t0: by the scheme's separable stepper (the
+/// paper's Newmark and Simpson, the family's) where L is ½ q̇ᵀ M q̇ − V(q) with M constant and
+/// there is no force (expression_lagrangian::separable()), else by the general engine (a zero
+/// force takes its unforced form, about 20 % faster). Its columns: energy E(t) = q̇ᵀp − L, and with a force work (W since the
 /// start) and energy_balance (E − E0 − W). Throws std::invalid_argument for a force of another
 /// dimension, a state of another size, or a step size that is not positive and finite.
 std::unique_ptr<simulation> simulate_expression(const expression_lagrangian& l,

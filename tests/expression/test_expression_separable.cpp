@@ -1,0 +1,101 @@
+// Separable expression Lagrangians (expression_lagrangian::separable(),
+// systems/expression_separable.hpp): which L are recognised as ½ q̇ᵀ M q̇ − V(q) with M constant,
+// and the potential's derivatives against L's own. The separable steppers then run them:
+// checked against the general engine on the same L (the same discrete map for Simpson, so
+// round-off apart) and against the Kepler problem's exact orbit in the models layer's tests.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "test_support.hpp"
+#include "varsym/integrate.hpp"
+#include "varsym/schemes/simpson.hpp"
+#include "varsym/schemes/variational.hpp"
+#include "varsym/systems/expression_separable.hpp"
+
+namespace varsym {
+namespace {
+
+bool separable_text(const std::string& text) {
+    return expression_lagrangian(text, {"x", "y"}, {{"m", 2.0}}).separable();
+}
+
+TEST(ExpressionSeparable, RecognisedWhereMIsConstantAndNothingElse) {
+    EXPECT_TRUE(separable_text("0.5*m*(x_dot**2 + y_dot**2) - x**4 - cos(y)"));
+    EXPECT_TRUE(separable_text("0.5*(x_dot**2 + x_dot*y_dot + y_dot**2) + 1/sqrt(x**2 + y**2)"));
+    // Negative controls, one per condition.
+    EXPECT_FALSE(separable_text("0.5*(1 + x**2)*x_dot**2 + 0.5*y_dot**2"));     // M(q)
+    EXPECT_FALSE(separable_text("0.5*(x_dot**2 + y_dot**2) + x*y_dot"));        // L_qv ≠ 0
+    EXPECT_FALSE(separable_text("0.5*(x_dot**2 + y_dot**2) + 2*x_dot - x**2")); // a·q̇
+    EXPECT_FALSE(separable_text("0.5*(x_dot**2 + y_dot**2) - t*x"));            // L(t)
+    EXPECT_FALSE(separable_text("0.25*x_dot**4 + 0.5*y_dot**2"));               // not quadratic
+    EXPECT_FALSE(separable_text("0.5*(x_dot**2 - y_dot**2)"));                  // M indefinite
+    // A time that simplifies away is no time.
+    EXPECT_TRUE(separable_text("0.5*(x_dot**2 + y_dot**2) - x**2 + 0*t"));
+    const expression_lagrangian l("0.5*(x_dot**2 + x_dot*y_dot + 3*y_dot**2)", {"x", "y"});
+    ASSERT_TRUE(l.separable());
+    EXPECT_EQ(l.separable_mass()(0, 0), 1.0);
+    EXPECT_EQ(l.separable_mass()(0, 1), 0.5);
+    EXPECT_EQ(l.separable_mass()(1, 1), 3.0);
+}
+
+TEST(ExpressionSeparable, PotentialIsMinusLAtRest) {
+    const expression_lagrangian l("0.5*m*(x_dot**2 + y_dot**2) - x**4 - cos(x*y)", {"x", "y"},
+                                  {{"m", 2.0}});
+    const vec<dynamic> q = vec<dynamic>(vec<2>{0.7, -1.3}), zero = vec<dynamic>::Zero(2);
+    lagrangian_terms<dynamic> t;
+    l.derivatives(q, zero, 0.0, t);
+    EXPECT_EQ(l.potential(q), -t.value);
+    EXPECT_EQ((l.potential_gradient(q) + t.lq).norm(), 0.0);
+    EXPECT_EQ((l.potential_hessian(q) + t.lqq).norm(), 0.0);
+    // By hand: ∂V/∂x = 4x³ − y sin(xy).
+    EXPECT_NEAR(l.potential_gradient(q)(0), 4 * 0.343 + 1.3 * std::sin(-0.91), 1e-14);
+}
+
+TEST(ExpressionSeparable, SimpsonsReducedStepperMatchesTheGeneralEngine) {
+    // Hénon–Heiles: Simpson's discrete map, solved by its reduced stepper and by the general
+    // engine, from the same start for 2000 steps of h = 0.05 (a chaotic orbit's amplification
+    // included, they stay round-off apart).
+    const expression_lagrangian l("0.5*(x_dot**2 + y_dot**2) - 0.5*(x**2 + y**2) - x**2*y + y**3/3",
+                                  {"x", "y"});
+    ASSERT_TRUE(l.separable());
+    const auto sys = separable_system_of(l);
+    simpson::stepper<expression_separable_system> reduced(sys, 0.05);
+    general::stepper<expression_lagrangian> engine(lagrangian_system<expression_lagrangian>(l),
+                                                   0.05, scheme_spec(scheme_kind::simpson));
+    phase_state<dynamic> a{vec<dynamic>(vec<2>{0.0, 0.1}), vec<dynamic>(vec<2>{0.4, 0.0})};
+    phase_state<dynamic> b = a;
+    double apart = 0.0;
+    for (int j = 0; j < 2000; ++j) {
+        ASSERT_TRUE(reduced.step(a).converged);
+        ASSERT_TRUE(engine.step(b).converged);
+        apart = std::max(apart, (a.q - b.q).lpNorm<Eigen::Infinity>());
+    }
+    EXPECT_LE(apart, 1e-10);
+    RecordProperty("apart", test::sci(apart));
+    EXPECT_NEAR(sys.energy(a),
+                sys.energy(phase_state<dynamic>{vec<dynamic>(vec<2>{0.0, 0.1}),
+                                                vec<dynamic>(vec<2>{0.4, 0.0})}),
+                1e-6);
+}
+
+TEST(ExpressionSeparable, AFailedStepNamesThePotential) {
+    // V = −1/√q pulls the particle through q = 0, where V is NaN: the separable stepper's
+    // failure names the potential, at the step's start or along its free motion.
+    const expression_lagrangian l("0.5*q_dot**2 + 1/sqrt(q)", {"q"});
+    ASSERT_TRUE(l.separable());
+    simpson::stepper<expression_separable_system> st(separable_system_of(l), 0.01);
+    phase_state<dynamic> x{vec<dynamic>::Constant(1, 1.0), vec<dynamic>::Zero(1)};
+    try {
+        integrate(st, x, 0.0, 10000, [](auto, auto, const auto&) {});
+        FAIL() << "the particle went through q = 0 without a failure";
+    } catch (const step_failure& e) {
+        EXPECT_NE(e.cause().find("potential or its gradient is NaN"), std::string::npos)
+            << e.what();
+        EXPECT_GT(x.q(0), 0.0); // the last good state
+    }
+}
+
+} // namespace
+} // namespace varsym
