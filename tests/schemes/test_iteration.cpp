@@ -46,7 +46,9 @@ newton_options options_of(const variant& v) {
 template <class System>
 std::pair<double, double> step_difference(const System& sys, phase_state<System::dim> x, double h,
                                           rule_kind kind, int s, const newton_options& opt, int n) {
-    galerkin::stepper<System> tried(sys, h, kind, s, opt), newton(sys, h, kind, s, {});
+    newton_options full;
+    full.iteration = iteration_kind::newton;
+    galerkin::stepper<System> tried(sys, h, kind, s, opt), newton(sys, h, kind, s, full);
     double worst = 0.0, iterations = 0.0;
     for (int j = 0; j < n; ++j) {
         phase_state<System::dim> y = x;
@@ -91,6 +93,39 @@ TEST(Iteration, EveryVariantTakesNewtonsSteps) {
     expect_same_steps("kepler", kepler::make_system(), orbit.at(0.0L), orbit.period() / 100, 120);
     expect_same_steps("solar", solar_system::make_system(), solar_system::initial_state(),
                       solar_system::jupiter_period / 40, 40);
+}
+
+TEST(Iteration, DefaultIsFixedPointFromDimensionTwoAndNewtonAtOne) {
+    // The default (iteration_kind::automatic), chosen by measurement (docs/library.md): the
+    // same steps, bit for bit and iteration for iteration, as the iteration it names, and not
+    // those of the other (the control: the two differ in their iteration counts).
+    auto run = [](const auto& sys, auto x, double h, iteration_kind it) {
+        newton_options opt;
+        opt.iteration = it;
+        galerkin::stepper st(sys, h, rule_kind::gauss, 4, opt);
+        int iterations = 0;
+        for (int j = 0; j < 50; ++j)
+            iterations += st.step(x).iterations;
+        return std::pair{x, iterations};
+    };
+    const kepler::orbit orbit(0.6, 1.0);
+    const auto kepler_sys = kepler::make_system();
+    const double h = orbit.period() / 100;
+    const auto [xa, na] = run(kepler_sys, orbit.at(0.0L), h, iteration_kind::automatic);
+    const auto [xf, nf] = run(kepler_sys, orbit.at(0.0L), h, iteration_kind::fixed_point);
+    const auto [xn, nn] = run(kepler_sys, orbit.at(0.0L), h, iteration_kind::newton);
+    EXPECT_EQ(na, nf);
+    EXPECT_NE(na, nn);
+    EXPECT_EQ((xa.q - xf.q).norm() + (xa.p - xf.p).norm(), 0.0);
+    const auto pendulum_sys = pendulum::make_system(1.0, 2 * std::numbers::pi);
+    const phase_state<1> p0{vec<1>{std::numbers::pi / 2}, vec<1>{0.0}};
+    const auto [ya, ma] = run(pendulum_sys, p0, 0.02, iteration_kind::automatic);
+    const auto [yn, mn] = run(pendulum_sys, p0, 0.02, iteration_kind::newton);
+    const auto [yf, mf] = run(pendulum_sys, p0, 0.02, iteration_kind::fixed_point);
+    EXPECT_EQ(ma, mn);
+    EXPECT_NE(ma, mf);
+    EXPECT_EQ(ya.q(0), yn.q(0));
+    EXPECT_EQ(ya.p(0), yn.p(0));
 }
 
 TEST(Iteration, ComparisonSeesAStepStoppedEarly) {

@@ -239,12 +239,13 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
                                                         : iteration_kind::newton;
            },
            "How lobatto-s (s >= 3) and gauss-s (s >= 2), and every scheme of double-pendulum and "
-           "heavy-top, solve a step: newton (exact Jacobian each iteration; the default, except "
-           "on double-pendulum and heavy-top, whose derivatives are automatic), simplified "
-           "(one Jacobian kept across steps; first derivatives only in its sweeps; their default) "
-           "or "
-           "fixed-point (the Jacobian's mass term alone; non-stiff problems). All stop at the "
-           "same round-off floor; the last two hand a step to newton where they diverge")
+           "heavy-top, solve a step: newton (exact Jacobian each iteration; the default on "
+           "one coordinate and on the general engine's models with exact derivatives), "
+           "simplified (one Jacobian kept across steps; first derivatives only in its sweeps; "
+           "the default of double-pendulum and heavy-top, whose derivatives are automatic) or "
+           "fixed-point (the Jacobian's mass term alone; the default of the separable models "
+           "from 2 coordinates on, measured fastest there). All stop at the same round-off "
+           "floor; the last two hand a step to newton where they diverge")
         ->check(CLI::IsMember({"newton", "simplified", "fixed-point"}));
     cmd->add_option_function<std::string>(
            "--predictor",

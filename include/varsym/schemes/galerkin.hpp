@@ -70,8 +70,13 @@ class stepper {
     /// The member whose tables are `tab` (as tableau::make built them, or altered by a test).
     stepper(System sys, double h, tableau tab, const newton_options& opt = {})
         : sys_(std::move(sys)), h_(h), opt_(opt), tab_(std::move(tab)) {
-        if (opt_.iteration == iteration_kind::automatic) opt_.iteration = iteration_kind::newton;
         const int s = tab_.degree, r = static_cast<int>(tab_.quad.size()), d = sys_.dimension();
+        // The default by measurement (bench/bench_family.cpp, `iteration/`; docs/library.md):
+        // the fixed point, handing a step that does not contract to Newton, from d = 2 on
+        // (Kepler 2×, the outer solar system at d = 18 up to 30× faster than Newton); Newton
+        // at d = 1, where its s × s solves are cheap (the pendulum: 1.1× faster).
+        if (opt_.iteration == iteration_kind::automatic)
+            opt_.iteration = d >= 2 ? iteration_kind::fixed_point : iteration_kind::newton;
         s_ = s;
         r_ = r;
         n_ = s * d;

@@ -14,7 +14,8 @@ namespace varsym {
 /// other steppers always use Newton). In the general engine `fixed_point` is the simplified
 /// iteration with the Jacobian's ∂²L/∂q̇² term alone.
 enum class iteration_kind {
-    automatic,   ///< the default: newton, except simplified in the general engine when L's
+    automatic,   ///< the default: in the family stepper fixed_point from d = 2 on, newton at
+                 ///< d = 1; in the general engine newton, except simplified when L's
                  ///< derivatives are automatic (its Hessians cost (2d + 1)² per operation of L)
     newton,      ///< exact Jacobian, evaluated and factorised at every iterate
     simplified,  ///< Jacobian at one point, factorised once and kept across steps while the
