@@ -115,6 +115,9 @@ class Lagrangian:
         # The compiled Lagrangian holds its parameters sorted by name (a std::map).
         values, q0, p0 = _member_arrays("ensemble", parameters, self.parameters,
                                         sorted(self.parameters), q0, p0, self.dimension)
+        if project is not False and constraints is None:
+            raise UsageError("project=True moves each start onto the constraints: it needs "
+                             "constraints=")
         if constraints is not None:  # the model's flag `project` follows L's parameters
             values = np.column_stack([values, np.full(len(values), float(bool(project)))])
         steps = int(steps)

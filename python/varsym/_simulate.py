@@ -230,6 +230,9 @@ class Stepper:
             v0 = np.zeros(d) if v0 is None else np.asarray(_vector(v0, d, "v0"))
             system._core.check_regular(q0, v0, t0)
             p0 = system.momentum(q0, v0, t0)
+        if project is not False and constraints is None:
+            raise UsageError("project=True moves the start onto the constraints: it needs "
+                             "constraints=")
         if constraints is not None:
             self._sim = _core.simulate_constrained_expression(
                 system._core, _force_list(constraints), _force_list(force), list(q0),

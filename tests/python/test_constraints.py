@@ -63,6 +63,10 @@ def test_what_is_not_a_holonomic_constraint_is_refused():
         varsym.simulate(ROD, constraints=["x*x_dot"], t_span=0.1, steps=10)
     with pytest.raises(varsym.UsageError, match="constraints= are for a Lagrangian"):
         varsym.simulate("pendulum", constraints=["q"], t_span=0.1, steps=10)
+    with pytest.raises(varsym.UsageError, match="needs constraints="):
+        varsym.simulate(ROD, project=True, t_span=0.1, steps=10)
+    with pytest.raises(varsym.UsageError, match="needs constraints="):
+        ROD.ensemble(q0=[[1.5, 0.0]], project=True, t_span=0.1, steps=10)
     with pytest.raises(TypeError, match="constraints"):
         varsym.simulate(ROD, constrains=["x"], t_span=0.1, steps=10)
 
