@@ -1,5 +1,7 @@
-// models/src/expression.cpp: the general engine for expression Lagrangians, without and with a
-// force, compiled here once for the tool (`varsym run --lagrangian`) and the Python package.
+// models/src/expression.cpp: expression Lagrangians, without and with a force, on the general
+// engine, on the separable steppers (a separable L) and on the constrained engine (typed
+// holonomic constraints), compiled here once for the tool (`varsym run --lagrangian`) and the
+// Python package.
 #include "varsym/models/expression.hpp"
 
 #include <algorithm>
@@ -13,18 +15,19 @@
 #include <unistd.h>
 
 #include "simulation_of.hpp"
+#include "varsym/schemes/constrained.hpp"
+#include "varsym/schemes/constrained_sensitivity.hpp"
 #include "varsym/systems/expression_separable.hpp"
 
 namespace varsym::models {
 
 namespace {
 using expression_system = lagrangian_system<expression_lagrangian>;
-} // namespace
 
-std::unique_ptr<simulation> simulate_expression(const expression_lagrangian& l,
-                                                const expression_force& f,
-                                                const phase_state<dynamic>& x0,
-                                                const step_options& o, double t0) {
+/// What a run of L with force f from x0 needs: the same dimensions, a finite positive step, the
+/// general engine's predictor. Throws std::invalid_argument.
+void check_run(const expression_lagrangian& l, const expression_force& f,
+               const phase_state<dynamic>& x0, const step_options& o) {
     const int d = l.dimension();
     if (f.dimension() != d)
         throw std::invalid_argument("the force has " + std::to_string(f.dimension()) +
@@ -36,6 +39,14 @@ std::unique_ptr<simulation> simulate_expression(const expression_lagrangian& l,
     if (!(std::isfinite(o.h) && o.h > 0.0))
         throw std::invalid_argument("the time step must be a finite positive number");
     detail::check_general(o);
+}
+} // namespace
+
+std::unique_ptr<simulation> simulate_expression(const expression_lagrangian& l,
+                                                const expression_force& f,
+                                                const phase_state<dynamic>& x0,
+                                                const step_options& o, double t0) {
+    check_run(l, f, x0, o);
     const expression_system sys(l);
     // E − E0 − W, W the energy put in by the force and by L's time dependence (−∫∂L/∂t dt):
     // what is conserved up to the scheme's error.
@@ -69,6 +80,59 @@ std::unique_ptr<simulation> simulate_expression(const expression_lagrangian& l,
     return detail::simulate_general(
         general::stepper<expression_lagrangian, expression_force>(sys, f, o.h, o.spec, o.newton),
         x0, detail::column_set{balanced, balance}, t0);
+}
+
+std::unique_ptr<simulation>
+simulate_constrained_expression(const expression_lagrangian& l, const expression_constraint& c,
+                                const expression_force& f, const phase_state<dynamic>& x0,
+                                const step_options& o, double t0, bool project) {
+    using stepper = general::constrained_stepper<expression_lagrangian, expression_constraint,
+                                                 expression_force>;
+    check_run(l, f, x0, o);
+    if (c.dimension() != l.dimension())
+        throw std::invalid_argument("the constraints must be on the Lagrangian's " +
+                                    std::to_string(l.dimension()) + " coordinates");
+    if (o.newton.iteration != iteration_kind::automatic &&
+        o.newton.iteration != iteration_kind::newton)
+        throw std::invalid_argument("a constrained system is solved by Newton: use the "
+                                    "iteration newton (the default)");
+    const lagrangian_system<expression_lagrangian> sys(l);
+    stepper run(sys, c, f, o.h, o.spec, o.newton);
+    run.set_time(t0);
+    phase_state<dynamic> x = x0;
+    if (project) x = run.project(x);
+    // Refuses inconsistent data (naming the projection where it would help), and sets the
+    // reference the diagnosis of a singular configuration compares with.
+    try {
+        run.check_initial(x);
+    } catch (const std::invalid_argument& e) {
+        const std::string what = e.what();
+        const bool projectable = what.find("project it onto") != std::string::npos;
+        throw std::invalid_argument(
+            what + (projectable && !project ? " (project = 1: --project, or project=True in Python)"
+                                            : ""));
+    }
+    const int m = c.size();
+    std::vector<std::string> names{"energy", "work", "energy_balance", "constraint_residual",
+                                   "hidden_residual"};
+    for (int a = 1; a <= m; ++a)
+        names.push_back("lambda_" + std::to_string(a));
+    const double e0 = sys.energy(x, t0);
+    return detail::simulate_general(
+        std::move(run), x,
+        detail::column_set{
+            names,
+            [e0, m](double t, const phase_state<dynamic>& y, const stepper& st, double* out) {
+                out[0] = st.system().energy(y, t);
+                out[1] = st.total_work();
+                out[2] = out[0] - e0 - out[1];
+                out[3] = st.residual(y.q);
+                out[4] = st.hidden_residual(y);
+                const vec<dynamic> lambda = st.mean_multiplier();
+                for (int a = 0; a < m; ++a)
+                    out[5 + a] = lambda(a);
+            }},
+        t0);
 }
 
 vec<dynamic> expression_momentum(const expression_lagrangian& l, const vec<dynamic>& q,

@@ -148,6 +148,20 @@ recorded record(models::simulation& sim, std::size_t last, std::size_t every, py
     return out;
 }
 
+/// The force of L from its components' expressions (none: zero).
+expression_force force_of(const expression_lagrangian& l, const std::vector<std::string>& force) {
+    return force.empty() ? expression_force(l.dimension())
+                         : expression_force(force, l.coordinates(), l.parameters());
+}
+
+/// (q0, p0) as a state.
+phase_state<dynamic> state_of(const std::vector<double>& q0, const std::vector<double>& p0) {
+    const auto map = [](const std::vector<double>& v) {
+        return vec<dynamic>(Eigen::Map<const vec<dynamic>>(v.data(), std::ssize(v)));
+    };
+    return {map(q0), map(p0)};
+}
+
 } // namespace
 
 void bind_simulation(py::module_& m) {
@@ -284,14 +298,9 @@ void bind_simulation(py::module_& m) {
         [](const expression_lagrangian& l, const std::vector<std::string>& force,
            const std::vector<double>& q0, const std::vector<double>& p0, double t0, double h,
            const std::string& scheme, int degree, const std::string& iteration) {
-            const expression_force f =
-                force.empty() ? expression_force(l.dimension())
-                              : expression_force(force, l.coordinates(), l.parameters());
-            const auto map = [](const std::vector<double>& v) {
-                return vec<dynamic>(Eigen::Map<const vec<dynamic>>(v.data(), std::ssize(v)));
-            };
-            return models::simulate_expression(
-                l, f, {map(q0), map(p0)}, {spec_of(scheme, degree), newton_of(iteration), h}, t0);
+            return models::simulate_expression(l, force_of(l, force), state_of(q0, p0),
+                                               {spec_of(scheme, degree), newton_of(iteration), h},
+                                               t0);
         },
         py::arg("lagrangian"), py::arg("force"), py::arg("q0"), py::arg("p0"), py::arg("t0"),
         py::arg("h"), py::arg("scheme"), py::arg("degree"), py::arg("iteration"));
@@ -302,15 +311,9 @@ void bind_simulation(py::module_& m) {
            const std::vector<double>& p0, double t0, double h, const std::string& scheme,
            int degree, const std::string& iteration, bool project) {
             const expression_constraint c(constraints, l.coordinates(), l.parameters());
-            const expression_force f =
-                force.empty() ? expression_force(l.dimension())
-                              : expression_force(force, l.coordinates(), l.parameters());
-            const auto map = [](const std::vector<double>& v) {
-                return vec<dynamic>(Eigen::Map<const vec<dynamic>>(v.data(), std::ssize(v)));
-            };
             return models::simulate_constrained_expression(
-                l, c, f, {map(q0), map(p0)}, {spec_of(scheme, degree), newton_of(iteration), h}, t0,
-                project);
+                l, c, force_of(l, force), state_of(q0, p0),
+                {spec_of(scheme, degree), newton_of(iteration), h}, t0, project);
         },
         py::arg("lagrangian"), py::arg("constraints"), py::arg("force"), py::arg("q0"),
         py::arg("p0"), py::arg("t0"), py::arg("h"), py::arg("scheme"), py::arg("degree"),
