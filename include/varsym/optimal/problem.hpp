@@ -1,0 +1,167 @@
+// varsym/optimal/problem.hpp: an optimal control problem for a mechanical system with control
+// inputs (the horizon, the scheme, the boundary states, the cost and the bounds), what a solver
+// reports, and the optimal trajectory as the transcriptions return it. Eigen only.
+// See docs/optimal_control.md.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include "varsym/optimal/nlp.hpp"
+#include "varsym/schemes/scheme_kind.hpp"
+
+namespace varsym::optimal {
+
+/// Take a mechanical system from (q_start, v_start) at t = 0 to (q_end, v_end) at t = time,
+/// minimising the effort ∫ ½ uᵀ R u dt over the controls u(t) ∈ [control_lower, control_upper],
+/// with the coordinates kept in [position_lower, position_upper]. Units: those of the model
+/// (seconds, its coordinates' units, its inputs' units); v is q̇.
+struct control_problem {
+    double time = 1.0;                         ///< T > 0 [s]
+    int steps = 50;                            ///< N ≥ 1 steps of h = T/N
+    scheme_spec scheme = scheme_kind::simpson; ///< the discrete Lagrangian
+    vector q_start, v_start, q_end, v_end;     ///< boundary states (d each)
+    Eigen::MatrixXd effort;                    ///< R (m × m, s.p.d.); empty: identity
+    vector control_lower, control_upper;       ///< (m each); empty: unbounded
+    vector position_lower, position_upper;     ///< (d each); empty: unbounded
+};
+
+/// A solver's verdict, by IPOPT's return codes in words.
+enum class status {
+    solved,          ///< converged to the tolerance
+    acceptable,      ///< converged to IPOPT's looser "acceptable" tolerance
+    infeasible,      ///< locally infeasible: no trajectory meets the constraints nearby
+    iteration_limit, ///< stopped at the iteration limit
+    interrupted,     ///< stopped by the caller (Ctrl-C, a progress callback)
+    failed           ///< anything else (restoration failed, NaN, …): see message
+};
+
+inline const char* status_name(status s) {
+    switch (s) {
+    case status::solved:
+        return "solved";
+    case status::acceptable:
+        return "acceptable";
+    case status::infeasible:
+        return "infeasible";
+    case status::iteration_limit:
+        return "iteration_limit";
+    case status::interrupted:
+        return "interrupted";
+    case status::failed:
+        return "failed";
+    }
+    return "failed";
+}
+
+/// What a solver returns: the last iterate x (the solution if converged), the multipliers λ of
+/// the equations g(x) = 0 (sign: the Lagrangian is f + λᵀg), the cost and the iteration count.
+struct nlp_result {
+    status verdict = status::failed;
+    std::string message;
+    int iterations = 0;
+    double cost = 0.0;
+    double constraint_violation = 0.0;
+    vector x, lambda;
+    [[nodiscard]] bool converged() const {
+        return verdict == status::solved || verdict == status::acceptable;
+    }
+};
+
+/// The optimal motion: nodes t_n = n h (n = 0 … N) with positions, momenta p_n (the discrete
+/// Legendre transform of the step's equations) and velocities; the control values of every
+/// step at its quadrature points; the costates λ_p ≈ the continuous adjoint of the momenta at
+/// the nodes; all control values of the steps' polynomials (dense output: position()).
+struct trajectory {
+    scheme_spec scheme;
+    double h = 0.0;
+    int degree = 1;
+    vector node_times;                 ///< N + 1
+    Eigen::MatrixXd q, p, v;           ///< d × (N + 1)
+    Eigen::MatrixXd costate;           ///< d × (N + 1): λ_p at the nodes
+    vector control_times;              ///< N r: (k + c_j) h
+    Eigen::MatrixXd u;                 ///< m × N r
+    Eigen::MatrixXd points;            ///< d × (N s + 1): control values Q at t = (k + d_i) h
+    std::vector<double> control_nodes; ///< d_0 … d_s on [0, 1]
+    double cost = 0.0;
+
+    /// q(t) on the step's polynomial of degree s through its control values.
+    [[nodiscard]] vector position(double t) const {
+        const auto steps = static_cast<double>(node_times.size() - 1);
+        const double x = std::clamp(t / h, 0.0, steps);
+        const int k = std::min(static_cast<int>(x), static_cast<int>(steps) - 1);
+        const double tau = x - k;
+        vector out = vector::Zero(points.rows());
+        for (int i = 0; i <= degree; ++i) {
+            double value = 1.0;
+            for (int m = 0; m <= degree; ++m)
+                if (m != i)
+                    value *= (tau - control_nodes[static_cast<std::size_t>(m)]) /
+                             (control_nodes[static_cast<std::size_t>(i)] -
+                              control_nodes[static_cast<std::size_t>(m)]);
+            out += value * points.col(k * degree + i);
+        }
+        return out;
+    }
+};
+
+namespace detail {
+
+inline void require(bool ok, const std::string& what) {
+    if (!ok) throw std::invalid_argument(what);
+}
+
+inline bool finite(const Eigen::MatrixXd& m) {
+    return m.allFinite();
+}
+
+/// Checks p against a system of dimension d with m inputs; fills the defaults (R = I, no
+/// bounds). Every message names the field and what to do.
+inline control_problem checked(control_problem p, int d, int m) {
+    require(std::isfinite(p.time) && p.time > 0.0,
+            "the time horizon must be positive and finite, got " + std::to_string(p.time));
+    require(p.steps >= 1, "the number of steps must be at least 1, got " + std::to_string(p.steps));
+    const auto dim = [&](const vector& x, const char* name) {
+        require(x.size() == d, std::string(name) + " has " + std::to_string(x.size()) +
+                                   " entries; the model has " + std::to_string(d) + " coordinates");
+        require(x.allFinite(), std::string(name) + " must be finite (NaN or inf given)");
+    };
+    dim(p.q_start, "the start position");
+    dim(p.v_start, "the start velocity");
+    dim(p.q_end, "the end position");
+    dim(p.v_end, "the end velocity");
+    require(m >= 1, "the model has no control input: nothing to optimise");
+    if (p.effort.size() == 0) p.effort = Eigen::MatrixXd::Identity(m, m);
+    require(p.effort.rows() == m && p.effort.cols() == m,
+            "the effort weight R must be " + std::to_string(m) + " x " + std::to_string(m));
+    require(finite(p.effort) && p.effort.isApprox(p.effort.transpose()) &&
+                p.effort.llt().info() == Eigen::Success,
+            "the effort weight R must be symmetric positive definite");
+    const auto box = [&](vector& lo, vector& hi, Eigen::Index n, const char* name) {
+        if (lo.size() == 0) lo = vector::Constant(n, -unbounded);
+        if (hi.size() == 0) hi = vector::Constant(n, unbounded);
+        require(lo.size() == n && hi.size() == n,
+                std::string(name) + " bounds need " + std::to_string(n) + " entries each");
+        for (Eigen::Index i = 0; i < n; ++i)
+            require(!std::isnan(lo(i)) && !std::isnan(hi(i)) && lo(i) <= hi(i),
+                    std::string(name) + " bounds are empty or NaN at entry " + std::to_string(i) +
+                        ": lower must not exceed upper");
+    };
+    box(p.control_lower, p.control_upper, m, "control");
+    box(p.position_lower, p.position_upper, d, "position");
+    for (const vector* q : {&p.q_start, &p.q_end})
+        require(
+            ((q->array() >= p.position_lower.array()) && (q->array() <= p.position_upper.array()))
+                .all(),
+            "a boundary position lies outside the position bounds");
+    return p;
+}
+
+} // namespace detail
+
+} // namespace varsym::optimal

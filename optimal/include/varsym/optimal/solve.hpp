@@ -1,0 +1,44 @@
+// varsym/optimal/solve.hpp: solving a transcription (optimal/nlp.hpp) with IPOPT (Wächter &
+// Biegler 2006; Debian's coinor-libipopt-dev, its sparse linear solver MUMPS). The compiled part
+// of varsym::optimal: link varsym::optimal. See docs/optimal_control.md.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "varsym/optimal/problem.hpp"
+
+namespace varsym::optimal {
+
+/// One IPOPT iteration as the progress callback sees it.
+struct iteration {
+    int number = 0;
+    double cost = 0.0;
+    double primal_infeasibility = 0.0; ///< max |g(x)|
+    double dual_infeasibility = 0.0;
+    bool restoration = false; ///< in IPOPT's feasibility restoration phase
+};
+
+/// How the Hessian of the Lagrangian is had: exact (the transcription's, where it has one),
+/// limited-memory BFGS, or whichever of the two the transcription supports (exact first).
+enum class hessian_kind { automatic, exact, limited_memory };
+
+struct solver_options {
+    double tolerance = 1e-10;            ///< IPOPT's tol (scaled KKT error)
+    double constraint_tolerance = 1e-12; ///< IPOPT's constr_viol_tol (max |g(x)|)
+    int max_iterations = 3000;
+    hessian_kind hessian = hessian_kind::automatic;
+    int print_level = 0; ///< IPOPT's own output (0: none; 5: its usual table)
+    /// Called after every iteration; return false to stop (status::interrupted), keeping the
+    /// iterate reached.
+    std::function<bool(const iteration&)> progress;
+    /// Checks the first derivatives against finite differences before solving (IPOPT's
+    /// derivative_test), printing what it finds to standard output.
+    bool derivative_test = false;
+};
+
+/// Solves `problem` from its start(), or from `start` when given (same size as start()).
+nlp_result solve(const nlp& problem, const solver_options& options = {},
+                 const vector* start = nullptr);
+
+} // namespace varsym::optimal

@@ -1,0 +1,214 @@
+// optimal/src/ipopt_solve.cpp: the IPOPT adapter (a TNLP over an optimal::nlp).
+#include <cmath>
+#include <stdexcept>
+
+#include <IpIpoptApplication.hpp>
+#include <IpTNLP.hpp>
+
+#include "varsym/optimal/solve.hpp"
+
+namespace varsym::optimal {
+
+namespace {
+
+using Ipopt::Index;
+using Ipopt::Number;
+
+constexpr double ipopt_infinity = 1e19; // IPOPT's nlp_{lower,upper}_bound_inf
+
+status verdict_of(Ipopt::SolverReturn s) {
+    switch (s) {
+    case Ipopt::SUCCESS:
+        return status::solved;
+    case Ipopt::STOP_AT_ACCEPTABLE_POINT:
+        return status::acceptable;
+    case Ipopt::LOCAL_INFEASIBILITY:
+        return status::infeasible;
+    case Ipopt::MAXITER_EXCEEDED:
+    case Ipopt::CPUTIME_EXCEEDED:
+        return status::iteration_limit;
+    case Ipopt::USER_REQUESTED_STOP:
+        return status::interrupted;
+    default:
+        return status::failed;
+    }
+}
+
+const char* message_of(Ipopt::SolverReturn s) {
+    switch (s) {
+    case Ipopt::SUCCESS:
+        return "optimal solution found";
+    case Ipopt::STOP_AT_ACCEPTABLE_POINT:
+        return "solved to IPOPT's acceptable level";
+    case Ipopt::LOCAL_INFEASIBILITY:
+        return "the problem is locally infeasible: no trajectory near the iterates meets the "
+               "boundary states within the bounds (loosen the bounds, lengthen the horizon)";
+    case Ipopt::MAXITER_EXCEEDED:
+        return "the iteration limit was reached";
+    case Ipopt::CPUTIME_EXCEEDED:
+        return "the time limit was reached";
+    case Ipopt::USER_REQUESTED_STOP:
+        return "interrupted";
+    case Ipopt::STOP_AT_TINY_STEP:
+        return "the search direction became too small";
+    case Ipopt::DIVERGING_ITERATES:
+        return "the iterates diverged";
+    case Ipopt::RESTORATION_FAILURE:
+        return "IPOPT's feasibility restoration failed (the target may be unreachable)";
+    case Ipopt::ERROR_IN_STEP_COMPUTATION:
+        return "IPOPT could not compute a step";
+    case Ipopt::INVALID_NUMBER_DETECTED:
+        return "NaN or inf in the model's values";
+    case Ipopt::TOO_FEW_DEGREES_OF_FREEDOM:
+        return "too few degrees of freedom";
+    default:
+        return "IPOPT failed";
+    }
+}
+
+class adapter final : public Ipopt::TNLP {
+  public:
+    adapter(const nlp& p, const solver_options& o, const vector* start, bool exact, nlp_result& out)
+        : p_(p), o_(o), start_(start), exact_(exact), out_(out), jac_(p.jacobian_pattern()) {
+        if (exact_) hes_ = p.hessian_pattern();
+    }
+
+    bool get_nlp_info(Index& n, Index& m, Index& nnz_jac, Index& nnz_h,
+                      IndexStyleEnum& style) override {
+        n = p_.variables();
+        m = p_.constraints();
+        nnz_jac = jac_.size();
+        nnz_h = exact_ ? hes_.size() : 0;
+        style = C_STYLE;
+        return true;
+    }
+    bool get_bounds_info(Index n, Number* xl, Number* xu, Index m, Number* gl,
+                         Number* gu) override {
+        vector lo, hi;
+        p_.bounds(lo, hi);
+        for (Index i = 0; i < n; ++i) {
+            xl[i] = std::isinf(lo(i)) ? -ipopt_infinity : lo(i);
+            xu[i] = std::isinf(hi(i)) ? ipopt_infinity : hi(i);
+        }
+        for (Index i = 0; i < m; ++i)
+            gl[i] = gu[i] = 0.0;
+        return true;
+    }
+    bool get_starting_point(Index n, bool, Number* x, bool, Number*, Number*, Index, bool,
+                            Number*) override {
+        const vector x0 = start_ ? *start_ : p_.start();
+        if (x0.size() != n) return false;
+        Eigen::Map<vector>(x, n) = x0;
+        return true;
+    }
+    bool eval_f(Index n, const Number* x, bool, Number& f) override {
+        f = p_.cost(Eigen::Map<const vector>(x, n));
+        return std::isfinite(f);
+    }
+    bool eval_grad_f(Index n, const Number* x, bool, Number* g) override {
+        p_.cost_gradient(Eigen::Map<const vector>(x, n), grad_);
+        Eigen::Map<vector>(g, n) = grad_;
+        return grad_.allFinite();
+    }
+    bool eval_g(Index n, const Number* x, bool, Index m, Number* g) override {
+        p_.residual(Eigen::Map<const vector>(x, n), res_);
+        Eigen::Map<vector>(g, m) = res_;
+        return res_.allFinite();
+    }
+    bool eval_jac_g(Index n, const Number* x, bool, Index, Index nele, Index* rows, Index* cols,
+                    Number* values) override {
+        if (values == nullptr) {
+            for (Index i = 0; i < nele; ++i) {
+                rows[i] = jac_.rows[static_cast<std::size_t>(i)];
+                cols[i] = jac_.cols[static_cast<std::size_t>(i)];
+            }
+            return true;
+        }
+        p_.jacobian(Eigen::Map<const vector>(x, n), buffer_);
+        bool ok = true;
+        for (Index i = 0; i < nele; ++i) {
+            values[i] = buffer_[static_cast<std::size_t>(i)];
+            ok = ok && std::isfinite(values[i]);
+        }
+        return ok;
+    }
+    bool eval_h(Index n, const Number* x, bool, Number sigma, Index m, const Number* lambda, bool,
+                Index nele, Index* rows, Index* cols, Number* values) override {
+        if (!exact_) return false;
+        if (values == nullptr) {
+            for (Index i = 0; i < nele; ++i) {
+                rows[i] = hes_.rows[static_cast<std::size_t>(i)];
+                cols[i] = hes_.cols[static_cast<std::size_t>(i)];
+            }
+            return true;
+        }
+        p_.hessian(Eigen::Map<const vector>(x, n), sigma, Eigen::Map<const vector>(lambda, m),
+                   buffer_);
+        for (Index i = 0; i < nele; ++i)
+            values[i] = buffer_[static_cast<std::size_t>(i)];
+        return true;
+    }
+    void finalize_solution(Ipopt::SolverReturn s, Index n, const Number* x, const Number*,
+                           const Number*, Index m, const Number* g, const Number* lambda, Number f,
+                           const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
+        out_.verdict = verdict_of(s);
+        out_.message = message_of(s);
+        out_.x = Eigen::Map<const vector>(x, n);
+        out_.lambda = Eigen::Map<const vector>(lambda, m);
+        out_.cost = f;
+        out_.constraint_violation = Eigen::Map<const vector>(g, m).cwiseAbs().maxCoeff();
+    }
+    bool intermediate_callback(Ipopt::AlgorithmMode mode, Index iter, Number f, Number inf_pr,
+                               Number inf_du, Number, Number, Number, Number, Number, Index,
+                               const Ipopt::IpoptData*,
+                               Ipopt::IpoptCalculatedQuantities*) override {
+        out_.iterations = iter;
+        if (!o_.progress) return true;
+        return o_.progress(iteration{.number = iter,
+                                     .cost = f,
+                                     .primal_infeasibility = inf_pr,
+                                     .dual_infeasibility = inf_du,
+                                     .restoration = mode == Ipopt::RestorationPhaseMode});
+    }
+
+  private:
+    const nlp& p_;
+    const solver_options& o_;
+    const vector* start_;
+    bool exact_;
+    nlp_result& out_;
+    sparsity jac_, hes_;
+    vector grad_, res_;
+    std::vector<double> buffer_;
+};
+
+} // namespace
+
+nlp_result solve(const nlp& problem, const solver_options& options, const vector* start) {
+    if (options.hessian == hessian_kind::exact && !problem.has_hessian())
+        throw std::invalid_argument("this transcription gives no exact Hessian: choose the "
+                                    "limited-memory approximation");
+    const bool exact = options.hessian != hessian_kind::limited_memory && problem.has_hessian();
+    nlp_result out;
+    Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+    auto& opt = *app->Options();
+    opt.SetIntegerValue("print_level", options.print_level);
+    opt.SetStringValue("sb", "yes"); // no banner
+    opt.SetNumericValue("tol", options.tolerance);
+    opt.SetNumericValue("constr_viol_tol", options.constraint_tolerance);
+    opt.SetIntegerValue("max_iter", options.max_iterations);
+    opt.SetStringValue("hessian_approximation", exact ? "exact" : "limited-memory");
+    if (options.derivative_test) opt.SetStringValue("derivative_test", "first-order");
+    if (app->Initialize() != Ipopt::Solve_Succeeded)
+        throw std::runtime_error("IPOPT could not be initialised");
+    Ipopt::SmartPtr<Ipopt::TNLP> tnlp = new adapter(problem, options, start, exact, out);
+    const Ipopt::ApplicationReturnStatus r = app->OptimizeTNLP(tnlp);
+    if (out.x.size() == 0) { // IPOPT stopped before finalize_solution (bad problem, options)
+        out.verdict = status::failed;
+        out.message = "IPOPT stopped before iterating (return code " +
+                      std::to_string(static_cast<int>(r)) + ")";
+    }
+    return out;
+}
+
+} // namespace varsym::optimal
