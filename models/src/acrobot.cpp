@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "simulation_of.hpp"
+#include "varsym/optimal/dmoc.hpp"
 
 namespace varsym::models::defs {
 
@@ -91,6 +92,11 @@ model acrobot() {
         const auto sys = lagrangian_system<L>(L{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]});
         return detail::controlled_problem<L, elbow_torque>(
             sys, v[8], detail::general_start(sys, s, vec<2>{1.0, 0.0}, vec<2>(vec<2>::Zero())));
+    };
+    m.controls = {"u [N m]: torque at the elbow, on q2"};
+    m.optimal = [](std::span<const double> v, const optimal::control_problem& p) {
+        return std::unique_ptr<optimal::transcription>(
+            optimal::transcribe(acrobot_lagrangian{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]}, elbow_torque{}, p));
     };
     return m;
 }

@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "simulation_of.hpp"
+#include "varsym/optimal/dmoc.hpp"
 
 namespace varsym::models::defs {
 
@@ -93,6 +94,11 @@ model cart_pole() {
         const auto sys = lagrangian_system<L>(L{v[0], v[1], v[2], v[3], v[4]});
         return detail::controlled_problem<L, push_on_cart>(
             sys, v[5], detail::general_start(sys, s, vec<2>{0.0, 0.1}, vec<2>(vec<2>::Zero())));
+    };
+    m.controls = {"u [N]: horizontal push on the cart"};
+    m.optimal = [](std::span<const double> v, const optimal::control_problem& p) {
+        return std::unique_ptr<optimal::transcription>(
+            optimal::transcribe(cart_pole_lagrangian{v[0], v[1], v[2], v[3], v[4]}, push_on_cart{}, p));
     };
     return m;
 }

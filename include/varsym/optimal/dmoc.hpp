@@ -12,6 +12,7 @@
 
 #include "varsym/autodiff/second_order.hpp"
 #include "varsym/optimal/problem.hpp"
+#include "varsym/optimal/replay.hpp"
 #include "varsym/optimal/third_order.hpp"
 #include "varsym/schemes/tableau.hpp"
 #include "varsym/systems/lagrangian.hpp"
@@ -56,6 +57,16 @@ struct control_terms {
     }
 };
 
+/// A transcription whose system is known at run time only (the models layer's): the NLP, the
+/// trajectory of a result and its closure check.
+class transcription : public nlp {
+  public:
+    [[nodiscard]] virtual const control_problem& problem() const = 0;
+    [[nodiscard]] virtual trajectory unpack(const nlp_result& result) const = 0;
+    /// The general engine's nodes under the trajectory's controls (replay.hpp): 2d × (N + 1).
+    [[nodiscard]] virtual Eigen::MatrixXd replay(const trajectory& path) const = 0;
+};
+
 /// The transcription of a control_problem for the Lagrangian L and the control force F.
 /// Unknowns x = (Q_0 … Q_{Ns}, u_{0,0} … u_{N−1,r−1}): Q_g = q((k + d_i) h) for g = k s + i,
 /// u_{k,j} = u((k + c_j) h). Equations E_g = 0, g = 0 … N s, d each:
@@ -65,7 +76,7 @@ struct control_terms {
 /// Lagrange–d'Alembert equations (interior values, nodes between steps) and the discrete
 /// Legendre transforms at both ends. Cost Σ_k h Σ_j w_j ½ u_kjᵀ R u_kj.
 template <lagrangian L, control_force F>
-class dmoc final : public nlp {
+class dmoc final : public transcription {
   public:
     static constexpr int D = L::dim, M = F::controls;
     static_assert(F::dim == L::dim, "the control force must have the Lagrangian's dimension");
@@ -86,7 +97,7 @@ class dmoc final : public nlp {
         p_end_ = t.lv;
     }
 
-    [[nodiscard]] const control_problem& problem() const { return p_; }
+    [[nodiscard]] const control_problem& problem() const override { return p_; }
     [[nodiscard]] const galerkin::tableau& table() const { return tab_; }
     [[nodiscard]] int variables() const override { return points_ * D + n_ * r_ * M; }
     [[nodiscard]] int constraints() const override { return points_ * D; }
@@ -263,7 +274,7 @@ class dmoc final : public nlp {
     }
 
     /// The trajectory of a solver's result (its last iterate if it did not converge).
-    [[nodiscard]] trajectory unpack(const nlp_result& result) const {
+    [[nodiscard]] trajectory unpack(const nlp_result& result) const override {
         const vector& x = result.x;
         trajectory out;
         out.scheme = p_.scheme;
@@ -302,6 +313,10 @@ class dmoc final : public nlp {
                 out.u.col(k * r_ + j) = x.segment<M>(control_index(k * r_ + j));
             }
         return out;
+    }
+
+    [[nodiscard]] Eigen::MatrixXd replay(const trajectory& path) const override {
+        return optimal::replay(l_, f_, path);
     }
 
   private:

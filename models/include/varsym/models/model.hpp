@@ -16,6 +16,11 @@
 
 #include "varsym/models/simulation.hpp"
 
+namespace varsym::optimal {
+class transcription;
+struct control_problem;
+} // namespace varsym::optimal
+
 namespace varsym::models {
 
 /// One scalar parameter of a model.
@@ -137,6 +142,13 @@ struct model {
     /// model refuses (a state outside the energy surface, a singular mass matrix, a list of
     /// the wrong length).
     std::function<problem(std::span<const double>, const start&, const models::lists&)> make;
+    /// Where the model has control inputs (the acrobot's elbow torque): their names with units
+    /// ("u [N m], torque at the elbow"), and the transcription of an optimal control problem
+    /// (varsym/optimal/dmoc.hpp) at the parameters' values. Empty where it has none.
+    std::vector<std::string> controls;
+    std::function<std::unique_ptr<optimal::transcription>(std::span<const double>,
+                                                          const optimal::control_problem&)>
+        optimal;
 
     /// The parameters' defaults, in order.
     [[nodiscard]] std::vector<double> defaults() const;

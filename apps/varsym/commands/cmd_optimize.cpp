@@ -1,0 +1,231 @@
+// apps/varsym/commands/cmd_optimize.cpp: `varsym optimize`: the optimal control of a model with
+// control inputs by discrete mechanics (varsym/optimal/dmoc.hpp), solved by IPOPT
+// (varsym::optimal). Writes the nodes' states and costates, and the controls; prints a progress
+// line per iteration; Ctrl-C stops the solver and keeps the last iterate.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <limits>
+#include <memory>
+
+#include "commands.hpp"
+#include "files.hpp"
+#include "registry_models.hpp"
+#include "shared_options.hpp"
+#include "signals.hpp"
+#include "varsym/optimal/dmoc.hpp"
+#include "varsym/optimal/solve.hpp"
+
+namespace varsym::cli {
+
+namespace {
+
+struct optimize_options {
+    std::string model;
+    double time = 0.0;
+    int steps = 50;
+    scheme_options scheme;
+    std::string from, to, from_velocity, to_velocity;
+    double max_control = std::numeric_limits<double>::infinity();
+    std::string cost = "effort", hessian = "exact";
+    int max_iterations = 3000;
+    std::string output, controls;
+    bool quiet = false;
+    std::shared_ptr<parameter_options> parameters = std::make_shared<parameter_options>();
+};
+
+std::vector<double> vector_of(const std::string& list, const char* option, int d,
+                              const models::model& m, bool zero_default) {
+    std::vector<double> v = parse_number_list(list);
+    if (v.empty() && zero_default) v.assign(static_cast<std::size_t>(d), 0.0);
+    if (static_cast<int>(v.size()) != d)
+        throw usage_error(std::string(option) + " needs " + std::to_string(d) + " values (" +
+                          m.coordinates + ") for " + m.name + ", got " + std::to_string(v.size()));
+    return v;
+}
+
+std::string node_rows(const optimal::trajectory& path) {
+    const auto d = path.q.rows();
+    std::string out = "t";
+    for (const char* name : {"q", "v", "p", "lambda"})
+        for (Eigen::Index i = 1; i <= d; ++i)
+            out += "," + std::string(name) + std::to_string(i);
+    out += '\n';
+    for (Eigen::Index n = 0; n < path.node_times.size(); ++n) {
+        append_number(out, path.node_times(n));
+        for (const auto* m : {&path.q, &path.v, &path.p, &path.costate})
+            for (Eigen::Index i = 0; i < d; ++i) {
+                out += ',';
+                append_number(out, (*m)(i, n));
+            }
+        out += '\n';
+    }
+    return out;
+}
+
+std::string control_rows(const optimal::trajectory& path) {
+    std::string out = "t";
+    for (Eigen::Index i = 1; i <= path.u.rows(); ++i)
+        out += ",u" + std::to_string(i);
+    out += '\n';
+    for (Eigen::Index c = 0; c < path.control_times.size(); ++c) {
+        append_number(out, path.control_times(c));
+        for (Eigen::Index i = 0; i < path.u.rows(); ++i) {
+            out += ',';
+            append_number(out, path.u(i, c));
+        }
+        out += '\n';
+    }
+    return out;
+}
+
+void optimize(const optimize_options& o) {
+    const models::model& m = [&]() -> const models::model& {
+        try {
+            return models::get(o.model);
+        } catch (const std::invalid_argument& e) {
+            throw usage_error(e.what());
+        }
+    }();
+    if (!m.optimal) {
+        std::string with;
+        for (const auto& other : models::registry())
+            if (other.optimal) with += (with.empty() ? "" : ", ") + other.name;
+        throw usage_error("model " + m.name +
+                          " has no control input to optimise; models with "
+                          "inputs: " +
+                          with);
+    }
+    const std::vector<double> values = o.parameters->values(m);
+    const int d = m.dimension_at(values);
+    optimal::control_problem p;
+    p.time = o.time;
+    p.steps = o.steps;
+    p.scheme = make_spec(o.scheme);
+    const auto as_vector = [](const std::vector<double>& v) {
+        return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+    };
+    p.q_start = as_vector(vector_of(o.from, "--from", d, m, false));
+    p.q_end = as_vector(vector_of(o.to, "--to", d, m, false));
+    p.v_start = as_vector(vector_of(o.from_velocity, "--from-velocity", d, m, true));
+    p.v_end = as_vector(vector_of(o.to_velocity, "--to-velocity", d, m, true));
+    const auto inputs = static_cast<Eigen::Index>(m.controls.size());
+    p.control_lower = Eigen::VectorXd::Constant(inputs, -o.max_control);
+    p.control_upper = Eigen::VectorXd::Constant(inputs, o.max_control);
+    std::unique_ptr<optimal::transcription> tr;
+    try {
+        (void)m.prepare(values); // the parameters' ranges
+        tr = m.optimal(values, p);
+    } catch (const std::invalid_argument& e) {
+        throw usage_error(m.name + ": " + e.what());
+    }
+    file_roles roles;
+    if (!o.output.empty() && o.output != "-") roles.add("--output", o.output);
+    if (!o.controls.empty()) roles.add("--controls", o.controls);
+    roles.check();
+    output_file states(o.output);
+    std::unique_ptr<output_file> inputs_file;
+    if (!o.controls.empty()) inputs_file = std::make_unique<output_file>(o.controls);
+
+    optimal::solver_options so;
+    so.max_iterations = o.max_iterations;
+    so.hessian =
+        o.hessian == "exact" ? optimal::hessian_kind::exact : optimal::hessian_kind::limited_memory;
+    install_signal_handlers();
+    set_signal_polling(true);
+    so.progress = [&](const optimal::iteration& it) {
+        if (!o.quiet)
+            std::fprintf(stderr,
+                         "varsym optimize: iteration %4d  cost %.10g  infeasibility %.2e%s\n",
+                         it.number, it.cost, it.primal_infeasibility,
+                         it.restoration ? "  (restoration)" : "");
+        return pending_signal() == 0;
+    };
+    const auto started = std::chrono::steady_clock::now();
+    const optimal::nlp_result r = optimal::solve(*tr, so);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    const int sig = pending_signal();
+    set_signal_polling(false);
+    const optimal::trajectory path = tr->unpack(r);
+    states.write(node_rows(path));
+    states.commit();
+    if (inputs_file) {
+        inputs_file->write(control_rows(path));
+        inputs_file->commit();
+    }
+    double closure = std::numeric_limits<double>::quiet_NaN();
+    if (r.converged()) {
+        try {
+            closure = (tr->replay(path).topRows(d) - path.q).cwiseAbs().maxCoeff();
+        } catch (const std::exception&) {
+        }
+    }
+    std::fprintf(stderr,
+                 "varsym optimize: %s (%s) after %d iterations in %.3g s: cost %.12g, "
+                 "max |g| %.1e, closure (general engine replay) %.1e\n",
+                 optimal::status_name(r.verdict), r.message.c_str(), r.iterations, seconds,
+                 path.cost, r.constraint_violation, closure);
+    if (sig != 0)
+        throw interrupted(sig, "varsym optimize: stopped by signal; the files hold the last "
+                               "iterate");
+    if (!r.converged())
+        throw numerical_error("varsym optimize: " + std::string(optimal::status_name(r.verdict)) +
+                              ": " + r.message + "; the files hold the last iterate");
+}
+
+} // namespace
+
+void add_optimize_command(CLI::App& app, action& todo) {
+    auto o = std::make_shared<optimize_options>();
+    auto* cmd = app.add_subcommand(
+        "optimize", "Optimal control of a model with inputs (discrete mechanics, IPOPT)");
+    cmd->footer(
+        "Finds the controls u(t) that take the model from (--from, --from-velocity) at t = 0 to\n"
+        "(--to, --to-velocity) at t = --time with the least effort, the integral of u^2/2, by\n"
+        "discrete mechanics and optimal control: the scheme's discrete Lagrange-d'Alembert\n"
+        "equations are the constraints of a sparse nonlinear program solved by IPOPT (exact\n"
+        "first and second derivatives). Models with inputs: acrobot (elbow torque), cart-pole\n"
+        "(push on the cart). Writes the nodes (t, q, v, p and the costates lambda of the\n"
+        "momenta) to --output, and u at each step's quadrature points to --controls. The\n"
+        "optimum found is local: another --scheme or --steps can reach another one.\n"
+        "Exit codes: 0 solved; 2 bad input; 3 not solved (infeasible, iteration limit: the\n"
+        "files hold the last iterate); 130/143 stopped by SIGINT/SIGTERM (last iterate kept).\n"
+        "See docs/optimal_control.md.");
+    cmd->add_option("--model", o->model, "A model with control inputs (acrobot, cart-pole)")
+        ->required();
+    cmd->add_option("--time", o->time, "Horizon T [s]")->required()->transform(positive_number);
+    cmd->add_option("--steps", o->steps, "Steps N of h = T/N")
+        ->transform(positive_integer)
+        ->capture_default_str();
+    add_scheme_options(*cmd, o->scheme);
+    cmd->add_option("--from", o->from, "Start position q(0), one value per coordinate")
+        ->required()
+        ->transform(number_list);
+    cmd->add_option("--to", o->to, "Final position q(T)")->required()->transform(number_list);
+    cmd->add_option("--from-velocity", o->from_velocity, "Start velocity (default: rest)")
+        ->transform(number_list);
+    cmd->add_option("--to-velocity", o->to_velocity, "Final velocity (default: rest)")
+        ->transform(number_list);
+    cmd->add_option("--max-control", o->max_control,
+                    "Bound |u| <= U on every input (default: none)")
+        ->transform(positive_number);
+    cmd->add_option("--cost", o->cost, "The cost: effort (the integral of u^2/2)")
+        ->check(CLI::IsMember({"effort"}))
+        ->capture_default_str();
+    cmd->add_option("--hessian", o->hessian,
+                    "exact (L's third derivatives by automatic differentiation) or limited-memory")
+        ->check(CLI::IsMember({"exact", "limited-memory"}))
+        ->capture_default_str();
+    cmd->add_option("--max-iterations", o->max_iterations, "IPOPT's iteration limit")
+        ->transform(positive_integer)
+        ->capture_default_str();
+    cmd->add_option("--output", o->output, "CSV of the nodes (default: standard output)");
+    cmd->add_option("--controls", o->controls, "CSV of the controls at the quadrature points");
+    cmd->add_flag("--quiet", o->quiet, "No progress line per iteration");
+    o->parameters->add(*cmd);
+    cmd->callback([o, &todo] { todo = [o] { optimize(*o); }; });
+}
+
+} // namespace varsym::cli

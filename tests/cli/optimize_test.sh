@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# tests/cli/optimize_test.sh VARSYM: `varsym optimize` end to end: the acrobot and cart-pole
+# swing-ups reach their targets at rest (read back from the CSV), IPOPT's verdict and the
+# closure against the general engine's replay (printed), the files, exit codes on bad input,
+# on an unreachable target (3, last iterate kept) and on SIGINT (130, last iterate kept).
+source "$(dirname "$0")/lib.sh" "$@"
+pi=3.141592653589793
+# last_field FILE COLUMN: the value of COLUMN (1-based) in FILE's last row.
+last_field() { tail -1 "$1" | cut -d, -f"$2"; }
+near() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= t) }'; }
+
+# The acrobot swing-up: hanging (0, 0) to upright (pi, 0) in 4 s.
+"$VARSYM" optimize --model acrobot --time 4 --steps 40 --from 0,0 --to $pi,0 \
+  --output acrobot.csv --controls acrobot_u.csv 2> acrobot.err
+rc=$?
+[ $rc -eq 0 ] && ok || bad "acrobot swing-up: exit $rc ($(tail -1 acrobot.err))"
+grep -q 'iteration .* cost .* infeasibility' acrobot.err && ok || bad "no progress lines"
+grep -q '^varsym optimize: solved ' acrobot.err && ok || bad "acrobot: $(tail -1 acrobot.err)"
+[ "$(head -1 acrobot.csv)" = "t,q1,q2,v1,v2,p1,p2,lambda1,lambda2" ] && ok || bad "header $(head -1 acrobot.csv)"
+[ "$(wc -l < acrobot.csv)" -eq 42 ] && ok || bad "acrobot.csv: $(wc -l < acrobot.csv) lines, expected 41 nodes"
+[ "$(wc -l < acrobot_u.csv)" -eq 121 ] && ok || bad "acrobot_u.csv: 3 Lobatto points x 40 steps expected"
+near "$(last_field acrobot.csv 2)" $pi 1e-12 && near "$(last_field acrobot.csv 3)" 0 1e-12 && ok ||
+  bad "acrobot does not end upright: $(tail -1 acrobot.csv)"
+near "$(last_field acrobot.csv 4)" 0 1e-8 && near "$(last_field acrobot.csv 5)" 0 1e-8 && ok ||
+  bad "acrobot does not end at rest: $(tail -1 acrobot.csv)"
+closure=$(sed -n 's/.*closure (general engine replay) \([^ ]*\)$/\1/p' acrobot.err)
+near "$closure" 0 1e-8 && ok || bad "acrobot closure $closure"
+
+# The cart-pole swing-up: pole hanging (th = pi) to upright (0), cart back at x = 0, in 2 s,
+# with gauss-2 and the push bounded by 30 N.
+"$VARSYM" optimize --model cart-pole --time 2 --steps 40 --scheme gauss --degree 2 \
+  --from 0,$pi --to 0,0 --max-control 30 --quiet --controls cp_u.csv > cp.csv 2> cp.err
+rc=$?
+[ $rc -eq 0 ] && ok || bad "cart-pole: exit $rc ($(cat cp.err))"
+near "$(last_field cp.csv 3)" 0 1e-12 && near "$(last_field cp.csv 5)" 0 1e-8 && ok ||
+  bad "cart-pole does not end upright at rest: $(tail -1 cp.csv)"
+awk -F, 'NR > 1 && ($2 > 30 + 1e-6 || $2 < -30 - 1e-6) { exit 1 }' cp_u.csv && ok ||
+  bad "a push beyond the 30 N bound"
+grep -q '^varsym optimize: iteration' cp.err && bad "--quiet printed progress lines" || ok
+
+# Bad input: one line, exit 2, no file.
+expect_error 2 "model without inputs" optimize --model pendulum --time 2 --from 0 --to 1 --output out.csv
+expect_error 2 "unknown model" optimize --model acrobat --time 2 --from 0,0 --to 1,0 --output out.csv
+expect_error 2 "short --from" optimize --model acrobot --time 2 --from 0 --to 1,0 --output out.csv
+expect_error 2 "NaN target" optimize --model acrobot --time 2 --from 0,0 --to nan,0 --output out.csv
+expect_error 2 "zero horizon" optimize --model acrobot --time 0 --from 0,0 --to 1,0 --output out.csv
+expect_error 2 "bad mass" optimize --model acrobot --m1 -1 --time 2 --from 0,0 --to 1,0 --output out.csv
+
+# Unreachable: |u| <= 0.01 N m cannot swing the acrobot up: exit 3, the last iterate kept.
+"$VARSYM" optimize --model acrobot --time 4 --from 0,0 --to $pi,0 --max-control 0.01 --quiet \
+  --output unreachable.csv 2> unreachable.err
+rc=$?
+[ $rc -eq 3 ] && ok || bad "unreachable target: exit $rc, expected 3"
+grep -q '^varsym: error: .*infeasible' unreachable.err && ok || bad "message: $(cat unreachable.err)"
+[ "$(wc -l < unreachable.csv)" -eq 52 ] && ok || bad "the last iterate was not written"
+
+# SIGINT during a long solve: exit 130 within a fraction of a second, the last iterate kept.
+timeout --preserve-status -s INT 0.5 "$VARSYM" optimize --model acrobot --time 8 --steps 2000 \
+  --scheme gauss --degree 3 --from 0,0 --to $pi,0 --quiet --output stopped.csv 2> stopped.err
+rc=$?
+[ $rc -eq 130 ] && ok || bad "SIGINT: exit $rc, expected 130 ($(cat stopped.err))"
+[ "$(wc -l < stopped.csv)" -eq 2002 ] && ok || bad "SIGINT: the last iterate was not written"
+
+finish
