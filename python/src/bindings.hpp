@@ -12,6 +12,8 @@
 
 /// The models layer's registry, problems and simulations (simulation.cpp).
 void bind_simulation(pybind11::module_& m);
+/// Optimal control of a model with inputs (optimal.cpp).
+void bind_optimal(pybind11::module_& m);
 /// Ensembles of a built-in model or of a Lagrangian typed as an expression (ensemble.cpp).
 void bind_ensemble(pybind11::module_& m);
 

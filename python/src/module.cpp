@@ -155,4 +155,5 @@ PYBIND11_MODULE(_core, m) {
             py::arg("q"), py::arg("v"), py::arg("t") = 0.0);
 
     bind_simulation(m);
+    bind_optimal(m);
 }

@@ -28,7 +28,7 @@ struct optimize_options {
     scheme_options scheme;
     std::string from, to, from_velocity, to_velocity;
     double max_control = std::numeric_limits<double>::infinity();
-    std::string cost = "effort", hessian = "exact";
+    std::string cost = "effort", hessian = "automatic";
     int max_iterations = 3000;
     std::string output, controls;
     bool quiet = false;
@@ -80,6 +80,38 @@ std::string control_rows(const optimal::trajectory& path) {
     return out;
 }
 
+/// --cost NAME[=WEIGHT][,NAME[=WEIGHT]...]: effort, invariant, power (weight 1 if not given).
+optimal::cost_weights cost_of(const std::string& text) {
+    optimal::cost_weights w{.effort = 0.0};
+    std::size_t at = 0;
+    while (at <= text.size()) {
+        const std::size_t end = std::min(text.find(',', at), text.size());
+        const std::string item = text.substr(at, end - at);
+        const std::size_t eq = item.find('=');
+        const std::string name = item.substr(0, eq);
+        double weight = 1.0;
+        if (eq != std::string::npos) {
+            const auto v = parse_number_list(item.substr(eq + 1));
+            if (v.size() != 1 || !(v[0] >= 0.0))
+                throw usage_error("--cost: the weight of " + name + " must be a number >= 0, got " +
+                                  shown(item.substr(eq + 1)));
+            weight = v[0];
+        }
+        if (name == "effort")
+            w.effort = weight;
+        else if (name == "invariant")
+            w.invariant = weight;
+        else if (name == "power")
+            w.power = weight;
+        else
+            throw usage_error("--cost: unknown term " + shown(name) +
+                              "; the terms are effort, invariant and power (e.g. "
+                              "--cost power,effort=0.01)");
+        at = end + 1;
+    }
+    return w;
+}
+
 void optimize(const optimize_options& o) {
     const models::model& m = [&]() -> const models::model& {
         try {
@@ -110,6 +142,7 @@ void optimize(const optimize_options& o) {
     p.q_end = as_vector(vector_of(o.to, "--to", d, m, false));
     p.v_start = as_vector(vector_of(o.from_velocity, "--from-velocity", d, m, true));
     p.v_end = as_vector(vector_of(o.to_velocity, "--to-velocity", d, m, true));
+    p.cost = cost_of(o.cost);
     const auto inputs = static_cast<Eigen::Index>(m.controls.size());
     p.control_lower = Eigen::VectorXd::Constant(inputs, -o.max_control);
     p.control_upper = Eigen::VectorXd::Constant(inputs, o.max_control);
@@ -130,8 +163,12 @@ void optimize(const optimize_options& o) {
 
     optimal::solver_options so;
     so.max_iterations = o.max_iterations;
-    so.hessian =
-        o.hessian == "exact" ? optimal::hessian_kind::exact : optimal::hessian_kind::limited_memory;
+    so.hessian = o.hessian == "exact"       ? optimal::hessian_kind::exact
+                 : o.hessian == "automatic" ? optimal::hessian_kind::automatic
+                                            : optimal::hessian_kind::limited_memory;
+    if (so.hessian == optimal::hessian_kind::exact && !tr->has_hessian())
+        throw usage_error("--hessian exact: the invariant cost has no exact Hessian (it would "
+                          "need L's fourth derivatives); use automatic or limited-memory");
     install_signal_handlers();
     set_signal_polling(true);
     so.progress = [&](const optimal::iteration& it) {
@@ -159,7 +196,8 @@ void optimize(const optimize_options& o) {
     if (r.converged()) {
         try {
             closure = (tr->replay(path).topRows(d) - path.q).cwiseAbs().maxCoeff();
-        } catch (const std::exception&) {
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "varsym optimize: no closure check: %s\n", e.what());
         }
     }
     std::fprintf(stderr,
@@ -183,7 +221,8 @@ void add_optimize_command(CLI::App& app, action& todo) {
         "optimize", "Optimal control of a model with inputs (discrete mechanics, IPOPT)");
     cmd->footer(
         "Finds the controls u(t) that take the model from (--from, --from-velocity) at t = 0 to\n"
-        "(--to, --to-velocity) at t = --time with the least effort, the integral of u^2/2, by\n"
+        "(--to, --to-velocity) at t = --time at the least cost (--cost: by default the effort,\n"
+        "the integral of u^2/2), by\n"
         "discrete mechanics and optimal control: the scheme's discrete Lagrange-d'Alembert\n"
         "equations are the constraints of a sparse nonlinear program solved by IPOPT (exact\n"
         "first and second derivatives). Models with inputs: acrobot (elbow torque), cart-pole\n"
@@ -211,12 +250,15 @@ void add_optimize_command(CLI::App& app, action& todo) {
     cmd->add_option("--max-control", o->max_control,
                     "Bound |u| <= U on every input (default: none)")
         ->transform(positive_number);
-    cmd->add_option("--cost", o->cost, "The cost: effort (the integral of u^2/2)")
-        ->check(CLI::IsMember({"effort"}))
+    cmd->add_option("--cost", o->cost,
+                    "The running cost, terms with optional weights: effort (u^2/2), invariant "
+                    "(tau^T M^-1 tau/2, tau the inputs' generalized force), power (sum |tau_i "
+                    "q'_i|, smoothed), e.g. power,effort=0.01")
         ->capture_default_str();
     cmd->add_option("--hessian", o->hessian,
-                    "exact (L's third derivatives by automatic differentiation) or limited-memory")
-        ->check(CLI::IsMember({"exact", "limited-memory"}))
+                    "automatic (exact where there is one), exact (L's third derivatives by "
+                    "automatic differentiation) or limited-memory")
+        ->check(CLI::IsMember({"automatic", "exact", "limited-memory"}))
         ->capture_default_str();
     cmd->add_option("--max-iterations", o->max_iterations, "IPOPT's iteration limit")
         ->transform(positive_integer)

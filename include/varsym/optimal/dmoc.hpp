@@ -2,7 +2,7 @@
 // Marsden 2011) at every member of the variational family. The unknowns are the control values
 // Q of every step's polynomial (nodes shared between steps) and the controls u at the steps'
 // quadrature points; the equations are the discrete Lagrange–d'Alembert equations of the
-// trajectory, one per control value, with the boundary momenta; the cost is the effort by the
+// trajectory, one per control value, with the boundary momenta; the running cost (costs.hpp) by the
 // action's quadrature. Exact sparse first derivatives from L's second derivatives. Eigen only;
 // solved by varsym::optimal's IPOPT adapter (optimal/solve.hpp). See docs/optimal_control.md.
 #pragma once
@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "varsym/autodiff/second_order.hpp"
+#include "varsym/optimal/costs.hpp"
 #include "varsym/optimal/problem.hpp"
 #include "varsym/optimal/replay.hpp"
 #include "varsym/optimal/third_order.hpp"
@@ -18,44 +19,6 @@
 #include "varsym/systems/lagrangian.hpp"
 
 namespace varsym::optimal {
-
-/// A generalized force with control inputs, as controlled<F> takes (systems/forcing.hpp):
-/// `static constexpr int dim, controls` and
-/// `template <class T> tvec<T, dim> operator()(q, v, double t, const tvec<T, controls>& u)`.
-template <class F>
-concept control_force = requires {
-    F::dim;
-    F::controls;
-}
-&&(F::dim >= 1) && (F::controls >= 1);
-
-/// f(q, v, t, u) and its Jacobians in q, v and u (one forward-mode pass).
-template <control_force F>
-struct control_terms {
-    static constexpr int D = F::dim, M = F::controls;
-    vec<D> f;
-    mat<D> fq, fv;
-    Eigen::Matrix<double, D, M> fu;
-
-    void evaluate(const F& force, const vec<D>& q, const vec<D>& v, double t, const vec<M>& u) {
-        using J = ad::first_order<2 * D + M>;
-        tvec<J, D> qj, vj;
-        tvec<J, M> uj;
-        for (int i = 0; i < D; ++i) {
-            qj(i) = J(q(i), 2 * D + M, i);
-            vj(i) = J(v(i), 2 * D + M, D + i);
-        }
-        for (int i = 0; i < M; ++i)
-            uj(i) = J(u(i), 2 * D + M, 2 * D + i);
-        const tvec<J, D> out = force(qj, vj, t, uj);
-        for (int i = 0; i < D; ++i) {
-            f(i) = out(i).value();
-            fq.row(i) = out(i).derivatives().template head<D>().transpose();
-            fv.row(i) = out(i).derivatives().template segment<D>(D).transpose();
-            fu.row(i) = out(i).derivatives().template tail<M>().transpose();
-        }
-    }
-};
 
 /// A transcription whose system is known at run time only (the models layer's): the NLP, the
 /// trajectory of a result and its closure check.
@@ -135,18 +98,22 @@ class dmoc final : public transcription {
     [[nodiscard]] double cost(cvector x) const override {
         double j = 0.0;
         for (int k = 0; k < n_; ++k)
-            for (int q = 0; q < r_; ++q) {
-                const vec<M> u = x.segment<M>(control_index(k * r_ + q));
-                j += 0.5 * h_ * weight(q) * u.dot(p_.effort * u);
-            }
+            for (int q = 0; q < r_; ++q)
+                j += h_ * weight(q) * integrand(x, k, q, nullptr, nullptr);
         return j;
     }
     void cost_gradient(cvector x, vector& gradient) const override {
         gradient.setZero(variables());
+        typename cost_type::zvec g;
         for (int k = 0; k < n_; ++k)
-            for (int q = 0; q < r_; ++q) {
-                const int c = control_index(k * r_ + q);
-                gradient.segment<M>(c) = h_ * weight(q) * (p_.effort * x.segment<M>(c));
+            for (int j = 0; j < r_; ++j) {
+                (void)integrand(x, k, j, &g, nullptr);
+                const double hw = h_ * weight(j);
+                for (int l = 0; l <= s_; ++l)
+                    gradient.segment<D>((k * s_ + l) * D) +=
+                        hw * (tab_.phi(l, j) * g.template head<D>() +
+                              tab_.dphi(l, j) / h_ * g.template segment<D>(D));
+                gradient.segment<M>(control_index(k * r_ + j)) += hw * g.template tail<M>();
             }
     }
 
@@ -221,7 +188,8 @@ class dmoc final : public transcription {
         }
     }
 
-    [[nodiscard]] bool has_hessian() const override { return true; }
+    /// Exact, except with the invariant cost (whose Hessian needs L's fourth derivatives).
+    [[nodiscard]] bool has_hessian() const override { return p_.cost.invariant == 0.0; }
 
     /// Lower triangle of each step's dense block over its control values and its controls.
     [[nodiscard]] sparsity hessian_pattern() const override {
@@ -256,7 +224,9 @@ class dmoc final : public transcription {
                 }
                 const double t = (k + tab_.quad.nodes[static_cast<std::size_t>(j)]) * h_;
                 const vec<M> u = x.segment<M>(control_index(k * r_ + j));
-                hz = contracted_force_hessian(f_, q, v, t, u, a);
+                typename cost_type::zmat hc;
+                (void)cost_type::evaluate(l_, f_, p_.cost, p_.effort, q, v, t, u, nullptr, &hc);
+                hz = contracted_force_hessian(f_, q, v, t, u, a) + sigma * hc;
                 hz.template topLeftCorner<2 * D, 2 * D>() += contracted_third(l_, q, v, t, a, b);
                 g.setZero();
                 for (int l = 0; l <= s_; ++l) {
@@ -265,7 +235,6 @@ class dmoc final : public transcription {
                 }
                 g.block<M, M>(2 * D, wq + j * M).setIdentity();
                 hk.noalias() += h_ * weight(j) * (g.transpose() * hz * g);
-                hk.block<M, M>(wq + j * M, wq + j * M) += sigma * h_ * weight(j) * p_.effort;
             }
             for (int row = 0; row < w; ++row)
                 for (int col = 0; col <= row; ++col)
@@ -320,6 +289,7 @@ class dmoc final : public transcription {
     }
 
   private:
+    using cost_type = running_cost<L, F>;
     L l_;
     F f_;
     control_problem p_;
@@ -336,6 +306,15 @@ class dmoc final : public transcription {
     }
     [[nodiscard]] double weight(int j) const {
         return tab_.quad.weights[static_cast<std::size_t>(j)];
+    }
+    /// The running cost at step k's quadrature point j, with its gradient and Hessian in z.
+    double integrand(cvector x, int k, int j, typename cost_type::zvec* g,
+                     typename cost_type::zmat* hz) const {
+        vec<D> q, v;
+        point(x, k, j, q, v);
+        const double t = (k + tab_.quad.nodes[static_cast<std::size_t>(j)]) * h_;
+        return cost_type::evaluate(l_, f_, p_.cost, p_.effort, q, v, t,
+                                   vec<M>(x.segment<M>(control_index(k * r_ + j))), g, hz);
     }
     /// q and q̇ at step k's quadrature point j.
     void point(cvector x, int k, int j, vec<D>& q, vec<D>& v) const {

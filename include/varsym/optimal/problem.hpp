@@ -17,8 +17,18 @@
 
 namespace varsym::optimal {
 
+/// The weights of the running cost's terms (costs.hpp): the effort ½ uᵀRu, the invariant
+/// ½ τᵀM⁻¹τ and the smoothed absolute power Σ_i √((τ_i q̇_i)² + ε²), ε = power_smoothing.
+struct cost_weights {
+    double effort = 1.0;
+    double invariant = 0.0;
+    double power = 0.0;
+    double power_smoothing = 1e-2; ///< ε [W]
+};
+
 /// Take a mechanical system from (q_start, v_start) at t = 0 to (q_end, v_end) at t = time,
-/// minimising the effort ∫ ½ uᵀ R u dt over the controls u(t) ∈ [control_lower, control_upper],
+/// minimising the running cost ∫ c dt (by default the effort ½ uᵀ R u; cost_weights) over the
+/// controls u(t) ∈ [control_lower, control_upper],
 /// with the coordinates kept in [position_lower, position_upper]. Units: those of the model
 /// (seconds, its coordinates' units, its inputs' units); v is q̇.
 struct control_problem {
@@ -26,6 +36,7 @@ struct control_problem {
     int steps = 50;                            ///< N ≥ 1 steps of h = T/N
     scheme_spec scheme = scheme_kind::simpson; ///< the discrete Lagrangian
     vector q_start, v_start, q_end, v_end;     ///< boundary states (d each)
+    cost_weights cost;                         ///< the running cost's terms
     Eigen::MatrixXd effort;                    ///< R (m × m, s.p.d.); empty: identity
     vector control_lower, control_upper;       ///< (m each); empty: unbounded
     vector position_lower, position_upper;     ///< (d each); empty: unbounded
@@ -136,6 +147,13 @@ inline control_problem checked(control_problem p, int d, int m) {
     dim(p.q_end, "the end position");
     dim(p.v_end, "the end velocity");
     require(m >= 1, "the model has no control input: nothing to optimise");
+    const cost_weights& w = p.cost;
+    for (const double x : {w.effort, w.invariant, w.power})
+        require(std::isfinite(x) && x >= 0.0, "the cost weights must be finite and >= 0");
+    require(w.effort + w.invariant + w.power > 0.0,
+            "the cost is zero: give the effort, invariant or power term a positive weight");
+    require(std::isfinite(w.power_smoothing) && w.power_smoothing > 0.0,
+            "the power's smoothing must be positive");
     if (p.effort.size() == 0) p.effort = Eigen::MatrixXd::Identity(m, m);
     require(p.effort.rows() == m && p.effort.cols() == m,
             "the effort weight R must be " + std::to_string(m) + " x " + std::to_string(m));

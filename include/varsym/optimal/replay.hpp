@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <stdexcept>
+#include <string>
 
 #include "varsym/optimal/problem.hpp"
 #include "varsym/schemes/variational.hpp"
@@ -40,10 +42,13 @@ struct scheduled_controls {
 };
 
 /// The nodes (q_n, p_n), n = 0 … N, of the general engine's steps under the trajectory's
-/// controls from its start state (2d × (N + 1): q above p). Throws if a step fails.
+/// controls from its start state (2d × (N + 1): q above p), with Newton's iteration (up to 100
+/// iterations: a step of a violent optimum may start far from its solution). Throws
+/// std::runtime_error naming the step if one fails.
 template <lagrangian L, class F>
 Eigen::MatrixXd replay(const L& l, const F& force, const trajectory& path,
-                       const newton_options& newton = {}) {
+                       const newton_options& newton = {.max_iterations = 100,
+                                                       .iteration = iteration_kind::newton}) {
     constexpr int D = L::dim;
     const auto shared = std::make_shared<const trajectory>(path);
     general::stepper<L, scheduled_controls<F>> stepper(lagrangian_system<L>(l),
@@ -56,7 +61,10 @@ Eigen::MatrixXd replay(const L& l, const F& force, const trajectory& path,
     for (Eigen::Index k = 0; k < n; ++k) {
         stepper.force().step = static_cast<int>(k);
         const auto report = stepper.step(x);
-        if (!report.converged) throw std::runtime_error("replay: a step did not converge");
+        if (!report.converged)
+            throw std::runtime_error("replay: step " + std::to_string(k) +
+                                     " did not converge (residual " +
+                                     std::to_string(report.residual) + ")");
         out.col(k + 1) << x.q, x.p;
     }
     return out;

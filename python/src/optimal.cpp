@@ -1,0 +1,110 @@
+// python/src/optimal.cpp: varsym._core.optimize, the optimal control of a model with inputs
+// (varsym/optimal/dmoc.hpp through the model's own transcription, solved by varsym::optimal).
+// The solver runs without the GIL; each iteration takes it back to report progress and to see
+// Ctrl-C (KeyboardInterrupt stops the solver, which keeps its last iterate).
+#include <pybind11/eigen.h>
+#include <pybind11/functional.h>
+#include <pybind11/stl.h>
+
+#include <limits>
+#include <memory>
+#include <optional>
+
+#include "bindings.hpp"
+#include "varsym/models/model.hpp"
+#include "varsym/optimal/dmoc.hpp"
+#include "varsym/optimal/solve.hpp"
+
+namespace py = pybind11;
+using namespace varsym;
+
+namespace {
+
+py::dict optimize(const std::string& name, const std::vector<double>& values, double time,
+                  int steps, const std::string& scheme, int degree, const Eigen::VectorXd& q0,
+                  const Eigen::VectorXd& v0, const Eigen::VectorXd& q1, const Eigen::VectorXd& v1,
+                  double max_control, double effort, double invariant, double power,
+                  const std::string& hessian, int max_iterations,
+                  const std::optional<py::function>& progress) {
+    const models::model& m = models::get(name);
+    if (!m.optimal)
+        throw std::invalid_argument("model " + m.name + " has no control input to optimise");
+    (void)m.prepare(values); // the parameters' ranges
+    optimal::control_problem p;
+    p.time = time;
+    p.steps = steps;
+    p.scheme = spec_of(scheme, degree);
+    p.q_start = q0;
+    p.v_start = v0;
+    p.q_end = q1;
+    p.v_end = v1;
+    p.cost = {.effort = effort, .invariant = invariant, .power = power};
+    const auto inputs = static_cast<Eigen::Index>(m.controls.size());
+    p.control_lower = Eigen::VectorXd::Constant(inputs, -max_control);
+    p.control_upper = Eigen::VectorXd::Constant(inputs, max_control);
+    const auto tr = m.optimal(values, p);
+    optimal::solver_options so;
+    so.max_iterations = max_iterations;
+    if (hessian == "exact")
+        so.hessian = optimal::hessian_kind::exact;
+    else if (hessian == "limited-memory")
+        so.hessian = optimal::hessian_kind::limited_memory;
+    else if (hessian != "automatic")
+        throw std::invalid_argument("hessian must be automatic, exact or limited-memory, got '" +
+                                    hessian + "'");
+    bool interrupted = false;
+    std::exception_ptr failure; // raised by the progress callback: re-raised after the solve
+    so.progress = [&](const optimal::iteration& it) {
+        py::gil_scoped_acquire gil;
+        try {
+            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+            if (progress) (*progress)(it.number, it.cost, it.primal_infeasibility);
+            return true;
+        } catch (py::error_already_set& e) {
+            if (e.matches(PyExc_KeyboardInterrupt))
+                interrupted = true;
+            else
+                failure = std::current_exception();
+            return false;
+        }
+    };
+    optimal::nlp_result r;
+    {
+        py::gil_scoped_release nogil;
+        r = optimal::solve(*tr, so);
+    }
+    if (failure) std::rethrow_exception(failure);
+    const optimal::trajectory path = tr->unpack(r);
+    double closure = std::numeric_limits<double>::quiet_NaN();
+    std::string replay_failure;
+    if (r.converged()) {
+        try {
+            closure = (tr->replay(path).topRows(q0.size()) - path.q).cwiseAbs().maxCoeff();
+        } catch (const std::runtime_error& e) {
+            replay_failure = e.what();
+        }
+    }
+    py::dict out;
+    out["t"] = path.node_times;
+    out["q"] = Eigen::MatrixXd(path.q.transpose());
+    out["v"] = Eigen::MatrixXd(path.v.transpose());
+    out["p"] = Eigen::MatrixXd(path.p.transpose());
+    out["costate"] = Eigen::MatrixXd(path.costate.transpose());
+    out["control_t"] = path.control_times;
+    out["u"] = Eigen::MatrixXd(path.u.transpose());
+    out["cost"] = path.cost;
+    out["status"] = std::string(optimal::status_name(r.verdict));
+    out["message"] = r.message;
+    out["iterations"] = r.iterations;
+    out["constraint_violation"] = r.constraint_violation;
+    out["closure"] = closure;
+    out["closure_failure"] = replay_failure;
+    out["interrupted"] = interrupted;
+    return out;
+}
+
+} // namespace
+
+void bind_optimal(py::module_& m) {
+    m.def("optimize", &optimize);
+}

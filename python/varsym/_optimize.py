@@ -1,0 +1,87 @@
+"""varsym.optimize: optimal control of a built-in model with inputs (docs/optimal_control.md)."""
+
+import math
+
+import numpy as np
+
+from . import _core
+from ._simulate import Model
+from .errors import Error, Interrupted, UsageError
+
+
+class SolverError(Error, RuntimeError):
+    """The optimizer did not solve the problem (tool exit code 3): ``status`` is "infeasible"
+    (no motion meets the boundary states within the bounds near the iterates), "iteration_limit"
+    or "failed"; ``partial`` holds the last iterate, a dict as optimize returns."""
+
+    def __init__(self, message, partial=None):
+        super().__init__(message)
+        self.partial = partial
+        self.status = partial["status"] if partial else None
+
+
+def _vector(x, d, name, default=None):
+    if x is None:
+        if default is None:
+            raise UsageError(f"optimize: {name} is required ({d} values)")
+        return np.full(d, default, dtype=float)
+    v = np.atleast_1d(np.asarray(x, dtype=float)).ravel()
+    if v.size != d:
+        raise UsageError(f"optimize: {name} needs {d} values, got {v.size}")
+    return v
+
+
+def _costs(cost):
+    """"effort", "invariant", "power", or a dict {term: weight}."""
+    if isinstance(cost, str):
+        cost = {term: 1.0 for term in cost.split(",")}
+    weights = {"effort": 0.0, "invariant": 0.0, "power": 0.0}
+    for term, weight in dict(cost).items():
+        if term not in weights:
+            raise UsageError(f"optimize: unknown cost term {term!r}; the terms are effort, "
+                             "invariant and power")
+        weights[term] = float(weight)
+    return weights
+
+
+def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
+             scheme="simpson", degree=None, max_control=None, cost="effort",
+             hessian="automatic", max_iterations=3000, progress=False, **parameters):
+    """The controls that take ``model`` (a name or a Model with inputs: "acrobot", "cart-pole")
+    from (q_start, v_start) at t = 0 to (q_end, v_end) at t = ``time`` at the least cost, by
+    discrete mechanics and optimal control with ``steps`` steps of ``scheme`` (velocities
+    default to rest). ``cost``: "effort" (∫ u²/2), "invariant" (∫ τᵀM⁻¹τ/2), "power" (∫ Σ|τ_i
+    q̇_i|, smoothed), or a dict of weights such as {"power": 1, "effort": 0.01}.
+    ``max_control``: a bound |u| ≤ U on every input. ``progress``: True for a bar, or a function
+    progress(iteration, cost, infeasibility). Returns a dict of arrays: t, q, v, p and costate
+    (λ_p) at the nodes; control_t and u at the quadrature points; cost, status, message,
+    iterations, constraint_violation and closure (the general engine's replay of the controls
+    against the nodes). Raises SolverError (``partial``: the last iterate) when it is not
+    solved, and varsym.Interrupted (``partial``) on Ctrl-C."""
+    m = model if isinstance(model, Model) else Model(model, **parameters)
+    if isinstance(model, Model) and parameters:
+        m = Model(model, **parameters)
+    d = m.dim
+    bar, callback = None, progress if callable(progress) else None
+    if progress is True:
+        from tqdm import tqdm
+        bar = tqdm(desc=f"optimize {m.name}", unit=" it")
+
+        def callback(iteration, value, infeasibility):
+            bar.update(1)
+            bar.set_postfix(cost=f"{value:.6g}", infeasibility=f"{infeasibility:.1e}")
+    try:
+        out = _core.optimize(m.name, m._values(), float(time), int(steps), scheme, degree or 0,
+                             _vector(q_start, d, "q_start"), _vector(v_start, d, "v_start", 0.0),
+                             _vector(q_end, d, "q_end"), _vector(v_end, d, "v_end", 0.0),
+                             math.inf if max_control is None else float(max_control),
+                             *_costs(cost).values(), hessian, int(max_iterations), callback)
+    finally:
+        if bar is not None:
+            bar.close()
+    if out["interrupted"]:
+        raise Interrupted(f"optimize interrupted after {out['iterations']} iterations; the last "
+                          "iterate is in .partial", partial=out)
+    if out["status"] not in ("solved", "acceptable"):
+        raise SolverError(f"optimize: {out['status']}: {out['message']}", partial=out)
+    return out

@@ -1,0 +1,79 @@
+"""varsym.optimize: the acrobot and cart-pole swing-ups from Python, checked against the targets
+and against the general engine's replay of the optimal controls (a second solver of the same
+discrete equations), the invariant cost, the refusals, an unreachable target (SolverError with
+the last iterate) and Ctrl-C (Interrupted with the last iterate). Run by CTest (test `python`)."""
+
+import math
+import os
+import signal
+
+import numpy as np
+import pytest
+
+import varsym
+
+
+def test_acrobot_swing_up_reaches_upright_at_rest():
+    out = varsym.optimize("acrobot", time=4.0, steps=40, q_start=[0, 0], q_end=[math.pi, 0])
+    assert out["status"] == "solved"
+    assert out["q"].shape == (41, 2) and out["u"].shape == (120, 1)
+    assert np.allclose(out["q"][-1], [math.pi, 0], atol=1e-12)
+    assert np.abs(out["v"][-1]).max() < 1e-8  # at rest, from the discrete Legendre transform
+    assert out["closure"] < 1e-8
+    # The cost is the quadrature of u²/2 with Simpson's weights (the controls are at Lobatto's
+    # three points of each step).
+    h = 4.0 / 40
+    w = np.tile([1 / 6, 4 / 6, 1 / 6], 40) * h
+    assert out["cost"] == pytest.approx(float(np.sum(w * 0.5 * out["u"][:, 0] ** 2)), rel=1e-12)
+
+
+def test_cart_pole_gauss_with_bounded_push_and_progress():
+    seen = []
+    out = varsym.optimize("cart-pole", time=2.0, steps=40, scheme="gauss", degree=2,
+                          q_start=[0, math.pi], q_end=[0, 0], max_control=30.0,
+                          progress=lambda it, cost, inf: seen.append(it))
+    assert out["status"] == "solved" and seen == list(range(len(seen))) and len(seen) > 1
+    assert np.abs(out["u"]).max() <= 30.0 + 1e-6
+    assert out["closure"] < 1e-8
+
+
+def test_invariant_cost_differs_from_effort():
+    # 80 steps: the invariant optimum spins the elbow fast (|q2'| ~ 14 rad/s); at 30 steps
+    # h |q2'| ~ 2 and the general engine's Newton, started from its own predictor, cannot
+    # replay every step (closure_failure says which).
+    effort = varsym.optimize("acrobot", time=4.0, steps=80, q_start=[0, 0], q_end=[math.pi, 0])
+    invariant = varsym.optimize("acrobot", time=4.0, steps=80, q_start=[0, 0],
+                                q_end=[math.pi, 0], cost="invariant")
+    assert invariant["status"] in ("solved", "acceptable")
+    assert invariant["closure"] < 1e-8, invariant["closure_failure"]
+    assert np.abs(invariant["u"] - effort["u"]).max() > 0.1  # a different optimum
+
+
+def test_refusals():
+    with pytest.raises(varsym.UsageError, match="no control input"):
+        varsym.optimize("pendulum", time=2.0, q_start=[0], q_end=[1])
+    with pytest.raises(varsym.UsageError, match="unknown cost term"):
+        varsym.optimize("acrobot", time=2.0, q_start=[0, 0], q_end=[1, 0], cost="speed")
+    with pytest.raises(varsym.UsageError, match="q_end needs 2 values"):
+        varsym.optimize("acrobot", time=2.0, q_start=[0, 0], q_end=[1])
+    with pytest.raises(varsym.UsageError, match="time horizon must be positive"):
+        varsym.optimize("acrobot", time=-1.0, q_start=[0, 0], q_end=[1, 0])
+
+
+def test_unreachable_target_raises_with_the_last_iterate():
+    with pytest.raises(varsym.SolverError) as e:
+        varsym.optimize("acrobot", time=4.0, q_start=[0, 0], q_end=[math.pi, 0],
+                        max_control=0.01)
+    assert e.value.status == "infeasible"
+    assert e.value.partial["q"].shape == (51, 2)
+
+
+def test_ctrl_c_stops_the_solver_with_the_last_iterate():
+    def interrupt(iteration, cost, infeasibility):
+        if iteration == 2:
+            os.kill(os.getpid(), signal.SIGINT)
+    with pytest.raises(varsym.Interrupted) as e:
+        varsym.optimize("acrobot", time=4.0, steps=40, q_start=[0, 0], q_end=[math.pi, 0],
+                        progress=interrupt)
+    assert e.value.partial["iterations"] <= 3
+    assert e.value.partial["q"].shape == (41, 2)
