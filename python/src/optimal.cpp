@@ -24,7 +24,7 @@ py::dict optimize(const std::string& name, const std::vector<double>& values, do
                   int steps, const std::string& scheme, int degree, const Eigen::VectorXd& q0,
                   const Eigen::VectorXd& v0, const Eigen::VectorXd& q1, const Eigen::VectorXd& v1,
                   double max_control, double effort, double invariant, double power,
-                  const std::string& hessian, int max_iterations,
+                  double time_weight, const std::string& hessian, int max_iterations,
                   const std::optional<py::function>& progress) {
     const models::model& m = models::get(name);
     if (!m.optimal)
@@ -38,7 +38,8 @@ py::dict optimize(const std::string& name, const std::vector<double>& values, do
     p.v_start = v0;
     p.q_end = q1;
     p.v_end = v1;
-    p.cost = {.effort = effort, .invariant = invariant, .power = power};
+    p.cost = {.effort = effort, .invariant = invariant, .power = power, .time = time_weight};
+    p.free_time = time_weight > 0.0;
     const auto inputs = static_cast<Eigen::Index>(m.controls.size());
     p.control_lower = Eigen::VectorXd::Constant(inputs, -max_control);
     p.control_upper = Eigen::VectorXd::Constant(inputs, max_control);

@@ -35,11 +35,11 @@ def _costs(cost):
     """"effort", "invariant", "power", or a dict {term: weight}."""
     if isinstance(cost, str):
         cost = {term: 1.0 for term in cost.split(",")}
-    weights = {"effort": 0.0, "invariant": 0.0, "power": 0.0}
+    weights = {"effort": 0.0, "invariant": 0.0, "power": 0.0, "time": 0.0}
     for term, weight in dict(cost).items():
         if term not in weights:
             raise UsageError(f"optimize: unknown cost term {term!r}; the terms are effort, "
-                             "invariant and power")
+                             "invariant, power and time")
         weights[term] = float(weight)
     return weights
 
@@ -51,7 +51,8 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
     from (q_start, v_start) at t = 0 to (q_end, v_end) at t = ``time`` at the least cost, by
     discrete mechanics and optimal control with ``steps`` steps of ``scheme`` (velocities
     default to rest). ``cost``: "effort" (∫ u²/2), "invariant" (∫ τᵀM⁻¹τ/2), "power" (∫ Σ|τ_i
-    q̇_i|, smoothed), or a dict of weights such as {"power": 1, "effort": 0.01}.
+    q̇_i|, smoothed), "time" (minimum time: ``time`` is then the first guess of a free horizon;
+    needs ``max_control``), or a dict of weights such as {"power": 1, "effort": 0.01}.
     ``max_control``: a bound |u| ≤ U on every input. ``progress``: True for a bar, or a function
     progress(iteration, cost, infeasibility). Returns a dict of arrays: t, q, v, p and costate
     (λ_p) at the nodes; control_t and u at the quadrature points; cost, status, message,
@@ -62,6 +63,10 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
     if isinstance(model, Model) and parameters:
         m = Model(model, **parameters)
     d = m.dim
+    weights = _costs(cost)
+    if weights["time"] > 0 and max_control is None:
+        raise UsageError("optimize: a cost on the time needs max_control (with unbounded inputs "
+                         "the motion can be made as fast as one likes)")
     bar, callback = None, progress if callable(progress) else None
     if progress is True:
         from tqdm import tqdm
@@ -75,7 +80,7 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
                              _vector(q_start, d, "q_start"), _vector(v_start, d, "v_start", 0.0),
                              _vector(q_end, d, "q_end"), _vector(v_end, d, "v_end", 0.0),
                              math.inf if max_control is None else float(max_control),
-                             *_costs(cost).values(), hessian, int(max_iterations), callback)
+                             *weights.values(), hessian, int(max_iterations), callback)
     finally:
         if bar is not None:
             bar.close()

@@ -38,7 +38,22 @@ awk -F, 'NR > 1 && ($2 > 30 + 1e-6 || $2 < -30 - 1e-6) { exit 1 }' cp_u.csv && o
   bad "a push beyond the 30 N bound"
 grep -q '^varsym optimize: iteration' cp.err && bad "--quiet printed progress lines" || ok
 
+# Minimum time: the cart moved by 1 m, pole hanging at both ends, |u| <= 10 N (a little effort
+# to make the singular arcs unique): the push saturates at the start, T < the first guess 3 s.
+"$VARSYM" optimize --model cart-pole --time 3 --steps 40 --from 0,$pi --to 1,$pi \
+  --max-control 10 --cost time,effort=0.001 --quiet --controls mt_u.csv > mt.csv 2> mt.err
+rc=$?
+[ $rc -eq 0 ] && ok || bad "minimum time: exit $rc ($(cat mt.err))"
+horizon=$(last_field mt.csv 1)
+awk -v t="$horizon" 'BEGIN { exit !(t > 0.5 && t < 2.5) }' && ok || bad "minimum time: T = $horizon"
+awk -F, 'NR > 1 { a = $2 < 0 ? -$2 : $2; if (a > m) m = a } END { exit !(m > 10 - 1e-6 && m < 10 + 1e-6) }' \
+  mt_u.csv && ok || bad "minimum time: the push does not saturate at 10 N"
+closure=$(sed -n 's/.*closure (general engine replay) \([^ ]*\)$/\1/p' mt.err)
+near "$closure" 0 1e-8 && ok || bad "minimum time closure $closure"
+
 # Bad input: one line, exit 2, no file.
+expect_error 2 "minimum time unbounded" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --cost time --output out.csv
+expect_error 2 "unknown cost term" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --cost speed --output out.csv
 expect_error 2 "model without inputs" optimize --model pendulum --time 2 --from 0 --to 1 --output out.csv
 expect_error 2 "unknown model" optimize --model acrobat --time 2 --from 0,0 --to 1,0 --output out.csv
 expect_error 2 "short --from" optimize --model acrobot --time 2 --from 0 --to 1,0 --output out.csv

@@ -49,7 +49,18 @@ def test_invariant_cost_differs_from_effort():
     assert np.abs(invariant["u"] - effort["u"]).max() > 0.1  # a different optimum
 
 
+def test_minimum_time_saturates_the_push():
+    out = varsym.optimize("cart-pole", time=3.0, steps=40, q_start=[0, math.pi],
+                          q_end=[1, math.pi], max_control=10.0,
+                          cost={"time": 1.0, "effort": 0.001})
+    assert 0.5 < out["t"][-1] < 2.5  # the horizon found, below the first guess
+    assert np.abs(out["u"]).max() == pytest.approx(10.0, abs=1e-6)
+    assert out["closure"] < 1e-8
+
+
 def test_refusals():
+    with pytest.raises(varsym.UsageError, match="needs max_control"):
+        varsym.optimize("cart-pole", time=2.0, q_start=[0, 0], q_end=[1, 0], cost="time")
     with pytest.raises(varsym.UsageError, match="no control input"):
         varsym.optimize("pendulum", time=2.0, q_start=[0], q_end=[1])
     with pytest.raises(varsym.UsageError, match="unknown cost term"):

@@ -103,9 +103,11 @@ optimal::cost_weights cost_of(const std::string& text) {
             w.invariant = weight;
         else if (name == "power")
             w.power = weight;
+        else if (name == "time")
+            w.time = weight;
         else
             throw usage_error("--cost: unknown term " + shown(name) +
-                              "; the terms are effort, invariant and power (e.g. "
+                              "; the terms are effort, invariant, power and time (e.g. "
                               "--cost power,effort=0.01)");
         at = end + 1;
     }
@@ -143,6 +145,12 @@ void optimize(const optimize_options& o) {
     p.v_start = as_vector(vector_of(o.from_velocity, "--from-velocity", d, m, true));
     p.v_end = as_vector(vector_of(o.to_velocity, "--to-velocity", d, m, true));
     p.cost = cost_of(o.cost);
+    if (p.cost.time > 0.0) { // minimum time: T free, --time its first guess
+        p.free_time = true;
+        if (!std::isfinite(o.max_control))
+            throw usage_error("--cost time needs --max-control: with unbounded inputs the "
+                              "motion can be made as fast as one likes");
+    }
     const auto inputs = static_cast<Eigen::Index>(m.controls.size());
     p.control_lower = Eigen::VectorXd::Constant(inputs, -o.max_control);
     p.control_upper = Eigen::VectorXd::Constant(inputs, o.max_control);
@@ -202,9 +210,10 @@ void optimize(const optimize_options& o) {
     }
     std::fprintf(stderr,
                  "varsym optimize: %s (%s) after %d iterations in %.3g s: cost %.12g, "
-                 "max |g| %.1e, closure (general engine replay) %.1e\n",
+                 "T %.12g, max |g| %.1e, closure (general engine replay) %.1e\n",
                  optimal::status_name(r.verdict), r.message.c_str(), r.iterations, seconds,
-                 path.cost, r.constraint_violation, closure);
+                 path.cost, path.node_times(path.node_times.size() - 1), r.constraint_violation,
+                 closure);
     if (sig != 0)
         throw interrupted(sig, "varsym optimize: stopped by signal; the files hold the last "
                                "iterate");
@@ -253,7 +262,8 @@ void add_optimize_command(CLI::App& app, action& todo) {
     cmd->add_option("--cost", o->cost,
                     "The running cost, terms with optional weights: effort (u^2/2), invariant "
                     "(tau^T M^-1 tau/2, tau the inputs' generalized force), power (sum |tau_i "
-                    "q'_i|, smoothed), e.g. power,effort=0.01")
+                    "q'_i|, smoothed), time (the horizon itself: minimum time, --time its first "
+                    "guess; needs --max-control), e.g. power,effort=0.01 or time,effort=0.001")
         ->capture_default_str();
     cmd->add_option("--hessian", o->hessian,
                     "automatic (exact where there is one), exact (L's third derivatives by "

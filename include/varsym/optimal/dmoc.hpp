@@ -52,6 +52,9 @@ class dmoc final : public transcription {
         r_ = static_cast<int>(tab_.quad.size());
         n_ = p_.steps;
         h_ = p_.time / n_;
+        if (p_.free_time && time_dependent_lagrangian<L>)
+            throw std::invalid_argument("a free final time needs an autonomous system: this "
+                                        "Lagrangian depends on t");
         points_ = n_ * s_ + 1;
         lagrangian_terms<D> t;
         evaluate_gradient(l_, vec<D>(p_.q_start), vec<D>(p_.v_start), 0.0, t);
@@ -62,7 +65,9 @@ class dmoc final : public transcription {
 
     [[nodiscard]] const control_problem& problem() const override { return p_; }
     [[nodiscard]] const galerkin::tableau& table() const { return tab_; }
-    [[nodiscard]] int variables() const override { return points_ * D + n_ * r_ * M; }
+    [[nodiscard]] int variables() const override {
+        return points_ * D + n_ * r_ * M + (p_.free_time ? 1 : 0);
+    }
     [[nodiscard]] int constraints() const override { return points_ * D; }
 
     void bounds(vector& lower, vector& upper) const override {
@@ -78,6 +83,10 @@ class dmoc final : public transcription {
             lower.segment<M>(control_index(c)) = p_.control_lower;
             upper.segment<M>(control_index(c)) = p_.control_upper;
         }
+        if (p_.free_time) {
+            lower(time_index()) = p_.time_lower;
+            upper(time_index()) = p_.time_upper;
+        }
     }
 
     /// The positions interpolated linearly between the ends, the controls zero (clipped into
@@ -92,104 +101,49 @@ class dmoc final : public transcription {
         for (int c = 0; c < n_ * r_; ++c)
             x.segment<M>(control_index(c)) =
                 vec<M>::Zero().cwiseMax(p_.control_lower).cwiseMin(p_.control_upper);
+        if (p_.free_time) x(time_index()) = p_.time;
         return x;
     }
 
     [[nodiscard]] double cost(cvector x) const override {
-        double j = 0.0;
+        const double h = h_of(x);
+        double j = p_.cost.time * h * n_;
         for (int k = 0; k < n_; ++k)
             for (int q = 0; q < r_; ++q)
-                j += h_ * weight(q) * integrand(x, k, q, nullptr, nullptr);
+                j += h * weight(q) * integrand(x, k, q, nullptr, nullptr);
         return j;
     }
     void cost_gradient(cvector x, vector& gradient) const override {
         gradient.setZero(variables());
+        const double h = h_of(x);
+        if (p_.free_time) gradient(time_index()) = p_.cost.time;
         typename cost_type::zvec g;
         for (int k = 0; k < n_; ++k)
             for (int j = 0; j < r_; ++j) {
-                (void)integrand(x, k, j, &g, nullptr);
-                const double hw = h_ * weight(j);
+                const double c = integrand(x, k, j, &g, nullptr);
+                const double hw = h * weight(j);
                 for (int l = 0; l <= s_; ++l)
                     gradient.segment<D>((k * s_ + l) * D) +=
                         hw * (tab_.phi(l, j) * g.template head<D>() +
-                              tab_.dphi(l, j) / h_ * g.template segment<D>(D));
+                              tab_.dphi(l, j) / h * g.template segment<D>(D));
+                if (p_.free_time) { // d(h w c(q, V/h, u))/dT = w (c − ∇_v c · v) / N
+                    vec<D> q, v;
+                    point(x, k, j, q, v);
+                    gradient(time_index()) +=
+                        weight(j) * (c - g.template segment<D>(D).dot(v)) / n_;
+                }
                 gradient.segment<M>(control_index(k * r_ + j)) += hw * g.template tail<M>();
             }
     }
 
-    void residual(cvector x, vector& e) const override {
-        e.setZero(constraints());
-        lagrangian_terms<D> lt;
-        for (int k = 0; k < n_; ++k)
-            for (int j = 0; j < r_; ++j) {
-                vec<D> q, v;
-                point(x, k, j, q, v);
-                const double t = (k + tab_.quad.nodes[static_cast<std::size_t>(j)]) * h_;
-                evaluate_gradient(l_, q, v, t, lt);
-                const vec<D> force = f_(q, v, t, vec<M>(x.segment<M>(control_index(k * r_ + j))));
-                const vec<D> lq = h_ * weight(j) * (lt.lq + force), lv = weight(j) * lt.lv;
-                for (int i = 0; i <= s_; ++i) // the discrete forced Euler–Lagrange equations
-                    e.segment<D>((k * s_ + i) * D) += tab_.phi(i, j) * lq + tab_.dphi(i, j) * lv;
-            }
-        e.head<D>() += p_start_;                   // p_0 = −D₁L_d − f⁻
-        e.segment<D>((points_ - 1) * D) -= p_end_; // p_N = D₂L_d + f⁺
+    void residual(cvector x, vector& e) const override;
+    [[nodiscard]] sparsity jacobian_pattern() const override;
+    void jacobian(cvector x, std::vector<double>& values) const override;
+    /// Exact, except with the invariant cost (whose Hessian needs L's fourth derivatives) and
+    /// with a free final time.
+    [[nodiscard]] bool has_hessian() const override {
+        return p_.cost.invariant == 0.0 && !p_.free_time;
     }
-
-    [[nodiscard]] sparsity jacobian_pattern() const override {
-        sparsity s;
-        const int w = (s_ + 1) * D;
-        for (int k = 0; k < n_; ++k) {
-            for (int row = 0; row < w; ++row)
-                for (int col = 0; col < w; ++col)
-                    s.add(k * s_ * D + row, k * s_ * D + col);
-            for (int row = 0; row < w; ++row)
-                for (int col = 0; col < r_ * M; ++col)
-                    s.add(k * s_ * D + row, control_index(k * r_) + col);
-        }
-        return s;
-    }
-
-    void jacobian(cvector x, std::vector<double>& values) const override {
-        const int w = (s_ + 1) * D;
-        values.assign(static_cast<std::size_t>(n_) * static_cast<std::size_t>(w * (w + r_ * M)),
-                      0.0);
-        Eigen::MatrixXd bq(w, w), bu(w, r_ * M);
-        lagrangian_terms<D> lt;
-        control_terms<F> ft;
-        std::size_t at = 0;
-        for (int k = 0; k < n_; ++k) {
-            bq.setZero();
-            bu.setZero();
-            for (int j = 0; j < r_; ++j) {
-                vec<D> q, v;
-                point(x, k, j, q, v);
-                const double t = (k + tab_.quad.nodes[static_cast<std::size_t>(j)]) * h_;
-                evaluate(l_, q, v, t, lt);
-                ft.evaluate(f_, q, v, t, vec<M>(x.segment<M>(control_index(k * r_ + j))));
-                const double hw = h_ * weight(j);
-                const mat<D> qq = hw * (lt.lqq + ft.fq), qv = weight(j) * (lt.lqv + ft.fv),
-                             vq = weight(j) * lt.lqv.transpose(), vv = weight(j) / h_ * lt.lvv;
-                for (int i = 0; i <= s_; ++i) {
-                    const double pi = tab_.phi(i, j), di = tab_.dphi(i, j);
-                    for (int m = 0; m <= s_; ++m) {
-                        const double pm = tab_.phi(m, j), dm = tab_.dphi(m, j);
-                        bq.block<D, D>(i * D, m * D) +=
-                            pi * pm * qq + pi * dm * qv + di * pm * vq + di * dm * vv;
-                    }
-                    bu.block<D, M>(i * D, j * M) += hw * pi * ft.fu;
-                }
-            }
-            for (int row = 0; row < w; ++row)
-                for (int col = 0; col < w; ++col)
-                    values[at++] = bq(row, col);
-            for (int row = 0; row < w; ++row)
-                for (int col = 0; col < r_ * M; ++col)
-                    values[at++] = bu(row, col);
-        }
-    }
-
-    /// Exact, except with the invariant cost (whose Hessian needs L's fourth derivatives).
-    [[nodiscard]] bool has_hessian() const override { return p_.cost.invariant == 0.0; }
 
     /// Lower triangle of each step's dense block over its control values and its controls.
     [[nodiscard]] sparsity hessian_pattern() const override {
@@ -202,88 +156,11 @@ class dmoc final : public transcription {
         return s;
     }
 
-    /// σ ∇²J + Σ_g λ_gᵀ ∇²E_g: each quadrature point's h w_j ψ with ψ = aᵀ(∂L/∂q + f) +
-    /// (b/h)ᵀ ∂L/∂q̇, a = Σ_i ℓ_i(c_j) λ_{ks+i}, b = Σ_i ℓ_i'(c_j) λ_{ks+i}, pulled back to
-    /// (Q_{ks} … Q_{ks+s}, u_kj) through z = (q, v, u) = G (Q, u).
+    /// σ ∇²J + Σ_g λ_gᵀ ∇²E_g (fixed time; see dmoc_derivatives.hpp).
     void hessian(cvector x, double sigma, cvector lambda,
-                 std::vector<double>& values) const override {
-        const int w = (s_ + 1) * D + r_ * M, wq = (s_ + 1) * D;
-        values.assign(static_cast<std::size_t>(n_) * static_cast<std::size_t>(w * (w + 1) / 2),
-                      0.0);
-        Eigen::MatrixXd hk(w, w), g = Eigen::MatrixXd::Zero(2 * D + M, w);
-        Eigen::Matrix<double, 2 * D + M, 2 * D + M> hz;
-        std::size_t at = 0;
-        for (int k = 0; k < n_; ++k) {
-            hk.setZero();
-            for (int j = 0; j < r_; ++j) {
-                vec<D> q, v, a = vec<D>::Zero(), b = vec<D>::Zero();
-                point(x, k, j, q, v);
-                for (int i = 0; i <= s_; ++i) {
-                    a += tab_.phi(i, j) * lambda.segment<D>((k * s_ + i) * D);
-                    b += tab_.dphi(i, j) / h_ * lambda.segment<D>((k * s_ + i) * D);
-                }
-                const double t = (k + tab_.quad.nodes[static_cast<std::size_t>(j)]) * h_;
-                const vec<M> u = x.segment<M>(control_index(k * r_ + j));
-                typename cost_type::zmat hc;
-                (void)cost_type::evaluate(l_, f_, p_.cost, p_.effort, q, v, t, u, nullptr, &hc);
-                hz = contracted_force_hessian(f_, q, v, t, u, a) + sigma * hc;
-                hz.template topLeftCorner<2 * D, 2 * D>() += contracted_third(l_, q, v, t, a, b);
-                g.setZero();
-                for (int l = 0; l <= s_; ++l) {
-                    g.block<D, D>(0, l * D).diagonal().setConstant(tab_.phi(l, j));
-                    g.block<D, D>(D, l * D).diagonal().setConstant(tab_.dphi(l, j) / h_);
-                }
-                g.block<M, M>(2 * D, wq + j * M).setIdentity();
-                hk.noalias() += h_ * weight(j) * (g.transpose() * hz * g);
-            }
-            for (int row = 0; row < w; ++row)
-                for (int col = 0; col <= row; ++col)
-                    values[at++] = hk(row, col);
-        }
-    }
-
+                 std::vector<double>& values) const override;
     /// The trajectory of a solver's result (its last iterate if it did not converge).
-    [[nodiscard]] trajectory unpack(const nlp_result& result) const override {
-        const vector& x = result.x;
-        trajectory out;
-        out.scheme = p_.scheme;
-        out.h = h_;
-        out.degree = s_;
-        out.control_nodes = tab_.control;
-        out.cost = cost(x);
-        out.points.resize(D, points_);
-        for (int g = 0; g < points_; ++g)
-            out.points.col(g) = x.segment<D>(g * D);
-        out.node_times.resize(n_ + 1);
-        out.q.resize(D, n_ + 1);
-        out.p.resize(D, n_ + 1);
-        out.v.resize(D, n_ + 1);
-        out.costate.resize(D, n_ + 1);
-        // p_{k+1} = D₂L_d + f⁺: step k's contribution to its end node's equation.
-        vector e_end = vector::Zero(constraints());
-        step_contributions(x, e_end);
-        const lagrangian_system<L> sys(l_);
-        for (int n = 0; n <= n_; ++n) {
-            out.node_times(n) = n * h_;
-            out.q.col(n) = x.segment<D>(n * s_ * D);
-            out.p.col(n) = n == 0 ? vec<D>(p_start_) : vec<D>(e_end.segment<D>(n * s_ * D));
-            out.v.col(n) = sys.velocity(vec<D>(out.q.col(n)), vec<D>(out.p.col(n)), n * h_);
-            if (result.lambda.size() == constraints())
-                out.costate.col(n) = -result.lambda.segment<D>(n * s_ * D);
-            else
-                out.costate.col(n).setConstant(std::nan(""));
-        }
-        out.control_times.resize(n_ * r_);
-        out.u.resize(M, n_ * r_);
-        for (int k = 0; k < n_; ++k)
-            for (int j = 0; j < r_; ++j) {
-                out.control_times(k * r_ + j) =
-                    (k + tab_.quad.nodes[static_cast<std::size_t>(j)]) * h_;
-                out.u.col(k * r_ + j) = x.segment<M>(control_index(k * r_ + j));
-            }
-        return out;
-    }
-
+    [[nodiscard]] trajectory unpack(const nlp_result& result) const override;
     [[nodiscard]] Eigen::MatrixXd replay(const trajectory& path) const override {
         return optimal::replay(l_, f_, path);
     }
@@ -299,6 +176,10 @@ class dmoc final : public transcription {
     vec<D> p_start_, p_end_;
 
     [[nodiscard]] int control_index(int c) const { return points_ * D + c * M; }
+    /// The unknown T of a free final time: the last.
+    [[nodiscard]] int time_index() const { return points_ * D + n_ * r_ * M; }
+    /// The step h = T/N: fixed, or from the unknown T.
+    [[nodiscard]] double h_of(cvector x) const { return p_.free_time ? x(time_index()) / n_ : h_; }
     /// The unknown of step k's local index: its control values, then its controls.
     [[nodiscard]] int step_index(int k, int local) const {
         const int wq = (s_ + 1) * D;
@@ -312,7 +193,7 @@ class dmoc final : public transcription {
                      typename cost_type::zmat* hz) const {
         vec<D> q, v;
         point(x, k, j, q, v);
-        const double t = (k + tab_.quad.nodes[static_cast<std::size_t>(j)]) * h_;
+        const double t = (k + tab_.quad.nodes[static_cast<std::size_t>(j)]) * h_of(x);
         return cost_type::evaluate(l_, f_, p_.cost, p_.effort, q, v, t,
                                    vec<M>(x.segment<M>(control_index(k * r_ + j))), g, hz);
     }
@@ -323,24 +204,11 @@ class dmoc final : public transcription {
         for (int i = 0; i <= s_; ++i) {
             const auto qi = x.segment<D>((k * s_ + i) * D);
             q += tab_.phi(i, j) * qi;
-            v += tab_.dphi(i, j) / h_ * qi;
+            v += tab_.dphi(i, j) / h_of(x) * qi;
         }
     }
     /// Each step's contribution to the equation of its last control value only (the end node).
-    void step_contributions(cvector x, vector& e) const {
-        lagrangian_terms<D> lt;
-        for (int k = 0; k < n_; ++k)
-            for (int j = 0; j < r_; ++j) {
-                vec<D> q, v;
-                point(x, k, j, q, v);
-                const double t = (k + tab_.quad.nodes[static_cast<std::size_t>(j)]) * h_;
-                evaluate_gradient(l_, q, v, t, lt);
-                const vec<D> force = f_(q, v, t, vec<M>(x.segment<M>(control_index(k * r_ + j))));
-                e.segment<D>(((k + 1) * s_) * D) +=
-                    h_ * weight(j) * tab_.phi(s_, j) * (lt.lq + force) +
-                    weight(j) * tab_.dphi(s_, j) * lt.lv;
-            }
-    }
+    void step_contributions(cvector x, vector& e) const;
 };
 
 /// A transcription for L and F (the type deduced).
@@ -350,3 +218,5 @@ std::unique_ptr<dmoc<L, F>> transcribe(L l, F force, const control_problem& prob
 }
 
 } // namespace varsym::optimal
+
+#include "varsym/optimal/dmoc_derivatives.hpp"

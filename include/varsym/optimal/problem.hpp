@@ -24,6 +24,7 @@ struct cost_weights {
     double invariant = 0.0;
     double power = 0.0;
     double power_smoothing = 1e-2; ///< ε [W]
+    double time = 0.0;             ///< the weight of T itself, with a free final time
 };
 
 /// Take a mechanical system from (q_start, v_start) at t = 0 to (q_end, v_end) at t = time,
@@ -32,7 +33,11 @@ struct cost_weights {
 /// with the coordinates kept in [position_lower, position_upper]. Units: those of the model
 /// (seconds, its coordinates' units, its inputs' units); v is q̇.
 struct control_problem {
-    double time = 1.0;                         ///< T > 0 [s]
+    double time = 1.0; ///< T > 0 [s] (the first guess if free_time)
+    /// A free final time T ∈ [time_lower, time_upper] (minimum time: cost.time > 0); a lower
+    /// bound of 0 means T/1000 of the first guess.
+    bool free_time = false;
+    double time_lower = 0.0, time_upper = unbounded;
     int steps = 50;                            ///< N ≥ 1 steps of h = T/N
     scheme_spec scheme = scheme_kind::simpson; ///< the discrete Lagrangian
     vector q_start, v_start, q_end, v_end;     ///< boundary states (d each)
@@ -148,10 +153,18 @@ inline control_problem checked(control_problem p, int d, int m) {
     dim(p.v_end, "the end velocity");
     require(m >= 1, "the model has no control input: nothing to optimise");
     const cost_weights& w = p.cost;
-    for (const double x : {w.effort, w.invariant, w.power})
+    for (const double x : {w.effort, w.invariant, w.power, w.time})
         require(std::isfinite(x) && x >= 0.0, "the cost weights must be finite and >= 0");
-    require(w.effort + w.invariant + w.power > 0.0,
-            "the cost is zero: give the effort, invariant or power term a positive weight");
+    require(w.effort + w.invariant + w.power + w.time > 0.0,
+            "the cost is zero: give the effort, invariant, power or time term a positive weight");
+    require(w.time == 0.0 || p.free_time, "a cost on the time needs a free final time");
+    if (p.free_time) {
+        if (p.time_lower <= 0.0) p.time_lower = 1e-3 * p.time;
+        require(!std::isnan(p.time_upper) && p.time_lower < p.time_upper &&
+                    p.time >= p.time_lower && p.time <= p.time_upper,
+                "the free final time's bounds must hold its first guess: time_lower <= time <= "
+                "time_upper");
+    }
     require(std::isfinite(w.power_smoothing) && w.power_smoothing > 0.0,
             "the power's smoothing must be positive");
     if (p.effort.size() == 0) p.effort = Eigen::MatrixXd::Identity(m, m);

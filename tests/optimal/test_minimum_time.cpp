@@ -1,0 +1,124 @@
+// A free final time: the minimum-time transfer of a double integrator (q̈ = u, |u| ≤ 1) from
+// rest at 0 to rest at 1, whose optimum is bang-bang, u = +1 then −1, switching at T*/2, with
+// T* = 2 √(1/1) = 2 (Kirk, Optimal Control Theory, §5.3); and the derivatives in T against
+// finite differences on the nonlinear pendulum.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "varsym/optimal/dmoc.hpp"
+#include "varsym/optimal/solve.hpp"
+
+namespace {
+
+using namespace varsym;
+
+struct free_mass {
+    static constexpr int dim = 1;
+    template <class T>
+    T operator()(const tvec<T, 1>&, const tvec<T, 1>& v) const {
+        return 0.5 * v(0) * v(0);
+    }
+};
+struct free_push {
+    static constexpr int dim = 1, controls = 1;
+    template <class T>
+    tvec<T, 1> operator()(const tvec<T, 1>&, const tvec<T, 1>&, double, const tvec<T, 1>& u) const {
+        return u;
+    }
+};
+struct timed_pendulum {
+    static constexpr int dim = 1;
+    template <class T>
+    T operator()(const tvec<T, 1>& q, const tvec<T, 1>& v) const {
+        using std::cos;
+        return 0.5 * v(0) * v(0) + 9.81 * cos(q(0));
+    }
+};
+
+optimal::control_problem bang_bang(const scheme_spec& spec, int steps) {
+    optimal::control_problem p;
+    p.time = 3.0; // the first guess
+    p.free_time = true;
+    p.steps = steps;
+    p.scheme = spec;
+    p.cost = {.effort = 0.0, .time = 1.0};
+    p.q_start = p.v_start = p.v_end = Eigen::VectorXd::Zero(1);
+    p.q_end = Eigen::VectorXd::Ones(1);
+    p.control_lower = Eigen::VectorXd::Constant(1, -1.0);
+    p.control_upper = Eigen::VectorXd::Constant(1, 1.0);
+    return p;
+}
+
+TEST(OptimalMinimumTime, DoubleIntegratorIsBangBang) {
+    // With an even N the switch falls on a node; each half is then a quadratic q(t), which
+    // every member's polynomial and quadrature hold exactly: T* to the solver's tolerance.
+    for (const scheme_spec spec :
+         {scheme_spec(scheme_kind::simpson), scheme_spec(scheme_kind::newmark),
+          scheme_spec(scheme_kind::gauss, 3)}) {
+        const auto tr = optimal::transcribe(free_mass{}, free_push{}, bang_bang(spec, 20));
+        const auto r = optimal::solve(*tr);
+        ASSERT_TRUE(r.converged()) << spec.label() << ": " << r.message;
+        const auto path = tr->unpack(r);
+        EXPECT_NEAR(path.node_times(20), 2.0, 1e-7) << spec.label();
+        EXPECT_NEAR(path.cost, 2.0, 1e-7) << spec.label();
+        for (Eigen::Index c = 0; c < path.u.cols(); ++c) { // +1 before the switch, −1 after
+            const double t = path.control_times(c);
+            if (std::abs(t - 1.0) < 1e-6) continue; // at the switch itself u is not determined
+            EXPECT_NEAR(path.u(0, c), t < 1.0 ? 1.0 : -1.0, 1e-6) << spec.label() << " at " << t;
+        }
+        // The closure holds with the time found, to round-off (with IPOPT's default relaxation
+        // of the bounds by 1e-8 it was 9.4e-9: optimal/src/ipopt_solve.cpp).
+        const Eigen::MatrixXd nodes = tr->replay(path);
+        EXPECT_LT((nodes.topRows(1) - path.q).cwiseAbs().maxCoeff(), 1e-12) << spec.label();
+    }
+}
+
+TEST(OptimalMinimumTime, DerivativesInTheTimeMatchFiniteDifferences) {
+    optimal::control_problem p;
+    p.time = 2.0;
+    p.free_time = true;
+    p.steps = 3;
+    p.scheme = {scheme_kind::gauss, 2};
+    p.cost = {.effort = 0.7, .power = 0.3, .time = 1.5};
+    p.q_start = p.v_start = Eigen::VectorXd::Zero(1);
+    p.v_end = Eigen::VectorXd::Constant(1, 0.4);
+    p.q_end = Eigen::VectorXd::Constant(1, 3.0);
+    const auto tr = optimal::transcribe(timed_pendulum{}, free_push{}, p);
+    EXPECT_FALSE(tr->has_hessian());
+    const int n = tr->variables(), m = tr->constraints();
+    Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(n, 0.3, 2.9).array().sin() + 0.5;
+    x(n - 1) = 1.7; // T
+    std::vector<double> values;
+    tr->jacobian(x, values);
+    const auto pattern = tr->jacobian_pattern();
+    ASSERT_EQ(static_cast<int>(values.size()), pattern.size());
+    Eigen::MatrixXd jac = Eigen::MatrixXd::Zero(m, n);
+    for (int i = 0; i < pattern.size(); ++i)
+        jac(pattern.rows[static_cast<std::size_t>(i)], pattern.cols[static_cast<std::size_t>(i)]) +=
+            values[static_cast<std::size_t>(i)];
+    Eigen::VectorXd g;
+    tr->cost_gradient(x, g);
+    const double step = 1e-6;
+    for (int i = 0; i < n; ++i) {
+        Eigen::VectorXd up = x, down = x, eu, ed;
+        up(i) += step;
+        down(i) -= step;
+        tr->residual(up, eu);
+        tr->residual(down, ed);
+        EXPECT_LT(((eu - ed) / (2 * step) - jac.col(i)).cwiseAbs().maxCoeff(), 1e-6) << i;
+        EXPECT_NEAR((tr->cost(up) - tr->cost(down)) / (2 * step), g(i), 1e-6) << i;
+    }
+    EXPECT_GT(jac.col(n - 1).cwiseAbs().maxCoeff(), 1.0); // the T column is there
+}
+
+TEST(OptimalMinimumTime, RefusesInconsistentTimes) {
+    auto p = bang_bang(scheme_kind::simpson, 10);
+    p.time_upper = 1.0; // the guess 3 is outside [lower, 1]
+    EXPECT_THROW((void)optimal::transcribe(free_mass{}, free_push{}, p), std::invalid_argument);
+    p = bang_bang(scheme_kind::simpson, 10);
+    p.free_time = false; // a cost on T with T fixed
+    EXPECT_THROW((void)optimal::transcribe(free_mass{}, free_push{}, p), std::invalid_argument);
+}
+
+} // namespace
