@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "varsym/optimal/dmoc.hpp"
+#include "varsym/problems/linked_pendulum.hpp"
 #include "varsym/optimal/solve.hpp"
 
 namespace {
@@ -89,6 +90,59 @@ TEST(OptimalCosts, GradientsAndHessiansMatchFiniteDifferences) {
         }
         EXPECT_LT((h - hfd).cwiseAbs().maxCoeff(), 1e-6 * std::max(1.0, h.cwiseAbs().maxCoeff()));
     }
+}
+
+/// Joint torques on a chain in absolute angles: f = Bᵀu, f_i = u_i − u_{i+1}.
+struct chain_torques {
+    static constexpr int dim = 3, controls = 3;
+    template <class T>
+    tvec<T, 3> operator()(const tvec<T, 3>&, const tvec<T, 3>&, double,
+                          const tvec<T, 3>& u) const {
+        return tvec<T, 3>(u(0) - u(1), u(1) - u(2), u(2));
+    }
+};
+
+TEST(OptimalCosts, ExactHessianOfALagrangianWrittenWithDoubleConstants) {
+    // linked_pendulum's L starts from T l(0.0): its third derivatives go through the dual
+    // numbers of third_order.hpp. The Hessian of λᵀg against differences of Jᵀλ.
+    optimal::control_problem p;
+    p.time = 1.0;
+    p.steps = 2;
+    p.scheme = {scheme_kind::lobatto, 3};
+    p.q_start = p.v_start = p.v_end = Eigen::VectorXd::Zero(3);
+    p.q_end = Eigen::Vector3d(0.5, 1.0, 1.5);
+    const linked_pendulum::lagrangian<3> chain({1.0, 0.8, 0.5}, {1.0, 0.7, 0.4}, 9.81);
+    const auto tr = optimal::transcribe(chain, chain_torques{}, p);
+    const int n = tr->variables(), m = tr->constraints();
+    const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(n, 0.1, 2.3).array().sin(),
+                          lambda = Eigen::VectorXd::LinSpaced(m, -1.5, 1.0);
+    const auto jacobian_t_lambda = [&](const Eigen::VectorXd& y) {
+        std::vector<double> v;
+        tr->jacobian(y, v);
+        const auto pat = tr->jacobian_pattern();
+        Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
+        for (int i = 0; i < pat.size(); ++i)
+            out(pat.cols[static_cast<std::size_t>(i)]) +=
+                v[static_cast<std::size_t>(i)] * lambda(pat.rows[static_cast<std::size_t>(i)]);
+        return out;
+    };
+    std::vector<double> values;
+    tr->hessian(x, 0.0, lambda, values);
+    const auto pattern = tr->hessian_pattern();
+    Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n), hfd(n, n);
+    for (int i = 0; i < pattern.size(); ++i)
+        h(pattern.rows[static_cast<std::size_t>(i)], pattern.cols[static_cast<std::size_t>(i)]) +=
+            values[static_cast<std::size_t>(i)];
+    h = h.selfadjointView<Eigen::Lower>();
+    const double step = 1e-6;
+    for (int i = 0; i < n; ++i) {
+        Eigen::VectorXd up = x, down = x;
+        up(i) += step;
+        down(i) -= step;
+        hfd.col(i) = (jacobian_t_lambda(up) - jacobian_t_lambda(down)) / (2 * step);
+    }
+    EXPECT_LT((h - hfd).cwiseAbs().maxCoeff(), 1e-6 * h.cwiseAbs().maxCoeff());
+    EXPECT_GT(h.cwiseAbs().maxCoeff(), 1.0);
 }
 
 struct arm_measures {

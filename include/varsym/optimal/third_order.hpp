@@ -2,73 +2,131 @@
 // exact Hessian of its Lagrangian: of ψ_L = aᵀ ∂L/∂q + bᵀ ∂L/∂q̇ in (q, q̇) (L's third derivatives
 // contracted with the multipliers' direction (a, b)), and of ψ_f = aᵀ f(q, q̇, t, u) in
 // (q, q̇, u). Forward-mode automatic differentiation: second_order scalars, with one directional
-// derivative more on top for L (Eigen's AutoDiffScalar nested three deep).
+// derivative more on top for L (the dual numbers `directional` below).
 #pragma once
 
-#include <type_traits>
+#include <cmath>
 
 #include "varsym/autodiff/second_order.hpp"
 #include "varsym/systems/lagrangian.hpp"
 
-namespace varsym::optimal::detail {
+namespace varsym::optimal {
 
-/// An AutoDiffScalar over second-order scalars (three levels): Eigen gives it arithmetic with its
-/// own kind only, since a double reaches it through two conversions. The operators below take
-/// the double literals of a Lagrangian (0.5 * v * v) by converting them once, exactly.
-template <class T>
-struct is_autodiff : std::false_type {};
-template <class D>
-struct is_autodiff<Eigen::AutoDiffScalar<D>> : std::true_type {};
-template <class T>
-struct is_second_order : std::false_type {};
-template <class D>
-struct is_second_order<Eigen::AutoDiffScalar<D>>
-    : is_autodiff<typename Eigen::internal::remove_all<D>::type::Scalar> {};
+/// x + ε y with ε² = 0 over second-order scalars S (value, gradient and Hessian in z): one
+/// directional derivative on top of a Hessian, so that ∂/∂ε of L(z + ε w) carries the Hessian
+/// of w · ∇L. A small type of our own rather than Eigen's AutoDiffScalar nested a third time:
+/// that one cannot be made from a double (two conversions), so a Lagrangian written with
+/// T(0.0) or 0.5 * v would not compile with it; this one takes every operation a Lagrangian
+/// for the other engines uses (arithmetic with doubles, the functions of <cmath> below,
+/// comparisons on the value).
+template <class S>
+struct directional {
+    S x, y;
+    directional() : x(0.0), y(0.0) {}
+    directional(double v) : x(v), y(0.0) {} // NOLINT: implicit, as a double literal is used
+    directional(const S& v, const S& d) : x(v), y(d) {}
+    [[nodiscard]] double value() const { return x.value().value(); }
 
-/// An AutoDiffScalar (or one of its expressions) whose derivatives are second-order scalars S
-/// (S = AutoDiffScalar<Matrix<F, N, 1>>, F an AutoDiffScalar); `plain` is its value type.
-template <class T>
-struct is_third_order : std::false_type {};
-template <class D>
-struct is_third_order<Eigen::AutoDiffScalar<D>> {
-    using derivatives = typename Eigen::internal::remove_all<D>::type::PlainObject;
-    using S = typename derivatives::Scalar;
-    static constexpr bool value = is_second_order<S>::value;
-    using plain = Eigen::AutoDiffScalar<derivatives>;
+    friend directional operator+(const directional& a, const directional& b) {
+        return {S(a.x + b.x), S(a.y + b.y)};
+    }
+    friend directional operator-(const directional& a, const directional& b) {
+        return {S(a.x - b.x), S(a.y - b.y)};
+    }
+    friend directional operator*(const directional& a, const directional& b) {
+        return {S(a.x * b.x), S(a.x * b.y + a.y * b.x)};
+    }
+    friend directional operator/(const directional& a, const directional& b) {
+        const S q(a.x / b.x);
+        return {q, S((a.y - q * b.y) / b.x)};
+    }
+    friend directional operator-(const directional& a) { return {S(-a.x), S(-a.y)}; }
+    friend directional operator+(const directional& a) { return a; }
+    directional& operator+=(const directional& b) { return *this = *this + b; }
+    directional& operator-=(const directional& b) { return *this = *this - b; }
+    directional& operator*=(const directional& b) { return *this = *this * b; }
+    directional& operator/=(const directional& b) { return *this = *this / b; }
+    friend bool operator<(const directional& a, const directional& b) {
+        return a.value() < b.value();
+    }
+    friend bool operator>(const directional& a, const directional& b) {
+        return a.value() > b.value();
+    }
+    friend bool operator<=(const directional& a, const directional& b) {
+        return a.value() <= b.value();
+    }
+    friend bool operator>=(const directional& a, const directional& b) {
+        return a.value() >= b.value();
+    }
+    friend bool operator==(const directional& a, const directional& b) {
+        return a.value() == b.value();
+    }
+
+    friend directional sin(const directional& a) {
+        using std::cos, std::sin;
+        return {S(sin(a.x)), S(cos(a.x) * a.y)};
+    }
+    friend directional cos(const directional& a) {
+        using std::cos, std::sin;
+        return {S(cos(a.x)), S(-sin(a.x) * a.y)};
+    }
+    friend directional tan(const directional& a) {
+        using std::tan;
+        const S t(tan(a.x));
+        return {t, S((1.0 + t * t) * a.y)};
+    }
+    friend directional exp(const directional& a) {
+        using std::exp;
+        const S e(exp(a.x));
+        return {e, S(e * a.y)};
+    }
+    friend directional log(const directional& a) {
+        using std::log;
+        return {S(log(a.x)), S(a.y / a.x)};
+    }
+    friend directional sqrt(const directional& a) {
+        using std::sqrt;
+        const S r(sqrt(a.x));
+        return {r, S(a.y / (2.0 * r))};
+    }
+    friend directional pow(const directional& a, double p) {
+        using std::pow;
+        return {S(pow(a.x, p)), S(p * pow(a.x, p - 1.0) * a.y)};
+    }
+    friend directional abs(const directional& a) { return a.value() < 0.0 ? -a : a; }
+    friend directional atan2(const directional& a, const directional& b) {
+        using std::atan2;
+        return {S(atan2(a.x, b.x)), S((b.x * a.y - a.x * b.y) / (a.x * a.x + b.x * b.x))};
+    }
 };
 
-template <class T>
-concept third_order = is_third_order<T>::value;
-
-template <third_order T>
-typename is_third_order<T>::plain lift(double x) {
-    using P = typename is_third_order<T>::plain;
-    using S = typename P::Scalar; // second order
-    using F = typename S::Scalar; // first order
-    return P(S(F(x)));
-}
-
-} // namespace varsym::optimal::detail
+} // namespace varsym::optimal
 
 namespace Eigen {
-
-#define VARSYM_THIRD_ORDER_OP(op)                                                                  \
-    template <class T, std::enable_if_t<varsym::optimal::detail::third_order<T>, int> = 0>         \
-    typename varsym::optimal::detail::is_third_order<T>::plain operator op(double a, const T& b) { \
-        return typename varsym::optimal::detail::is_third_order<T>::plain(                         \
-            varsym::optimal::detail::lift<T>(a) op b);                                             \
-    }                                                                                              \
-    template <class T, std::enable_if_t<varsym::optimal::detail::third_order<T>, int> = 0>         \
-    typename varsym::optimal::detail::is_third_order<T>::plain operator op(const T& a, double b) { \
-        return typename varsym::optimal::detail::is_third_order<T>::plain(                         \
-            a op varsym::optimal::detail::lift<T>(b));                                             \
-    }
-VARSYM_THIRD_ORDER_OP(+)
-VARSYM_THIRD_ORDER_OP(-)
-VARSYM_THIRD_ORDER_OP(*)
-VARSYM_THIRD_ORDER_OP(/)
-#undef VARSYM_THIRD_ORDER_OP
-
+template <class S>
+struct NumTraits<varsym::optimal::directional<S>> : GenericNumTraits<double> {
+    using Real = varsym::optimal::directional<S>;
+    using NonInteger = Real;
+    using Nested = Real;
+    using Literal = double;
+    enum {
+        IsComplex = 0,
+        IsInteger = 0,
+        IsSigned = 1,
+        RequireInitialization = 1,
+        ReadCost = 1,
+        AddCost = 8,
+        MulCost = 16
+    };
+};
+template <class S, typename BinaryOp>
+struct ScalarBinaryOpTraits<varsym::optimal::directional<S>, double, BinaryOp> {
+    using ReturnType = varsym::optimal::directional<S>;
+};
+template <class S, typename BinaryOp>
+struct ScalarBinaryOpTraits<double, varsym::optimal::directional<S>, BinaryOp> {
+    using ReturnType = varsym::optimal::directional<S>;
+};
 } // namespace Eigen
 
 namespace varsym::optimal {
@@ -79,16 +137,16 @@ mat<2 * L::dim> contracted_third(const L& l, const vec<L::dim>& q, const vec<L::
                                  const vec<L::dim>& a, const vec<L::dim>& b) {
     constexpr int D = L::dim, N = 2 * D;
     using S = ad::second_order<N>;
-    using E = Eigen::AutoDiffScalar<Eigen::Matrix<S, 1, 1>>; // d/dε along (a, b)
+    using E = directional<S>; // d/dε along (a, b)
     tvec<E, D> qe, ve;
     for (int i = 0; i < D; ++i) {
-        qe(i) = E(ad::variable<N>(q(i), i), Eigen::Matrix<S, 1, 1>::Constant(S(a(i))));
-        ve(i) = E(ad::variable<N>(v(i), D + i), Eigen::Matrix<S, 1, 1>::Constant(S(b(i))));
+        qe(i) = E(ad::variable<N>(q(i), i), S(a(i)));
+        ve(i) = E(ad::variable<N>(v(i), D + i), S(b(i)));
     }
     const E out = at(l, t)(qe, ve);
     vec<N> g;
     mat<N> h;
-    ad::unpack(out.derivatives()(0), g, h);
+    ad::unpack(out.y, g, h);
     return h;
 }
 
