@@ -14,7 +14,7 @@ OUT ?= out
 VARSYM = $(BUILD_DIR)/apps/varsym/varsym
 
 .PHONY: all deps configure build tool python run test install san-configure test-sanitize \
-  test-sanitize-cli fuzz bench soak clean
+  test-sanitize-cli fuzz bench bench-optimal soak clean
 
 all: build
 
@@ -100,6 +100,11 @@ bench: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_bench varsym_bench_family
 	$(BUILD_DIR)/bench/varsym_bench --benchmark_min_time=0.2
 	$(BUILD_DIR)/bench/varsym_bench_family --benchmark_min_time=0.2
+
+# Optimal control: time, iterations and accuracy per second (bench/bench_optimal.cpp).
+bench-optimal: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_bench_optimal
+	$(BUILD_DIR)/bench/varsym_bench_optimal 3
 
 soak: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_soak

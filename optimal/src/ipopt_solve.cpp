@@ -216,4 +216,23 @@ nlp_result solve(const nlp& problem, const solver_options& options, const vector
     return out;
 }
 
+refined solve_refined(const std::function<std::unique_ptr<transcription>(int)>& make, int steps,
+                      int levels, const solver_options& options) {
+    std::vector<int> sizes{steps};
+    while (static_cast<int>(sizes.size()) <= levels && sizes.back() / 2 >= 4)
+        sizes.push_back(sizes.back() / 2);
+    refined out;
+    std::unique_ptr<trajectory> previous;
+    for (auto n = sizes.rbegin(); n != sizes.rend(); ++n) {
+        out.problem = make(*n);
+        const vector x0 = previous ? out.problem->start_from(*previous) : out.problem->start();
+        out.result = solve(*out.problem, options, &x0);
+        out.steps.push_back(*n);
+        out.iterations.push_back(out.result.iterations);
+        if (!out.result.converged()) break;
+        previous = std::make_unique<trajectory>(out.problem->unpack(out.result));
+    }
+    return out;
+}
+
 } // namespace varsym::optimal

@@ -1,7 +1,7 @@
 // The running costs on a fully actuated two-link arm in a vertical plane (uniform links of 1 kg
 // and 1 m, joint torques u = τ): the gradients and Hessians against finite differences, and the
 // invariant cost ∫ ½ τᵀM⁻¹τ against the effort ∫ ½ |τ|² on the same rest-to-rest motion, the
-// comparison of Rojas-Quintero, Dubois & Cabrera-Ruiz (Mathematics 10(7), 1117, 2022).
+// comparison of Rojas-Quintero et al. (Mathematics 10(7), 1117, 2022).
 #include <cmath>
 #include <cstdio>
 #include <numbers>

@@ -20,16 +20,6 @@
 
 namespace varsym::optimal {
 
-/// A transcription whose system is known at run time only (the models layer's): the NLP, the
-/// trajectory of a result and its closure check.
-class transcription : public nlp {
-  public:
-    [[nodiscard]] virtual const control_problem& problem() const = 0;
-    [[nodiscard]] virtual trajectory unpack(const nlp_result& result) const = 0;
-    /// The general engine's nodes under the trajectory's controls (replay.hpp): 2d × (N + 1).
-    [[nodiscard]] virtual Eigen::MatrixXd replay(const trajectory& path) const = 0;
-};
-
 /// The transcription of a control_problem for the Lagrangian L and the control force F.
 /// Unknowns x = (Q_0 … Q_{Ns}, u_{0,0} … u_{N−1,r−1}): Q_g = q((k + d_i) h) for g = k s + i,
 /// u_{k,j} = u((k + c_j) h). Equations E_g = 0, g = 0 … N s, d each:
@@ -102,6 +92,34 @@ class dmoc final : public transcription {
             x.segment<M>(control_index(c)) =
                 vec<M>::Zero().cwiseMax(p_.control_lower).cwiseMin(p_.control_upper);
         if (p_.free_time) x(time_index()) = p_.time;
+        return x;
+    }
+
+    /// The unknowns of `guess` (another N or scheme: a coarser solution) at this transcription's
+    /// points, at the same fractions of the horizon: its dense output for the positions, its
+    /// controls interpolated linearly (clipped into the bounds), its horizon if T is free.
+    [[nodiscard]] vector start_from(const trajectory& guess) const override {
+        vector x = start();
+        const double horizon = guess.node_times(guess.node_times.size() - 1);
+        for (int k = 0; k < n_; ++k)
+            for (int i = (k == 0 ? 1 : 0); i <= s_; ++i) {
+                if (k == n_ - 1 && i == s_) continue; // the fixed ends stay
+                const double frac = (k + tab_.control[static_cast<std::size_t>(i)]) / n_;
+                x.segment<D>((k * s_ + i) * D) = guess.position(frac * horizon);
+            }
+        const auto& ct = guess.control_times;
+        for (int k = 0; k < n_; ++k)
+            for (int j = 0; j < r_; ++j) {
+                const double t = (k + tab_.quad.nodes[static_cast<std::size_t>(j)]) / n_ * horizon;
+                const auto at = std::lower_bound(ct.data(), ct.data() + ct.size(), t) - ct.data();
+                const Eigen::Index hi = std::clamp<Eigen::Index>(at, 1, ct.size() - 1), lo = hi - 1;
+                const double span = ct(hi) - ct(lo),
+                             a = span > 0 ? std::clamp((t - ct(lo)) / span, 0.0, 1.0) : 0.0;
+                const vec<M> u = (1.0 - a) * guess.u.col(lo) + a * guess.u.col(hi);
+                x.segment<M>(control_index(k * r_ + j)) =
+                    u.cwiseMax(p_.control_lower).cwiseMin(p_.control_upper);
+            }
+        if (p_.free_time) x(time_index()) = std::clamp(horizon, p_.time_lower, p_.time_upper);
         return x;
     }
 

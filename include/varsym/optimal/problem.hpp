@@ -126,6 +126,18 @@ struct trajectory {
     }
 };
 
+/// A transcription whose system is known at run time only (the models layer's): the NLP, the
+/// trajectory of a result and its closure check.
+class transcription : public nlp {
+  public:
+    [[nodiscard]] virtual const control_problem& problem() const = 0;
+    [[nodiscard]] virtual trajectory unpack(const nlp_result& result) const = 0;
+    /// A starting point from another trajectory (a coarser solution: mesh refinement).
+    [[nodiscard]] virtual vector start_from(const trajectory& guess) const = 0;
+    /// The general engine's nodes under the trajectory's controls (replay.hpp): 2d × (N + 1).
+    [[nodiscard]] virtual Eigen::MatrixXd replay(const trajectory& path) const = 0;
+};
+
 namespace detail {
 
 inline void require(bool ok, const std::string& what) {

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "varsym/optimal/problem.hpp"
 
@@ -40,5 +42,18 @@ struct solver_options {
 /// Solves `problem` from its start(), or from `start` when given (same size as start()).
 nlp_result solve(const nlp& problem, const solver_options& options = {},
                  const vector* start = nullptr);
+
+/// Mesh refinement: solves with N/2^levels steps first (at least 4), then each doubled N from
+/// the previous solution (transcription::start_from), up to N. `make(n)` makes the
+/// transcription of n steps. A far better start for the fine problem than the interpolated
+/// boundary states, and cheaper: the coarse problems take most of the iterations. Stops at
+/// the first level that does not converge (its result is returned). `iterations` per level.
+struct refined {
+    nlp_result result;
+    std::unique_ptr<transcription> problem; ///< the finest solved (or the failed level's)
+    std::vector<int> steps, iterations;
+};
+refined solve_refined(const std::function<std::unique_ptr<transcription>(int)>& make, int steps,
+                      int levels, const solver_options& options = {});
 
 } // namespace varsym::optimal
