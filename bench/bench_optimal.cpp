@@ -44,8 +44,7 @@ template <int N>
 struct joint_torques { // f = Bᵀu for relative joint torques on absolute angles
     static constexpr int dim = N, controls = N;
     template <class T>
-    tvec<T, N> operator()(const tvec<T, N>&, const tvec<T, N>&, double,
-                          const tvec<T, N>& u) const {
+    tvec<T, N> operator()(const tvec<T, N>&, const tvec<T, N>&, double, const tvec<T, N>& u) const {
         tvec<T, N> f;
         for (int i = 0; i < N; ++i)
             f(i) = i + 1 < N ? T(u(i) - u(i + 1)) : u(i);
@@ -55,8 +54,7 @@ struct joint_torques { // f = Bᵀu for relative joint torques on absolute angle
 struct relative_torques { // the two-link arm's q2 is already relative: f = u
     static constexpr int dim = 2, controls = 2;
     template <class T>
-    tvec<T, 2> operator()(const tvec<T, 2>&, const tvec<T, 2>&, double,
-                          const tvec<T, 2>& u) const {
+    tvec<T, 2> operator()(const tvec<T, 2>&, const tvec<T, 2>&, double, const tvec<T, 2>& u) const {
         return u;
     }
 };
@@ -71,14 +69,13 @@ struct pendulum {
 struct torque {
     static constexpr int dim = 1, controls = 1;
     template <class T>
-    tvec<T, 1> operator()(const tvec<T, 1>&, const tvec<T, 1>&, double,
-                          const tvec<T, 1>& u) const {
+    tvec<T, 1> operator()(const tvec<T, 1>&, const tvec<T, 1>&, double, const tvec<T, 1>& u) const {
         return u;
     }
 };
 
 struct outcome {
-    double seconds = 0, cost = 0;
+    double seconds = 0, cost = 0, closure = 0;
     int iterations = 0;
     std::string status;
 };
@@ -97,11 +94,13 @@ outcome run(const L& l, const F& f, const optimal::control_problem& p,
             return std::unique_ptr<optimal::transcription>(optimal::transcribe(l, f, q));
         },
         p.steps, levels, o);
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     int iterations = 0;
     for (const int i : r.iterations)
         iterations += i;
-    return {s, r.result.cost, iterations, optimal::status_name(r.result.verdict)};
+    const auto closure = optimal::check_closure(*r.problem, r.problem->unpack(r.result));
+    return {s, r.result.cost, closure.error, iterations, optimal::status_name(r.result.verdict)};
 }
 
 /// Runs every case `rounds` times in turn; returns each case's run with the median time.
@@ -132,14 +131,15 @@ optimal::control_problem arm_problem(int steps) {
 
 int main(int argc, char** argv) {
     const int rounds = argc > 1 ? std::atoi(argv[1]) : 3;
-    std::printf("# varsym optimal control benchmark (medians of %d interleaved rounds)\n\n", rounds);
+    std::printf("# varsym optimal control benchmark (medians of %d interleaved rounds)\n\n",
+                rounds);
 
     std::printf("## Two-link arm swing-up, T = 2 s, effort, Simpson, exact Hessian\n\n");
     std::printf("From the interpolated boundary states (direct), and by mesh refinement from N/8 "
                 "(refined; iterations summed over the levels).\n\n");
     std::printf("| N | start | time [s] | iterations | ms / iteration | µs / iteration / step | "
-                "cost | status |\n");
-    std::printf("|---|---|---|---|---|---|---|---|\n");
+                "cost | status | closure |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|\n");
     const std::vector<int> sizes{50, 100, 200, 400};
     std::vector<std::function<outcome()>> cases;
     for (const int n : sizes)
@@ -169,10 +169,10 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < 2 * sizes.size(); ++i) {
         const auto& r = results[i];
         const int n = sizes[i % sizes.size()];
-        std::printf("| %d | %s | %.3f | %d | %.2f | %.2f | %.6f | %s |\n", n,
+        std::printf("| %d | %s | %.3f | %d | %.2f | %.2f | %.6f | %s | %.1e |\n", n,
                     i < sizes.size() ? "direct" : "refined", r.seconds, r.iterations,
                     1e3 * r.seconds / r.iterations, 1e6 * r.seconds / r.iterations / n, r.cost,
-                    r.status.c_str());
+                    r.status.c_str(), r.closure);
     }
     const auto& exact = results[1];
     const auto& bfgs = results[2 * sizes.size()];
@@ -185,8 +185,8 @@ int main(int argc, char** argv) {
     const auto& six = results.back();
     std::printf("\n## Six-link arm rest to rest, |tau| <= 40 N m, T = 3 s, N = 200, Simpson, "
                 "refined from N = 25\n\n");
-    std::printf("time %.3f s, %d iterations, cost %.6f, %s\n", six.seconds, six.iterations,
-                six.cost, six.status.c_str());
+    std::printf("time %.3f s, %d iterations, cost %.6f, %s, closure %.1e\n", six.seconds,
+                six.iterations, six.cost, six.status.c_str(), six.closure);
 
     std::printf("\n## Accuracy per second: pendulum swing-up (T = 2, effort), cost error against "
                 "gauss-4 at N = 400\n\n");
@@ -200,11 +200,13 @@ int main(int argc, char** argv) {
         return run(pendulum{}, torque{}, p);
     };
     const double reference = swing({scheme_kind::gauss, 4}, 400).cost;
-    std::printf("reference cost %.15f\n\n| scheme | N | time [s] | |cost error| |\n|---|---|---|---|\n",
+    std::printf("reference cost %.15f\n\n| scheme | N | time [s] | |cost error| | closure |\n"
+                "|---|---|---|---|---|\n",
                 reference);
     std::vector<std::pair<scheme_spec, int>> runs;
-    for (const scheme_spec spec : {scheme_spec(scheme_kind::newmark), scheme_spec(scheme_kind::simpson),
-                                   scheme_spec(scheme_kind::gauss, 2), scheme_spec(scheme_kind::gauss, 3)})
+    for (const scheme_spec spec :
+         {scheme_spec(scheme_kind::newmark), scheme_spec(scheme_kind::simpson),
+          scheme_spec(scheme_kind::gauss, 2), scheme_spec(scheme_kind::gauss, 3)})
         for (const int n : {10, 20, 40, 80, 160, 320})
             runs.emplace_back(spec, n);
     std::vector<std::function<outcome()>> swings;
@@ -212,6 +214,6 @@ int main(int argc, char** argv) {
         swings.emplace_back([spec = spec, n = n, &swing] { return swing(spec, n); });
     const auto sw = interleaved(swings, rounds);
     for (std::size_t i = 0; i < runs.size(); ++i)
-        std::printf("| %s | %d | %.4f | %.2e |\n", runs[i].first.label().c_str(), runs[i].second,
-                    sw[i].seconds, std::abs(sw[i].cost - reference));
+        std::printf("| %s | %d | %.4f | %.2e | %.1e |\n", runs[i].first.label().c_str(),
+                    runs[i].second, sw[i].seconds, std::abs(sw[i].cost - reference), sw[i].closure);
 }

@@ -24,7 +24,7 @@ py::dict optimize(const std::string& name, const std::vector<double>& values, do
                   int steps, const std::string& scheme, int degree, const Eigen::VectorXd& q0,
                   const Eigen::VectorXd& v0, const Eigen::VectorXd& q1, const Eigen::VectorXd& v1,
                   double max_control, double effort, double invariant, double power,
-                  double time_weight, const std::string& hessian, int max_iterations,
+                  double time_weight, const std::string& hessian, int max_iterations, int refine,
                   const std::optional<py::function>& progress) {
     const models::model& m = models::get(name);
     if (!m.optimal)
@@ -43,7 +43,7 @@ py::dict optimize(const std::string& name, const std::vector<double>& values, do
     const auto inputs = static_cast<Eigen::Index>(m.controls.size());
     p.control_lower = Eigen::VectorXd::Constant(inputs, -max_control);
     p.control_upper = Eigen::VectorXd::Constant(inputs, max_control);
-    const auto tr = m.optimal(values, p);
+    auto tr = m.optimal(values, p);
     optimal::solver_options so;
     so.max_iterations = max_iterations;
     if (hessian == "exact")
@@ -72,19 +72,24 @@ py::dict optimize(const std::string& name, const std::vector<double>& values, do
     optimal::nlp_result r;
     {
         py::gil_scoped_release nogil;
-        r = optimal::solve(*tr, so);
+        if (refine > 0) {
+            auto refined = optimal::solve_refined(
+                [&](int n) {
+                    auto q = p;
+                    q.steps = n;
+                    return m.optimal(values, q);
+                },
+                steps, refine, so);
+            r = std::move(refined.result);
+            tr = std::move(refined.problem);
+        } else {
+            r = optimal::solve(*tr, so);
+        }
     }
     if (failure) std::rethrow_exception(failure);
     const optimal::trajectory path = tr->unpack(r);
-    double closure = std::numeric_limits<double>::quiet_NaN();
-    std::string replay_failure;
-    if (r.converged()) {
-        try {
-            closure = (tr->replay(path).topRows(q0.size()) - path.q).cwiseAbs().maxCoeff();
-        } catch (const std::runtime_error& e) {
-            replay_failure = e.what();
-        }
-    }
+    optimal::closure_check closure;
+    if (r.converged()) closure = optimal::check_closure(*tr, path);
     py::dict out;
     out["t"] = path.node_times;
     out["q"] = Eigen::MatrixXd(path.q.transpose());
@@ -98,8 +103,9 @@ py::dict optimize(const std::string& name, const std::vector<double>& values, do
     out["message"] = r.message;
     out["iterations"] = r.iterations;
     out["constraint_violation"] = r.constraint_violation;
-    out["closure"] = closure;
-    out["closure_failure"] = replay_failure;
+    out["closure"] = closure.error;
+    out["trusted"] = !r.converged() || closure.ok();
+    out["closure_advice"] = closure.ok() ? std::string() : closure.advice();
     out["interrupted"] = interrupted;
     return out;
 }

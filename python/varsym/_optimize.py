@@ -12,7 +12,9 @@ from .errors import Error, Interrupted, UsageError
 class SolverError(Error, RuntimeError):
     """The optimizer did not solve the problem (tool exit code 3): ``status`` is "infeasible"
     (no motion meets the boundary states within the bounds near the iterates), "iteration_limit"
-    or "failed"; ``partial`` holds the last iterate, a dict as optimize returns."""
+    or "failed"; or it did, but the simulator's replay of the controls misses the optimal motion
+    (``status`` "solved", ``partial["trusted"]`` False: take more steps). ``partial`` holds the
+    last iterate, a dict as optimize returns."""
 
     def __init__(self, message, partial=None):
         super().__init__(message)
@@ -46,19 +48,22 @@ def _costs(cost):
 
 def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
              scheme="simpson", degree=None, max_control=None, cost="effort",
-             hessian="automatic", max_iterations=3000, progress=False, **parameters):
+             hessian="automatic", max_iterations=3000, refine=0, progress=False, **parameters):
     """The controls that take ``model`` (a name or a Model with inputs: "acrobot", "cart-pole")
     from (q_start, v_start) at t = 0 to (q_end, v_end) at t = ``time`` at the least cost, by
     discrete mechanics and optimal control with ``steps`` steps of ``scheme`` (velocities
     default to rest). ``cost``: "effort" (∫ u²/2), "invariant" (∫ τᵀM⁻¹τ/2), "power" (∫ Σ|τ_i
     q̇_i|, smoothed), "time" (minimum time: ``time`` is then the first guess of a free horizon;
     needs ``max_control``), or a dict of weights such as {"power": 1, "effort": 0.01}.
-    ``max_control``: a bound |u| ≤ U on every input. ``progress``: True for a bar, or a function
+    ``max_control``: a bound |u| ≤ U on every input. ``refine``: K levels of mesh refinement
+    (solve with steps/2^K first, then double up to ``steps``, each from the previous solution). ``progress``: True for a bar, or a function
     progress(iteration, cost, infeasibility). Returns a dict of arrays: t, q, v, p and costate
     (λ_p) at the nodes; control_t and u at the quadrature points; cost, status, message,
     iterations, constraint_violation and closure (the general engine's replay of the controls
     against the nodes). Raises SolverError (``partial``: the last iterate) when it is not
-    solved, and varsym.Interrupted (``partial``) on Ctrl-C."""
+    solved, or when the replay misses the optimal motion by more than 1e-6 (steps too coarse
+    for the motion: the optimum rides on a spurious root of the step equations), and
+    varsym.Interrupted (``partial``) on Ctrl-C."""
     m = model if isinstance(model, Model) else Model(model, **parameters)
     if isinstance(model, Model) and parameters:
         m = Model(model, **parameters)
@@ -80,7 +85,8 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
                              _vector(q_start, d, "q_start"), _vector(v_start, d, "v_start", 0.0),
                              _vector(q_end, d, "q_end"), _vector(v_end, d, "v_end", 0.0),
                              math.inf if max_control is None else float(max_control),
-                             *weights.values(), hessian, int(max_iterations), callback)
+                             *weights.values(), hessian, int(max_iterations), int(refine),
+                             callback)
     finally:
         if bar is not None:
             bar.close()
@@ -89,4 +95,8 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
                           "iterate is in .partial", partial=out)
     if out["status"] not in ("solved", "acceptable"):
         raise SolverError(f"optimize: {out['status']}: {out['message']}", partial=out)
+    if not out["trusted"]:
+        raise SolverError(f"optimize: not trusted: {out['closure_advice']}".replace("--steps",
+                                                                                    "steps"),
+                          partial=out)
     return out

@@ -51,6 +51,23 @@ awk -F, 'NR > 1 { a = $2 < 0 ? -$2 : $2; if (a > m) m = a } END { exit !(m > 10 
 closure=$(sed -n 's/.*closure (general engine replay) \([^ ]*\)$/\1/p' mt.err)
 near "$closure" 0 1e-8 && ok || bad "minimum time closure $closure"
 
+# Mesh refinement: 80 steps from 40, one progress line per level; the target at rest.
+"$VARSYM" optimize --model acrobot --time 4 --steps 80 --refine 1 --from 0,0 --to $pi,0 \
+  --output refined.csv 2> refined.err
+rc=$?
+[ $rc -eq 0 ] && ok || bad "refined: exit $rc ($(tail -1 refined.err))"
+[ "$(grep -c '^varsym optimize: N = ' refined.err)" -eq 2 ] && ok || bad "refined: levels $(grep '^varsym optimize: N' refined.err | tr '\n' ' ')"
+[ "$(wc -l < refined.csv)" -eq 82 ] && near "$(last_field refined.csv 2)" $pi 1e-12 && ok ||
+  bad "refined: $(wc -l < refined.csv) lines, last $(tail -1 refined.csv)"
+
+# An optimum on spurious roots of the step equations (40 steps refined from 20: cost 4.35, the
+# replay 4.75 rad away) is not trusted: exit 3, one error line saying to take more steps.
+"$VARSYM" optimize --model acrobot --time 4 --steps 40 --refine 1 --from 0,0 --to $pi,0 --quiet \
+  --output spurious.csv 2> spurious.err
+rc=$?
+[ $rc -eq 3 ] && grep -q '^varsym: error: .*not trusted.*too coarse' spurious.err && ok ||
+  bad "spurious optimum: exit $rc ($(cat spurious.err))"
+
 # Bad input: one line, exit 2, no file.
 expect_error 2 "minimum time unbounded" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --cost time --output out.csv
 expect_error 2 "unknown cost term" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --cost speed --output out.csv

@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "varsym/optimal/dmoc.hpp"
-#include "varsym/problems/linked_pendulum.hpp"
 #include "varsym/optimal/solve.hpp"
+#include "varsym/problems/linked_pendulum.hpp"
 
 namespace {
 
@@ -96,8 +96,7 @@ TEST(OptimalCosts, GradientsAndHessiansMatchFiniteDifferences) {
 struct chain_torques {
     static constexpr int dim = 3, controls = 3;
     template <class T>
-    tvec<T, 3> operator()(const tvec<T, 3>&, const tvec<T, 3>&, double,
-                          const tvec<T, 3>& u) const {
+    tvec<T, 3> operator()(const tvec<T, 3>&, const tvec<T, 3>&, double, const tvec<T, 3>& u) const {
         return tvec<T, 3>(u(0) - u(1), u(1) - u(2), u(2));
     }
 };

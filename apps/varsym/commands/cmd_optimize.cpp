@@ -29,7 +29,7 @@ struct optimize_options {
     std::string from, to, from_velocity, to_velocity;
     double max_control = std::numeric_limits<double>::infinity();
     std::string cost = "effort", hessian = "automatic";
-    int max_iterations = 3000;
+    int max_iterations = 3000, refine = 0;
     std::string output, controls;
     bool quiet = false;
     std::shared_ptr<parameter_options> parameters = std::make_shared<parameter_options>();
@@ -188,7 +188,22 @@ void optimize(const optimize_options& o) {
         return pending_signal() == 0;
     };
     const auto started = std::chrono::steady_clock::now();
-    const optimal::nlp_result r = optimal::solve(*tr, so);
+    optimal::nlp_result r;
+    if (o.refine > 0) {
+        auto refined = optimal::solve_refined(
+            [&](int n) {
+                auto q = p;
+                q.steps = n;
+                auto t = m.optimal(values, q);
+                if (!o.quiet) std::fprintf(stderr, "varsym optimize: N = %d\n", n);
+                return t;
+            },
+            o.steps, o.refine, so);
+        r = std::move(refined.result);
+        tr = std::move(refined.problem);
+    } else {
+        r = optimal::solve(*tr, so);
+    }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     const int sig = pending_signal();
@@ -200,26 +215,21 @@ void optimize(const optimize_options& o) {
         inputs_file->write(control_rows(path));
         inputs_file->commit();
     }
-    double closure = std::numeric_limits<double>::quiet_NaN();
-    if (r.converged()) {
-        try {
-            closure = (tr->replay(path).topRows(d) - path.q).cwiseAbs().maxCoeff();
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "varsym optimize: no closure check: %s\n", e.what());
-        }
-    }
+    optimal::closure_check closure;
+    if (r.converged()) closure = optimal::check_closure(*tr, path);
     std::fprintf(stderr,
                  "varsym optimize: %s (%s) after %d iterations in %.3g s: cost %.12g, "
                  "T %.12g, max |g| %.1e, closure (general engine replay) %.1e\n",
                  optimal::status_name(r.verdict), r.message.c_str(), r.iterations, seconds,
                  path.cost, path.node_times(path.node_times.size() - 1), r.constraint_violation,
-                 closure);
+                 closure.error);
     if (sig != 0)
         throw interrupted(sig, "varsym optimize: stopped by signal; the files hold the last "
                                "iterate");
     if (!r.converged())
         throw numerical_error("varsym optimize: " + std::string(optimal::status_name(r.verdict)) +
                               ": " + r.message + "; the files hold the last iterate");
+    if (!closure.ok()) throw numerical_error("varsym optimize: not trusted: " + closure.advice());
 }
 
 } // namespace
@@ -239,7 +249,9 @@ void add_optimize_command(CLI::App& app, action& todo) {
         "momenta) to --output, and u at each step's quadrature points to --controls. The\n"
         "optimum found is local: another --scheme or --steps can reach another one.\n"
         "Exit codes: 0 solved; 2 bad input; 3 not solved (infeasible, iteration limit: the\n"
-        "files hold the last iterate); 130/143 stopped by SIGINT/SIGTERM (last iterate kept).\n"
+        "files hold the last iterate) or not trusted (the simulator's replay of the controls\n"
+        "misses the optimal motion: steps too coarse); 130/143 stopped by SIGINT/SIGTERM (last\n"
+        "iterate kept).\n"
         "See docs/optimal_control.md.");
     cmd->add_option("--model", o->model, "A model with control inputs (acrobot, cart-pole)")
         ->required();
@@ -272,6 +284,11 @@ void add_optimize_command(CLI::App& app, action& todo) {
         ->capture_default_str();
     cmd->add_option("--max-iterations", o->max_iterations, "IPOPT's iteration limit")
         ->transform(positive_integer)
+        ->capture_default_str();
+    cmd->add_option("--refine", o->refine,
+                    "Mesh refinement: solve with N/2^K steps first, then double N up to --steps, "
+                    "each level started from the previous solution")
+        ->check(CLI::Range(0, 10))
         ->capture_default_str();
     cmd->add_option("--output", o->output, "CSV of the nodes (default: standard output)");
     cmd->add_option("--controls", o->controls, "CSV of the controls at the quadrature points");
