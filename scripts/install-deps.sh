@@ -14,7 +14,7 @@ packages=(
   libbenchmark-dev          # benchmarks
   gnuplot-nox               # figures (pngcairo and svg terminals)
   libopenmpi-dev openmpi-bin # mpirun varsym ensemble (optional: the tool builds without)
-  coinor-libipopt-dev       # IPOPT, the NLP solver of varsym optimize (optimal control)
+  coinor-libipopt-dev pkg-config # IPOPT, the NLP solver of varsym optimize (found by pkg-config)
   python3-dev pybind11-dev  # the Python package (make python)
   python3-numpy python3-pytest python3-sympy python3-matplotlib # its tests and examples
   python3-tqdm                                                  # its progress bars

@@ -16,7 +16,8 @@ consumer=$src/tests/package/consumer
 case $mode in
 install)
   quiet cmake -S "$src" -B "$work/varsym" -DCMAKE_CXX_COMPILER="$cxx" -DVARSYM_BUILD_TOOL=OFF \
-    -DVARSYM_BUILD_MODELS=OFF -DVARSYM_BUILD_TESTS=OFF -DVARSYM_BUILD_BENCH=OFF \
+    -DVARSYM_BUILD_MODELS=OFF -DVARSYM_BUILD_OPTIMAL=OFF -DVARSYM_BUILD_TESTS=OFF \
+    -DVARSYM_BUILD_BENCH=OFF \
     -DVARSYM_BUILD_EXAMPLES=OFF -Wno-dev
   quiet cmake --install "$work/varsym" --prefix "$work/prefix"
   for f in include/varsym/varsym.hpp include/varsym/version.hpp include/varsym/problems.hpp \
