@@ -93,10 +93,16 @@ model acrobot() {
         return detail::controlled_problem<L, elbow_torque>(
             sys, v[8], detail::general_start(sys, s, vec<2>{1.0, 0.0}, vec<2>(vec<2>::Zero())));
     };
+    m.pose = [](std::span<const double> v, std::span<const double> q) {
+        const double ex = v[2] * std::sin(q[0]), ey = -v[2] * std::cos(q[0]); // l1
+        const double l2 = 2.0 * v[4]; // link 2 drawn uniform: twice lc2
+        return std::vector<double>{
+            0.0, 0.0, ex, ey, ex + l2 * std::sin(q[0] + q[1]), ey - l2 * std::cos(q[0] + q[1])};
+    };
     m.controls = {"u [N m]: torque at the elbow, on q2"};
     m.optimal = [](std::span<const double> v, const optimal::control_problem& p) {
-        return std::unique_ptr<optimal::transcription>(
-            optimal::transcribe(acrobot_lagrangian{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]}, elbow_torque{}, p));
+        return std::unique_ptr<optimal::transcription>(optimal::transcribe(
+            acrobot_lagrangian{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]}, elbow_torque{}, p));
     };
     return m;
 }

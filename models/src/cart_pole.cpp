@@ -95,10 +95,16 @@ model cart_pole() {
         return detail::controlled_problem<L, push_on_cart>(
             sys, v[5], detail::general_start(sys, s, vec<2>{0.0, 0.1}, vec<2>(vec<2>::Zero())));
     };
+    m.pose = [](std::span<const double> v, std::span<const double> q) {
+        const double l = 2.0 * v[2]; // the pole drawn uniform: twice the pivot-to-centre length
+        return std::vector<double>{
+            q[0] - 0.25,       0.0, q[0] + 0.25, 0.0, q[0], 0.0, q[0] + l * std::sin(q[1]),
+            l * std::cos(q[1])};
+    };
     m.controls = {"u [N]: horizontal push on the cart"};
     m.optimal = [](std::span<const double> v, const optimal::control_problem& p) {
-        return std::unique_ptr<optimal::transcription>(
-            optimal::transcribe(cart_pole_lagrangian{v[0], v[1], v[2], v[3], v[4]}, push_on_cart{}, p));
+        return std::unique_ptr<optimal::transcription>(optimal::transcribe(
+            cart_pole_lagrangian{v[0], v[1], v[2], v[3], v[4]}, push_on_cart{}, p));
     };
     return m;
 }

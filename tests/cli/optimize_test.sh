@@ -26,6 +26,16 @@ near "$(last_field acrobot.csv 4)" 0 1e-8 && near "$(last_field acrobot.csv 5)" 
 closure=$(sed -n 's/.*closure (general engine replay) \([^ ]*\)$/\1/p' acrobot.err)
 near "$closure" 0 1e-8 && ok || bad "acrobot closure $closure"
 
+# --plot: the picture and its data and script beside it.
+"$VARSYM" optimize --model acrobot --time 4 --steps 20 --from 0,0 --to $pi,0 --quiet \
+  --output /dev/null --plot swing.png --plot swing.svg 2> plot.err
+rc=$?
+[ $rc -eq 0 ] || [ $rc -eq 3 ] && ok || bad "--plot: exit $rc ($(cat plot.err))"
+for f in swing.png swing.svg swing.nodes.csv swing.controls.csv swing.poses.csv swing.gp; do
+  [ -s "$f" ] && ok || bad "--plot did not write $f"
+done
+[ "$(head -c 4 swing.png | tail -c 3)" = "PNG" ] && ok || bad "swing.png is not a PNG"
+
 # The cart-pole swing-up: pole hanging (th = pi) to upright (0), cart back at x = 0, in 2 s,
 # with gauss-2 and the push bounded by 30 N.
 "$VARSYM" optimize --model cart-pole --time 2 --steps 40 --scheme gauss --degree 2 \

@@ -24,6 +24,13 @@ struct lq_oscillator {
         return 0.5 * v(0) * v(0) - 0.5 * q(0) * q(0);
     }
 };
+struct lq_nowhere { // an input that acts on nothing
+    static constexpr int dim = 1, controls = 1;
+    template <class T>
+    tvec<T, 1> operator()(const tvec<T, 1>&, const tvec<T, 1>&, double, const tvec<T, 1>& u) const {
+        return tvec<T, 1>(0.0 * u(0));
+    }
+};
 struct lq_push {
     static constexpr int dim = 1, controls = 1;
     template <class T>
@@ -169,6 +176,12 @@ TEST(OptimalInput, RefusesWhatCannotBeSolved) {
     q = p;
     q.effort = -Eigen::MatrixXd::Identity(1, 1);
     refused(q, "positive definite");
+    try {
+        (void)optimal::transcribe(lq_oscillator{}, lq_nowhere{}, p);
+        ADD_FAILURE() << "accepted an input that acts on nothing";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("do not act"), std::string::npos) << e.what();
+    }
 }
 
 TEST(OptimalInput, UnreachableTargetIsReportedInfeasible) {

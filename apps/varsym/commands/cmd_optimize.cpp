@@ -8,9 +8,11 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <span>
 
 #include "commands.hpp"
 #include "files.hpp"
+#include "plot.hpp"
 #include "registry_models.hpp"
 #include "shared_options.hpp"
 #include "signals.hpp"
@@ -31,6 +33,7 @@ struct optimize_options {
     std::string cost = "effort", hessian = "automatic";
     int max_iterations = 3000, refine = 0;
     std::string output, controls;
+    std::vector<std::string> plot;
     bool quiet = false;
     std::shared_ptr<parameter_options> parameters = std::make_shared<parameter_options>();
 };
@@ -114,6 +117,65 @@ optimal::cost_weights cost_of(const std::string& text) {
     return w;
 }
 
+/// The poses of `m` at nine nodes evenly spread over the motion, each shifted right so that
+/// its first point sits at k times the widest pose's width: "x,y" rows, a blank row between.
+std::string pose_rows(const models::model& m, std::span<const double> values,
+                      const optimal::trajectory& path) {
+    std::vector<std::vector<double>> poses;
+    const auto n = path.q.cols() - 1;
+    for (int k = 0; k <= 8; ++k) {
+        const Eigen::VectorXd q = path.q.col(n * k / 8);
+        poses.push_back(m.pose(values, std::span<const double>(q.data(), q.size())));
+    }
+    double width = 0.0;
+    for (const auto& p : poses)
+        for (std::size_t i = 0; i < p.size(); i += 2)
+            width = std::max(width, std::abs(p[i] - p[0]));
+    std::string out = "x,y\n";
+    for (std::size_t k = 0; k < poses.size(); ++k) {
+        for (std::size_t i = 0; i < poses[k].size(); i += 2) {
+            append_number(out, poses[k][i] - poses[k][0] + 2.4 * width * static_cast<double>(k));
+            out += ',';
+            append_number(out, poses[k][i + 1]);
+            out += '\n';
+        }
+        out += '\n';
+    }
+    return out;
+}
+
+/// The figure of `--plot`: the coordinates over time, the controls at the quadrature points,
+/// and a strip of poses where the model draws itself.
+figure optimize_plot(const models::model& m, std::span<const double> values,
+                     const optimal::trajectory& path) {
+    figure fig;
+    fig.data = {{".nodes.csv", node_rows(path)}, {".controls.csv", control_rows(path)}};
+    const bool poses = static_cast<bool>(m.pose);
+    if (poses) fig.data.emplace_back(".poses.csv", pose_rows(m, values, path));
+    const auto d = path.q.rows(), inputs = path.u.rows();
+    std::string s = script_preamble(900, poses ? 820 : 600);
+    s += "set multiplot layout " + std::string(poses ? "3" : "2") + ",1 title '" + m.name +
+         ": optimal motion (" + path.scheme.label() +
+         ", N = " + std::to_string(path.node_times.size() - 1) +
+         ")'\nset key outside right\n"
+         "set xlabel 't [s]'\nset ylabel 'q'\nplot ";
+    for (Eigen::Index i = 0; i < d; ++i)
+        s += std::string(i ? ", " : "") + "stem.'.nodes.csv' using 1:" + std::to_string(i + 2) +
+             " skip 1 with lines lw 2 title 'q" + std::to_string(i + 1) + "'";
+    s += "\nset ylabel 'u'\nplot ";
+    for (Eigen::Index i = 0; i < inputs; ++i)
+        s += std::string(i ? ", " : "") + "stem.'.controls.csv' using 1:" + std::to_string(i + 2) +
+             " skip 1 with linespoints pt 7 ps 0.4 lw 1.5 title 'u" + std::to_string(i + 1) + "'";
+    if (poses)
+        s += "\nunset xlabel\nset ylabel 'poses, t = 0 … T'\nunset key\nunset xtics\n"
+             "set size ratio -1\nset offsets 0.3, 0.3, 0.3, 0.3\nplot stem.'.poses.csv' using 1:2 "
+             "skip 1 with linespoints lw 2 "
+             "pt 7 ps 0.6 lc rgb '#1f5fa8'";
+    s += "\nunset multiplot\n";
+    fig.script = s;
+    return fig;
+}
+
 void optimize(const optimize_options& o) {
     const models::model& m = [&]() -> const models::model& {
         try {
@@ -164,6 +226,11 @@ void optimize(const optimize_options& o) {
     file_roles roles;
     if (!o.output.empty() && o.output != "-") roles.add("--output", o.output);
     if (!o.controls.empty()) roles.add("--controls", o.controls);
+    file_roles others = roles;
+    if (!o.plot.empty()) {
+        check_pictures(o.plot);
+        add_figure_files(roles, {".nodes.csv", ".controls.csv", ".poses.csv"}, o.plot);
+    }
     roles.check();
     output_file states(o.output);
     std::unique_ptr<output_file> inputs_file;
@@ -217,6 +284,7 @@ void optimize(const optimize_options& o) {
     }
     optimal::closure_check closure;
     if (r.converged()) closure = optimal::check_closure(*tr, path);
+    if (!o.plot.empty()) render_figure(optimize_plot(m, values, path), o.plot, others);
     std::fprintf(stderr,
                  "varsym optimize: %s (%s) after %d iterations in %.3g s: cost %.12g, "
                  "T %.12g, max |g| %.1e, closure (general engine replay) %.1e\n",
@@ -292,6 +360,10 @@ void add_optimize_command(CLI::App& app, action& todo) {
         ->capture_default_str();
     cmd->add_option("--output", o->output, "CSV of the nodes (default: standard output)");
     cmd->add_option("--controls", o->controls, "CSV of the controls at the quadrature points");
+    cmd->add_option("--plot", o->plot,
+                    "Picture of the motion, .png or .svg: the coordinates, the controls and a "
+                    "strip of poses (data and gnuplot script kept beside it); repeat for both "
+                    "formats");
     cmd->add_flag("--quiet", o->quiet, "No progress line per iteration");
     o->parameters->add(*cmd);
     cmd->callback([o, &todo] { todo = [o] { optimize(*o); }; });

@@ -42,6 +42,16 @@ class dmoc final : public transcription {
         r_ = static_cast<int>(tab_.quad.size());
         n_ = p_.steps;
         h_ = p_.time / n_;
+        control_terms<F> ends;
+        bool acts = false;
+        for (const auto* q : {&p_.q_start, &p_.q_end}) {
+            const vector& v = q == &p_.q_start ? p_.v_start : p_.v_end;
+            ends.evaluate(f_, vec<D>(*q), vec<D>(v), 0.0, vec<M>::Zero());
+            acts = acts || !ends.fu.isZero(0.0);
+        }
+        if (!acts)
+            throw std::invalid_argument("the inputs do not act on the system at either boundary "
+                                        "state (df/du = 0 there): nothing to control");
         if (p_.free_time && time_dependent_lagrangian<L>)
             throw std::invalid_argument("a free final time needs an autonomous system: this "
                                         "Lagrangian depends on t");

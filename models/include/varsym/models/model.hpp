@@ -149,6 +149,9 @@ struct model {
     std::function<std::unique_ptr<optimal::transcription>(std::span<const double>,
                                                           const optimal::control_problem&)>
         optimal;
+    /// Where the model is a linkage to draw (the pictures of `varsym optimize`): the polyline
+    /// of its joints at q, as x0, y0, x1, y1, … [m], from the parameters' values. May be empty.
+    std::function<std::vector<double>(std::span<const double>, std::span<const double>)> pose;
 
     /// The parameters' defaults, in order.
     [[nodiscard]] std::vector<double> defaults() const;
