@@ -45,20 +45,12 @@ struct running_cost {
   private:
     static double power(const F& f, double weight, double eps, const vec<D>& q, const vec<D>& v,
                         double t, const vec<M>& u, zvec* gradient, zmat* hessian) {
-        using S = ad::second_order<N>;
-        tvec<S, D> qs, vs;
-        tvec<S, M> us;
-        for (int i = 0; i < D; ++i) {
-            qs(i) = ad::variable<N>(q(i), i);
-            vs(i) = ad::variable<N>(v(i), D + i);
-        }
-        for (int i = 0; i < M; ++i)
-            us(i) = ad::variable<N>(u(i), 2 * D + i);
-        const tvec<S, D> tau = f(qs, vs, t, us);
+        using S = typename force_in_z<F>::S;
+        const force_in_z<F> z(f, q, v, t, u);
         S sum = S(0.0);
         for (int i = 0; i < D; ++i) {
             using std::sqrt;
-            const S p = tau(i) * vs(i);
+            const S p = z.f(i) * z.v(i);
             sum += sqrt(p * p + S(eps * eps));
         }
         zvec g;

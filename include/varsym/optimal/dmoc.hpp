@@ -235,8 +235,8 @@ class dmoc final : public transcription {
             v += tab_.dphi(i, j) / h_of(x) * qi;
         }
     }
-    /// Each step's contribution to the equation of its last control value only (the end node).
-    void step_contributions(cvector x, vector& e) const;
+    /// Each step's terms of the equations (dmoc_derivatives.hpp), all or the end node's only.
+    void add_step_equations(cvector x, vector& e, bool end_only) const;
 };
 
 /// A transcription for L and F (the type deduced).

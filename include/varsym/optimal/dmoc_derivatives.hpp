@@ -7,8 +7,18 @@ namespace varsym::optimal {
 
 template <lagrangian L, control_force F>
 void dmoc<L, F>::residual(cvector x, vector& e) const {
-    const double h = h_of(x);
     e.setZero(constraints());
+    add_step_equations(x, e, false);
+    e.head<D>() += p_start_;                   // p_0 = −D₁L_d − f⁻
+    e.segment<D>((points_ - 1) * D) -= p_end_; // p_N = D₂L_d + f⁺
+}
+
+/// Adds each step's terms to the equations of its control values (the discrete forced
+/// Euler–Lagrange equations), or, if `end_only`, to its last control value's only: then e holds
+/// p_{k+1} = D₂L_d + f⁺ at the nodes, the discrete Legendre transform (unpack).
+template <lagrangian L, control_force F>
+void dmoc<L, F>::add_step_equations(cvector x, vector& e, bool end_only) const {
+    const double h = h_of(x);
     lagrangian_terms<D> lt;
     for (int k = 0; k < n_; ++k)
         for (int j = 0; j < r_; ++j) {
@@ -18,11 +28,9 @@ void dmoc<L, F>::residual(cvector x, vector& e) const {
             evaluate_gradient(l_, q, v, t, lt);
             const vec<D> force = f_(q, v, t, vec<M>(x.segment<M>(control_index(k * r_ + j))));
             const vec<D> lq = h * weight(j) * (lt.lq + force), lv = weight(j) * lt.lv;
-            for (int i = 0; i <= s_; ++i) // the discrete forced Euler–Lagrange equations
+            for (int i = end_only ? s_ : 0; i <= s_; ++i)
                 e.segment<D>((k * s_ + i) * D) += tab_.phi(i, j) * lq + tab_.dphi(i, j) * lv;
         }
-    e.head<D>() += p_start_;                   // p_0 = −D₁L_d − f⁻
-    e.segment<D>((points_ - 1) * D) -= p_end_; // p_N = D₂L_d + f⁺
 }
 
 template <lagrangian L, control_force F>
@@ -157,7 +165,7 @@ trajectory dmoc<L, F>::unpack(const nlp_result& result) const {
     out.costate.resize(D, n_ + 1);
     // p_{k+1} = D₂L_d + f⁺: step k's contribution to its end node's equation.
     vector e_end = vector::Zero(constraints());
-    step_contributions(x, e_end);
+    add_step_equations(x, e_end, true);
     const lagrangian_system<L> sys(l_);
     for (int n = 0; n <= n_; ++n) {
         out.node_times(n) = n * h;
@@ -177,23 +185,6 @@ trajectory dmoc<L, F>::unpack(const nlp_result& result) const {
             out.u.col(k * r_ + j) = x.segment<M>(control_index(k * r_ + j));
         }
     return out;
-}
-
-/// Each step's contribution to the equation of its last control value only (the end node).
-template <lagrangian L, control_force F>
-void dmoc<L, F>::step_contributions(cvector x, vector& e) const {
-    const double h = h_of(x);
-    lagrangian_terms<D> lt;
-    for (int k = 0; k < n_; ++k)
-        for (int j = 0; j < r_; ++j) {
-            vec<D> q, v;
-            point(x, k, j, q, v);
-            const double t = (k + tab_.quad.nodes[static_cast<std::size_t>(j)]) * h;
-            evaluate_gradient(l_, q, v, t, lt);
-            const vec<D> force = f_(q, v, t, vec<M>(x.segment<M>(control_index(k * r_ + j))));
-            e.segment<D>(((k + 1) * s_) * D) += h * weight(j) * tab_.phi(s_, j) * (lt.lq + force) +
-                                                weight(j) * tab_.dphi(s_, j) * lt.lv;
-        }
 }
 
 } // namespace varsym::optimal

@@ -150,25 +150,36 @@ mat<2 * L::dim> contracted_third(const L& l, const vec<L::dim>& q, const vec<L::
     return h;
 }
 
+/// f(q, v, t, u) in second-order scalars over z = (q, v, u): its values carry their gradients
+/// and Hessians in z. Also the velocities v as such scalars (the power cost multiplies by them).
+template <class F>
+struct force_in_z {
+    static constexpr int D = F::dim, M = F::controls, N = 2 * D + M;
+    using S = ad::second_order<N>;
+    tvec<S, D> f, v;
+    force_in_z(const F& force, const vec<D>& q, const vec<D>& vel, double t, const vec<M>& u) {
+        tvec<S, D> qs;
+        tvec<S, M> us;
+        for (int i = 0; i < D; ++i) {
+            qs(i) = ad::variable<N>(q(i), i);
+            v(i) = ad::variable<N>(vel(i), D + i);
+        }
+        for (int i = 0; i < M; ++i)
+            us(i) = ad::variable<N>(u(i), 2 * D + i);
+        f = force(qs, v, t, us);
+    }
+};
+
 /// The Hessian in z = (q, v, u) of aᵀ f(q, v, t, u) for a control force F (dim D, controls M).
 template <class F>
 Eigen::Matrix<double, 2 * F::dim + F::controls, 2 * F::dim + F::controls>
 contracted_force_hessian(const F& f, const vec<F::dim>& q, const vec<F::dim>& v, double t,
                          const vec<F::controls>& u, const vec<F::dim>& a) {
-    constexpr int D = F::dim, M = F::controls, N = 2 * D + M;
-    using S = ad::second_order<N>;
-    tvec<S, D> qs, vs;
-    tvec<S, M> us;
-    for (int i = 0; i < D; ++i) {
-        qs(i) = ad::variable<N>(q(i), i);
-        vs(i) = ad::variable<N>(v(i), D + i);
-    }
-    for (int i = 0; i < M; ++i)
-        us(i) = ad::variable<N>(u(i), 2 * D + i);
-    const tvec<S, D> out = f(qs, vs, t, us);
-    S psi = out(0) * a(0);
-    for (int i = 1; i < D; ++i)
-        psi += out(i) * a(i);
+    constexpr int N = force_in_z<F>::N;
+    const force_in_z<F> z(f, q, v, t, u);
+    typename force_in_z<F>::S psi = z.f(0) * a(0);
+    for (int i = 1; i < F::dim; ++i)
+        psi += z.f(i) * a(i);
     vec<N> g;
     Eigen::Matrix<double, N, N> h;
     ad::unpack(psi, g, h);
