@@ -74,11 +74,7 @@ TEST(OptimalCosts, GradientsAndHessiansMatchFiniteDifferences) {
         // Hessian of σJ alone (λ = 0) against differences of the gradient.
         std::vector<double> values;
         tr->hessian(x, 1.0, Eigen::VectorXd::Zero(tr->constraints()), values);
-        const auto pattern = tr->hessian_pattern();
-        Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n), hfd(n, n);
-        for (int i = 0; i < pattern.size(); ++i)
-            h(pattern.rows[static_cast<std::size_t>(i)],
-              pattern.cols[static_cast<std::size_t>(i)]) += values[static_cast<std::size_t>(i)];
+        Eigen::MatrixXd h = tr->hessian_pattern().dense(values, n, n), hfd(n, n);
         h = h.selfadjointView<Eigen::Lower>();
         for (int i = 0; i < n; ++i) {
             Eigen::VectorXd up = x, down = x, gu, gd;
@@ -118,20 +114,11 @@ TEST(OptimalCosts, ExactHessianOfALagrangianWrittenWithDoubleConstants) {
     const auto jacobian_t_lambda = [&](const Eigen::VectorXd& y) {
         std::vector<double> v;
         tr->jacobian(y, v);
-        const auto pat = tr->jacobian_pattern();
-        Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
-        for (int i = 0; i < pat.size(); ++i)
-            out(pat.cols[static_cast<std::size_t>(i)]) +=
-                v[static_cast<std::size_t>(i)] * lambda(pat.rows[static_cast<std::size_t>(i)]);
-        return out;
+        return Eigen::VectorXd(tr->jacobian_pattern().dense(v, m, n).transpose() * lambda);
     };
     std::vector<double> values;
     tr->hessian(x, 0.0, lambda, values);
-    const auto pattern = tr->hessian_pattern();
-    Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n), hfd(n, n);
-    for (int i = 0; i < pattern.size(); ++i)
-        h(pattern.rows[static_cast<std::size_t>(i)], pattern.cols[static_cast<std::size_t>(i)]) +=
-            values[static_cast<std::size_t>(i)];
+    Eigen::MatrixXd h = tr->hessian_pattern().dense(values, n, n), hfd(n, n);
     h = h.selfadjointView<Eigen::Lower>();
     const double step = 1e-6;
     for (int i = 0; i < n; ++i) {

@@ -93,10 +93,7 @@ TEST(OptimalMinimumTime, DerivativesInTheTimeMatchFiniteDifferences) {
     tr->jacobian(x, values);
     const auto pattern = tr->jacobian_pattern();
     ASSERT_EQ(static_cast<int>(values.size()), pattern.size());
-    Eigen::MatrixXd jac = Eigen::MatrixXd::Zero(m, n);
-    for (int i = 0; i < pattern.size(); ++i)
-        jac(pattern.rows[static_cast<std::size_t>(i)], pattern.cols[static_cast<std::size_t>(i)]) +=
-            values[static_cast<std::size_t>(i)];
+    const Eigen::MatrixXd jac = pattern.dense(values, m, n);
     Eigen::VectorXd g;
     tr->cost_gradient(x, g);
     const double step = 1e-6;

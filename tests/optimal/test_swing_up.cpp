@@ -146,18 +146,11 @@ TEST(OptimalSwingUp, DerivativesMatchFiniteDifferences) {
     const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(n, 0.3, 2.9).array().sin() + 0.5,
                           lambda = Eigen::VectorXd::LinSpaced(m, -1.0, 2.0);
     const double sigma = 0.7, step = 1e-6;
-    const auto dense = [&](const optimal::sparsity& s, const std::vector<double>& v, int rows) {
-        Eigen::MatrixXd a = Eigen::MatrixXd::Zero(rows, n);
-        for (int i = 0; i < s.size(); ++i)
-            a(s.rows[static_cast<std::size_t>(i)], s.cols[static_cast<std::size_t>(i)]) +=
-                v[static_cast<std::size_t>(i)];
-        return a;
-    };
     std::vector<double> values;
     tr->jacobian(x, values);
-    const Eigen::MatrixXd jac = dense(tr->jacobian_pattern(), values, m);
+    const Eigen::MatrixXd jac = tr->jacobian_pattern().dense(values, m, n);
     tr->hessian(x, sigma, lambda, values);
-    Eigen::MatrixXd hes = dense(tr->hessian_pattern(), values, n);
+    Eigen::MatrixXd hes = tr->hessian_pattern().dense(values, n, n);
     hes = hes.triangularView<Eigen::Lower>();
     hes += hes.triangularView<Eigen::StrictlyLower>().transpose().toDenseMatrix();
     const auto gradient = [&](const Eigen::VectorXd& y) { // σ∇J + Jᵀλ
@@ -166,7 +159,7 @@ TEST(OptimalSwingUp, DerivativesMatchFiniteDifferences) {
         std::vector<double> v;
         tr->jacobian(y, v);
         return Eigen::VectorXd(sigma * g +
-                               dense(tr->jacobian_pattern(), v, m).transpose() * lambda);
+                               tr->jacobian_pattern().dense(v, m, n).transpose() * lambda);
     };
     Eigen::MatrixXd jac_fd(m, n), hes_fd(n, n);
     for (int i = 0; i < n; ++i) {

@@ -25,6 +25,15 @@ struct sparsity {
         rows.push_back(r);
         cols.push_back(c);
     }
+    /// The matrix of `values` (in this pattern's order) as a dense n_rows × n_cols matrix,
+    /// repeated entries summed: for checking a transcription's derivatives, and small problems.
+    [[nodiscard]] Eigen::MatrixXd dense(const std::vector<double>& values, int n_rows,
+                                        int n_cols) const {
+        Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n_rows, n_cols);
+        for (std::size_t i = 0; i < rows.size(); ++i)
+            a(rows[i], cols[i]) += values[i];
+        return a;
+    }
 };
 
 /// min f(x) over x ∈ Rⁿ subject to g(x) = 0 (m equations; the transcriptions have equalities
