@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "optimal/fixtures.hpp"
 #include "varsym/optimal/dmoc.hpp"
 #include "varsym/optimal/solve.hpp"
 #include "varsym/problems/linked_pendulum.hpp"
@@ -16,28 +17,8 @@ namespace {
 
 using namespace varsym;
 
-struct two_link {
-    static constexpr int dim = 2;
-    double g = 9.81;
-    template <class T>
-    T operator()(const tvec<T, 2>& q, const tvec<T, 2>& v) const {
-        using std::cos;
-        const double m = 1.0, l = 1.0, lc = 0.5, i = 1.0 / 12.0;
-        const T c2 = cos(q(1));
-        const T m11 = m * lc * lc + m * (l * l + lc * lc + 2.0 * l * lc * c2) + 2.0 * i;
-        const T m12 = m * (lc * lc + l * lc * c2) + i;
-        const double m22 = m * lc * lc + i;
-        const T kinetic = 0.5 * m11 * v(0) * v(0) + m12 * v(0) * v(1) + 0.5 * m22 * v(1) * v(1);
-        return kinetic + (m * lc + m * l) * g * cos(q(0)) + m * lc * g * cos(q(0) + q(1));
-    }
-};
-struct joint_torques {
-    static constexpr int dim = 2, controls = 2;
-    template <class T>
-    tvec<T, 2> operator()(const tvec<T, 2>&, const tvec<T, 2>&, double, const tvec<T, 2>& u) const {
-        return u;
-    }
-};
+using optimal_test::two_link;
+using joint_torques = optimal_test::direct_input<2>;
 
 optimal::control_problem arm_problem(const optimal::cost_weights& w) {
     optimal::control_problem p;
@@ -50,41 +31,23 @@ optimal::control_problem arm_problem(const optimal::cost_weights& w) {
 }
 
 TEST(OptimalCosts, GradientsAndHessiansMatchFiniteDifferences) {
-    for (const optimal::cost_weights w :
+    for (const optimal::cost_weights& w :
          {optimal::cost_weights{.effort = 0.0, .invariant = 1.0},
           optimal::cost_weights{.effort = 0.5, .power = 2.0, .power_smoothing = 0.1}}) {
         auto p = arm_problem(w);
         p.steps = 3;
         p.scheme = {scheme_kind::gauss, 2};
         const auto tr = optimal::transcribe(two_link{}, joint_torques{}, p);
-        const int n = tr->variables();
-        const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(n, 0.2, 3.1).array().cos() * 1.5;
-        Eigen::VectorXd g, fd(n);
+        const Eigen::VectorXd x =
+            Eigen::VectorXd::LinSpaced(tr->variables(), 0.2, 3.1).array().cos() * 1.5;
+        // The Hessian of σJ alone (λ = 0).
+        const auto e =
+            optimal_test::check_derivatives(*tr, x, 1.0, Eigen::VectorXd::Zero(tr->constraints()));
+        Eigen::VectorXd g;
         tr->cost_gradient(x, g);
-        const double step = 1e-6;
-        for (int i = 0; i < n; ++i) {
-            Eigen::VectorXd up = x, down = x;
-            up(i) += step;
-            down(i) -= step;
-            fd(i) = (tr->cost(up) - tr->cost(down)) / (2 * step);
-        }
-        EXPECT_LT((g - fd).cwiseAbs().maxCoeff(), 1e-7 * std::max(1.0, g.cwiseAbs().maxCoeff()));
+        EXPECT_LT(e.gradient, 1e-7 * std::max(1.0, g.cwiseAbs().maxCoeff()));
         EXPECT_EQ(tr->has_hessian(), w.invariant == 0.0);
-        if (!tr->has_hessian()) continue;
-        // Hessian of σJ alone (λ = 0) against differences of the gradient.
-        std::vector<double> values;
-        tr->hessian(x, 1.0, Eigen::VectorXd::Zero(tr->constraints()), values);
-        Eigen::MatrixXd h = tr->hessian_pattern().dense(values, n, n), hfd(n, n);
-        h = h.selfadjointView<Eigen::Lower>();
-        for (int i = 0; i < n; ++i) {
-            Eigen::VectorXd up = x, down = x, gu, gd;
-            up(i) += step;
-            down(i) -= step;
-            tr->cost_gradient(up, gu);
-            tr->cost_gradient(down, gd);
-            hfd.col(i) = (gu - gd) / (2 * step);
-        }
-        EXPECT_LT((h - hfd).cwiseAbs().maxCoeff(), 1e-6 * std::max(1.0, h.cwiseAbs().maxCoeff()));
+        if (tr->has_hessian()) EXPECT_LT(e.hessian, 1e-6 * std::max(1.0, e.largest_hessian));
     }
 }
 
@@ -108,27 +71,11 @@ TEST(OptimalCosts, ExactHessianOfALagrangianWrittenWithDoubleConstants) {
     p.q_end = Eigen::Vector3d(0.5, 1.0, 1.5);
     const linked_pendulum::lagrangian<3> chain({1.0, 0.8, 0.5}, {1.0, 0.7, 0.4}, 9.81);
     const auto tr = optimal::transcribe(chain, chain_torques{}, p);
-    const int n = tr->variables(), m = tr->constraints();
-    const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(n, 0.1, 2.3).array().sin(),
-                          lambda = Eigen::VectorXd::LinSpaced(m, -1.5, 1.0);
-    const auto jacobian_t_lambda = [&](const Eigen::VectorXd& y) {
-        std::vector<double> v;
-        tr->jacobian(y, v);
-        return Eigen::VectorXd(tr->jacobian_pattern().dense(v, m, n).transpose() * lambda);
-    };
-    std::vector<double> values;
-    tr->hessian(x, 0.0, lambda, values);
-    Eigen::MatrixXd h = tr->hessian_pattern().dense(values, n, n), hfd(n, n);
-    h = h.selfadjointView<Eigen::Lower>();
-    const double step = 1e-6;
-    for (int i = 0; i < n; ++i) {
-        Eigen::VectorXd up = x, down = x;
-        up(i) += step;
-        down(i) -= step;
-        hfd.col(i) = (jacobian_t_lambda(up) - jacobian_t_lambda(down)) / (2 * step);
-    }
-    EXPECT_LT((h - hfd).cwiseAbs().maxCoeff(), 1e-6 * h.cwiseAbs().maxCoeff());
-    EXPECT_GT(h.cwiseAbs().maxCoeff(), 1.0);
+    const auto e = optimal_test::check_derivatives(
+        *tr, Eigen::VectorXd::LinSpaced(tr->variables(), 0.1, 2.3).array().sin(), 0.0,
+        Eigen::VectorXd::LinSpaced(tr->constraints(), -1.5, 1.0));
+    EXPECT_LT(e.hessian, 1e-6 * e.largest_hessian);
+    EXPECT_GT(e.largest_hessian, 1.0);
 }
 
 struct arm_measures {

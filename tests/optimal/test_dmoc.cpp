@@ -5,10 +5,12 @@
 // J = ½ dᵀ W⁻¹ d, d = x_T − e^{AT} x_0. Also: the closure against the general engine, the
 // derivatives against finite differences, and the refusals.
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include <gtest/gtest.h>
 
+#include "optimal/fixtures.hpp"
 #include "varsym/optimal/dmoc.hpp"
 #include "varsym/optimal/replay.hpp"
 #include "varsym/optimal/solve.hpp"
@@ -31,29 +33,36 @@ struct lq_nowhere { // an input that acts on nothing
         return tvec<T, 1>(0.0 * u(0));
     }
 };
-struct lq_push {
-    static constexpr int dim = 1, controls = 1;
-    template <class T>
-    tvec<T, 1> operator()(const tvec<T, 1>&, const tvec<T, 1>&, double, const tvec<T, 1>& u) const {
-        return u;
-    }
-};
+using lq_push = optimal_test::direct_input<1>;
 
 constexpr double lq_time = 2.0;
 
-/// The closed form: λ_p(t) and J.
+/// The closed form: λ_p(t) and J; with a free final state, ν and J from stationarity.
 struct lq_exact {
-    Eigen::Vector2d nu;
+    Eigen::Matrix2d w;
+    Eigen::Vector2d nu, d;
     double cost = 0.0;
     lq_exact() {
         const double t = lq_time, s = std::sin(t), c = std::cos(t);
-        Eigen::Matrix2d w; // ∫₀ᵀ e^{Aσ} B Bᵀ e^{Aᵀσ} dσ, A = [0 1; −1 0], B = (0, 1)
+        // W = ∫₀ᵀ e^{Aσ} B Bᵀ e^{Aᵀσ} dσ, A = [0 1; −1 0], B = (0, 1)
         w << t / 2 - std::sin(2 * t) / 4, s * s / 2, s * s / 2, t / 2 + std::sin(2 * t) / 4;
         Eigen::Matrix2d e; // e^{AT}
         e << c, s, -s, c;
-        const Eigen::Vector2d d = Eigen::Vector2d(1.0, 0.0) - e * Eigen::Vector2d::Zero();
+        d = Eigen::Vector2d(1.0, 0.0) - e * Eigen::Vector2d::Zero();
         nu = w.ldlt().solve(d);
         cost = 0.5 * d.dot(nu);
+    }
+    /// The final state free, with the terminal cost ½(x(T) − x_T)ᵀA(x(T) − x_T): x(T) = e^{AT}x₀
+    /// + Wν and ½νᵀWν + ½(Wν − d)ᵀA(Wν − d) stationary: (I + AW)ν = A d.
+    void soft_end(const Eigen::Matrix2d& a) {
+        nu = (Eigen::Matrix2d::Identity() + a * w).lu().solve(a * d);
+        const Eigen::Vector2d miss = w * nu - d;
+        cost = 0.5 * nu.dot(w * nu) + 0.5 * miss.dot(a * miss);
+    }
+    /// q(T) fixed, q̇(T) free and unweighted: its costate vanishes at T, ν = (d₁/W₁₁, 0).
+    void free_end_velocity() {
+        nu = Eigen::Vector2d(d(0) / w(0, 0), 0.0);
+        cost = 0.5 * nu.dot(w * nu);
     }
     [[nodiscard]] double costate(double t) const { // (e^{Aᵀ(T−t)} ν)_p
         const double r = lq_time - t;
@@ -76,10 +85,27 @@ struct lq_errors {
     int iterations;
 };
 
+/// The end free (terminal weights a on q, b on q̇; free_velocity: q(T) fixed, q̇(T) free).
+struct lq_end {
+    bool free = false, free_velocity = false;
+    double a = 0.0, b = 0.0;
+};
+
 lq_errors lq_solve(const scheme_spec& spec, int steps,
-                   optimal::hessian_kind hessian = optimal::hessian_kind::automatic) {
-    const lq_exact exact;
-    const auto tr = optimal::transcribe(lq_oscillator{}, lq_push{}, lq_problem(spec, steps));
+                   optimal::hessian_kind hessian = optimal::hessian_kind::automatic,
+                   const lq_end& end = {}) {
+    lq_exact exact;
+    auto problem = lq_problem(spec, steps);
+    if (end.free) {
+        exact.soft_end(Eigen::Vector2d(end.a, end.b).asDiagonal());
+        problem.free_end_position = problem.free_end_velocity = {true};
+        problem.cost.terminal_position = Eigen::VectorXd::Constant(1, end.a);
+        problem.cost.terminal_velocity = Eigen::VectorXd::Constant(1, end.b);
+    } else if (end.free_velocity) {
+        exact.free_end_velocity();
+        problem.free_end_velocity = {true};
+    }
+    const auto tr = optimal::transcribe(lq_oscillator{}, lq_push{}, problem);
     optimal::solver_options o;
     o.hessian = hessian;
     const auto r = optimal::solve(*tr, o);
@@ -116,6 +142,53 @@ TEST(OptimalLinearQuadratic, CostAndCostatesConvergeAtOrderTwoS) {
         // A quadratic program: with the exact Hessian, one Newton step of IPOPT.
         EXPECT_LE(fine.iterations, 2) << m.spec.label();
     }
+}
+
+TEST(OptimalLinearQuadratic, FreeFinalStateAndTerminalCostConvergeAtOrderTwoS) {
+    // The same transfer with the final state free under a terminal cost (a = 4, b = 1; the
+    // closed form's ν from (I + AW)ν = A d), and with q̇(T) free and unweighted.
+    for (const lq_end end : {lq_end{true, false, 4.0, 1.0}, lq_end{false, true}})
+        for (const lq_member m : {lq_member{scheme_kind::newmark, 10},
+                                  {scheme_kind::simpson, 10},
+                                  {{scheme_kind::gauss, 3}, 5}}) {
+            const auto automatic = optimal::hessian_kind::automatic;
+            const auto coarse = lq_solve(m.spec, m.steps, automatic, end),
+                       fine = lq_solve(m.spec, 2 * m.steps, automatic, end);
+            const double order = m.spec.order();
+            std::printf("%s end %-10s: cost error %.2e -> %.2e (order %.2f), costates order %.2f\n",
+                        end.free ? "soft" : "q fixed, v free", m.spec.label().c_str(), coarse.cost,
+                        fine.cost, std::log2(coarse.cost / fine.cost),
+                        std::log2(coarse.costate / fine.costate));
+            EXPECT_NEAR(std::log2(coarse.cost / fine.cost), order, 0.3) << m.spec.label();
+            EXPECT_NEAR(std::log2(coarse.costate / fine.costate), order, 0.3) << m.spec.label();
+            EXPECT_GT(fine.cost, 1e-14) << m.spec.label();
+            EXPECT_LE(fine.iterations, 2) << m.spec.label(); // still a quadratic program
+        }
+}
+
+TEST(OptimalLinearQuadratic, FreeFinalStateDerivativesMatchFiniteDifferences) {
+    // On the two-link arm (∂L/∂q̇ depends on q): the end's −∂L/∂q̇(Q_N, v_N) and its third
+    // derivatives, and the terminal cost.
+    optimal::control_problem p;
+    p.time = 1.0;
+    p.steps = 3;
+    p.scheme = {scheme_kind::gauss, 2};
+    p.q_start = p.v_start = p.v_end = Eigen::VectorXd::Zero(2);
+    p.q_end = Eigen::Vector2d(1.0, 0.5);
+    p.free_end_position = {true, false};
+    p.free_end_velocity = {true, true};
+    p.cost.terminal_position = Eigen::Vector2d(3.0, 0.0);
+    p.cost.terminal_velocity = Eigen::Vector2d(0.5, 2.0);
+    const auto tr =
+        optimal::transcribe(optimal_test::two_link{}, optimal_test::direct_input<2>{}, p);
+    EXPECT_EQ(tr->variables(), 7 * 2 + 6 * 2 + 2);
+    const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(tr->variables(), 0.3, 2.9).array().sin();
+    const auto e = optimal_test::check_derivatives(
+        *tr, x, 0.7, Eigen::VectorXd::LinSpaced(tr->constraints(), -1.0, 2.0));
+    EXPECT_LT(e.gradient, 1e-7);
+    EXPECT_LT(e.jacobian, 1e-7);
+    EXPECT_LT(e.hessian, 1e-7);
+    EXPECT_GT(e.largest_hessian, 1.0);
 }
 
 TEST(OptimalLinearQuadratic, LimitedMemoryReachesTheSameOptimum) {
@@ -176,6 +249,12 @@ TEST(OptimalInput, RefusesWhatCannotBeSolved) {
     q = p;
     q.effort = -Eigen::MatrixXd::Identity(1, 1);
     refused(q, "positive definite");
+    q = p;
+    q.cost.terminal_position = Eigen::VectorXd::Ones(1);
+    refused(q, "terminal cost on a fixed final coordinate");
+    q = p;
+    q.free_end_velocity = {true, false};
+    refused(q, "free final velocities has 2 flags");
     try {
         (void)optimal::transcribe(lq_oscillator{}, lq_nowhere{}, p);
         ADD_FAILURE() << "accepted an input that acts on nothing";

@@ -13,6 +13,7 @@
 #include <boost/numeric/odeint.hpp>
 #include <gtest/gtest.h>
 
+#include "optimal/fixtures.hpp"
 #include "varsym/optimal/dmoc.hpp"
 #include "varsym/optimal/replay.hpp"
 #include "varsym/optimal/solve.hpp"
@@ -30,13 +31,7 @@ struct swing_pendulum {
         return 0.5 * v(0) * v(0) + swing_g * cos(q(0));
     }
 };
-struct swing_torque {
-    static constexpr int dim = 1, controls = 1;
-    template <class T>
-    tvec<T, 1> operator()(const tvec<T, 1>&, const tvec<T, 1>&, double, const tvec<T, 1>& u) const {
-        return u;
-    }
-};
+using swing_torque = optimal_test::direct_input<1>;
 
 using swing_state = std::array<double, 5>; // θ, ω, λ_θ, λ_ω, ∫ u²/2
 
@@ -142,38 +137,13 @@ TEST(OptimalSwingUp, DerivativesMatchFiniteDifferences) {
     p.q_start = p.v_start = p.v_end = Eigen::VectorXd::Zero(1);
     p.q_end = Eigen::VectorXd::Constant(1, 3.0);
     const auto tr = optimal::transcribe(swing_pendulum{}, swing_torque{}, p);
-    const int n = tr->variables(), m = tr->constraints();
-    const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(n, 0.3, 2.9).array().sin() + 0.5,
-                          lambda = Eigen::VectorXd::LinSpaced(m, -1.0, 2.0);
-    const double sigma = 0.7, step = 1e-6;
-    std::vector<double> values;
-    tr->jacobian(x, values);
-    const Eigen::MatrixXd jac = tr->jacobian_pattern().dense(values, m, n);
-    tr->hessian(x, sigma, lambda, values);
-    Eigen::MatrixXd hes = tr->hessian_pattern().dense(values, n, n);
-    hes = hes.triangularView<Eigen::Lower>();
-    hes += hes.triangularView<Eigen::StrictlyLower>().transpose().toDenseMatrix();
-    const auto gradient = [&](const Eigen::VectorXd& y) { // σ∇J + Jᵀλ
-        Eigen::VectorXd g;
-        tr->cost_gradient(y, g);
-        std::vector<double> v;
-        tr->jacobian(y, v);
-        return Eigen::VectorXd(sigma * g +
-                               tr->jacobian_pattern().dense(v, m, n).transpose() * lambda);
-    };
-    Eigen::MatrixXd jac_fd(m, n), hes_fd(n, n);
-    for (int i = 0; i < n; ++i) {
-        Eigen::VectorXd up = x, down = x, gu, gd;
-        up(i) += step;
-        down(i) -= step;
-        tr->residual(up, gu);
-        tr->residual(down, gd);
-        jac_fd.col(i) = (gu - gd) / (2 * step);
-        hes_fd.col(i) = (gradient(up) - gradient(down)) / (2 * step);
-    }
-    EXPECT_LT((jac - jac_fd).cwiseAbs().maxCoeff(), 1e-7);
-    EXPECT_LT((hes - hes_fd).cwiseAbs().maxCoeff(), 1e-7);
-    EXPECT_GT(hes.cwiseAbs().maxCoeff(), 1.0); // not vacuous: L's third derivatives are there
+    const Eigen::VectorXd x =
+        Eigen::VectorXd::LinSpaced(tr->variables(), 0.3, 2.9).array().sin() + 0.5;
+    const auto e = optimal_test::check_derivatives(
+        *tr, x, 0.7, Eigen::VectorXd::LinSpaced(tr->constraints(), -1.0, 2.0));
+    EXPECT_LT(e.jacobian, 1e-7);
+    EXPECT_LT(e.hessian, 1e-7);
+    EXPECT_GT(e.largest_hessian, 1.0); // not vacuous: L's third derivatives are there
 }
 
 TEST(OptimalSwingUp, MeshRefinementFollowsOneExtremal) {

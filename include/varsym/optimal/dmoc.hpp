@@ -27,7 +27,9 @@ namespace varsym::optimal {
 ///         + [g = 0] p_start − [g = N s] p_end,
 /// with q_kj = Σ_l ℓ_l(c_j) Q_{ks+l}, v_kj = Σ_l ℓ_l'(c_j) Q_{ks+l} / h: the discrete
 /// Lagrange–d'Alembert equations (interior values, nodes between steps) and the discrete
-/// Legendre transforms at both ends. Cost Σ_k h Σ_j w_j ½ u_kjᵀ R u_kj.
+/// Legendre transforms at both ends. Cost Σ_k h Σ_j w_j ½ u_kjᵀ R u_kj. With a free final state
+/// the final velocity v_N is d more unknowns (before T), p_end = ∂L/∂q̇(Q_{Ns}, v_N), and the
+/// free entries of Q_{Ns} and v_N are unbounded; the terminal cost is added.
 template <lagrangian L, control_force F>
 class dmoc final : public transcription {
   public:
@@ -56,6 +58,7 @@ class dmoc final : public transcription {
             throw std::invalid_argument("a free final time needs an autonomous system: this "
                                         "Lagrangian depends on t");
         points_ = n_ * s_ + 1;
+        free_end_ = p_.free_end();
         lagrangian_terms<D> t;
         evaluate_gradient(l_, vec<D>(p_.q_start), vec<D>(p_.v_start), 0.0, t);
         p_start_ = t.lv;
@@ -66,7 +69,7 @@ class dmoc final : public transcription {
     [[nodiscard]] const control_problem& problem() const override { return p_; }
     [[nodiscard]] const galerkin::tableau& table() const { return tab_; }
     [[nodiscard]] int variables() const override {
-        return points_ * D + n_ * r_ * M + (p_.free_time ? 1 : 0);
+        return points_ * D + n_ * r_ * M + (free_end_ ? D : 0) + (p_.free_time ? 1 : 0);
     }
     [[nodiscard]] int constraints() const override { return points_ * D; }
 
@@ -78,10 +81,18 @@ class dmoc final : public transcription {
             upper.segment<D>(g * D) = p_.position_upper;
         }
         lower.head<D>() = upper.head<D>() = p_.q_start; // fixed ends
-        lower.segment<D>((points_ - 1) * D) = upper.segment<D>((points_ - 1) * D) = p_.q_end;
+        for (int i = 0; i < D; ++i) {                   // the end: fixed, or free within the bounds
+            if (p_.free_end_position[static_cast<std::size_t>(i)]) continue;
+            lower((points_ - 1) * D + i) = upper((points_ - 1) * D + i) = p_.q_end(i);
+        }
         for (int c = 0; c < n_ * r_; ++c) {
             lower.segment<M>(control_index(c)) = p_.control_lower;
             upper.segment<M>(control_index(c)) = p_.control_upper;
+        }
+        for (int i = 0; free_end_ && i < D; ++i) {
+            const bool free = p_.free_end_velocity[static_cast<std::size_t>(i)];
+            lower(end_velocity_index() + i) = free ? -unbounded : p_.v_end(i);
+            upper(end_velocity_index() + i) = free ? unbounded : p_.v_end(i);
         }
         if (p_.free_time) {
             lower(time_index()) = p_.time_lower;
@@ -101,6 +112,7 @@ class dmoc final : public transcription {
         for (int c = 0; c < n_ * r_; ++c)
             x.segment<M>(control_index(c)) =
                 vec<M>::Zero().cwiseMax(p_.control_lower).cwiseMin(p_.control_upper);
+        if (free_end_) x.segment<D>(end_velocity_index()) = p_.v_end;
         if (p_.free_time) x(time_index()) = p_.time;
         return x;
     }
@@ -113,10 +125,15 @@ class dmoc final : public transcription {
         const double horizon = guess.node_times(guess.node_times.size() - 1);
         for (int k = 0; k < n_; ++k)
             for (int i = (k == 0 ? 1 : 0); i <= s_; ++i) {
-                if (k == n_ - 1 && i == s_) continue; // the fixed ends stay
                 const double frac = (k + tab_.control[static_cast<std::size_t>(i)]) / n_;
-                x.segment<D>((k * s_ + i) * D) = guess.position(frac * horizon);
+                const vec<D> q = guess.position(frac * horizon);
+                for (int a = 0; a < D; ++a) // the fixed ends stay
+                    if (k < n_ - 1 || i < s_ || p_.free_end_position[static_cast<std::size_t>(a)])
+                        x((k * s_ + i) * D + a) = q(a);
             }
+        for (int a = 0; free_end_ && a < D; ++a)
+            if (p_.free_end_velocity[static_cast<std::size_t>(a)])
+                x(end_velocity_index() + a) = guess.v(a, guess.v.cols() - 1);
         const auto& ct = guess.control_times;
         for (int k = 0; k < n_; ++k)
             for (int j = 0; j < r_; ++j) {
@@ -135,7 +152,7 @@ class dmoc final : public transcription {
 
     [[nodiscard]] double cost(cvector x) const override {
         const double h = h_of(x);
-        double j = p_.cost.time * h * n_;
+        double j = p_.cost.time * h * n_ + terminal_cost(x, nullptr);
         for (int k = 0; k < n_; ++k)
             for (int q = 0; q < r_; ++q)
                 j += h * weight(q) * integrand(x, k, q, nullptr, nullptr);
@@ -145,6 +162,7 @@ class dmoc final : public transcription {
         gradient.setZero(variables());
         const double h = h_of(x);
         if (p_.free_time) gradient(time_index()) = p_.cost.time;
+        (void)terminal_cost(x, &gradient);
         typename cost_type::zvec g;
         for (int k = 0; k < n_; ++k)
             for (int j = 0; j < r_; ++j) {
@@ -173,7 +191,8 @@ class dmoc final : public transcription {
         return p_.cost.invariant == 0.0 && !p_.free_time;
     }
 
-    /// Lower triangle of each step's dense block over its control values and its controls.
+    /// Lower triangle of each step's dense block over its control values and its controls;
+    /// with a free final state, of the block over (Q_{Ns}, v_N).
     [[nodiscard]] sparsity hessian_pattern() const override {
         sparsity s;
         const int w = (s_ + 1) * D + r_ * M;
@@ -181,6 +200,9 @@ class dmoc final : public transcription {
             for (int row = 0; row < w; ++row)
                 for (int col = 0; col <= row; ++col)
                     s.add(step_index(k, row), step_index(k, col));
+        for (int row = 0; free_end_ && row < 2 * D; ++row)
+            for (int col = 0; col <= row; ++col)
+                s.add(end_index(row), end_index(col));
         return s;
     }
 
@@ -200,12 +222,40 @@ class dmoc final : public transcription {
     control_problem p_;
     galerkin::tableau tab_;
     int s_ = 1, r_ = 1, n_ = 1, points_ = 2;
+    bool free_end_ = false;
     double h_ = 1.0;
     vec<D> p_start_, p_end_;
 
     [[nodiscard]] int control_index(int c) const { return points_ * D + c * M; }
+    /// The unknown final velocity v_N of a free final state, after the controls.
+    [[nodiscard]] int end_velocity_index() const { return points_ * D + n_ * r_ * M; }
+    /// (Q_{Ns}, v_N)'s local index i < 2d as an unknown's.
+    [[nodiscard]] int end_index(int i) const {
+        return i < D ? (points_ - 1) * D + i : end_velocity_index() + i - D;
+    }
     /// The unknown T of a free final time: the last.
-    [[nodiscard]] int time_index() const { return points_ * D + n_ * r_ * M; }
+    [[nodiscard]] int time_index() const { return end_velocity_index() + (free_end_ ? D : 0); }
+    /// The terminal cost (control_problem's cost_weights::terminal_*); its gradient added to
+    /// `gradient` if given.
+    double terminal_cost(cvector x, vector* gradient) const {
+        if (!free_end_) return 0.0;
+        const vec<D> dq = x.segment<D>((points_ - 1) * D) - p_.q_end,
+                     dv = x.segment<D>(end_velocity_index()) - p_.v_end;
+        const vec<D>&a = p_.cost.terminal_position, &b = p_.cost.terminal_velocity;
+        if (gradient) {
+            gradient->segment<D>((points_ - 1) * D) += a.cwiseProduct(dq);
+            gradient->segment<D>(end_velocity_index()) += b.cwiseProduct(dv);
+        }
+        return 0.5 * (dq.dot(a.cwiseProduct(dq)) + dv.dot(b.cwiseProduct(dv)));
+    }
+    /// The final momentum: fixed, or ∂L/∂q̇(Q_{Ns}, v_N) with a free final state.
+    [[nodiscard]] vec<D> end_momentum(cvector x) const {
+        if (!free_end_) return p_end_;
+        lagrangian_terms<D> t;
+        evaluate_gradient(l_, vec<D>(x.segment<D>((points_ - 1) * D)),
+                          vec<D>(x.segment<D>(end_velocity_index())), n_ * h_of(x), t);
+        return t.lv;
+    }
     /// The step h = T/N: fixed, or from the unknown T.
     [[nodiscard]] double h_of(cvector x) const { return p_.free_time ? x(time_index()) / n_ : h_; }
     /// The unknown of step k's local index: its control values, then its controls.

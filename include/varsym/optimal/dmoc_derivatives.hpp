@@ -9,8 +9,8 @@ template <lagrangian L, control_force F>
 void dmoc<L, F>::residual(cvector x, vector& e) const {
     e.setZero(constraints());
     add_step_equations(x, e, false);
-    e.head<D>() += p_start_;                   // p_0 = −D₁L_d − f⁻
-    e.segment<D>((points_ - 1) * D) -= p_end_; // p_N = D₂L_d + f⁺
+    e.head<D>() += p_start_;                            // p_0 = −D₁L_d − f⁻
+    e.segment<D>((points_ - 1) * D) -= end_momentum(x); // p_N = D₂L_d + f⁺
 }
 
 /// Adds each step's terms to the equations of its control values (the discrete forced
@@ -48,6 +48,9 @@ sparsity dmoc<L, F>::jacobian_pattern() const {
     if (p_.free_time) // ∂E/∂T: every equation depends on h = T/N
         for (int row = 0; row < constraints(); ++row)
             s.add(row, time_index());
+    for (int row = 0; free_end_ && row < D; ++row) // −∂L/∂q̇(Q_{Ns}, v_N)
+        for (int col = 0; col < 2 * D; ++col)
+            s.add((points_ - 1) * D + row, end_index(col));
     return s;
 }
 
@@ -57,7 +60,17 @@ void dmoc<L, F>::jacobian(cvector x, std::vector<double>& values) const {
     const int w = (s_ + 1) * D;
     const std::size_t blocks =
         static_cast<std::size_t>(n_) * static_cast<std::size_t>(w * (w + r_ * M));
-    values.assign(blocks + (p_.free_time ? static_cast<std::size_t>(constraints()) : 0), 0.0);
+    const std::size_t end = blocks + (p_.free_time ? static_cast<std::size_t>(constraints()) : 0);
+    values.assign(end + (free_end_ ? 2 * D * D : 0), 0.0);
+    if (free_end_) { // −∂L/∂q̇(Q_{Ns}, v_N): −L_q̇q, −L_q̇q̇
+        lagrangian_terms<D> lt;
+        evaluate(l_, vec<D>(x.segment<D>((points_ - 1) * D)),
+                 vec<D>(x.segment<D>(end_velocity_index())), n_ * h, lt);
+        for (int row = 0; row < D; ++row)
+            for (int col = 0; col < 2 * D; ++col)
+                values[end + static_cast<std::size_t>(row * 2 * D + col)] =
+                    col < D ? -lt.lqv(col, row) : -lt.lvv(row, col - D);
+    }
     Eigen::MatrixXd bq(w, w), bu(w, r_ * M);
     lagrangian_terms<D> lt;
     control_terms<F> ft;
@@ -142,6 +155,18 @@ void dmoc<L, F>::hessian(cvector x, double sigma, cvector lambda,
             for (int col = 0; col <= row; ++col)
                 values[at++] = hk(row, col);
     }
+    if (!free_end_) return;
+    // −λ_Nᵀ ∂L/∂q̇(Q_{Ns}, v_N) and σ times the terminal cost, over (Q_{Ns}, v_N).
+    const vec<D> lambda_end = lambda.segment<D>((points_ - 1) * D);
+    mat<2 * D> he = contracted_third(l_, vec<D>(x.segment<D>((points_ - 1) * D)),
+                                     vec<D>(x.segment<D>(end_velocity_index())), n_ * h,
+                                     vec<D>::Zero(), vec<D>(-lambda_end));
+    he.diagonal() +=
+        sigma * (vec<2 * D>() << p_.cost.terminal_position, p_.cost.terminal_velocity).finished();
+    values.resize(values.size() + static_cast<std::size_t>(D * (2 * D + 1)));
+    for (int row = 0; row < 2 * D; ++row)
+        for (int col = 0; col <= row; ++col)
+            values[at++] = he(row, col);
 }
 
 /// The trajectory of a solver's result (its last iterate if it did not converge).

@@ -9,6 +9,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -26,6 +27,10 @@ struct cost_weights {
     double power = 0.0;
     double power_smoothing = 1e-2; ///< ε [W]
     double time = 0.0;             ///< the weight of T itself, with a free final time
+    /// The terminal cost ½ Σ_i a_i (q_i(T) − q_end,i)² + ½ Σ_i b_i (q̇_i(T) − v_end,i)², a =
+    /// terminal_position, b = terminal_velocity (d each, ≥ 0; empty: 0), on the final
+    /// coordinates left free (control_problem::free_end_position, free_end_velocity).
+    vector terminal_position, terminal_velocity;
 };
 
 /// Take a mechanical system from (q_start, v_start) at t = 0 to (q_end, v_end) at t = time,
@@ -46,6 +51,13 @@ struct control_problem {
     Eigen::MatrixXd effort;                    ///< R (m × m, s.p.d.); empty: identity
     vector control_lower, control_upper;       ///< (m each); empty: unbounded
     vector position_lower, position_upper;     ///< (d each); empty: unbounded
+    /// Free final state: entry i true leaves q_i(T) (q̇_i(T)) free instead of fixing it to
+    /// q_end(i) (v_end(i)), which is then the terminal cost's target (d each; empty: all fixed).
+    std::vector<bool> free_end_position, free_end_velocity;
+    [[nodiscard]] bool free_end() const {
+        return std::ranges::find(free_end_position, true) != free_end_position.end() ||
+               std::ranges::find(free_end_velocity, true) != free_end_velocity.end();
+    }
 };
 
 /// A solver's verdict, by IPOPT's return codes in words.
@@ -196,11 +208,38 @@ inline control_problem checked(control_problem p, int d, int m) {
     dim(p.q_end, "the end position");
     dim(p.v_end, "the end velocity");
     require(m >= 1, "the model has no control input: nothing to optimise");
-    const cost_weights& w = p.cost;
+    const auto flags = [&](std::vector<bool>& f, const char* name) {
+        if (f.empty()) f.assign(static_cast<std::size_t>(d), false);
+        require(f.size() == static_cast<std::size_t>(d),
+                std::string(name) + " has " + std::to_string(f.size()) + " flags; the model has " +
+                    std::to_string(d) + " coordinates");
+    };
+    flags(p.free_end_position, "the free final positions");
+    flags(p.free_end_velocity, "the free final velocities");
+    cost_weights& w = p.cost;
+    const auto terminal = [&](vector& a, const char* name) {
+        if (a.size() == 0) a = vector::Zero(d);
+        require(a.size() == d, std::string(name) + " weights need " + std::to_string(d) +
+                                   " entries, one per coordinate");
+        require(a.allFinite() && (a.array() >= 0.0).all(),
+                std::string(name) + " weights must be finite and >= 0");
+    };
+    terminal(w.terminal_position, "the terminal position");
+    terminal(w.terminal_velocity, "the terminal velocity");
+    for (std::size_t i = 0; i < static_cast<std::size_t>(d); ++i) {
+        const auto at = static_cast<Eigen::Index>(i);
+        require((w.terminal_position(at) == 0.0 || p.free_end_position[i]) &&
+                    (w.terminal_velocity(at) == 0.0 || p.free_end_velocity[i]),
+                "a terminal cost on a fixed final coordinate: free it (free_end_position, "
+                "free_end_velocity) or drop its weight");
+    }
     for (const double x : {w.effort, w.invariant, w.power, w.time})
         require(std::isfinite(x) && x >= 0.0, "the cost weights must be finite and >= 0");
-    require(w.effort + w.invariant + w.power + w.time > 0.0,
-            "the cost is zero: give the effort, invariant, power or time term a positive weight");
+    require(w.effort + w.invariant + w.power + w.time + w.terminal_position.sum() +
+                    w.terminal_velocity.sum() >
+                0.0,
+            "the cost is zero: give the effort, invariant, power, time or terminal term a "
+            "positive weight");
     require(w.time == 0.0 || p.free_time, "a cost on the time needs a free final time");
     if (p.free_time) {
         if (p.time_lower <= 0.0) p.time_lower = 1e-3 * p.time;
@@ -229,11 +268,11 @@ inline control_problem checked(control_problem p, int d, int m) {
     };
     box(p.control_lower, p.control_upper, m, "control");
     box(p.position_lower, p.position_upper, d, "position");
-    for (const vector* q : {&p.q_start, &p.q_end})
-        require(
-            ((q->array() >= p.position_lower.array()) && (q->array() <= p.position_upper.array()))
-                .all(),
-            "a boundary position lies outside the position bounds");
+    for (Eigen::Index i = 0; i < d; ++i)
+        for (const vector* q : {&p.q_start, &p.q_end})
+            require((q == &p.q_end && p.free_end_position[static_cast<std::size_t>(i)]) ||
+                        ((*q)(i) >= p.position_lower(i) && (*q)(i) <= p.position_upper(i)),
+                    "a boundary position lies outside the position bounds");
     return p;
 }
 

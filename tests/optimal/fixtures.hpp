@@ -1,0 +1,102 @@
+// What the optimal control tests share: inputs that are the generalized forces themselves, a
+// fully actuated two-link arm, and the check of a transcription's derivatives against central
+// differences.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "varsym/optimal/nlp.hpp"
+#include "varsym/systems/lagrangian.hpp"
+
+namespace varsym::optimal_test {
+
+/// f = u: every coordinate driven by its own input (a torque on an angle, a force on a length).
+template <int D>
+struct direct_input {
+    static constexpr int dim = D, controls = D;
+    template <class T>
+    tvec<T, D> operator()(const tvec<T, D>&, const tvec<T, D>&, double, const tvec<T, D>& u) const {
+        return u;
+    }
+};
+
+/// A two-link arm in a vertical plane, relative angles from hanging (uniform links of 1 kg and
+/// 1 m): a mass matrix that depends on q2, so L's third derivatives are all there.
+struct two_link {
+    static constexpr int dim = 2;
+    double g = 9.81;
+    template <class T>
+    T operator()(const tvec<T, 2>& q, const tvec<T, 2>& v) const {
+        using std::cos;
+        const double m = 1.0, l = 1.0, lc = 0.5, i = 1.0 / 12.0;
+        const T c2 = cos(q(1));
+        const T m11 = m * lc * lc + m * (l * l + lc * lc + 2.0 * l * lc * c2) + 2.0 * i;
+        const T m12 = m * (lc * lc + l * lc * c2) + i;
+        const double m22 = m * lc * lc + i;
+        const T kinetic = 0.5 * m11 * v(0) * v(0) + m12 * v(0) * v(1) + 0.5 * m22 * v(1) * v(1);
+        return kinetic + (m * lc + m * l) * g * cos(q(0)) + m * lc * g * cos(q(0) + q(1));
+    }
+};
+
+/// The largest differences between a transcription's derivatives at x and central differences
+/// (step 1e-6: truncation O(1e-12) times third derivatives, round-off O(1e-10) on values of
+/// size ≤ 1e2): the cost's gradient, the Jacobian of the equations, and, where the transcription
+/// has it, the Hessian of σJ + λᵀg against differences of σ∇J + (∂g/∂x)ᵀλ.
+struct derivative_errors {
+    double gradient = 0.0, jacobian = 0.0;
+    double hessian = std::numeric_limits<double>::quiet_NaN();
+    double largest_hessian = 0.0, largest_jacobian = 0.0; ///< for the errors' scale
+};
+
+inline derivative_errors check_derivatives(const optimal::nlp& t, const Eigen::VectorXd& x,
+                                           double sigma, const Eigen::VectorXd& lambda) {
+    const int n = t.variables(), m = t.constraints();
+    const double step = 1e-6;
+    const auto jacobian = [&](const Eigen::VectorXd& y) {
+        std::vector<double> v;
+        t.jacobian(y, v);
+        return Eigen::MatrixXd(t.jacobian_pattern().dense(v, m, n));
+    };
+    const auto gradient = [&](const Eigen::VectorXd& y) { // σ∇J + Jᵀλ
+        Eigen::VectorXd g;
+        t.cost_gradient(y, g);
+        return Eigen::VectorXd(sigma * g + jacobian(y).transpose() * lambda);
+    };
+    derivative_errors out;
+    Eigen::VectorXd g;
+    t.cost_gradient(x, g);
+    const Eigen::MatrixXd jac = jacobian(x);
+    out.largest_jacobian = jac.cwiseAbs().maxCoeff();
+    Eigen::MatrixXd hes(n, n);
+    if (t.has_hessian()) {
+        std::vector<double> values;
+        t.hessian(x, sigma, lambda, values);
+        hes = t.hessian_pattern().dense(values, n, n);
+        hes = hes.selfadjointView<Eigen::Lower>();
+        out.largest_hessian = hes.cwiseAbs().maxCoeff();
+        out.hessian = 0.0;
+    }
+    for (int i = 0; i < n; ++i) {
+        Eigen::VectorXd up = x, down = x, eu, ed;
+        up(i) += step;
+        down(i) -= step;
+        t.residual(up, eu);
+        t.residual(down, ed);
+        out.jacobian =
+            std::max(out.jacobian, ((eu - ed) / (2 * step) - jac.col(i)).cwiseAbs().maxCoeff());
+        out.gradient =
+            std::max(out.gradient, std::abs((t.cost(up) - t.cost(down)) / (2 * step) - g(i)));
+        if (t.has_hessian())
+            out.hessian = std::max(
+                out.hessian,
+                ((gradient(up) - gradient(down)) / (2 * step) - hes.col(i)).cwiseAbs().maxCoeff());
+    }
+    return out;
+}
+
+} // namespace varsym::optimal_test
