@@ -7,6 +7,8 @@
 // solved by varsym::optimal's IPOPT adapter (optimal/solve.hpp). See docs/optimal_control.md.
 #pragma once
 
+#include <concepts>
+#include <functional>
 #include <memory>
 #include <utility>
 
@@ -16,6 +18,7 @@
 #include "varsym/optimal/replay.hpp"
 #include "varsym/optimal/third_order.hpp"
 #include "varsym/schemes/tableau.hpp"
+#include "varsym/systems/constraints.hpp"
 #include "varsym/systems/lagrangian.hpp"
 
 namespace varsym::optimal {
@@ -29,15 +32,24 @@ namespace varsym::optimal {
 /// Lagrange–d'Alembert equations (interior values, nodes between steps) and the discrete
 /// Legendre transforms at both ends. Cost Σ_k h Σ_j w_j ½ u_kjᵀ R u_kj. With a free final state
 /// the final velocity v_N is d more unknowns (before T), p_end = ∂L/∂q̇(Q_{Ns}, v_N), and the
-/// free entries of Q_{Ns} and v_N are unbounded; the terminal cost is added.
-template <lagrangian L, control_force F>
+/// free entries of Q_{Ns} and v_N are unbounded; the terminal cost is added. With holonomic
+/// constraints C (g(q) = 0, m of them), the impulses Λ_g (m each, after v_N) enter every E_g as
+/// −G(Q_g)ᵀΛ_g, and g(Q_g) = 0 holds at every control value between the (fixed) ends
+/// (dmoc_constraints.hpp).
+template <lagrangian L, control_force F, class C = unconstrained>
 class dmoc final : public transcription {
   public:
     static constexpr int D = L::dim, M = F::controls;
+    static constexpr int K = constraint_rows<C>; ///< m, the number of constraints (0: none)
     static_assert(F::dim == L::dim, "the control force must have the Lagrangian's dimension");
+    static_assert(constraints_on<C, D>, "C: holonomic constraints on the Lagrangian's coordinates");
+    static_assert(K >= 0, "the transcription needs a compile-time number of constraints");
 
-    dmoc(L l, F force, const control_problem& problem)
-        : l_(std::move(l)), f_(std::move(force)), p_(detail::checked(problem, D, M)),
+    dmoc(L l, F force, const control_problem& problem) requires std::same_as<C, unconstrained>
+        : dmoc(std::move(l), C{}, std::move(force), problem) {}
+    dmoc(L l, C constraints, F force, const control_problem& problem)
+        : l_(std::move(l)), f_(std::move(force)), c_(std::move(constraints)),
+          p_(detail::checked(problem, D, M)),
           tab_(galerkin::tableau::make(family_member(p_.scheme).first,
                                        family_member(p_.scheme).second)) {
         s_ = tab_.degree;
@@ -64,18 +76,21 @@ class dmoc final : public transcription {
         p_start_ = t.lv;
         evaluate_gradient(l_, vec<D>(p_.q_end), vec<D>(p_.v_end), p_.time, t);
         p_end_ = t.lv;
+        check_boundary_constraints();
     }
 
     [[nodiscard]] const control_problem& problem() const override { return p_; }
     [[nodiscard]] const galerkin::tableau& table() const { return tab_; }
     [[nodiscard]] int variables() const override {
-        return points_ * D + n_ * r_ * M + (free_end_ ? D : 0) + (p_.free_time ? 1 : 0);
+        return multiplier_index(points_) + (p_.free_time ? 1 : 0);
     }
-    [[nodiscard]] int constraints() const override { return points_ * D; }
+    [[nodiscard]] int constraints() const override {
+        return points_ * D + (points_ - 2) * K; // g(Q_g) = 0 between the ends
+    }
 
     void bounds(vector& lower, vector& upper) const override {
-        lower.resize(variables());
-        upper.resize(variables());
+        lower = vector::Constant(variables(), -unbounded); // the impulses Λ are free
+        upper = vector::Constant(variables(), unbounded);
         for (int g = 0; g < points_; ++g) {
             lower.segment<D>(g * D) = p_.position_lower;
             upper.segment<D>(g * D) = p_.position_upper;
@@ -114,6 +129,29 @@ class dmoc final : public transcription {
                 vec<M>::Zero().cwiseMax(p_.control_lower).cwiseMin(p_.control_upper);
         if (free_end_) x.segment<D>(end_velocity_index()) = p_.v_end;
         if (p_.free_time) x(time_index()) = p_.time;
+        if constexpr (K > 0) // the interpolated positions put on the constraints, where possible
+            for (int g = 1; g + 1 < points_; ++g) {
+                vec<D> q = x.segment<D>(g * D);
+                try {
+                    project_position(c_, q);
+                    x.segment<D>(g * D) = q;
+                } catch (const std::domain_error&) { // G singular there: left as it is
+                }
+            }
+        return x;
+    }
+
+    /// The unknowns along a given path q(t), t ∈ [0, T] (a guess of the motion: its positions at
+    /// the control values, the ends kept), the controls zero (clipped into their bounds).
+    [[nodiscard]] vector start_along(const std::function<vector(double)>& q) const override {
+        vector x = start();
+        for (int g = 1; g + 1 < points_; ++g) {
+            const vector at = q((g / s_ + tab_.control[static_cast<std::size_t>(g % s_)]) * h_);
+            detail::require(at.size() == D && at.allFinite(),
+                            "the guessed path must give " + std::to_string(D) +
+                                " finite coordinates at every time");
+            x.segment<D>(g * D) = at;
+        }
         return x;
     }
 
@@ -203,6 +241,7 @@ class dmoc final : public transcription {
         for (int row = 0; free_end_ && row < 2 * D; ++row)
             for (int col = 0; col <= row; ++col)
                 s.add(end_index(row), end_index(col));
+        add_constraint_hessian(vector(), vector(), &s, nullptr);
         return s;
     }
 
@@ -212,13 +251,17 @@ class dmoc final : public transcription {
     /// The trajectory of a solver's result (its last iterate if it did not converge).
     [[nodiscard]] trajectory unpack(const nlp_result& result) const override;
     [[nodiscard]] Eigen::MatrixXd replay(const trajectory& path) const override {
-        return optimal::replay(l_, f_, path);
+        if constexpr (K > 0)
+            return optimal::replay(l_, c_, f_, path);
+        else
+            return optimal::replay(l_, f_, path);
     }
 
   private:
     using cost_type = running_cost<L, F>;
     L l_;
     F f_;
+    C c_;
     control_problem p_;
     galerkin::tableau tab_;
     int s_ = 1, r_ = 1, n_ = 1, points_ = 2;
@@ -233,8 +276,12 @@ class dmoc final : public transcription {
     [[nodiscard]] int end_index(int i) const {
         return i < D ? (points_ - 1) * D + i : end_velocity_index() + i - D;
     }
+    /// The impulses Λ_g of the constraints at control value g (m each), after v_N.
+    [[nodiscard]] int multiplier_index(int g) const {
+        return end_velocity_index() + (free_end_ ? D : 0) + g * K;
+    }
     /// The unknown T of a free final time: the last.
-    [[nodiscard]] int time_index() const { return end_velocity_index() + (free_end_ ? D : 0); }
+    [[nodiscard]] int time_index() const { return multiplier_index(points_); }
     /// The terminal cost (control_problem's cost_weights::terminal_*); its gradient added to
     /// `gradient` if given.
     double terminal_cost(cvector x, vector* gradient) const {
@@ -287,6 +334,14 @@ class dmoc final : public transcription {
     }
     /// Each step's terms of the equations (dmoc_derivatives.hpp), all or the end node's only.
     void add_step_equations(cvector x, vector& e, bool end_only) const;
+    // The constraints' parts (dmoc_constraints.hpp; nothing without constraints).
+    void check_boundary_constraints() const;
+    void add_constraint_residual(cvector x, vector& e) const;
+    void add_constraint_jacobian(cvector x, sparsity* pattern, std::vector<double>* values) const;
+    void add_constraint_hessian(cvector x, cvector lambda, sparsity* pattern,
+                                std::vector<double>* values) const;
+    /// The momentum at node n made tangent to the constraints (p − Gᵀμ, G q̇ = 0), with q̇.
+    void tangent_node(const vec<D>& q, vec<D>& p, vec<D>& v, double t) const;
 };
 
 /// A transcription for L and F (the type deduced).
@@ -295,6 +350,15 @@ std::unique_ptr<dmoc<L, F>> transcribe(L l, F force, const control_problem& prob
     return std::make_unique<dmoc<L, F>>(std::move(l), std::move(force), problem);
 }
 
+/// A transcription for L under the holonomic constraints C, with F.
+template <lagrangian L, holonomic_constraint C, control_force F>
+std::unique_ptr<dmoc<L, F, C>> transcribe(L l, C constraints, F force,
+                                          const control_problem& problem) {
+    return std::make_unique<dmoc<L, F, C>>(std::move(l), std::move(constraints), std::move(force),
+                                           problem);
+}
+
 } // namespace varsym::optimal
 
+#include "varsym/optimal/dmoc_constraints.hpp"
 #include "varsym/optimal/dmoc_derivatives.hpp"

@@ -5,19 +5,20 @@
 
 namespace varsym::optimal {
 
-template <lagrangian L, control_force F>
-void dmoc<L, F>::residual(cvector x, vector& e) const {
+template <lagrangian L, control_force F, class C>
+void dmoc<L, F, C>::residual(cvector x, vector& e) const {
     e.setZero(constraints());
     add_step_equations(x, e, false);
     e.head<D>() += p_start_;                            // p_0 = −D₁L_d − f⁻
     e.segment<D>((points_ - 1) * D) -= end_momentum(x); // p_N = D₂L_d + f⁺
+    add_constraint_residual(x, e);
 }
 
 /// Adds each step's terms to the equations of its control values (the discrete forced
 /// Euler–Lagrange equations), or, if `end_only`, to its last control value's only: then e holds
 /// p_{k+1} = D₂L_d + f⁺ at the nodes, the discrete Legendre transform (unpack).
-template <lagrangian L, control_force F>
-void dmoc<L, F>::add_step_equations(cvector x, vector& e, bool end_only) const {
+template <lagrangian L, control_force F, class C>
+void dmoc<L, F, C>::add_step_equations(cvector x, vector& e, bool end_only) const {
     const double h = h_of(x);
     lagrangian_terms<D> lt;
     for (int k = 0; k < n_; ++k)
@@ -33,8 +34,8 @@ void dmoc<L, F>::add_step_equations(cvector x, vector& e, bool end_only) const {
         }
 }
 
-template <lagrangian L, control_force F>
-sparsity dmoc<L, F>::jacobian_pattern() const {
+template <lagrangian L, control_force F, class C>
+sparsity dmoc<L, F, C>::jacobian_pattern() const {
     sparsity s;
     const int w = (s_ + 1) * D;
     for (int k = 0; k < n_; ++k) {
@@ -51,11 +52,12 @@ sparsity dmoc<L, F>::jacobian_pattern() const {
     for (int row = 0; free_end_ && row < D; ++row) // −∂L/∂q̇(Q_{Ns}, v_N)
         for (int col = 0; col < 2 * D; ++col)
             s.add((points_ - 1) * D + row, end_index(col));
+    add_constraint_jacobian(vector(), &s, nullptr);
     return s;
 }
 
-template <lagrangian L, control_force F>
-void dmoc<L, F>::jacobian(cvector x, std::vector<double>& values) const {
+template <lagrangian L, control_force F, class C>
+void dmoc<L, F, C>::jacobian(cvector x, std::vector<double>& values) const {
     const double h = h_of(x);
     const int w = (s_ + 1) * D;
     const std::size_t blocks =
@@ -114,14 +116,15 @@ void dmoc<L, F>::jacobian(cvector x, std::vector<double>& values) const {
             for (int col = 0; col < r_ * M; ++col)
                 values[at++] = bu(row, col);
     }
+    add_constraint_jacobian(x, nullptr, &values);
 }
 
 /// σ ∇²J + Σ_g λ_gᵀ ∇²E_g: each quadrature point's h w_j ψ with ψ = aᵀ(∂L/∂q + f) +
 /// (b/h)ᵀ ∂L/∂q̇, a = Σ_i ℓ_i(c_j) λ_{ks+i}, b = Σ_i ℓ_i'(c_j) λ_{ks+i}, pulled back to
 /// (Q_{ks} … Q_{ks+s}, u_kj) through z = (q, v, u) = G (Q, u).
-template <lagrangian L, control_force F>
-void dmoc<L, F>::hessian(cvector x, double sigma, cvector lambda,
-                         std::vector<double>& values) const {
+template <lagrangian L, control_force F, class C>
+void dmoc<L, F, C>::hessian(cvector x, double sigma, cvector lambda,
+                            std::vector<double>& values) const {
     const double h = h_of(x);
     const int w = (s_ + 1) * D + r_ * M, wq = (s_ + 1) * D;
     values.assign(static_cast<std::size_t>(n_) * static_cast<std::size_t>(w * (w + 1) / 2), 0.0);
@@ -155,24 +158,30 @@ void dmoc<L, F>::hessian(cvector x, double sigma, cvector lambda,
             for (int col = 0; col <= row; ++col)
                 values[at++] = hk(row, col);
     }
-    if (!free_end_) return;
-    // −λ_Nᵀ ∂L/∂q̇(Q_{Ns}, v_N) and σ times the terminal cost, over (Q_{Ns}, v_N).
-    const vec<D> lambda_end = lambda.segment<D>((points_ - 1) * D);
-    mat<2 * D> he = contracted_third(l_, vec<D>(x.segment<D>((points_ - 1) * D)),
-                                     vec<D>(x.segment<D>(end_velocity_index())), n_ * h,
-                                     vec<D>::Zero(), vec<D>(-lambda_end));
-    he.diagonal() +=
-        sigma * (vec<2 * D>() << p_.cost.terminal_position, p_.cost.terminal_velocity).finished();
-    values.resize(values.size() + static_cast<std::size_t>(D * (2 * D + 1)));
-    for (int row = 0; row < 2 * D; ++row)
-        for (int col = 0; col <= row; ++col)
-            values[at++] = he(row, col);
+    if (free_end_) {
+        // −λ_Nᵀ ∂L/∂q̇(Q_{Ns}, v_N) and σ times the terminal cost, over (Q_{Ns}, v_N).
+        const vec<D> lambda_end = lambda.segment<D>((points_ - 1) * D);
+        mat<2 * D> he = contracted_third(l_, vec<D>(x.segment<D>((points_ - 1) * D)),
+                                         vec<D>(x.segment<D>(end_velocity_index())), n_ * h,
+                                         vec<D>::Zero(), vec<D>(-lambda_end));
+        he.diagonal() +=
+            sigma *
+            (vec<2 * D>() << p_.cost.terminal_position, p_.cost.terminal_velocity).finished();
+        for (int row = 0; row < 2 * D; ++row)
+            for (int col = 0; col <= row; ++col)
+                values.push_back(he(row, col));
+    }
+    add_constraint_hessian(x, lambda, nullptr, &values);
 }
 
 /// The trajectory of a solver's result (its last iterate if it did not converge).
-template <lagrangian L, control_force F>
-trajectory dmoc<L, F>::unpack(const nlp_result& result) const {
+template <lagrangian L, control_force F, class C>
+trajectory dmoc<L, F, C>::unpack(const nlp_result& result) const {
     const vector& x = result.x;
+    if (x.size() != variables())
+        throw std::invalid_argument("unpack: the result has " + std::to_string(x.size()) +
+                                    " unknowns, the transcription " + std::to_string(variables()) +
+                                    " (" + result.message + ")");
     const double h = h_of(x);
     trajectory out;
     out.scheme = p_.scheme;
@@ -197,6 +206,12 @@ trajectory dmoc<L, F>::unpack(const nlp_result& result) const {
         out.q.col(n) = x.segment<D>(n * s_ * D);
         out.p.col(n) = n == 0 ? vec<D>(p_start_) : vec<D>(e_end.segment<D>(n * s_ * D));
         out.v.col(n) = sys.velocity(vec<D>(out.q.col(n)), vec<D>(out.p.col(n)), n * h);
+        if (K > 0 && n > 0) {
+            vec<D> p = out.p.col(n), v = out.v.col(n);
+            tangent_node(out.q.col(n), p, v, n * h);
+            out.p.col(n) = p;
+            out.v.col(n) = v;
+        }
         if (result.lambda.size() == constraints())
             out.costate.col(n) = -result.lambda.segment<D>(n * s_ * D);
         else

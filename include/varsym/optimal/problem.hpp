@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <concepts>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -16,6 +18,7 @@
 
 #include "varsym/optimal/nlp.hpp"
 #include "varsym/schemes/scheme_kind.hpp"
+#include "varsym/systems/constraints.hpp"
 
 namespace varsym::optimal {
 
@@ -139,6 +142,19 @@ struct trajectory {
     }
 };
 
+/// No holonomic constraints (a transcription's default).
+struct unconstrained {};
+template <class C>
+inline constexpr int constraint_rows = 0;
+template <class C>
+requires(!std::same_as<C, unconstrained>) inline constexpr int constraint_rows<C> = C::count;
+/// C is `unconstrained`, or holonomic constraints on d coordinates.
+template <class C, int D>
+inline constexpr bool constraints_on = std::same_as<C, unconstrained>;
+template <class C, int D>
+requires(!std::same_as<C, unconstrained>) inline constexpr bool constraints_on<C, D> =
+    holonomic_constraint<C> && C::dim == D;
+
 /// A transcription whose system is known at run time only (the models layer's): the NLP, the
 /// trajectory of a result and its closure check.
 class transcription : public nlp {
@@ -147,6 +163,8 @@ class transcription : public nlp {
     [[nodiscard]] virtual trajectory unpack(const nlp_result& result) const = 0;
     /// A starting point from another trajectory (a coarser solution: mesh refinement).
     [[nodiscard]] virtual vector start_from(const trajectory& guess) const = 0;
+    /// A starting point along a guessed path q(t), t ∈ [0, T], the controls zero.
+    [[nodiscard]] virtual vector start_along(const std::function<vector(double)>& q) const = 0;
     /// The general engine's nodes under the trajectory's controls (replay.hpp): 2d × (N + 1).
     [[nodiscard]] virtual Eigen::MatrixXd replay(const trajectory& path) const = 0;
 };

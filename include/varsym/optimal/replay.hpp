@@ -11,6 +11,7 @@
 #include <string>
 
 #include "varsym/optimal/problem.hpp"
+#include "varsym/schemes/constrained.hpp"
 #include "varsym/schemes/variational.hpp"
 
 namespace varsym::optimal {
@@ -41,19 +42,12 @@ struct scheduled_controls {
     }
 };
 
-/// The nodes (q_n, p_n), n = 0 … N, of the general engine's steps under the trajectory's
-/// controls from its start state (2d × (N + 1): q above p), with Newton's iteration (up to 100
-/// iterations: a step of a violent optimum may start far from its solution). Throws
+/// The nodes (q_n, p_n), n = 0 … N, of a stepper's steps under the trajectory's controls from
+/// its start state (2d × (N + 1): q above p); the stepper's force is scheduled_controls. Throws
 /// std::runtime_error naming the step if one fails.
-template <lagrangian L, class F>
-Eigen::MatrixXd replay(const L& l, const F& force, const trajectory& path,
-                       const newton_options& newton = {.max_iterations = 100,
-                                                       .iteration = iteration_kind::newton}) {
-    constexpr int D = L::dim;
-    const auto shared = std::make_shared<const trajectory>(path);
-    general::stepper<L, scheduled_controls<F>> stepper(lagrangian_system<L>(l),
-                                                       scheduled_controls<F>{force, shared, 0},
-                                                       path.h, path.scheme, newton);
+template <class Stepper>
+Eigen::MatrixXd replay_with(Stepper& stepper, const trajectory& path) {
+    constexpr int D = Stepper::dim;
     const auto n = path.node_times.size() - 1;
     phase_state<D> x{vec<D>(path.q.col(0)), vec<D>(path.p.col(0))};
     Eigen::MatrixXd out(2 * D, n + 1);
@@ -68,6 +62,34 @@ Eigen::MatrixXd replay(const L& l, const F& force, const trajectory& path,
         out.col(k + 1) << x.q, x.p;
     }
     return out;
+}
+
+/// Newton's iteration, up to 100 iterations: a step of a violent optimum may start far from its
+/// solution.
+inline constexpr newton_options replay_newton{.max_iterations = 100,
+                                              .iteration = iteration_kind::newton};
+
+/// The general engine's nodes under the trajectory's controls (replay_with).
+template <lagrangian L, class F>
+Eigen::MatrixXd replay(const L& l, const F& force, const trajectory& path,
+                       const newton_options& newton = replay_newton) {
+    general::stepper<L, scheduled_controls<F>> stepper(
+        lagrangian_system<L>(l),
+        scheduled_controls<F>{force, std::make_shared<const trajectory>(path), 0}, path.h,
+        path.scheme, newton);
+    return replay_with(stepper, path);
+}
+
+/// The constrained engine's nodes (schemes/constrained.hpp: the same discrete equations with
+/// the constraint impulses at the control values, the momentum made tangent at the nodes).
+template <lagrangian L, holonomic_constraint C, class F>
+Eigen::MatrixXd replay(const L& l, const C& constraints, const F& force, const trajectory& path,
+                       const newton_options& newton = replay_newton) {
+    general::constrained_stepper<L, C, scheduled_controls<F>> stepper(
+        lagrangian_system<L>(l), constraints,
+        scheduled_controls<F>{force, std::make_shared<const trajectory>(path), 0}, path.h,
+        path.scheme, newton);
+    return replay_with(stepper, path);
 }
 
 } // namespace varsym::optimal

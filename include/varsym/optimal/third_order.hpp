@@ -186,4 +186,28 @@ contracted_force_hessian(const F& f, const vec<F::dim>& q, const vec<F::dim>& v,
     return h;
 }
 
+/// The Hessian in z = (q, Λ) (d + m square) of ψ = −Λᵀ G(q) a + νᵀ g(q) for holonomic
+/// constraints g (count m, G = ∂g/∂q): the constraint impulses' and the constraints' terms in the
+/// Lagrangian of a constrained transcription, a the multipliers of the impulses' equations, ν of
+/// g = 0. G(q) a is g's directional derivative along a (the dual part of `directional`).
+template <class C>
+Eigen::Matrix<double, C::dim + C::count, C::dim + C::count>
+contracted_constraint_hessian(const C& c, const vec<C::dim>& q, const vec<C::count>& impulse,
+                              const vec<C::dim>& a, const vec<C::count>& nu) {
+    constexpr int D = C::dim, K = C::count, N = D + K;
+    using S = ad::second_order<N>;
+    using E = directional<S>;
+    tvec<E, D> qe;
+    for (int i = 0; i < D; ++i)
+        qe(i) = E(ad::variable<N>(q(i), i), S(a(i)));
+    const tvec<E, K> g = c(qe);
+    S psi(0.0);
+    for (int k = 0; k < K; ++k)
+        psi += nu(k) * g(k).x - ad::variable<N>(impulse(k), D + k) * g(k).y;
+    vec<N> grad;
+    Eigen::Matrix<double, N, N> h;
+    ad::unpack(psi, grad, h);
+    return h;
+}
+
 } // namespace varsym::optimal
