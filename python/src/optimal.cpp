@@ -24,8 +24,10 @@ py::dict optimize(const std::string& name, const std::vector<double>& values, do
                   int steps, const std::string& scheme, int degree, const Eigen::VectorXd& q0,
                   const Eigen::VectorXd& v0, const Eigen::VectorXd& q1, const Eigen::VectorXd& v1,
                   double max_control, double effort, double invariant, double power,
-                  double time_weight, const std::string& hessian, int max_iterations, int refine,
-                  const std::optional<py::function>& progress) {
+                  double time_weight, const std::vector<bool>& free_q,
+                  const std::vector<bool>& free_v, const Eigen::VectorXd& terminal_q,
+                  const Eigen::VectorXd& terminal_v, const std::string& hessian,
+                  int max_iterations, int refine, const std::optional<py::function>& progress) {
     const models::model& m = models::get(name);
     if (!m.optimal)
         throw std::invalid_argument("model " + m.name + " has no control input to optimise");
@@ -40,6 +42,10 @@ py::dict optimize(const std::string& name, const std::vector<double>& values, do
     p.v_end = v1;
     p.cost = {.effort = effort, .invariant = invariant, .power = power, .time = time_weight};
     p.free_time = time_weight > 0.0;
+    p.free_end_position = free_q;
+    p.free_end_velocity = free_v;
+    p.cost.terminal_position = terminal_q;
+    p.cost.terminal_velocity = terminal_v;
     const auto inputs = static_cast<Eigen::Index>(m.controls.size());
     p.control_lower = Eigen::VectorXd::Constant(inputs, -max_control);
     p.control_upper = Eigen::VectorXd::Constant(inputs, max_control);

@@ -46,8 +46,31 @@ def _costs(cost):
     return weights
 
 
+def _free_end(free_end, d):
+    """free_end as (free q flags, free v flags, q weights, v weights): names "q1", "v2", … (from
+    1) in a list or a comma-separated string (weight 0), or a dict name -> terminal weight."""
+    if free_end is None:
+        free_end = {}
+    if isinstance(free_end, str):
+        free_end = [x for x in free_end.split(",") if x]
+    if not isinstance(free_end, dict):
+        free_end = {name: 0.0 for name in free_end}
+    free = {"q": [False] * d, "v": [False] * d}
+    weights = {"q": np.zeros(d), "v": np.zeros(d)}
+    for name, weight in free_end.items():
+        kind, index = str(name)[:1], str(name)[1:]
+        if kind not in free or not index.isdigit() or not 1 <= int(index) <= d:
+            raise UsageError(f"optimize: free_end: {name!r} is not a coordinate: give q1 … q{d} "
+                             f"(positions) or v1 … v{d} (velocities)")
+        if not (math.isfinite(float(weight)) and float(weight) >= 0):
+            raise UsageError(f"optimize: free_end: the weight of {name} must be a number >= 0")
+        free[kind][int(index) - 1] = True
+        weights[kind][int(index) - 1] = float(weight)
+    return free["q"], free["v"], weights["q"], weights["v"]
+
+
 def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
-             scheme="simpson", degree=None, max_control=None, cost="effort",
+             scheme="simpson", degree=None, max_control=None, cost="effort", free_end=None,
              hessian="automatic", max_iterations=3000, refine=0, progress=False, **parameters):
     """The controls that take ``model`` (a name or a Model with inputs: "acrobot", "cart-pole")
     from (q_start, v_start) at t = 0 to (q_end, v_end) at t = ``time`` at the least cost, by
@@ -55,7 +78,9 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
     default to rest). ``cost``: "effort" (∫ u²/2), "invariant" (∫ τᵀM⁻¹τ/2), "power" (∫ Σ|τ_i
     q̇_i|, smoothed), "time" (minimum time: ``time`` is then the first guess of a free horizon;
     needs ``max_control``), or a dict of weights such as {"power": 1, "effort": 0.01}.
-    ``max_control``: a bound |u| ≤ U on every input. ``refine``: K levels of mesh refinement
+    ``max_control``: a bound |u| ≤ U on every input. ``free_end``: final coordinates left free,
+    "q1", "v2", … (from 1) in a list or string, or a dict of them to terminal weights w, each
+    adding w (x(T) − its q_end or v_end)²/2 to the cost. ``refine``: K levels of mesh refinement
     (solve with steps/2^K first, then double up to ``steps``, each from the previous solution). ``progress``: True for a bar, or a function
     progress(iteration, cost, infeasibility). Returns a dict of arrays: t, q, v, p and costate
     (λ_p) at the nodes; control_t and u at the quadrature points; cost, status, message,
@@ -85,8 +110,8 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
                              _vector(q_start, d, "q_start"), _vector(v_start, d, "v_start", 0.0),
                              _vector(q_end, d, "q_end"), _vector(v_end, d, "v_end", 0.0),
                              math.inf if max_control is None else float(max_control),
-                             *weights.values(), hessian, int(max_iterations), int(refine),
-                             callback)
+                             *weights.values(), *_free_end(free_end, d), hessian,
+                             int(max_iterations), int(refine), callback)
     finally:
         if bar is not None:
             bar.close()

@@ -61,6 +61,45 @@ awk -F, 'NR > 1 { a = $2 < 0 ? -$2 : $2; if (a > m) m = a } END { exit !(m > 10 
 closure=$(sed -n 's/.*closure (general engine replay) \([^ ]*\)$/\1/p' mt.err)
 near "$closure" 0 1e-8 && ok || bad "minimum time closure $closure"
 
+# A free final state: the cart-pole swing-up with the cart's final place and speed left free
+# (--free-end q1,v1, unweighted) costs less than with the cart brought back to x = 0 (cp.csv
+# above), and the pole still ends upright at rest. Through a TOML config file, the command line
+# adding --quiet.
+cat > free.toml <<EOF
+model = "cart-pole"
+time = 2
+steps = 40
+scheme = "gauss"
+degree = 2
+from = [0, $pi]
+to = [0, 0]
+max-control = 30
+free-end = "q1,v1"
+EOF
+"$VARSYM" optimize --config free.toml --quiet > free.csv 2> free.err
+rc=$?
+[ $rc -eq 0 ] && ok || bad "free end: exit $rc ($(cat free.err))"
+near "$(last_field free.csv 3)" 0 1e-12 && near "$(last_field free.csv 5)" 0 1e-8 && ok ||
+  bad "free end: the pole does not end upright at rest: $(tail -1 free.csv)"
+fixed_cost=$(sed -n 's/.* cost \([^,]*\),.*/\1/p' cp.err)
+free_cost=$(sed -n 's/.* cost \([^,]*\),.*/\1/p' free.err)
+awk -v f="$free_cost" -v x="$fixed_cost" 'BEGIN { exit !(f > 0 && f < x) }' && ok ||
+  bad "free end: cost $free_cost, not below the fixed end's $fixed_cost"
+# A terminal weight on the cart's place pulls it back towards x = 0: a cost between the two.
+"$VARSYM" optimize --config free.toml --terminal-weight 1000,0 --quiet > pulled.csv 2> pulled.err
+pulled_cost=$(sed -n 's/.* cost \([^,]*\),.*/\1/p' pulled.err)
+awk -v p="$pulled_cost" -v f="$free_cost" -v x="$fixed_cost" 'BEGIN { exit !(p > f && p < x) }' &&
+  ok || bad "terminal weight: cost $pulled_cost, not between $free_cost and $fixed_cost"
+x_free=$(last_field free.csv 2)
+x_pulled=$(last_field pulled.csv 2)
+awk -v a="$x_free" -v b="$x_pulled" 'BEGIN { a = a < 0 ? -a : a; b = b < 0 ? -b : b; exit !(b < a / 10) }' &&
+  ok || bad "terminal weight: the cart ends at $x_pulled, the free one at $x_free"
+printf 'model = "cart-pole"\nspeed = 3\n' > bad.toml
+expect_error 2 "unknown config key" optimize --config bad.toml --time 2 --from 0,0 --to 1,0 --output out.csv
+grep -q 'bad.toml:2: unknown key .speed.' stderr.txt && ok || bad "config error: $(cat stderr.txt)"
+expect_error 2 "bad --free-end" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --free-end q3 --output out.csv
+expect_error 2 "weights not matching --free-end" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --free-end q1 --terminal-weight 1,2 --output out.csv
+
 # Mesh refinement: 80 steps from 40, one progress line per level; the target at rest.
 "$VARSYM" optimize --model acrobot --time 4 --steps 80 --refine 1 --from 0,0 --to $pi,0 \
   --output refined.csv 2> refined.err

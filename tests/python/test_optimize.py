@@ -37,6 +37,23 @@ def test_cart_pole_gauss_with_bounded_push_and_progress():
     assert out["closure"] < 1e-8
 
 
+def test_free_end_and_terminal_weight():
+    # The cart-pole swing-up with the cart's final place and speed free costs less than with the
+    # cart brought back to 0; a terminal weight on its place pulls it back, at a cost between.
+    common = dict(time=2.0, steps=40, scheme="gauss", degree=2, q_start=[0, math.pi],
+                  q_end=[0, 0], max_control=30.0)
+    fixed = varsym.optimize("cart-pole", **common)
+    free = varsym.optimize("cart-pole", free_end="q1,v1", **common)
+    pulled = varsym.optimize("cart-pole", free_end={"q1": 1000.0, "v1": 0.0}, **common)
+    assert free["cost"] < pulled["cost"] < fixed["cost"]
+    assert abs(pulled["q"][-1, 0]) < abs(free["q"][-1, 0]) / 10
+    for out in (free, pulled):  # the pole still ends upright at rest
+        assert abs(out["q"][-1, 1]) < 1e-12 and abs(out["v"][-1, 1]) < 1e-8
+        assert out["closure"] < 1e-8
+    with pytest.raises(varsym.UsageError, match="'q3' is not a coordinate"):
+        varsym.optimize("cart-pole", free_end=["q3"], **common)
+
+
 def test_invariant_cost_differs_from_effort():
     # 80 steps: the invariant optimum spins the elbow fast (|q2'| ~ 14 rad/s); at 30 steps
     # h |q2'| ~ 2 and the general engine's Newton, started from its own predictor, cannot

@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "files.hpp"
+#include "optimize_problem.hpp"
 #include "plot.hpp"
 #include "registry_models.hpp"
 #include "shared_options.hpp"
@@ -22,31 +23,6 @@
 namespace varsym::cli {
 
 namespace {
-
-struct optimize_options {
-    std::string model;
-    double time = 0.0;
-    int steps = 50;
-    scheme_options scheme;
-    std::string from, to, from_velocity, to_velocity;
-    double max_control = std::numeric_limits<double>::infinity();
-    std::string cost = "effort", hessian = "automatic";
-    int max_iterations = 3000, refine = 0;
-    std::string output, controls;
-    std::vector<std::string> plot;
-    bool quiet = false;
-    std::shared_ptr<parameter_options> parameters = std::make_shared<parameter_options>();
-};
-
-std::vector<double> vector_of(const std::string& list, const char* option, int d,
-                              const models::model& m, bool zero_default) {
-    std::vector<double> v = parse_number_list(list);
-    if (v.empty() && zero_default) v.assign(static_cast<std::size_t>(d), 0.0);
-    if (static_cast<int>(v.size()) != d)
-        throw usage_error(std::string(option) + " needs " + std::to_string(d) + " values (" +
-                          m.coordinates + ") for " + m.name + ", got " + std::to_string(v.size()));
-    return v;
-}
 
 std::string node_rows(const optimal::trajectory& path) {
     const auto d = path.q.rows();
@@ -81,40 +57,6 @@ std::string control_rows(const optimal::trajectory& path) {
         out += '\n';
     }
     return out;
-}
-
-/// --cost NAME[=WEIGHT][,NAME[=WEIGHT]...]: effort, invariant, power (weight 1 if not given).
-optimal::cost_weights cost_of(const std::string& text) {
-    optimal::cost_weights w{.effort = 0.0};
-    std::size_t at = 0;
-    while (at <= text.size()) {
-        const std::size_t end = std::min(text.find(',', at), text.size());
-        const std::string item = text.substr(at, end - at);
-        const std::size_t eq = item.find('=');
-        const std::string name = item.substr(0, eq);
-        double weight = 1.0;
-        if (eq != std::string::npos) {
-            const auto v = parse_number_list(item.substr(eq + 1));
-            if (v.size() != 1 || !(v[0] >= 0.0))
-                throw usage_error("--cost: the weight of " + name + " must be a number >= 0, got " +
-                                  shown(item.substr(eq + 1)));
-            weight = v[0];
-        }
-        if (name == "effort")
-            w.effort = weight;
-        else if (name == "invariant")
-            w.invariant = weight;
-        else if (name == "power")
-            w.power = weight;
-        else if (name == "time")
-            w.time = weight;
-        else
-            throw usage_error("--cost: unknown term " + shown(name) +
-                              "; the terms are effort, invariant, power and time (e.g. "
-                              "--cost power,effort=0.01)");
-        at = end + 1;
-    }
-    return w;
 }
 
 /// The poses of `m` at nine nodes evenly spread over the motion, each shifted right so that
@@ -194,28 +136,7 @@ void optimize(const optimize_options& o) {
                           with);
     }
     const std::vector<double> values = o.parameters->values(m);
-    const int d = m.dimension_at(values);
-    optimal::control_problem p;
-    p.time = o.time;
-    p.steps = o.steps;
-    p.scheme = make_spec(o.scheme);
-    const auto as_vector = [](const std::vector<double>& v) {
-        return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
-    };
-    p.q_start = as_vector(vector_of(o.from, "--from", d, m, false));
-    p.q_end = as_vector(vector_of(o.to, "--to", d, m, false));
-    p.v_start = as_vector(vector_of(o.from_velocity, "--from-velocity", d, m, true));
-    p.v_end = as_vector(vector_of(o.to_velocity, "--to-velocity", d, m, true));
-    p.cost = cost_of(o.cost);
-    if (p.cost.time > 0.0) { // minimum time: T free, --time its first guess
-        p.free_time = true;
-        if (!std::isfinite(o.max_control))
-            throw usage_error("--cost time needs --max-control: with unbounded inputs the "
-                              "motion can be made as fast as one likes");
-    }
-    const auto inputs = static_cast<Eigen::Index>(m.controls.size());
-    p.control_lower = Eigen::VectorXd::Constant(inputs, -o.max_control);
-    p.control_upper = Eigen::VectorXd::Constant(inputs, o.max_control);
+    const optimal::control_problem p = problem_of(o, m, values);
     std::unique_ptr<optimal::transcription> tr;
     try {
         (void)m.prepare(values); // the parameters' ranges
@@ -224,6 +145,7 @@ void optimize(const optimize_options& o) {
         throw usage_error(m.name + ": " + e.what());
     }
     file_roles roles;
+    if (!o.config.empty()) roles.add("--config", o.config);
     if (!o.output.empty() && o.output != "-") roles.add("--output", o.output);
     if (!o.controls.empty()) roles.add("--controls", o.controls);
     file_roles others = roles;
@@ -316,6 +238,7 @@ void add_optimize_command(CLI::App& app, action& todo) {
         "(push on the cart). Writes the nodes (t, q, v, p and the costates lambda of the\n"
         "momenta) to --output, and u at each step's quadrature points to --controls. The\n"
         "optimum found is local: another --scheme or --steps can reach another one.\n"
+        "--free-end frees final coordinates; --terminal-weight pulls them towards --to.\n"
         "Exit codes: 0 solved; 2 bad input; 3 not solved (infeasible, iteration limit: the\n"
         "files hold the last iterate) or not trusted (the simulator's replay of the controls\n"
         "misses the optimal motion: steps too coarse); 130/143 stopped by SIGINT/SIGTERM (last\n"
@@ -330,12 +253,27 @@ void add_optimize_command(CLI::App& app, action& todo) {
     add_scheme_options(*cmd, o->scheme);
     cmd->add_option("--from", o->from, "Start position q(0), one value per coordinate")
         ->required()
-        ->transform(number_list);
-    cmd->add_option("--to", o->to, "Final position q(T)")->required()->transform(number_list);
+        ->transform(number_list)
+        ->type_name(list_type_name);
+    cmd->add_option("--to", o->to, "Final position q(T)")
+        ->required()
+        ->transform(number_list)
+        ->type_name(list_type_name);
     cmd->add_option("--from-velocity", o->from_velocity, "Start velocity (default: rest)")
-        ->transform(number_list);
+        ->transform(number_list)
+        ->type_name(list_type_name);
     cmd->add_option("--to-velocity", o->to_velocity, "Final velocity (default: rest)")
-        ->transform(number_list);
+        ->transform(number_list)
+        ->type_name(list_type_name);
+    cmd->add_option("--free-end", o->free_end,
+                    "Final coordinates left free instead of fixed: q1, q2, ... (positions) and v1, "
+                    "v2, ... (velocities), e.g. q1,v1; their --to / --to-velocity values are then "
+                    "the terminal cost's targets");
+    cmd->add_option("--terminal-weight", o->terminal_weight,
+                    "Terminal cost weights, one per --free-end entry in its order: w (x(T) - "
+                    "target)^2/2 each (default 0: free and unweighted)")
+        ->transform(number_list)
+        ->type_name(list_type_name);
     cmd->add_option("--max-control", o->max_control,
                     "Bound |u| <= U on every input (default: none)")
         ->transform(positive_number);
@@ -365,6 +303,9 @@ void add_optimize_command(CLI::App& app, action& todo) {
                     "strip of poses (data and gnuplot script kept beside it); repeat for both "
                     "formats");
     cmd->add_flag("--quiet", o->quiet, "No progress line per iteration");
+    cmd->add_option("--config", o->config,
+                    "TOML file of options: each key a long option without '--' (model = "
+                    "\"acrobot\", to = [3.14159, 0], refine = 2); the command line wins");
     o->parameters->add(*cmd);
     cmd->callback([o, &todo] { todo = [o] { optimize(*o); }; });
 }

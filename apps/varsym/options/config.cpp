@@ -50,9 +50,13 @@ bool on_command_line(const std::vector<std::string>& args, const CLI::Option& op
 
 } // namespace
 
-std::vector<std::string> expand_config(const std::vector<std::string>& args, const CLI::App& run,
+std::vector<std::string> expand_config(const std::vector<std::string>& args, const CLI::App& app,
                                        config_origins& origins) {
-    if (args.empty() || args[0] != "run") return args;
+    if (args.empty()) return args;
+    const CLI::App* command = nullptr;
+    for (const CLI::App* sub : app.get_subcommands({}))
+        if (sub->check_name(args[0])) command = sub;
+    if (command == nullptr || command->get_option_no_throw("--config") == nullptr) return args;
     std::string file;
     bool given = false;
     for (std::size_t i = 1; i < args.size(); ++i) {
@@ -77,11 +81,12 @@ std::vector<std::string> expand_config(const std::vector<std::string>& args, con
     for (auto&& [key, node] : table) {
         const std::string name(key.str());
         const std::string at = where(file, node);
-        const CLI::Option* opt = run.get_option_no_throw("--" + name);
+        const CLI::Option* opt = command->get_option_no_throw("--" + name);
         if (opt == nullptr || name == "config" || name == "help")
             throw usage_error(at + ": unknown key '" + name +
-                              "' (keys are the long options of 'varsym run' without '--', e.g. "
-                              "model, scheme, steps-per-period; see 'varsym run --help')");
+                              "' (keys are the long options of 'varsym " + args[0] +
+                              "' without '--', e.g. model, scheme; see 'varsym " + args[0] +
+                              " --help')");
         const std::string full_type = opt->get_type_name();
         const std::string type = full_type.substr(0, full_type.find(':'));
         const bool flag = opt->get_expected_max() == 0;

@@ -124,7 +124,7 @@ int front_end::parse(std::vector<std::string> args) {
     }
     try {
         if (!resume_arguments(args, run_ctx_)) {
-            args = expand_config(args, *app_.get_subcommand("run"), origins_);
+            args = expand_config(args, app_, origins_);
             run_ctx_.args = run_arguments(args);
         }
     } catch (const usage_error& e) {

@@ -1,0 +1,125 @@
+// apps/varsym/commands/optimize_problem.cpp: `varsym optimize`'s options as an optimal control
+// problem: the boundary states, the cost's terms, the free final coordinates and their terminal
+// weights, the bounds.
+#include "optimize_problem.hpp"
+
+#include <cmath>
+#include <set>
+
+namespace varsym::cli {
+
+namespace {
+
+std::vector<double> vector_of(const std::string& list, const char* option, int d,
+                              const models::model& m, bool zero_default) {
+    std::vector<double> v = parse_number_list(list);
+    if (v.empty() && zero_default) v.assign(static_cast<std::size_t>(d), 0.0);
+    if (static_cast<int>(v.size()) != d)
+        throw usage_error(std::string(option) + " needs " + std::to_string(d) + " values (" +
+                          m.coordinates + ") for " + m.name + ", got " + std::to_string(v.size()));
+    return v;
+}
+
+/// --cost NAME[=WEIGHT][,NAME[=WEIGHT]...]: effort, invariant, power (weight 1 if not given).
+optimal::cost_weights cost_of(const std::string& text) {
+    optimal::cost_weights w{.effort = 0.0};
+    std::size_t at = 0;
+    while (at <= text.size()) {
+        const std::size_t end = std::min(text.find(',', at), text.size());
+        const std::string item = text.substr(at, end - at);
+        const std::size_t eq = item.find('=');
+        const std::string name = item.substr(0, eq);
+        double weight = 1.0;
+        if (eq != std::string::npos) {
+            const auto v = parse_number_list(item.substr(eq + 1));
+            if (v.size() != 1 || !(v[0] >= 0.0))
+                throw usage_error("--cost: the weight of " + name + " must be a number >= 0, got " +
+                                  shown(item.substr(eq + 1)));
+            weight = v[0];
+        }
+        if (name == "effort")
+            w.effort = weight;
+        else if (name == "invariant")
+            w.invariant = weight;
+        else if (name == "power")
+            w.power = weight;
+        else if (name == "time")
+            w.time = weight;
+        else
+            throw usage_error("--cost: unknown term " + shown(name) +
+                              "; the terms are effort, invariant, power and time (e.g. "
+                              "--cost power,effort=0.01)");
+        at = end + 1;
+    }
+    return w;
+}
+
+/// --free-end q1,v2,…: the freed final coordinates (q) and velocities (v), numbered from 1, with
+/// --terminal-weight's weight for each (0 if not given), into the problem.
+void free_end_of(const std::string& list, const std::string& weights, int d,
+                 optimal::control_problem& p) {
+    const std::vector<double> w = parse_number_list(weights);
+    p.free_end_position.assign(static_cast<std::size_t>(d), false);
+    p.free_end_velocity.assign(static_cast<std::size_t>(d), false);
+    p.cost.terminal_position = p.cost.terminal_velocity = Eigen::VectorXd::Zero(d);
+    std::set<std::string> seen;
+    std::size_t count = 0, at = 0;
+    while (!list.empty() && at <= list.size()) {
+        const std::size_t end = std::min(list.find(',', at), list.size());
+        const std::string item = list.substr(at, end - at);
+        int i = 0;
+        try {
+            std::size_t used = 0;
+            i = item.size() >= 2 ? std::stoi(item.substr(1), &used) : 0;
+            if (used + 1 != item.size()) i = 0;
+        } catch (const std::exception&) {
+            i = 0;
+        }
+        if ((item.empty() || (item[0] != 'q' && item[0] != 'v')) || i < 1 || i > d)
+            throw usage_error("--free-end: " + shown(item) + " is not a coordinate: give q1 … q" +
+                              std::to_string(d) + " (positions) or v1 … v" + std::to_string(d) +
+                              " (velocities), e.g. --free-end q1,v1");
+        if (!seen.insert(item).second) throw usage_error("--free-end: " + item + " is given twice");
+        const auto k = static_cast<std::size_t>(i - 1);
+        const double weight = count < w.size() ? w[count] : 0.0;
+        (item[0] == 'q' ? p.free_end_position : p.free_end_velocity)[k] = true;
+        (item[0] == 'q' ? p.cost.terminal_position : p.cost.terminal_velocity)(i - 1) = weight;
+        ++count;
+        at = end + 1;
+    }
+    if (!w.empty() && w.size() != count)
+        throw usage_error("--terminal-weight needs one weight per --free-end entry (" +
+                          std::to_string(count) + "), got " + std::to_string(w.size()));
+}
+
+} // namespace
+
+optimal::control_problem problem_of(const optimize_options& o, const models::model& m,
+                                    std::span<const double> values) {
+    const int d = m.dimension_at(values);
+    optimal::control_problem p;
+    p.time = o.time;
+    p.steps = o.steps;
+    p.scheme = make_spec(o.scheme);
+    const auto as_vector = [](const std::vector<double>& v) {
+        return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+    };
+    p.q_start = as_vector(vector_of(o.from, "--from", d, m, false));
+    p.q_end = as_vector(vector_of(o.to, "--to", d, m, false));
+    p.v_start = as_vector(vector_of(o.from_velocity, "--from-velocity", d, m, true));
+    p.v_end = as_vector(vector_of(o.to_velocity, "--to-velocity", d, m, true));
+    p.cost = cost_of(o.cost);
+    if (p.cost.time > 0.0) { // minimum time: T free, --time its first guess
+        p.free_time = true;
+        if (!std::isfinite(o.max_control))
+            throw usage_error("--cost time needs --max-control: with unbounded inputs the "
+                              "motion can be made as fast as one likes");
+    }
+    const auto inputs = static_cast<Eigen::Index>(m.controls.size());
+    p.control_lower = Eigen::VectorXd::Constant(inputs, -o.max_control);
+    p.control_upper = Eigen::VectorXd::Constant(inputs, o.max_control);
+    free_end_of(o.free_end, o.terminal_weight, d, p);
+    return p;
+}
+
+} // namespace varsym::cli

@@ -1,0 +1,38 @@
+// apps/varsym/commands/optimize_problem.hpp: the options of `varsym optimize` and the optimal
+// control problem they describe (varsym/optimal/problem.hpp).
+#pragma once
+
+#include <limits>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "registry_models.hpp"
+#include "shared_options.hpp"
+#include "varsym/optimal/problem.hpp"
+
+namespace varsym::cli {
+
+struct optimize_options {
+    std::string model;
+    double time = 0.0;
+    int steps = 50;
+    scheme_options scheme;
+    std::string from, to, from_velocity, to_velocity;
+    std::string free_end, terminal_weight; ///< "q1,v2"; one weight per freed entry
+    double max_control = std::numeric_limits<double>::infinity();
+    std::string cost = "effort", hessian = "automatic";
+    int max_iterations = 3000, refine = 0;
+    std::string output, controls, config;
+    std::vector<std::string> plot;
+    bool quiet = false;
+    std::shared_ptr<parameter_options> parameters = std::make_shared<parameter_options>();
+};
+
+/// The problem the options describe for model m at its parameters' values; usage_error naming
+/// the option on bad input.
+optimal::control_problem problem_of(const optimize_options& o, const models::model& m,
+                                    std::span<const double> values);
+
+} // namespace varsym::cli
