@@ -27,7 +27,7 @@ bool swing_up(const char* name, const std::vector<double>& from, const std::vect
     p.q_start = Eigen::Map<const Eigen::VectorXd>(from.data(), 2);
     p.q_end = Eigen::Map<const Eigen::VectorXd>(to.data(), 2);
     p.v_start = p.v_end = Eigen::VectorXd::Zero(2); // at rest at both ends
-    const auto tr = m.optimal(values, p);
+    const auto tr = m.optimal(values, {}, p); // no list parameters
     const vo::nlp_result r = vo::solve(*tr);
     const vo::trajectory path = tr->unpack(r);
     const vo::closure_check closure = vo::check_closure(*tr, path);

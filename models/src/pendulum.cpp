@@ -4,9 +4,32 @@
 #include <optional>
 
 #include "simulation_of.hpp"
+#include "varsym/optimal/dmoc.hpp"
 #include "varsym/problems/pendulum.hpp"
 
 namespace varsym::models::defs {
+
+namespace {
+
+/// The pendulum's L for the optimal control transcription (written for its scalar types).
+struct pendulum_under_torque {
+    static constexpr int dim = 1;
+    double mass = 1.0, omega = 1.0;
+    template <class T>
+    T operator()(const tvec<T, 1>& q, const tvec<T, 1>& v) const {
+        using std::cos;
+        return 0.5 * mass * v(0) * v(0) - mass * omega * omega * (1.0 - cos(q(0)));
+    }
+};
+struct pivot_torque { // u [N m] on q
+    static constexpr int dim = 1, controls = 1;
+    template <class T>
+    tvec<T, 1> operator()(const tvec<T, 1>&, const tvec<T, 1>&, double, const tvec<T, 1>& u) const {
+        return u;
+    }
+};
+
+} // namespace
 
 model pendulum() {
     model m;
@@ -64,6 +87,11 @@ model pendulum() {
             });
         pr.no_period = no_period;
         return pr;
+    };
+    m.controls = {"u [N m]: torque at the pivot"};
+    m.optimal = [](std::span<const double> v, const lists&, const optimal::control_problem& p) {
+        return std::unique_ptr<optimal::transcription>(
+            optimal::transcribe(pendulum_under_torque{v[0], v[1]}, pivot_torque{}, p));
     };
     return m;
 }

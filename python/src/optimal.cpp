@@ -12,7 +12,7 @@
 
 #include "bindings.hpp"
 #include "varsym/models/model.hpp"
-#include "varsym/optimal/dmoc.hpp"
+#include "varsym/optimal/problem.hpp"
 #include "varsym/optimal/solve.hpp"
 
 namespace py = pybind11;
@@ -20,18 +20,19 @@ using namespace varsym;
 
 namespace {
 
-py::dict optimize(const std::string& name, const std::vector<double>& values, double time,
-                  int steps, const std::string& scheme, int degree, const Eigen::VectorXd& q0,
-                  const Eigen::VectorXd& v0, const Eigen::VectorXd& q1, const Eigen::VectorXd& v1,
-                  double max_control, double effort, double invariant, double power,
-                  double time_weight, const std::vector<bool>& free_q,
-                  const std::vector<bool>& free_v, const Eigen::VectorXd& terminal_q,
-                  const Eigen::VectorXd& terminal_v, const std::string& hessian,
-                  int max_iterations, int refine, const std::optional<py::function>& progress) {
+py::dict optimize(const std::string& name, const std::vector<double>& values,
+                  const models::lists& lists, double time, int steps, const std::string& scheme,
+                  int degree, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
+                  const Eigen::VectorXd& q1, const Eigen::VectorXd& v1, double max_control,
+                  double effort, double invariant, double power, double time_weight,
+                  const std::vector<bool>& free_q, const std::vector<bool>& free_v,
+                  const Eigen::VectorXd& terminal_q, const Eigen::VectorXd& terminal_v,
+                  const std::string& hessian, int max_iterations, int refine,
+                  const std::optional<py::function>& progress) {
     const models::model& m = models::get(name);
     if (!m.optimal)
         throw std::invalid_argument("model " + m.name + " has no control input to optimise");
-    (void)m.prepare(values); // the parameters' ranges
+    (void)m.prepare(values, {}, lists); // the parameters' ranges
     optimal::control_problem p;
     p.time = time;
     p.steps = steps;
@@ -46,10 +47,9 @@ py::dict optimize(const std::string& name, const std::vector<double>& values, do
     p.free_end_velocity = free_v;
     p.cost.terminal_position = terminal_q;
     p.cost.terminal_velocity = terminal_v;
-    const auto inputs = static_cast<Eigen::Index>(m.controls.size());
-    p.control_lower = Eigen::VectorXd::Constant(inputs, -max_control);
-    p.control_upper = Eigen::VectorXd::Constant(inputs, max_control);
-    auto tr = m.optimal(values, p);
+    p.control_lower = Eigen::VectorXd::Constant(1, -max_control); // on every input
+    p.control_upper = Eigen::VectorXd::Constant(1, max_control);
+    auto tr = m.optimal(values, lists, p);
     optimal::solver_options so;
     so.max_iterations = max_iterations;
     if (hessian == "exact")
@@ -83,7 +83,7 @@ py::dict optimize(const std::string& name, const std::vector<double>& values, do
                 [&](int n) {
                     auto q = p;
                     q.steps = n;
-                    return m.optimal(values, q);
+                    return m.optimal(values, lists, q);
                 },
                 steps, refine, so);
             r = std::move(refined.result);

@@ -72,7 +72,8 @@ def _free_end(free_end, d):
 def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
              scheme="simpson", degree=None, max_control=None, cost="effort", free_end=None,
              hessian="automatic", max_iterations=3000, refine=0, progress=False, **parameters):
-    """The controls that take ``model`` (a name or a Model with inputs: "acrobot", "cart-pole")
+    """The controls that take ``model`` (a name or a Model with inputs: "acrobot", "cart-pole",
+    "pendulum")
     from (q_start, v_start) at t = 0 to (q_end, v_end) at t = ``time`` at the least cost, by
     discrete mechanics and optimal control with ``steps`` steps of ``scheme`` (velocities
     default to rest). ``cost``: "effort" (∫ u²/2), "invariant" (∫ τᵀM⁻¹τ/2), "power" (∫ Σ|τ_i
@@ -106,7 +107,7 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
             bar.update(1)
             bar.set_postfix(cost=f"{value:.6g}", infeasibility=f"{infeasibility:.1e}")
     try:
-        out = _core.optimize(m.name, m._values(), float(time), int(steps), scheme, degree or 0,
+        out = _core.optimize(m.name, m._values(), m._lists(), float(time), int(steps), scheme, degree or 0,
                              _vector(q_start, d, "q_start"), _vector(v_start, d, "v_start", 0.0),
                              _vector(q_end, d, "q_end"), _vector(v_end, d, "v_end", 0.0),
                              math.inf if max_control is None else float(max_control),

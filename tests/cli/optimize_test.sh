@@ -100,6 +100,18 @@ grep -q 'bad.toml:2: unknown key .speed.' stderr.txt && ok || bad "config error:
 expect_error 2 "bad --free-end" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --free-end q3 --output out.csv
 expect_error 2 "weights not matching --free-end" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --free-end q1 --terminal-weight 1,2 --output out.csv
 
+# The pendulum (omega^2 = 9.81: m = l = 1 under g = 9.81) swung up by a torque at the pivot bounded
+# by 5 N m, from hanging to upright at rest in 3 s: the bound is active (the unbounded optimum
+# peaks at 5.80 N m).
+"$VARSYM" optimize --model pendulum --omega 3.132091952673165 --time 3 --steps 40 --from 0 \
+  --to $pi --max-control 5 --quiet --controls pend_u.csv > pend.csv 2> pend.err
+rc=$?
+[ $rc -eq 0 ] && ok || bad "pendulum: exit $rc ($(cat pend.err))"
+near "$(last_field pend.csv 2)" $pi 1e-12 && near "$(last_field pend.csv 3)" 0 1e-8 && ok ||
+  bad "pendulum does not end upright at rest: $(tail -1 pend.csv)"
+awk -F, 'NR > 1 { a = $2 < 0 ? -$2 : $2; if (a > m) m = a } END { exit !(m > 5 - 1e-6 && m < 5 + 1e-6) }' \
+  pend_u.csv && ok || bad "pendulum: the torque does not reach its 5 N m bound"
+
 # Mesh refinement: 80 steps from 40, one progress line per level; the target at rest.
 "$VARSYM" optimize --model acrobot --time 4 --steps 80 --refine 1 --from 0,0 --to $pi,0 \
   --output refined.csv 2> refined.err
@@ -120,7 +132,7 @@ rc=$?
 # Bad input: one line, exit 2, no file.
 expect_error 2 "minimum time unbounded" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --cost time --output out.csv
 expect_error 2 "unknown cost term" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --cost speed --output out.csv
-expect_error 2 "model without inputs" optimize --model pendulum --time 2 --from 0 --to 1 --output out.csv
+expect_error 2 "model without inputs" optimize --model oscillator --time 2 --from 0 --to 1 --output out.csv
 expect_error 2 "unknown model" optimize --model acrobat --time 2 --from 0,0 --to 1,0 --output out.csv
 expect_error 2 "short --from" optimize --model acrobot --time 2 --from 0 --to 1,0 --output out.csv
 expect_error 2 "NaN target" optimize --model acrobot --time 2 --from 0,0 --to nan,0 --output out.csv

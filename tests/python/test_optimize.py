@@ -102,7 +102,7 @@ def test_refusals():
     with pytest.raises(varsym.UsageError, match="needs max_control"):
         varsym.optimize("cart-pole", time=2.0, q_start=[0, 0], q_end=[1, 0], cost="time")
     with pytest.raises(varsym.UsageError, match="no control input"):
-        varsym.optimize("pendulum", time=2.0, q_start=[0], q_end=[1])
+        varsym.optimize("oscillator", time=2.0, q_start=[0, 0], q_end=[1, 0])
     with pytest.raises(varsym.UsageError, match="unknown cost term"):
         varsym.optimize("acrobot", time=2.0, q_start=[0, 0], q_end=[1, 0], cost="speed")
     with pytest.raises(varsym.UsageError, match="q_end needs 2 values"):

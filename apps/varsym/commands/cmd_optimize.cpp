@@ -17,7 +17,7 @@
 #include "registry_models.hpp"
 #include "shared_options.hpp"
 #include "signals.hpp"
-#include "varsym/optimal/dmoc.hpp"
+#include "varsym/optimal/problem.hpp"
 #include "varsym/optimal/solve.hpp"
 
 namespace varsym::cli {
@@ -136,11 +136,12 @@ void optimize(const optimize_options& o) {
                           with);
     }
     const std::vector<double> values = o.parameters->values(m);
-    const optimal::control_problem p = problem_of(o, m, values);
+    const models::lists lists = o.parameters->lists(m);
+    const optimal::control_problem p = problem_of(o, m, values, lists);
     std::unique_ptr<optimal::transcription> tr;
     try {
-        (void)m.prepare(values); // the parameters' ranges
-        tr = m.optimal(values, p);
+        (void)m.prepare(values, {}, lists); // the parameters' ranges
+        tr = m.optimal(values, lists, p);
     } catch (const std::invalid_argument& e) {
         throw usage_error(m.name + ": " + e.what());
     }
@@ -183,7 +184,7 @@ void optimize(const optimize_options& o) {
             [&](int n) {
                 auto q = p;
                 q.steps = n;
-                auto t = m.optimal(values, q);
+                auto t = m.optimal(values, lists, q);
                 if (!o.quiet) std::fprintf(stderr, "varsym optimize: N = %d\n", n);
                 return t;
             },
@@ -235,7 +236,7 @@ void add_optimize_command(CLI::App& app, action& todo) {
         "discrete mechanics and optimal control: the scheme's discrete Lagrange-d'Alembert\n"
         "equations are the constraints of a sparse nonlinear program solved by IPOPT (exact\n"
         "first and second derivatives). Models with inputs: acrobot (elbow torque), cart-pole\n"
-        "(push on the cart). Writes the nodes (t, q, v, p and the costates lambda of the\n"
+        "(push on the cart), pendulum (torque at the pivot). Writes the nodes (t, q, v, p and the costates lambda of the\n"
         "momenta) to --output, and u at each step's quadrature points to --controls. The\n"
         "optimum found is local: another --scheme or --steps can reach another one.\n"
         "--free-end frees final coordinates; --terminal-weight pulls them towards --to.\n"
@@ -244,7 +245,8 @@ void add_optimize_command(CLI::App& app, action& todo) {
         "misses the optimal motion: steps too coarse); 130/143 stopped by SIGINT/SIGTERM (last\n"
         "iterate kept).\n"
         "See docs/optimal_control.md.");
-    cmd->add_option("--model", o->model, "A model with control inputs (acrobot, cart-pole)")
+    cmd->add_option("--model", o->model,
+                    "A model with control inputs (acrobot, cart-pole, pendulum)")
         ->required();
     cmd->add_option("--time", o->time, "Horizon T [s]")->required()->transform(positive_number);
     cmd->add_option("--steps", o->steps, "Steps N of h = T/N")

@@ -95,8 +95,8 @@ void free_end_of(const std::string& list, const std::string& weights, int d,
 } // namespace
 
 optimal::control_problem problem_of(const optimize_options& o, const models::model& m,
-                                    std::span<const double> values) {
-    const int d = m.dimension_at(values);
+                                    std::span<const double> values, const models::lists& lists) {
+    const int d = m.dimension_at(values, lists);
     optimal::control_problem p;
     p.time = o.time;
     p.steps = o.steps;
@@ -115,9 +115,8 @@ optimal::control_problem problem_of(const optimize_options& o, const models::mod
             throw usage_error("--cost time needs --max-control: with unbounded inputs the "
                               "motion can be made as fast as one likes");
     }
-    const auto inputs = static_cast<Eigen::Index>(m.controls.size());
-    p.control_lower = Eigen::VectorXd::Constant(inputs, -o.max_control);
-    p.control_upper = Eigen::VectorXd::Constant(inputs, o.max_control);
+    p.control_lower = Eigen::VectorXd::Constant(1, -o.max_control); // on every input
+    p.control_upper = Eigen::VectorXd::Constant(1, o.max_control);
     free_end_of(o.free_end, o.terminal_weight, d, p);
     return p;
 }

@@ -30,9 +30,9 @@ struct optimize_options {
     std::shared_ptr<parameter_options> parameters = std::make_shared<parameter_options>();
 };
 
-/// The problem the options describe for model m at its parameters' values; usage_error naming
-/// the option on bad input.
+/// The problem the options describe for model m at its parameters' values and lists;
+/// usage_error naming the option on bad input.
 optimal::control_problem problem_of(const optimize_options& o, const models::model& m,
-                                    std::span<const double> values);
+                                    std::span<const double> values, const models::lists& lists);
 
 } // namespace varsym::cli

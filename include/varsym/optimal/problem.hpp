@@ -52,8 +52,8 @@ struct control_problem {
     vector q_start, v_start, q_end, v_end;     ///< boundary states (d each)
     cost_weights cost;                         ///< the running cost's terms
     Eigen::MatrixXd effort;                    ///< R (m × m, s.p.d.); empty: identity
-    vector control_lower, control_upper;       ///< (m each); empty: unbounded
-    vector position_lower, position_upper;     ///< (d each); empty: unbounded
+    vector control_lower, control_upper;       ///< (m each, or 1 for all); empty: unbounded
+    vector position_lower, position_upper;     ///< (d each, or 1 for all); empty: unbounded
     /// Free final state: entry i true leaves q_i(T) (q̇_i(T)) free instead of fixing it to
     /// q_end(i) (v_end(i)), which is then the terminal cost's target (d each; empty: all fixed).
     std::vector<bool> free_end_position, free_end_velocity;
@@ -277,6 +277,8 @@ inline control_problem checked(control_problem p, int d, int m) {
     const auto box = [&](vector& lo, vector& hi, Eigen::Index n, const char* name) {
         if (lo.size() == 0) lo = vector::Constant(n, -unbounded);
         if (hi.size() == 0) hi = vector::Constant(n, unbounded);
+        if (lo.size() == 1) lo = vector::Constant(n, lo(0)); // one bound for every entry
+        if (hi.size() == 1) hi = vector::Constant(n, hi(0));
         require(lo.size() == n && hi.size() == n,
                 std::string(name) + " bounds need " + std::to_string(n) + " entries each");
         for (Eigen::Index i = 0; i < n; ++i)

@@ -27,7 +27,7 @@ int main() {
     p.q_start = Eigen::Vector2d(0.0, std::numbers::pi);
     p.q_end = Eigen::Vector2d(1.0, std::numbers::pi);
     p.v_start = p.v_end = Eigen::VectorXd::Zero(2);
-    const auto tr = m.optimal(m.defaults(), p);
+    const auto tr = m.optimal(m.defaults(), {}, p);
     const auto r = varsym::optimal::solve(*tr);
     const auto path = tr->unpack(r);
     const auto closure = varsym::optimal::check_closure(*tr, path);

@@ -143,11 +143,12 @@ struct model {
     /// the wrong length).
     std::function<problem(std::span<const double>, const start&, const models::lists&)> make;
     /// Where the model has control inputs (the acrobot's elbow torque): their names with units
-    /// ("u [N m], torque at the elbow"), and the transcription of an optimal control problem
-    /// (varsym/optimal/dmoc.hpp) at the parameters' values. Empty where it has none.
+    /// ("u [N m], torque at the elbow"; one line may stand for one input per coordinate, as the
+    /// arm's), and the transcription of an optimal control problem (varsym/optimal/dmoc.hpp) at
+    /// the parameters' values and lists (empty: the defaults). Empty where it has none.
     std::vector<std::string> controls;
-    std::function<std::unique_ptr<optimal::transcription>(std::span<const double>,
-                                                          const optimal::control_problem&)>
+    std::function<std::unique_ptr<optimal::transcription>(
+        std::span<const double>, const models::lists&, const optimal::control_problem&)>
         optimal;
     /// Where the model is a linkage to draw (the pictures of `varsym optimize`): the polyline
     /// of its joints at q, as x0, y0, x1, y1, … [m], from the parameters' values. May be empty.
