@@ -15,13 +15,31 @@
 
 namespace varsym::optimal_test {
 
-/// f = u: every coordinate driven by its own input (a torque on an angle, a force on a length).
+/// f = gain u: every coordinate driven by its own input (a torque on an angle, a force on a
+/// length); gain 0 makes inputs that act on nothing.
 template <int D>
 struct direct_input {
     static constexpr int dim = D, controls = D;
+    double gain = 1.0;
     template <class T>
     tvec<T, D> operator()(const tvec<T, D>&, const tvec<T, D>&, double, const tvec<T, D>& u) const {
-        return u;
+        tvec<T, D> f;
+        for (int i = 0; i < D; ++i)
+            f(i) = gain * u(i);
+        return f;
+    }
+};
+
+/// One coordinate, L = ½ q̇² − ½ k q² + g cos q: the free mass (k = g = 0), the harmonic
+/// oscillator (k = 1), the pendulum from hanging (g). One type for every one-coordinate test, so
+/// that its transcription is compiled once (about 40 s each).
+struct one_dof {
+    static constexpr int dim = 1;
+    double spring = 0.0, gravity = 0.0;
+    template <class T>
+    T operator()(const tvec<T, 1>& q, const tvec<T, 1>& v) const {
+        using std::cos;
+        return 0.5 * v(0) * v(0) - 0.5 * spring * q(0) * q(0) + gravity * cos(q(0));
     }
 };
 

@@ -1,5 +1,6 @@
 // The running costs on a fully actuated two-link arm in a vertical plane (uniform links of 1 kg
-// and 1 m, joint torques u = τ): the gradients and Hessians against finite differences, and the
+// and 1 m, joint torques u = τ): the gradients and Hessians against finite differences (also of
+// a free final state's terms), and the
 // invariant cost ∫ ½ τᵀM⁻¹τ against the effort ∫ ½ |τ|² on the same rest-to-rest motion, the
 // comparison of Rojas-Quintero et al. (Mathematics 10(7), 1117, 2022).
 #include <cmath>
@@ -49,6 +50,31 @@ TEST(OptimalCosts, GradientsAndHessiansMatchFiniteDifferences) {
         EXPECT_EQ(tr->has_hessian(), w.invariant == 0.0);
         if (tr->has_hessian()) EXPECT_LT(e.hessian, 1e-6 * std::max(1.0, e.largest_hessian));
     }
+}
+
+TEST(OptimalCosts, FreeFinalStateDerivativesMatchFiniteDifferences) {
+    // On the two-link arm (∂L/∂q̇ depends on q): the end's −∂L/∂q̇(Q_N, v_N) and its third
+    // derivatives, and the terminal cost.
+    optimal::control_problem p;
+    p.time = 1.0;
+    p.steps = 3;
+    p.scheme = {scheme_kind::gauss, 2};
+    p.q_start = p.v_start = p.v_end = Eigen::VectorXd::Zero(2);
+    p.q_end = Eigen::Vector2d(1.0, 0.5);
+    p.free_end_position = {true, false};
+    p.free_end_velocity = {true, true};
+    p.cost.terminal_position = Eigen::Vector2d(3.0, 0.0);
+    p.cost.terminal_velocity = Eigen::Vector2d(0.5, 2.0);
+    const auto tr =
+        optimal::transcribe(optimal_test::two_link{}, optimal_test::direct_input<2>{}, p);
+    EXPECT_EQ(tr->variables(), 7 * 2 + 6 * 2 + 2);
+    const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(tr->variables(), 0.3, 2.9).array().sin();
+    const auto e = optimal_test::check_derivatives(
+        *tr, x, 0.7, Eigen::VectorXd::LinSpaced(tr->constraints(), -1.0, 2.0));
+    EXPECT_LT(e.gradient, 1e-7);
+    EXPECT_LT(e.jacobian, 1e-7);
+    EXPECT_LT(e.hessian, 1e-7);
+    EXPECT_GT(e.largest_hessian, 1.0);
 }
 
 /// Joint torques on a chain in absolute angles: f = Bᵀu, f_i = u_i − u_{i+1}.

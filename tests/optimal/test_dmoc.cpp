@@ -19,20 +19,8 @@ namespace {
 
 using namespace varsym;
 
-struct lq_oscillator {
-    static constexpr int dim = 1;
-    template <class T>
-    T operator()(const tvec<T, 1>& q, const tvec<T, 1>& v) const {
-        return 0.5 * v(0) * v(0) - 0.5 * q(0) * q(0);
-    }
-};
-struct lq_nowhere { // an input that acts on nothing
-    static constexpr int dim = 1, controls = 1;
-    template <class T>
-    tvec<T, 1> operator()(const tvec<T, 1>&, const tvec<T, 1>&, double, const tvec<T, 1>& u) const {
-        return tvec<T, 1>(0.0 * u(0));
-    }
-};
+const optimal_test::one_dof lq_oscillator{.spring = 1.0};
+const optimal_test::direct_input<1> lq_nowhere{.gain = 0.0}; // an input that acts on nothing
 using lq_push = optimal_test::direct_input<1>;
 
 constexpr double lq_time = 2.0;
@@ -105,7 +93,7 @@ lq_errors lq_solve(const scheme_spec& spec, int steps,
         exact.free_end_velocity();
         problem.free_end_velocity = {true};
     }
-    const auto tr = optimal::transcribe(lq_oscillator{}, lq_push{}, problem);
+    const auto tr = optimal::transcribe(lq_oscillator, lq_push{}, problem);
     optimal::solver_options o;
     o.hessian = hessian;
     const auto r = optimal::solve(*tr, o);
@@ -166,31 +154,6 @@ TEST(OptimalLinearQuadratic, FreeFinalStateAndTerminalCostConvergeAtOrderTwoS) {
         }
 }
 
-TEST(OptimalLinearQuadratic, FreeFinalStateDerivativesMatchFiniteDifferences) {
-    // On the two-link arm (∂L/∂q̇ depends on q): the end's −∂L/∂q̇(Q_N, v_N) and its third
-    // derivatives, and the terminal cost.
-    optimal::control_problem p;
-    p.time = 1.0;
-    p.steps = 3;
-    p.scheme = {scheme_kind::gauss, 2};
-    p.q_start = p.v_start = p.v_end = Eigen::VectorXd::Zero(2);
-    p.q_end = Eigen::Vector2d(1.0, 0.5);
-    p.free_end_position = {true, false};
-    p.free_end_velocity = {true, true};
-    p.cost.terminal_position = Eigen::Vector2d(3.0, 0.0);
-    p.cost.terminal_velocity = Eigen::Vector2d(0.5, 2.0);
-    const auto tr =
-        optimal::transcribe(optimal_test::two_link{}, optimal_test::direct_input<2>{}, p);
-    EXPECT_EQ(tr->variables(), 7 * 2 + 6 * 2 + 2);
-    const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(tr->variables(), 0.3, 2.9).array().sin();
-    const auto e = optimal_test::check_derivatives(
-        *tr, x, 0.7, Eigen::VectorXd::LinSpaced(tr->constraints(), -1.0, 2.0));
-    EXPECT_LT(e.gradient, 1e-7);
-    EXPECT_LT(e.jacobian, 1e-7);
-    EXPECT_LT(e.hessian, 1e-7);
-    EXPECT_GT(e.largest_hessian, 1.0);
-}
-
 TEST(OptimalLinearQuadratic, LimitedMemoryReachesTheSameOptimum) {
     const auto exact = lq_solve(scheme_kind::simpson, 20, optimal::hessian_kind::exact);
     const auto bfgs = lq_solve(scheme_kind::simpson, 20, optimal::hessian_kind::limited_memory);
@@ -204,15 +167,15 @@ TEST(OptimalLinearQuadratic, ClosureAgainstTheGeneralEngine) {
     for (const scheme_spec spec :
          {scheme_spec(scheme_kind::simpson), scheme_spec(scheme_kind::newmark),
           scheme_spec(scheme_kind::gauss, 3)}) {
-        const auto tr = optimal::transcribe(lq_oscillator{}, lq_push{}, lq_problem(spec, 20));
+        const auto tr = optimal::transcribe(lq_oscillator, lq_push{}, lq_problem(spec, 20));
         const auto r = optimal::solve(*tr);
         ASSERT_TRUE(r.converged());
         auto path = tr->unpack(r);
-        const Eigen::MatrixXd nodes = optimal::replay(lq_oscillator{}, lq_push{}, path);
+        const Eigen::MatrixXd nodes = optimal::replay(lq_oscillator, lq_push{}, path);
         EXPECT_LT((nodes.topRows(1) - path.q).cwiseAbs().maxCoeff(), 1e-12) << spec.label();
         EXPECT_LT((nodes.bottomRows(1) - path.p).cwiseAbs().maxCoeff(), 1e-12) << spec.label();
         path.u.array() += 1e-6;
-        const Eigen::MatrixXd off = optimal::replay(lq_oscillator{}, lq_push{}, path);
+        const Eigen::MatrixXd off = optimal::replay(lq_oscillator, lq_push{}, path);
         EXPECT_GT((off.topRows(1) - nodes.topRows(1)).cwiseAbs().maxCoeff(), 1e-8);
     }
 }
@@ -221,7 +184,7 @@ TEST(OptimalInput, RefusesWhatCannotBeSolved) {
     auto p = lq_problem(scheme_kind::simpson, 10);
     const auto refused = [](const optimal::control_problem& q, const char* what) {
         try {
-            (void)optimal::transcribe(lq_oscillator{}, lq_push{}, q);
+            (void)optimal::transcribe(lq_oscillator, lq_push{}, q);
             ADD_FAILURE() << "accepted: " << what;
         } catch (const std::invalid_argument& e) {
             EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
@@ -256,7 +219,7 @@ TEST(OptimalInput, RefusesWhatCannotBeSolved) {
     q.free_end_velocity = {true, false};
     refused(q, "free final velocities has 2 flags");
     try {
-        (void)optimal::transcribe(lq_oscillator{}, lq_nowhere{}, p);
+        (void)optimal::transcribe(lq_oscillator, lq_nowhere, p);
         ADD_FAILURE() << "accepted an input that acts on nothing";
     } catch (const std::invalid_argument& e) {
         EXPECT_NE(std::string(e.what()).find("do not act"), std::string::npos) << e.what();
@@ -268,7 +231,7 @@ TEST(OptimalInput, UnreachableTargetIsReportedInfeasible) {
     auto p = lq_problem(scheme_kind::simpson, 20);
     p.control_lower = Eigen::VectorXd::Constant(1, -0.01);
     p.control_upper = Eigen::VectorXd::Constant(1, 0.01);
-    const auto tr = optimal::transcribe(lq_oscillator{}, lq_push{}, p);
+    const auto tr = optimal::transcribe(lq_oscillator, lq_push{}, p);
     const auto r = optimal::solve(*tr);
     EXPECT_FALSE(r.converged());
     EXPECT_EQ(r.verdict, optimal::status::infeasible) << r.message;

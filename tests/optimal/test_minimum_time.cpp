@@ -14,28 +14,9 @@ namespace {
 
 using namespace varsym;
 
-struct free_mass {
-    static constexpr int dim = 1;
-    template <class T>
-    T operator()(const tvec<T, 1>&, const tvec<T, 1>& v) const {
-        return 0.5 * v(0) * v(0);
-    }
-};
-struct free_push {
-    static constexpr int dim = 1, controls = 1;
-    template <class T>
-    tvec<T, 1> operator()(const tvec<T, 1>&, const tvec<T, 1>&, double, const tvec<T, 1>& u) const {
-        return u;
-    }
-};
-struct timed_pendulum {
-    static constexpr int dim = 1;
-    template <class T>
-    T operator()(const tvec<T, 1>& q, const tvec<T, 1>& v) const {
-        using std::cos;
-        return 0.5 * v(0) * v(0) + 9.81 * cos(q(0));
-    }
-};
+const optimal_test::one_dof free_mass;
+const optimal_test::one_dof timed_pendulum{.gravity = 9.81};
+using free_push = optimal_test::direct_input<1>;
 
 optimal::control_problem bang_bang(const scheme_spec& spec, int steps) {
     optimal::control_problem p;
@@ -57,7 +38,7 @@ TEST(OptimalMinimumTime, DoubleIntegratorIsBangBang) {
     for (const scheme_spec spec :
          {scheme_spec(scheme_kind::simpson), scheme_spec(scheme_kind::newmark),
           scheme_spec(scheme_kind::gauss, 3)}) {
-        const auto tr = optimal::transcribe(free_mass{}, free_push{}, bang_bang(spec, 20));
+        const auto tr = optimal::transcribe(free_mass, free_push{}, bang_bang(spec, 20));
         const auto r = optimal::solve(*tr);
         ASSERT_TRUE(r.converged()) << spec.label() << ": " << r.message;
         const auto path = tr->unpack(r);
@@ -85,7 +66,7 @@ TEST(OptimalMinimumTime, DerivativesInTheTimeMatchFiniteDifferences) {
     p.q_start = p.v_start = Eigen::VectorXd::Zero(1);
     p.v_end = Eigen::VectorXd::Constant(1, 0.4);
     p.q_end = Eigen::VectorXd::Constant(1, 3.0);
-    const auto tr = optimal::transcribe(timed_pendulum{}, free_push{}, p);
+    const auto tr = optimal::transcribe(timed_pendulum, free_push{}, p);
     EXPECT_FALSE(tr->has_hessian());
     const int n = tr->variables();
     Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(n, 0.3, 2.9).array().sin() + 0.5;
@@ -105,10 +86,10 @@ TEST(OptimalMinimumTime, DerivativesInTheTimeMatchFiniteDifferences) {
 TEST(OptimalMinimumTime, RefusesInconsistentTimes) {
     auto p = bang_bang(scheme_kind::simpson, 10);
     p.time_upper = 1.0; // the guess 3 is outside [lower, 1]
-    EXPECT_THROW((void)optimal::transcribe(free_mass{}, free_push{}, p), std::invalid_argument);
+    EXPECT_THROW((void)optimal::transcribe(free_mass, free_push{}, p), std::invalid_argument);
     p = bang_bang(scheme_kind::simpson, 10);
     p.free_time = false; // a cost on T with T fixed
-    EXPECT_THROW((void)optimal::transcribe(free_mass{}, free_push{}, p), std::invalid_argument);
+    EXPECT_THROW((void)optimal::transcribe(free_mass, free_push{}, p), std::invalid_argument);
 }
 
 } // namespace

@@ -25,14 +25,7 @@ namespace {
 using namespace varsym;
 constexpr double swing_g = 9.81, swing_time = 2.0;
 
-struct swing_pendulum {
-    static constexpr int dim = 1;
-    template <class T>
-    T operator()(const tvec<T, 1>& q, const tvec<T, 1>& v) const {
-        using std::cos;
-        return 0.5 * v(0) * v(0) + swing_g * cos(q(0));
-    }
-};
+const optimal_test::one_dof swing_pendulum{.gravity = swing_g};
 using swing_torque = optimal_test::direct_input<1>;
 
 using swing_state = std::array<double, 5>; // θ, ω, λ_θ, λ_ω, ∫ u²/2
@@ -82,7 +75,7 @@ swing_run swing_solve(const scheme_spec& spec, int steps, double amplitude) {
     p.scheme = spec;
     p.q_start = p.v_start = p.v_end = Eigen::VectorXd::Zero(1);
     p.q_end = Eigen::VectorXd::Constant(1, std::numbers::pi);
-    const auto tr = optimal::transcribe(swing_pendulum{}, swing_torque{}, p);
+    const auto tr = optimal::transcribe(swing_pendulum, swing_torque{}, p);
     const Eigen::VectorXd x0 = tr->start_along([&](double t) {
         const double s = std::numbers::pi * t / swing_time;
         return Eigen::VectorXd::Constant(1, s + amplitude * std::sin(s));
@@ -121,7 +114,7 @@ TEST(OptimalSwingUp, TwoExtremalsAgreeWithTheIndirectSolution) {
 TEST(OptimalSwingUp, ClosureOnTheNonlinearProblem) {
     const auto run = swing_solve({scheme_kind::gauss, 2}, 30, 0.0);
     ASSERT_TRUE(run.result.converged());
-    const Eigen::MatrixXd nodes = optimal::replay(swing_pendulum{}, swing_torque{}, run.path);
+    const Eigen::MatrixXd nodes = optimal::replay(swing_pendulum, swing_torque{}, run.path);
     EXPECT_LT((nodes.topRows(1) - run.path.q).cwiseAbs().maxCoeff(), 1e-10);
     EXPECT_LT(std::abs(nodes(0, 30) - std::numbers::pi), 1e-10);
 }
@@ -136,7 +129,7 @@ TEST(OptimalSwingUp, DerivativesMatchFiniteDifferences) {
     p.scheme = {scheme_kind::gauss, 2};
     p.q_start = p.v_start = p.v_end = Eigen::VectorXd::Zero(1);
     p.q_end = Eigen::VectorXd::Constant(1, 3.0);
-    const auto tr = optimal::transcribe(swing_pendulum{}, swing_torque{}, p);
+    const auto tr = optimal::transcribe(swing_pendulum, swing_torque{}, p);
     const Eigen::VectorXd x =
         Eigen::VectorXd::LinSpaced(tr->variables(), 0.3, 2.9).array().sin() + 0.5;
     const auto e = optimal_test::check_derivatives(
@@ -156,7 +149,7 @@ TEST(OptimalSwingUp, MeshRefinementFollowsOneExtremal) {
         p.q_start = p.v_start = p.v_end = Eigen::VectorXd::Zero(1);
         p.q_end = Eigen::VectorXd::Constant(1, std::numbers::pi);
         return std::unique_ptr<optimal::transcription>(
-            optimal::transcribe(swing_pendulum{}, swing_torque{}, p));
+            optimal::transcribe(swing_pendulum, swing_torque{}, p));
     };
     const auto refined = optimal::solve_refined(make, 40, 2);
     ASSERT_EQ(refined.steps, (std::vector<int>{10, 20, 40}));
@@ -177,7 +170,7 @@ TEST(OptimalSwingUp, ProgressCallbackStopsTheSolver) {
     p.steps = 20;
     p.q_start = p.v_start = p.v_end = Eigen::VectorXd::Zero(1);
     p.q_end = Eigen::VectorXd::Constant(1, std::numbers::pi);
-    const auto tr = optimal::transcribe(swing_pendulum{}, swing_torque{}, p);
+    const auto tr = optimal::transcribe(swing_pendulum, swing_torque{}, p);
     optimal::solver_options o;
     int seen = 0;
     o.progress = [&](const optimal::iteration& it) {
