@@ -146,11 +146,25 @@ void add_odeint_methods(bench_problem& b, std::array<double, D> q0, std::array<d
         std::type_identity<odeint::symplectic_rkn_sb3a_m4_mclachlan<state>>{});
 }
 
-const std::vector<std::pair<std::string, composition::method>>& compositions() {
-    static const std::vector<std::pair<std::string, composition::method>> list{
-        {"yoshida-6", composition::method::yoshida6},
-        {"kahan-li-6", composition::method::kahan_li6},
-        {"kahan-li-8", composition::method::kahan_li8}};
+struct composition_entry {
+    std::string name;
+    composition::method m;
+    composition::form f;
+};
+
+/// Each composition of Störmer–Verlet in its drift–kick–drift form (the default: the more
+/// accurate, tests/schemes/test_composition.cpp) and its kick–drift–kick form ("-kdk").
+const std::vector<composition_entry>& compositions() {
+    static const std::vector<composition_entry> list = [] {
+        std::vector<composition_entry> v;
+        for (const auto& [name, m] : {std::pair{"yoshida-6", composition::method::yoshida6},
+                                      std::pair{"kahan-li-6", composition::method::kahan_li6},
+                                      std::pair{"kahan-li-8", composition::method::kahan_li8}}) {
+            v.push_back({name, m, composition::form::drift_kick_drift});
+            v.push_back({std::string(name) + "-kdk", m, composition::form::kick_drift_kick});
+        }
+        return v;
+    }();
     return list;
 }
 
@@ -175,13 +189,14 @@ void add_varsym_methods(bench_problem& b, const bench_selection& selection, cons
     }
     for (const std::string& name : selection.compositions) {
         const auto it = std::find_if(compositions().begin(), compositions().end(),
-                                     [&](const auto& c) { return c.first == name; });
+                                     [&](const auto& c) { return c.name == name; });
         if (it == compositions().end())
             throw usage_error("unknown composition '" + name + "' in --compositions");
-        const composition::method m = it->second;
+        const composition::method m = it->m;
+        const composition::form f = it->f;
         b.methods.push_back(
             {name, composition::make(m).order, false, [=](std::size_t n, double h, bool observe) {
-                 composition::stepper st(sys, h, m);
+                 composition::stepper st(sys, h, m, f);
                  return run_stepper(st, x0, n, observe, energy);
              }});
     }
@@ -193,7 +208,7 @@ const std::vector<std::string>& composition_names() {
     static const std::vector<std::string> names = [] {
         std::vector<std::string> v;
         for (const auto& c : compositions())
-            v.push_back(c.first);
+            v.push_back(c.name);
         return v;
     }();
     return names;

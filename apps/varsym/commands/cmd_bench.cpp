@@ -1,6 +1,6 @@
-// apps/varsym/commands/cmd_bench.cpp: `varsym bench`, varsym's schemes and Boost.Odeint's symplectic
-// steppers on the same problems in one process: error, energy error, time per step, Newton
-// iterations, ratios to odeint's stepper of the same order, and the work–precision diagram.
+// apps/varsym/commands/cmd_bench.cpp: `varsym bench`, varsym's schemes and Boost.Odeint's
+// symplectic steppers on the same problems in one process: error, energy error, time per step,
+// Newton iterations, ratios to odeint's stepper of the same order, and the work–precision diagram.
 #include <algorithm>
 #include <cstdio>
 #include <limits>
@@ -21,7 +21,8 @@ struct bench_options {
     std::vector<std::string> schemes{"newmark",   "simpson",   "lobatto-3", "lobatto-4",
                                      "lobatto-5", "lobatto-6", "gauss-2",   "gauss-3",
                                      "gauss-4",   "gauss-5",   "gauss-6"};
-    std::vector<std::string> compositions{"yoshida-6", "kahan-li-8"};
+    std::vector<std::string> compositions{"yoshida-6", "yoshida-6-kdk", "kahan-li-8",
+                                          "kahan-li-8-kdk"};
     std::string solver = "fixed-point";
     std::vector<double> q0{std::numbers::pi / 2, 2.5};
     std::vector<int> steps{25, 50, 100, 200, 400, 800};
@@ -284,7 +285,9 @@ void add_bench_command(CLI::App& app, action& todo) {
         "order. Times are for this machine at this moment: compare ratios, not absolute times.\n"
         "Odeint's steppers: velocity_verlet (order 2), symplectic_rkn_sb3a_mclachlan and\n"
         "symplectic_rkn_sb3a_m4_mclachlan (order 4); explicit compositions of Stormer-Verlet:\n"
-        "Yoshida's order 6 (9 stages) and Kahan & Li's orders 6 (9) and 8 (17 stages). The\n"
+        "Yoshida's order 6 (9 stages) and Kahan & Li's orders 6 (9) and 8 (17 stages), each of\n"
+        "drift-kick-drift steps (as Hairer's gni_comp; the more accurate) or, with -kdk,\n"
+        "kick-drift-kick steps. The\n"
         "family's members solve their steps by --solver, or by the solver named after '/'\n"
         "(e.g. --schemes gauss-4/newton,gauss-4 compares Newton with the default).\n"
         "The text table ends with the cheapest us per period at errors 1e-6 to 1e-12.\n\n"
@@ -307,13 +310,14 @@ void add_bench_command(CLI::App& app, action& todo) {
         ->capture_default_str();
     cmd->add_option("--compositions", o->compositions,
                     "Explicit compositions of Stormer-Verlet run beside them: yoshida-6, "
-                    "kahan-li-6, kahan-li-8, or none")
+                    "kahan-li-6, kahan-li-8 (drift-kick-drift), the same with -kdk "
+                    "(kick-drift-kick), or none")
         ->check([](const std::string& v) {
             const auto& names = composition_names();
             return v == "none" || std::find(names.begin(), names.end(), v) != names.end()
                        ? std::string()
                        : "unknown composition '" + v +
-                             "' (yoshida-6, kahan-li-6, kahan-li-8, none)";
+                             "' (yoshida-6, kahan-li-6, kahan-li-8, each also -kdk; none)";
         })
         ->delimiter(',')
         ->capture_default_str();
