@@ -55,12 +55,9 @@ TEST(OptimalCosts, GradientsAndHessiansMatchFiniteDifferences) {
 TEST(OptimalCosts, FreeFinalStateDerivativesMatchFiniteDifferences) {
     // On the two-link arm (∂L/∂q̇ depends on q): the end's −∂L/∂q̇(Q_N, v_N) and its third
     // derivatives, and the terminal cost.
-    optimal::control_problem p;
-    p.time = 1.0;
+    auto p = arm_problem({});
     p.steps = 3;
     p.scheme = {scheme_kind::gauss, 2};
-    p.q_start = p.v_start = p.v_end = Eigen::VectorXd::Zero(2);
-    p.q_end = Eigen::Vector2d(1.0, 0.5);
     p.free_end_position = {true, false};
     p.free_end_velocity = {true, true};
     p.cost.terminal_position = Eigen::Vector2d(3.0, 0.0);
