@@ -191,7 +191,7 @@ std::unique_ptr<simulation> simulate_family(const System& sys, const phase_state
 }
 
 /// A simulation of a general Lagrangian system by the general engine (any scheme), refusing the
-/// `previous` predictor, which is the separable steppers' alone.
+/// `previous` and `forces` predictors, which are the separable steppers' alone.
 template <class Stepper, int D, class Fill>
 std::unique_ptr<simulation> simulate_general(Stepper stepper, const phase_state<D>& x0,
                                              column_set<Fill> cols, double t0 = 0.0) {
@@ -211,9 +211,9 @@ inline parameter project_parameter() {
 
 inline void check_general(const step_options& o) {
     if (o.newton.predictor != predictor_kind::taylor)
-        throw std::invalid_argument("the predictor 'previous' is for the separable models (the "
-                                    "family stepper); this model runs the general engine: use "
-                                    "the predictor taylor");
+        throw std::invalid_argument("the predictors 'previous' and 'forces' are for the separable "
+                                    "models (the family stepper); this model runs the general "
+                                    "engine: use the predictor taylor");
 }
 
 /// The initial state of a general Lagrangian system: q0, and p0 or p = ∂L/∂q̇ at v0 (defaults

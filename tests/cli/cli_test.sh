@@ -249,6 +249,17 @@ expect_error 2 "config missing file" run --config nowhere.toml -o out.csv
   --repetitions 1 --format csv > solar.csv 2> stderr.txt &&
   awk -F, '$1 == "solar" && $2 == "gauss-4" { found = 1; exit !($5 < 1e-6) } END { exit !found }' solar.csv &&
   ok || bad "bench solar: $(cat solar.csv) $(cat stderr.txt)"
+# The work-precision figure gives every curve its own colour (17 curves once shared gnuplot's 8):
+# as many distinct stroke colours in the SVG as methods in the table, plus the grid's.
+if command -v gnuplot > /dev/null; then
+  "$VARSYM" bench --problems pendulum --schemes newmark,simpson,lobatto-3,lobatto-4,lobatto-5,lobatto-6,gauss-2,gauss-3,gauss-4,gauss-5,gauss-6,gauss-4/fixed-point+forces \
+    --compositions yoshida-6,kahan-li-8 --steps 10,20 --periods 1 --repetitions 1 --format csv \
+    -o wpc.csv --plot wpc.svg 2> stderr.txt &&
+    methods=$(tail -n +2 wpc.csv | cut -d, -f2 | sort -u | wc -l) &&
+    colours=$(grep -o "stroke='rgb([0-9, ]*)'" wpc.svg | sort -u | wc -l) &&
+    [ "$methods" -ge 16 ] && [ "$colours" -ge $((methods + 1)) ] && ok ||
+    bad "bench figure colours: $methods methods, $colours colours $(cat stderr.txt)"
+fi
 expect_error 2 "bench q0 beyond pi" bench --q0 4 -o out.csv
 expect_error 2 "bench unknown composition" bench --compositions euler -o out.csv
 expect_error 2 "bench zero days" bench --days 0 -o out.csv

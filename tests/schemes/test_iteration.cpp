@@ -31,7 +31,9 @@ const std::vector<variant> variants = {{iteration_kind::newton, predictor_kind::
                                        {iteration_kind::simplified, predictor_kind::taylor},
                                        {iteration_kind::simplified, predictor_kind::previous},
                                        {iteration_kind::fixed_point, predictor_kind::taylor},
-                                       {iteration_kind::fixed_point, predictor_kind::previous}};
+                                       {iteration_kind::fixed_point, predictor_kind::previous},
+                                       {iteration_kind::newton, predictor_kind::forces},
+                                       {iteration_kind::fixed_point, predictor_kind::forces}};
 
 newton_options options_of(const variant& v) {
     newton_options o;
@@ -95,10 +97,10 @@ TEST(Iteration, EveryVariantTakesNewtonsSteps) {
                       solar_system::jupiter_period / 40, 40);
 }
 
-TEST(Iteration, DefaultIsFixedPointFromDimensionTwoAndNewtonAtOne) {
-    // The default (iteration_kind::automatic), chosen by measurement (docs/library.md): the
-    // same steps, bit for bit and iteration for iteration, as the iteration it names, and not
-    // those of the other (the control: the two differ in their iteration counts).
+TEST(Iteration, DefaultIsTheFixedPoint) {
+    // The default (iteration_kind::automatic), chosen by measurement (docs/performance.md): the
+    // same steps, bit for bit and iteration for iteration, as the fixed point, at d = 1 and 2,
+    // and not Newton's (the control: the two differ in their iteration counts).
     auto run = [](const auto& sys, auto x, double h, iteration_kind it) {
         newton_options opt;
         opt.iteration = it;
@@ -122,10 +124,10 @@ TEST(Iteration, DefaultIsFixedPointFromDimensionTwoAndNewtonAtOne) {
     const auto [ya, ma] = run(pendulum_sys, p0, 0.02, iteration_kind::automatic);
     const auto [yn, mn] = run(pendulum_sys, p0, 0.02, iteration_kind::newton);
     const auto [yf, mf] = run(pendulum_sys, p0, 0.02, iteration_kind::fixed_point);
-    EXPECT_EQ(ma, mn);
-    EXPECT_NE(ma, mf);
-    EXPECT_EQ(ya.q(0), yn.q(0));
-    EXPECT_EQ(ya.p(0), yn.p(0));
+    EXPECT_EQ(ma, mf);
+    EXPECT_NE(ma, mn);
+    EXPECT_EQ(ya.q(0), yf.q(0));
+    EXPECT_EQ(ya.p(0), yf.p(0));
 }
 
 TEST(Iteration, ComparisonSeesAStepStoppedEarly) {
@@ -150,8 +152,77 @@ TEST(Iteration, PreviousStepPredictorSavesIterations) {
                                             options_of({it, predictor_kind::taylor}), 200);
         const auto previous = step_difference(sys, orbit.at(0.0L), h, rule_kind::gauss, 5,
                                               options_of({it, predictor_kind::previous}), 200);
-        EXPECT_LT(previous.second, taylor.second - 0.5) << static_cast<int>(it);
+        EXPECT_LT(previous.second, taylor.second - 0.1) << static_cast<int>(it);
     }
+}
+
+TEST(Iteration, ForcesPredictorSavesMoreIterations) {
+    // The previous step's gradients continued are O(h^(r+1)) and enter X through h², so the
+    // start is two orders closer than the polynomial continued: fewer sweeps still, on Kepler
+    // (e = 0.6) and the pendulum, Gauss and Lobatto (a predictor silently not used would fail).
+    const kepler::orbit orbit(0.6, 1.0);
+    const auto sys = kepler::make_system();
+    const double h = orbit.period() / 100;
+    for (rule_kind kind : {rule_kind::gauss, rule_kind::lobatto}) {
+        const auto previous = step_difference(
+            sys, orbit.at(0.0L), h, kind, 4,
+            options_of({iteration_kind::fixed_point, predictor_kind::previous}), 200);
+        const auto forces =
+            step_difference(sys, orbit.at(0.0L), h, kind, 4,
+                            options_of({iteration_kind::fixed_point, predictor_kind::forces}), 200);
+        EXPECT_LT(forces.second, previous.second - 0.5) << static_cast<int>(kind);
+        EXPECT_LE(forces.first, 1e-13);
+    }
+}
+
+TEST(Iteration, ForceExtrapolationAndClosedFormTables) {
+    // force_extrapolation continues samples at the previous step's nodes c_m − 1 (and 0 for
+    // Gauss) to c_k: exact for polynomials of degree < the number of samples. The closed form's
+    // tables [K, c] must solve A [Kᵀ, c] = [U, −e_0] for A and U as applied (kinetic, wphi,
+    // with their low parts) far below an ulp: checked in long double (1e-19), where the double
+    // parts alone miss by ~1e-16 (the control: a closed form without its low parts would leave
+    // a root off by an ulp at every step).
+    for (rule_kind kind : {rule_kind::gauss, rule_kind::lobatto})
+        for (int s = 1; s <= 8; ++s) {
+            const galerkin::tableau t = galerkin::tableau::make(kind, s);
+            const Eigen::MatrixXd& e = t.force_extrapolation;
+            const auto r = static_cast<Eigen::Index>(t.quad.nodes.size());
+            ASSERT_EQ(e.cols(), r);
+            ASSERT_EQ(e.rows(), kind == rule_kind::gauss ? r + 1 : r);
+            for (Eigen::Index k = 0; k < e.rows(); ++k)
+                for (Eigen::Index c = 0; c < r; ++c) {
+                    double sum = 0.0, size = 0.0;
+                    for (Eigen::Index m = 0; m < e.rows(); ++m) {
+                        const double at = m < r ? t.quad.nodes[static_cast<std::size_t>(m)] - 1 : 0;
+                        sum += e(m, c) * std::pow(at, static_cast<double>(k));
+                        size += std::abs(e(m, c));
+                    }
+                    const double exact =
+                        std::pow(t.quad.nodes[static_cast<std::size_t>(c)], static_cast<double>(k));
+                    EXPECT_NEAR(sum, exact, 1e-14 * size) << "s = " << s << ", degree " << k;
+                }
+            using ld = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
+            const ld a = t.kinetic.hi.cast<long double>() + t.kinetic.lo.cast<long double>();
+            ld rhs(s, r + 1), hi(s, r + 1), lo(s, r + 1);
+            rhs << t.wphi.hi.cast<long double>() + t.wphi.lo.cast<long double>(), ld::Zero(s, 1);
+            rhs(0, r) = -1;
+            hi << t.sweep.hi.transpose().cast<long double>(),
+                t.flight.hi.transpose().cast<long double>();
+            lo << t.sweep.lo.transpose().cast<long double>(),
+                t.flight.lo.transpose().cast<long double>();
+            const long double scale = a.cwiseAbs().maxCoeff() * hi.cwiseAbs().maxCoeff();
+            const ld refined = a * (hi + lo) - rhs;
+            EXPECT_LE(static_cast<double>(refined.cwiseAbs().maxCoeff() / scale), 1e-18)
+                << "s = " << s;
+            if (s >= 3) {
+                const ld rounded = a * hi - rhs;
+                EXPECT_GT(static_cast<double>(rounded.cwiseAbs().maxCoeff() / scale), 1e-18)
+                    << "s = " << s;
+            }
+            // The free flight: c holds the control nodes d_1 … d_s.
+            for (int l = 0; l < s; ++l)
+                EXPECT_NEAR(t.flight.hi(0, l), t.control[static_cast<std::size_t>(l + 1)], 1e-15);
+        }
 }
 
 TEST(Iteration, DivergingFixedPointFallsBackToNewton) {
@@ -161,7 +232,8 @@ TEST(Iteration, DivergingFixedPointFallsBackToNewton) {
     const auto sys = pendulum::make_system(1.0, 2 * std::numbers::pi);
     const phase_state<1> x0{vec<1>{0.1}, vec<1>{0.0}};
     const double h = 3.0 / (2 * std::numbers::pi);
-    galerkin::stepper newton(sys, h, rule_kind::gauss, 3);
+    galerkin::stepper newton(sys, h, rule_kind::gauss, 3,
+                             options_of({iteration_kind::newton, predictor_kind::taylor}));
     galerkin::stepper fixed(sys, h, rule_kind::gauss, 3,
                             options_of({iteration_kind::fixed_point, predictor_kind::taylor}));
     phase_state<1> a = x0, b = x0;
@@ -205,4 +277,15 @@ TEST(Iteration, HistoryMakesAResumeBitForBit) {
     auto make = [&] { return galerkin::stepper(sys, h, rule_kind::gauss, 4, opt); };
     const auto history = test::expect_resume_needs_history(make, orbit.at(0.0L), 300, 137);
     EXPECT_EQ(history.size(), 1U + 2 * 4 + 1 + 2);
+    // The forces predictor keeps the last step's gradients at its r points (Lobatto: s + 1) and
+    // the last contraction rate. At h = T/200 the resumed step without them starts from Taylor
+    // and needs a sweep more (at T/100 both starts can need the same sweeps and, the last sweep
+    // landing on the root to round-off, the same bits: then the control cannot see them).
+    for (rule_kind kind : {rule_kind::gauss, rule_kind::lobatto}) {
+        SCOPED_TRACE(kind == rule_kind::gauss ? "gauss-4, forces" : "lobatto-4, forces");
+        const newton_options fo = options_of({iteration_kind::fixed_point, predictor_kind::forces});
+        auto forces = [&] { return galerkin::stepper(sys, h / 2, kind, 4, fo); };
+        const auto kept = test::expect_resume_needs_history(forces, orbit.at(0.0L), 300, 137);
+        EXPECT_EQ(kept.size(), 1U + 2 * (kind == rule_kind::gauss ? 4 : 5) + 1);
+    }
 }

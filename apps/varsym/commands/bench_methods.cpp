@@ -49,13 +49,16 @@ scheme_spec parse_spec(const std::string& label) {
     return {*kind, s};
 }
 
-/// A solver name: ITERATION[+previous] (newton, simplified, fixed-point), as after the '/' in a
-/// --schemes entry (gauss-4/fixed-point+previous) or in --solver.
+/// A solver name: ITERATION[+previous|+forces] (newton, simplified, fixed-point), as after the
+/// '/' in a --schemes entry (gauss-4/fixed-point+forces) or in --solver.
 newton_options parse_solver(std::string solver, const std::string& where) {
     newton_options opt;
     if (solver.ends_with("+previous")) {
         opt.predictor = predictor_kind::previous;
         solver.resize(solver.size() - 9);
+    } else if (solver.ends_with("+forces")) {
+        opt.predictor = predictor_kind::forces;
+        solver.resize(solver.size() - 7);
     }
     if (solver == "simplified")
         opt.iteration = iteration_kind::simplified;
@@ -65,7 +68,7 @@ newton_options parse_solver(std::string solver, const std::string& where) {
         opt.iteration = iteration_kind::newton;
     else
         throw usage_error(where + ": the solver must be newton, simplified or fixed-point, " +
-                          "optionally followed by +previous");
+                          "optionally followed by +previous or +forces");
     return opt;
 }
 

@@ -168,8 +168,17 @@ std::string text(const std::vector<row>& rows, const bench_options& o) {
     return s + cheapest(rows);
 }
 
-/// Work–precision diagram: final error against µs per period, log–log, one curve per method,
-/// one panel per problem.
+/// Distinct line colours of the work–precision diagram (Tableau's 10 and 20b, and four more):
+/// with the 13 markers of gnuplot's point types, every curve of a panel has its own colour up
+/// to 24 methods and its own colour–marker pair up to 312 (24 and 13 are coprime).
+constexpr const char* curve_colors =
+    "#1f77b4 #d62728 #2ca02c #ff7f0e #9467bd #8c564b #e377c2 #7f7f7f #bcbd22 #17becf #000000 "
+    "#393b79 #637939 #8c6d31 #843c39 #7b4173 #5254a3 #8ca252 #bd9e39 #ad494a #a55194 #e6550d "
+    "#31a354 #756bb1";
+constexpr int curve_color_count = 24;
+
+/// Work–precision diagram: final error against µs per period, log–log, one curve per method
+/// (each its own colour and marker), one panel per problem.
 figure work_precision(const std::vector<row>& rows, const std::vector<std::string>& problems) {
     figure fig;
     const int panels = static_cast<int>(problems.size());
@@ -180,8 +189,9 @@ figure work_precision(const std::vector<row>& rows, const std::vector<std::strin
                          "set logscale xy\nset format y '10^{%L}'\nset format x '10^{%L}'\n"
                          "set key outside bottom center horizontal maxrows 5 font ',9' noenhanced\n"
                          "set xlabel 'CPU time per period [us]'\nset ylabel 'final error'\n"
-                         "set multiplot layout " +
-                         std::to_string(lines) + "," + std::to_string(columns) + "\n";
+                         "colors = '" +
+                         curve_colors + "'\n" + "set multiplot layout " + std::to_string(lines) +
+                         "," + std::to_string(columns) + "\n";
     for (const std::string& p : problems) {
         std::string data, names;
         std::string method;
@@ -203,7 +213,9 @@ figure work_precision(const std::vector<row>& rows, const std::vector<std::strin
         fig.data.push_back({"-" + p + ".csv", data});
         script += "set title '" + p + "' font ',14'\nnames = '" + names + "'\n" +
                   "plot for [i=0:" + std::to_string(blocks - 1) + "] stem.'-" + p +
-                  ".csv' index i using 1:2 with linespoints lw 2 pt ((i % 7) + 1) "
+                  ".csv' index i using 1:2 with linespoints lw 2 lc rgb word(colors, (i % " +
+                  std::to_string(curve_color_count) +
+                  ") + 1) pt ((i % 13) + 1) ps 1.2 "
                   "title (word(names, i + 1))\n";
     }
     fig.script = script + "unset multiplot\n";
@@ -299,14 +311,16 @@ void add_bench_command(CLI::App& app, action& todo) {
         ->check(CLI::IsMember({"pendulum", "kepler", "solar"}))
         ->delimiter(',')
         ->capture_default_str();
-    cmd->add_option("--schemes", o->schemes,
-                    "varsym schemes: newmark, simpson, lobatto-s, gauss-s[/SOLVER[+previous]]")
+    cmd->add_option(
+           "--schemes", o->schemes,
+           "varsym schemes: newmark, simpson, lobatto-s, gauss-s[/SOLVER[+previous|+forces]]")
         ->delimiter(',')
         ->capture_default_str();
     cmd->add_option("--solver", o->solver,
                     "How lobatto-s (s >= 3) and gauss-s (s >= 2) solve their steps unless named "
-                    "in --schemes: newton, simplified or fixed-point, +previous to start from "
-                    "the previous step (simpson and newmark always use Newton on d x d)")
+                    "in --schemes: newton, simplified or fixed-point, +previous or +forces to "
+                    "start from the previous step's polynomial or forces (simpson and newmark "
+                    "always use Newton on d x d)")
         ->capture_default_str();
     cmd->add_option("--compositions", o->compositions,
                     "Explicit compositions of Stormer-Verlet run beside them: yoshida-6, "

@@ -28,8 +28,8 @@ std::vector<std::string> force_of(const std::string& text,
     std::vector<std::string> parts = split_list(text, "--force", "-c*q1_dot,0");
     if (parts.size() != coordinates.size())
         throw usage_error("--force: " + std::to_string(parts.size()) +
-                          " components for the Lagrangian's " +
-                          std::to_string(coordinates.size()) + " coordinates");
+                          " components for the Lagrangian's " + std::to_string(coordinates.size()) +
+                          " coordinates");
     try {
         (void)expression_force(parts, coordinates, parameters);
     } catch (const std::exception& e) {
@@ -152,13 +152,14 @@ model make_expression_model(std::shared_ptr<parameter_options> po) {
         "  --parameters (default run: 10 s in 1000 steps); converge takes q0_I, p0_I and\n"
         "  the parameters by --set. Sections: on the step's own polynomial (dense output;\n"
         "  not with --constraints).";
-    m.options = {"--lagrangian", "--coordinates", "--parameters", "--force", "--constraints",
-                 "--project"};
+    m.options = {"--lagrangian", "--coordinates", "--parameters",
+                 "--force",      "--constraints", "--project"};
     m.add_options = [par](CLI::App& cmd) { add_expression_options(cmd, *par); };
     m.run = [par, po](const run_setup& s) {
         if (s.newton.predictor != predictor_kind::taylor)
-            throw usage_error("--predictor previous is for the separable models; --lagrangian "
-                              "runs the general engine: use --predictor taylor");
+            throw usage_error(
+                "--predictor previous or forces is for the separable models; --lagrangian "
+                "runs the general engine: use --predictor taylor");
         const bool project = po && po->given("project");
         if (project && par->constraints.empty())
             throw usage_error("--project moves the start onto the constraints: it needs "

@@ -35,15 +35,20 @@ namespace varsym::galerkin {
 /// Then q_{j+1} = q_j + X_s and p_{j+1} = ∂L_d/∂Q_s, which (the equations summed over i, with
 /// Σ_i A_il = 0 and Σ_i ℓ_i = 1) is p_j − h Σ_k w_k ∇V(q_k).
 ///
-/// The iteration (newton_options::iteration): Newton with that Jacobian at every iterate (the
-/// default); simplified Newton, with ∇²V at one point for every q_k, factorised once and kept
-/// across steps while the updates contract by contraction_limit or faster; or the fixed point
-/// with the free particle's Jacobian (1/h) A ⊗ M, which needs no ∇²V and solves with A⁻¹ and
-/// M⁻¹. The last two converge linearly and stop only at the round-off floor (no model predicts
-/// their stop: a stop biased to one side tilts the map as a rounded table does). If an update
-/// shrinks by less than half (diverging, or too slow), the step is solved again by Newton. The
-/// start (newton_options::predictor): Taylor from (q_j, p_j), or the previous step's polynomial
-/// continued (tableau::extrapolation), state that save_history hands to a checkpoint.
+/// The iteration (newton_options::iteration): Newton with that Jacobian at every iterate;
+/// simplified Newton, with ∇²V at one point for every q_k, factorised once and kept across steps
+/// while the updates contract by contraction_limit or faster; or the fixed point with the free
+/// particle's Jacobian (1/h) A ⊗ M (the default), which needs no ∇²V. Its sweeps use the
+/// equations in closed form, X = h² M⁻¹ G K + h v cᵀ (tableau::sweep, flight: one s × r
+/// product), until the updates' contraction predicts the rest below round-off; one sweep with
+/// the tables' low parts then lands on the exact equations' root (K and c rounded to double
+/// would leave the same ulp-sized bias at every step). Simplified Newton stops only at the
+/// round-off floor. If an update shrinks by less than half (diverging, or too slow), the step is
+/// solved again by Newton. The start (newton_options::predictor): Taylor from (q_j, p_j); the
+/// previous step's polynomial continued (tableau::extrapolation); or the previous step's
+/// gradients at its quadrature points continued to this step's and put through the closed
+/// form (tableau::force_extrapolation, HLW §VIII.6.1). The last two are state that
+/// save_history hands to a checkpoint.
 ///
 /// Round-off. The step is exactly symplectic only if these equations are exactly the derivatives
 /// of one L_d, so the coefficients are tableau::kinetic and tableau::wphi (A_0l and ℓ_0 derived
@@ -71,12 +76,12 @@ class stepper {
     stepper(System sys, double h, tableau tab, const newton_options& opt = {})
         : sys_(std::move(sys)), h_(h), opt_(opt), tab_(std::move(tab)) {
         const int s = tab_.degree, r = static_cast<int>(tab_.quad.size()), d = sys_.dimension();
-        // The default by measurement (bench/bench_family.cpp, `iteration/`; docs/library.md):
-        // the fixed point, handing a step that does not contract to Newton, from d = 2 on
-        // (Kepler 2×, the outer solar system at d = 18 up to 30× faster than Newton); Newton
-        // at d = 1, where its s × s solves are cheap (the pendulum: 1.1× faster).
+        // The default by measurement (docs/performance.md): the fixed point, in closed form,
+        // handing a step that does not contract to Newton (against Newton: the pendulum 1.7×
+        // faster at gauss-4, Kepler 2×, the outer solar system at d = 18 up to 30×; at gauss-2
+        // on the pendulum the two tie).
         if (opt_.iteration == iteration_kind::automatic)
-            opt_.iteration = d >= 2 ? iteration_kind::fixed_point : iteration_kind::newton;
+            opt_.iteration = iteration_kind::fixed_point;
         s_ = s;
         r_ = r;
         n_ = s * d;
@@ -89,8 +94,10 @@ class stepper {
         a_lo_ = tab_.kinetic.lo;
         u_ = tab_.wphi.hi;
         u_lo_ = tab_.wphi.lo;
-        ainv_ = tab_.kinetic.hi.inverse();
         extrapolation_t_ = tab_.extrapolation.transpose();
+        sweep_t_ = tab_.sweep.hi.transpose();
+        sweep_lo_t_ = tab_.sweep.lo.transpose();
+        force_extrapolation_t_ = tab_.force_extrapolation.transpose();
         v_.resize(s, r);
         for (int k = 0; k < r; ++k) {
             for (int l = 0; l < s; ++l)
@@ -105,11 +112,15 @@ class stepper {
             weight_[k] = tab_.quad.weights[k];
             weight_lo_[k] = tab_.weights_lo[static_cast<std::size_t>(k)];
         }
-        for (int l = 0; l < s; ++l)
+        for (int l = 0; l < s; ++l) {
             control_[l] = tab_.control[l + 1];
-        for (auto* m : {&xm_, &mx_, &gu_, &previous_})
+            flight_[l] = tab_.flight.hi(0, l);
+            flight_lo_[l] = tab_.flight.lo(0, l);
+        }
+        for (auto* m : {&xm_, &mx_, &gu_, &gl_, &previous_})
             m->setZero(d, s);
         grads_.setZero(d, r);
+        previous_grads_.setZero(d, tab_.force_extrapolation.rows());
         hess_.assign(static_cast<std::size_t>(r), mat<dim>::Zero(d, d));
         curvature_.setZero(r);
         for (auto* v : {&grad_j_, &cached_q_, &q_j_, &qk_, &vel_, &acc_, &dp_, &q_bar_})
@@ -135,13 +146,19 @@ class stepper {
 
     /// What the next step depends on beyond (q, p) and the carries: with predictor `previous`,
     /// whether a previous step is there to continue and its increments X (d·s numbers); with
-    /// iteration `simplified`, whether a Jacobian is kept and the point q̄ it was taken at (d).
-    /// Empty with the default options. run_state::history keeps it for a checkpoint.
+    /// predictor `forces`, that flag, the gradients at its points (d·r) and the fixed point's
+    /// last contraction rate; with iteration `simplified`, whether a Jacobian is kept and the point
+    /// q̄ it was taken at (d). Empty with the default options. run_state::history keeps it for a
+    /// checkpoint.
     void save_history(std::vector<double>& out) const {
         out.clear();
         if (opt_.predictor == predictor_kind::previous) {
             out.push_back(continuable_ ? 1.0 : 0.0);
             out.insert(out.end(), previous_.data(), previous_.data() + previous_.size());
+        } else if (opt_.predictor == predictor_kind::forces) {
+            out.push_back(continuable_ ? 1.0 : 0.0);
+            out.insert(out.end(), previous_grads_.data(), previous_grads_.data() + kept_grads());
+            out.push_back(carried_rate_);
         }
         if (opt_.iteration == iteration_kind::simplified) {
             out.push_back(jac_kept_ ? 1.0 : 0.0);
@@ -153,12 +170,14 @@ class stepper {
     /// std::invalid_argument on another wrong length.
     void restore_history(const phase_state<dim>& x, const std::vector<double>& in) {
         continuable_ = jac_kept_ = false;
+        carried_rate_ = 0.0;
         if (in.empty()) return;
-        const auto ps = static_cast<std::size_t>(previous_.size());
+        const bool forces = opt_.predictor == predictor_kind::forces;
+        const auto ps = static_cast<std::size_t>(forces ? kept_grads() : previous_.size());
         const auto d = static_cast<std::size_t>(sys_.dimension());
-        const bool prev = opt_.predictor == predictor_kind::previous;
+        const bool prev = opt_.predictor != predictor_kind::taylor;
         const bool simp = opt_.iteration == iteration_kind::simplified;
-        const std::size_t want = (prev ? 1 + ps : 0) + (simp ? 1 + d : 0);
+        const std::size_t want = (prev ? 1 + ps : 0) + (forces ? 1 : 0) + (simp ? 1 + d : 0);
         if (in.size() != want)
             throw std::invalid_argument("the saved history has " + std::to_string(in.size()) +
                                         " numbers where this stepper's options keep " +
@@ -166,9 +185,11 @@ class stepper {
         std::size_t at = 0;
         if (prev) {
             continuable_ = in[at++] != 0.0;
+            double* kept = forces ? previous_grads_.data() : previous_.data();
             std::copy(in.begin() + static_cast<std::ptrdiff_t>(at),
-                      in.begin() + static_cast<std::ptrdiff_t>(at + ps), previous_.data());
+                      in.begin() + static_cast<std::ptrdiff_t>(at + ps), kept);
             at += ps;
+            if (forces) carried_rate_ = in[at++];
         }
         if (simp) {
             const bool kept = in[at++] != 0.0;
@@ -202,26 +223,25 @@ class stepper {
         dp_.setZero();
         bool has_end = false;
         for (int k = 0; k < r_; ++k) {
+            auto g = previous_grads_.col(k);
             if (at_end_[k]) {
-                acc_ = v.gradient(x.q); // ∇V(q_{j+1}); acc_ is free until the next predictor
-                add_weighted(k, acc_);
+                g = v.gradient(x.q); // ∇V(q_{j+1}), the next step's ∇V(q_j)
                 has_end = true;
             } else if (at_start_[k]) {
-                add_weighted(k, grad_j_);
+                g = grad_j_;
             } else {
                 detail::add_combination(qk_, q_j_, xm_, v_.col(k));
-                add_weighted(k, v.gradient(qk_));
+                g = v.gradient(qk_);
             }
+            add_weighted(k, g);
         }
         dp_ *= -h;
-        if (has_end) grad_j_ = acc_;
+        if (has_end) grad_j_ = previous_grads_.col(r_ - 1);
         cache_valid_ = has_end;
         sum_.add_p(x, dp_);
         cached_q_ = x.q;
-        if (opt_.predictor == predictor_kind::previous) {
-            previous_ = xm_;
-            continuable_ = true;
-        }
+        if (opt_.predictor == predictor_kind::previous) previous_ = xm_;
+        continuable_ = opt_.predictor != predictor_kind::taylor;
         return rep;
     }
 
@@ -252,21 +272,53 @@ class stepper {
     using jacobian_type = detail::bounded_matrix<max_unknowns, max_unknowns>;
     using stage_matrix = detail::columns<dim, max_degree>;
     using point_matrix = detail::columns<dim, max_points>;
+    using kept_matrix = detail::columns<dim, max_points + 1>;
 
     /// The starting guess: the previous step's polynomial continued, or Taylor to second order,
     /// X_l ≈ d_l h M⁻¹p − (d_l h)²/2 M⁻¹∇V(q_j).
     void predict(const phase_state<dim>& x, bool continues) {
+        apply_mass<true>(vel_, x.p);
+        if (continues && opt_.predictor == predictor_kind::forces) {
+            if (tab_.kind == rule_kind::gauss) previous_grads_.col(r_) = grad_j_;
+            detail::times_transpose(grads_, previous_grads_, force_extrapolation_t_);
+            for (int k = 0; k < r_; ++k)
+                if (at_start_[k]) grads_.col(k) = grad_j_;
+            closed_form(xm_, false);
+            return;
+        }
         if (continues) {
             detail::times_transpose(xm_, previous_, extrapolation_t_);
             return;
         }
-        apply_mass<true>(vel_, x.p);
         apply_mass<true>(acc_, grad_j_);
         for (int l = 0; l < s_; ++l) {
             const double tl = control_[l] * h_;
             xm_.col(l) = tl * vel_ - (0.5 * tl * tl) * acc_;
         }
     }
+
+    /// out = h² M⁻¹ G K + h v cᵀ for the gradients G in grads_ and v = M⁻¹ p_j in vel_: the
+    /// increments whose equations the gradients G satisfy (tableau::sweep, flight); with
+    /// `exact`, K and c as double + low part. h multiplies the values, not the constants, so
+    /// that no rounded h² or h c_l biases every step alike.
+    template <class Out>
+    void closed_form(Out&& out, bool exact) {
+        detail::times_transpose(gu_, grads_, sweep_t_);
+        if (exact) {
+            detail::times_transpose(gl_, grads_, sweep_lo_t_);
+            gu_ += gl_;
+        }
+        apply_mass<true>(out, h_ * (h_ * gu_));
+        acc_ = h_ * vel_; // acc_ is free here: h v
+        for (int l = 0; l < s_; ++l) {
+            out.col(l) += flight_[l] * acc_;
+            if (exact) out.col(l) += flight_lo_[l] * acc_;
+        }
+    }
+    /// Numbers kept for predictor `forces`: the previous step's d × r gradients.
+    [[nodiscard]] Eigen::Index kept_grads() const { return sys_.dimension() * r_; }
+    /// ∇V at the quadrature points that move with the increments, into grads_.
+    void gradients(const phase_state<dim>& x, bool hessians);
 
     /// Solves the step's equations by `kind` from the predictor. A simplified Newton whose kept
     /// Jacobian fails is refreshed at q_j and restarted once; one that contracted slower than
@@ -308,15 +360,17 @@ class stepper {
     newton_options opt_;
     tableau tab_;
     int s_ = 0, r_ = 0, n_ = 0;
-    detail::bounded_matrix<max_degree, max_degree> a_, a_lo_, ainv_, extrapolation_t_;
-    detail::bounded_matrix<max_degree, max_points> u_, u_lo_, v_;
+    detail::bounded_matrix<max_degree, max_degree> a_, a_lo_, extrapolation_t_;
+    detail::bounded_matrix<max_degree, max_points> u_, u_lo_, v_, sweep_t_, sweep_lo_t_;
+    detail::bounded_matrix<max_points, max_points + 1> force_extrapolation_t_;
     std::array<int, max_points> active_{};
     int n_active_ = 0;
     std::array<bool, max_points> at_start_{}, at_end_{};
     std::array<double, max_points> weight_{}, weight_lo_{};
-    std::array<double, max_degree> control_{};
-    stage_matrix xm_, mx_, gu_, previous_;
+    std::array<double, max_degree> control_{}, flight_{}, flight_lo_{};
+    stage_matrix xm_, mx_, gu_, gl_, previous_;
     point_matrix grads_;
+    kept_matrix previous_grads_; ///< ∇V at the last step's points (and ∇V(q_j), Gauss)
     std::vector<mat<dim>> hess_;
     detail::bounded_vector<max_points> curvature_;
     vec<dim> grad_j_, cached_q_, q_j_, qk_, vel_, acc_, dp_, q_bar_;
@@ -327,6 +381,7 @@ class stepper {
         false;              ///< previous_ holds the increments of the step that ended at cached_q_
     bool jac_kept_ = false; ///< jinv_ holds the simplified Jacobian at q_bar_, inverted
     double rate_ = 0.0;     ///< the largest contraction rate of the last linear iteration
+    double carried_rate_ = 0.0; ///< the fixed point's last measured rate (predictor forces)
     detail::bounded_vector<max_unknowns> res_, delta_;
     jacobian_type jac_, jinv_;
     Eigen::PartialPivLU<jacobian_type> lu_;

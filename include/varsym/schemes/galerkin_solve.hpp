@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "varsym/schemes/galerkin.hpp"
 
@@ -42,33 +43,69 @@ newton_report stepper<System>::iterate(const phase_state<dim>& x, iteration_kind
     newton_monitor monitor(opt, !newton);
     newton_report rep;
     rate_ = 0.0;
+    // The fixed point sweeps in closed form (tableau::sweep: one s × r product) until the updates'
+    // contraction predicts the rest below round-off, then closes with one sweep whose tables
+    // carry their low parts, so that it lands on the exact equations' root (docs/design.md,
+    // "Solving the step").
+    const bool fixed = kind == iteration_kind::fixed_point;
+    bool closing = false;
+    double last = std::numeric_limits<double>::infinity();
+    // A fixed point that gives up reports the residual where it stopped.
+    const auto unsolved = [&] {
+        if (fixed) {
+            residual(x, false);
+            rep.residual = res_.template lpNorm<Eigen::Infinity>();
+        }
+        return rep;
+    };
     while (true) {
-        residual(x, newton);
-        rep.residual = res_.template lpNorm<Eigen::Infinity>();
-        if (monitor.exhausted()) return rep;
-        if (kind == iteration_kind::fixed_point) {
-            // (1/h) M Δ Aᵀ = R: Δ = h M⁻¹ R A⁻ᵀ.
-            Eigen::Map<stage_matrix> dm(delta_.data(), d, s);
-            detail::times_transpose(gu_, Eigen::Map<const stage_matrix>(res_.data(), d, s), ainv_);
-            if constexpr (scalar_mass<System>)
-                dm = (h_ / sys_.mass()) * gu_;
-            else
-                apply_mass<true>(dm, h_ * gu_);
-        } else if (!newton) {
-            delta_.noalias() = jinv_ * res_;
+        Eigen::Map<stage_matrix> dm(delta_.data(), d, s);
+        if (monitor.exhausted()) return unsolved();
+        if (fixed) {
+            gradients(x, false);
+            closed_form(mx_, closing);
+            dm = xm_ - mx_;
         } else {
-            jacobian();
-            linear_solve();
+            residual(x, newton);
+            rep.residual = res_.template lpNorm<Eigen::Infinity>();
+            if (!newton) {
+                delta_.noalias() = jinv_ * res_;
+            } else {
+                jacobian();
+                linear_solve();
+            }
         }
         const double step = delta_.template lpNorm<Eigen::Infinity>();
         rep.iterations = monitor.iterations() + 1;
         if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
-        xm_ -= Eigen::Map<const stage_matrix>(delta_.data(), d, s);
-        if (monitor.converged(step, xm_.template lpNorm<Eigen::Infinity>())) break;
+        if (fixed)
+            xm_ = mx_;
+        else
+            xm_ -= dm;
+        const double size = xm_.template lpNorm<Eigen::Infinity>();
+        const bool done = monitor.converged(step, size);
+        if (fixed) {
+            // Linear convergence at rate ρ = step/last leaves ρ/(1 − ρ) step to go. The closing
+            // sweep is taken when that, contracted once more, is below round-off, and accepted
+            // when its own update bears that out (else the exact sweeps go on). After one sweep
+            // from the forces predictor, the last step's rate (doubled) stands in for ρ.
+            const bool carried = monitor.iterations() == 1 && continues && carried_rate_ > 0.0 &&
+                                 opt_.predictor == predictor_kind::forces;
+            const double rho = carried ? 2.0 * carried_rate_ : step / last;
+            const double floor = opt.tolerance * std::max(size, opt.typical);
+            const bool measured = carried || monitor.iterations() > 1;
+            if (monitor.iterations() > 1 && monitor.rate() > 0.0) carried_rate_ = monitor.rate();
+            if (closing && (done || (rho < 0.5 && step * rho <= (1.0 - rho) * floor))) break;
+            closing = closing || done ||
+                      (measured && rho < 0.5 && step * rho * rho <= (1.0 - rho) * floor);
+            last = step;
+        } else if (done) {
+            break;
+        }
         if (!newton && monitor.iterations() > 1) {
             rate_ = std::max(rate_, monitor.rate());
             // Diverging, or so slow that Newton is cheaper: Newton takes over.
-            if (monitor.rate() > 0.5) return rep;
+            if (monitor.rate() > 0.5) return unsolved();
         }
     }
     rep.converged = true;
@@ -109,9 +146,8 @@ void stepper<System>::factor(const vec<dim>& q_bar) {
 }
 
 template <separable System>
-void stepper<System>::residual(const phase_state<dim>& x, bool hessians) {
+void stepper<System>::gradients(const phase_state<dim>& x, bool hessians) {
     const auto& v = sys_.potential();
-    const int s = s_, d = sys_.dimension();
     for (int k = 0; k < r_; ++k) {
         if (at_start_[k])
             grads_.col(k) = grad_j_;
@@ -124,6 +160,12 @@ void stepper<System>::residual(const phase_state<dim>& x, bool hessians) {
         grads_.col(k) = v.gradient(qk_);
         if (hessians) hess_[k] = v.hessian(qk_);
     }
+}
+
+template <separable System>
+void stepper<System>::residual(const phase_state<dim>& x, bool hessians) {
+    const int s = s_, d = sys_.dimension();
+    gradients(x, hessians);
     Eigen::Map<stage_matrix> rm(res_.data(), d, s);
     apply_mass<false>(mx_, xm_);
     // Products as column axpys (detail::times_transpose): blocks of at most max_degree + 1

@@ -58,6 +58,18 @@ struct tableau {
     /// X_next = X_prev E with E(m−1, l−1) = ℓ_m(1 + d_l) − [m = s] (m, l = 1 … s), since
     /// q(t_j + d_l h) − q_j = Σ_m ℓ_m(1 + d_l) X_prev,m − X_prev,s. A starting guess only.
     Eigen::MatrixXd extrapolation;
+    /// A separable step's equations (galerkin.hpp) in closed form: X = h² M⁻¹ G K + h v cᵀ with
+    /// G = ∇V at the points, v = M⁻¹ p_j, K = (A⁻¹ U)ᵀ (sweep, r × s) and c = −A⁻¹ e_0 (flight,
+    /// 1 × s; the control nodes d_1 … d_s), for A and U as kinetic and wphi apply them. Solved
+    /// in long double and refined once against a double-double residual, so that hi + lo hold
+    /// them to ~1e-30: the closed form's root is then the equations' own, not one tilted by a
+    /// rounded K (docs/design.md, "Solving the step").
+    split sweep, flight;
+    /// The previous step's gradients at its quadrature points continued to this step's (HLW
+    /// §VIII.6.1, "starting approximations"): ∇V at c_k ≈ Σ_m G_m E(m, k) over the nodes c_m − 1
+    /// of the previous step and, for Gauss, 0 (∇V(q_j)); Lobatto's c_s − 1 is already 0.
+    /// (r × r) for Lobatto, ((r + 1) × r) for Gauss.
+    Eigen::MatrixXd force_extrapolation;
 
     /// Builds the tables in long double (64-bit mantissa) and rounds each entry once to double,
     /// so that their errors stay at half an ulp: the scheme's period is then right to ~1 ulp.
@@ -113,6 +125,7 @@ struct tableau {
         t.dphi_lo = (dphi - t.dphi.cast<LD>()).cast<double>();
         t.extrapolation = extrapolation.cast<double>();
         t.make_step_coefficients(stiffness, dphi, quad.weights);
+        t.make_starts(quad.nodes);
         return t;
     }
     [[nodiscard]] int order() const { return 2 * degree; }
@@ -188,6 +201,57 @@ struct tableau {
         kinetic = split_of(a, s);
         wphi = split_of(u, r);
         wdphi = split_of(g, r);
+    }
+
+    template <class LDNodes>
+    void make_starts(const LDNodes& c) {
+        using LD = long double;
+        using matrix_ld = Eigen::Matrix<LD, Eigen::Dynamic, Eigen::Dynamic>;
+        const auto r = static_cast<Eigen::Index>(c.size());
+        const int s = degree;
+        const matrix_ld a = kinetic.hi.cast<LD>() + kinetic.lo.cast<LD>();
+        matrix_ld rhs(s, r + 1); // [U, −e_0]: A [Kᵀ, c] = [U, −e_0]
+        rhs.leftCols(r) = wphi.hi.cast<LD>() + wphi.lo.cast<LD>();
+        rhs.col(r).setZero();
+        rhs(0, r) = -1;
+        const auto lu = a.partialPivLu();
+        const matrix_ld x0 = lu.solve(rhs);
+        // The residual [U, −e_0] − A x0 in double-double (products of hi + lo values), then the
+        // correction in long double: x = x0 + δ to ~1e-19 of δ.
+        matrix_ld residual(s, r + 1);
+        for (Eigen::Index j = 0; j <= r; ++j)
+            for (int i = 0; i < s; ++i) {
+                dd sum = j < r ? dd{wphi.hi(i, j), 0.0} + dd{wphi.lo(i, j), 0.0}
+                               : dd{i == 0 ? -1.0 : 0.0, 0.0};
+                for (int l = 0; l < s; ++l) {
+                    const dd al = dd{kinetic.hi(i, l), 0.0} + dd{kinetic.lo(i, l), 0.0};
+                    sum = sum + -(al * dd::of(x0(l, j)));
+                }
+                residual(i, j) = static_cast<LD>(sum.h) + static_cast<LD>(sum.l);
+            }
+        const matrix_ld delta = lu.solve(residual);
+        sweep = {Eigen::MatrixXd(r, s), Eigen::MatrixXd(r, s)};
+        flight = {Eigen::MatrixXd(1, s), Eigen::MatrixXd(1, s)};
+        for (Eigen::Index j = 0; j <= r; ++j)
+            for (int l = 0; l < s; ++l) {
+                const dd x = dd::of(x0(l, j)) + dd::of(delta(l, j));
+                (j < r ? sweep.hi(j, l) : flight.hi(0, l)) = x.h;
+                (j < r ? sweep.lo(j, l) : flight.lo(0, l)) = x.l;
+            }
+        std::vector<LD> from;
+        for (const LD ck : c)
+            from.push_back(ck - 1);
+        if (kind == rule_kind::gauss) from.push_back(0);
+        const auto n = static_cast<Eigen::Index>(from.size());
+        force_extrapolation.resize(n, r);
+        for (Eigen::Index m = 0; m < n; ++m)
+            for (Eigen::Index k = 0; k < r; ++k) {
+                const auto at = [&](Eigen::Index i) { return from[static_cast<std::size_t>(i)]; };
+                LD value = 1;
+                for (Eigen::Index o = 0; o < n; ++o)
+                    if (o != m) value *= (c[static_cast<std::size_t>(k)] - at(o)) / (at(m) - at(o));
+                force_extrapolation(m, k) = static_cast<double>(value);
+            }
     }
 
   public:

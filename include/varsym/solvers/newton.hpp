@@ -14,8 +14,8 @@ namespace varsym {
 /// other steppers always use Newton). In the general engine `fixed_point` is the simplified
 /// iteration with the Jacobian's ∂²L/∂q̇² term alone.
 enum class iteration_kind {
-    automatic,   ///< the default: in the family stepper fixed_point from d = 2 on, newton at
-                 ///< d = 1; in the general engine newton, except simplified when L's
+    automatic,   ///< the default: in the family stepper fixed_point; in the general engine
+                 ///< newton, except simplified when L's
                  ///< derivatives are automatic (its Hessians cost (2d + 1)² per operation of L)
     newton,      ///< exact Jacobian, evaluated and factorised at every iterate
     simplified,  ///< Jacobian at one point, factorised once and kept across steps while the
@@ -28,6 +28,9 @@ enum class predictor_kind {
     taylor,   ///< second-order Taylor from (q_j, p_j): stateless
     previous, ///< the previous step's polynomial extrapolated: O(h^(s+1)), but state a resumed
               ///< run must restore (run_state::history); family stepper only
+    forces,   ///< the previous step's forces at its quadrature points extrapolated to this
+              ///< step's (HLW §VIII.6.1), then the step's equations in closed form: two orders
+              ///< beyond `previous` at no extra evaluation; state as `previous`; family only
 };
 
 /// When Newton stops. The default asks for machine precision: the update must fall below
