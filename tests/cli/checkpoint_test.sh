@@ -84,6 +84,19 @@ kill -9 $pid 2> /dev/null; { wait $pid; } 2> /dev/null
 [ "$(grep -c '^history 1p+0 ' h.ckpt)" = 1 ] && diff <(grep '^history' h.ckpt) <(grep '^history' h_straight.ckpt) > /dev/null &&
   ok || bad "the checkpoint's history line: $(grep '^history' h.ckpt | cut -c1-80)"
 
+# The same with the forces start (the previous step's gradients and contraction rate), killed
+# after its first checkpoint: the resumed run's rows and final history match the straight run's.
+fargs=(run --model kepler --scheme gauss --degree 4 --predictor forces
+       --periods 2000 --steps-per-period 500 --every 500)
+"$VARSYM" "${fargs[@]}" -o fs_straight.csv --checkpoint fs_straight.ckpt || bad "forces run failed"
+"$VARSYM" "${fargs[@]}" -o fs.csv --checkpoint fs.ckpt --checkpoint-every 10000 & pid=$!
+for i in $(seq 1 6000); do [ -e fs.ckpt ] && break; sleep 0.01; done
+kill -9 $pid 2> /dev/null; { wait $pid; } 2> /dev/null
+[ -e fs.csv.part ] && [ ! -e fs.csv ] && ok || bad "the forces run ended before it was killed"
+"$VARSYM" run --resume fs.ckpt 2> stderr.txt && cmp -s fs.csv fs_straight.csv &&
+  diff <(grep '^history' fs.ckpt) <(grep '^history' fs_straight.ckpt) > /dev/null && ok ||
+  bad "resume of a run with --predictor forces: $(cat stderr.txt)"
+
 # --- refused checkpoints and options: exit 2, one line ------------------------------------------
 "$VARSYM" run --steps-per-period 100 --periods 20 -o c.csv --checkpoint c.ckpt --checkpoint-every 100 2> /dev/null
 cp c.ckpt good.ckpt
