@@ -62,8 +62,9 @@ struct tableau {
     /// G = ∇V at the points, v = M⁻¹ p_j, K = (A⁻¹ U)ᵀ (sweep, r × s) and c = −A⁻¹ e_0 (flight,
     /// 1 × s; the control nodes d_1 … d_s), for A and U as kinetic and wphi apply them. Solved
     /// in long double and refined once against a double-double residual, so that hi + lo hold
-    /// them to ~1e-30: the closed form's root is then the equations' own, not one tilted by a
-    /// rounded K (docs/design.md, "Solving the step").
+    /// them far below an ulp (tests/schemes/test_iteration.cpp checks 1e-18 in long double, the
+    /// limit of its arithmetic): the closed form's root is then the equations' own, not one
+    /// tilted by a rounded K (docs/design.md, "Solving the step").
     split sweep, flight;
     /// The previous step's gradients at its quadrature points continued to this step's (HLW
     /// §VIII.6.1, "starting approximations"): ∇V at c_k ≈ Σ_m G_m E(m, k) over the nodes c_m − 1
