@@ -31,8 +31,16 @@ scheme_spec spec_of(const std::string& scheme, int degree) {
 
 namespace {
 
-newton_options newton_of(const std::string& iteration) {
+/// ITERATION[+previous|+forces], as the tool's bench takes it: the suffix picks the start.
+newton_options newton_of(std::string iteration) {
     newton_options opt;
+    for (const auto& [suffix, start] :
+         {std::pair{std::string("+previous"), predictor_kind::previous},
+          std::pair{std::string("+forces"), predictor_kind::forces}})
+        if (iteration.ends_with(suffix)) {
+            opt.predictor = start;
+            iteration.resize(iteration.size() - suffix.size());
+        }
     if (iteration == "simplified")
         opt.iteration = iteration_kind::simplified;
     else if (iteration == "fixed-point")
@@ -41,7 +49,8 @@ newton_options newton_of(const std::string& iteration) {
         opt.iteration = iteration_kind::newton;
     else if (iteration != "automatic")
         throw std::invalid_argument("unknown iteration '" + iteration +
-                                    "': automatic, newton, simplified or fixed-point");
+                                    "': automatic, newton, simplified or fixed-point, "
+                                    "optionally followed by +previous or +forces");
     return opt;
 }
 

@@ -326,3 +326,23 @@ def test_typed_lagrangian_too_large_is_refused_with_its_estimate():
         varsym.Lagrangian(*chain(2000))
     assert time.monotonic() - start < 2.0
     assert varsym.Lagrangian(*chain(100)).dimension == 100
+
+
+def test_the_forces_start_takes_the_same_steps_in_fewer_iterations():
+    # iteration="fixed-point+forces": each step starts from the previous step's forces (as
+    # Hairer's gni_irk2). Reference: the same stepper from the Taylor start; both solve the
+    # same equations to round-off, so 2000 steps of Kepler (gauss-4, 100 per orbit) agree to
+    # round-off growth (measured 2.3e-12; bound 1e-10), in fewer sweeps (measured 2.49 against
+    # 3.82 per step; a start silently not used would give the same count). The general engine
+    # has no such start: refused.
+    h = 2 * np.pi / 100
+    taylor = varsym.Stepper("kepler", h, scheme="gauss", degree=4, iteration="fixed-point")
+    forces = varsym.Stepper("kepler", h, scheme="gauss", degree=4,
+                            iteration="fixed-point+forces")
+    a, b = taylor.run(2000), forces.run(2000)
+    assert np.abs(a.q - b.q).max() < 1e-10
+    assert forces.mean_newton_iterations < taylor.mean_newton_iterations - 0.3
+    with pytest.raises(ValueError, match="forces"):
+        varsym.Stepper("double-pendulum", 1e-3, iteration="fixed-point+forces")
+    with pytest.raises(ValueError, match=r"\+forces"):
+        varsym.Stepper("kepler", h, iteration="fixed-point+later")
