@@ -67,35 +67,31 @@ rm k.toml
   bad "kepler resume without its config file: $(cat stderr.txt)"
 
 # --- a run whose steps depend on the previous one resumes bit for bit ---------------------------
+# killed_and_resumed NAME WHAT ARGS...: runs `ARGS` straight to NAME_straight.csv, and again with
+# a checkpoint every 10 000 steps, killed as soon as its first checkpoint exists; not vacuous (a
+# finished run would leave NAME.csv, not NAME.csv.part); then resumed, its rows and its final
+# checkpoint's history equal to the straight run's.
+killed_and_resumed() {
+  local name=$1 what=$2; shift 2
+  "$VARSYM" "$@" -o "${name}_straight.csv" --checkpoint "${name}_straight.ckpt" || bad "$what run failed"
+  "$VARSYM" "$@" -o "$name.csv" --checkpoint "$name.ckpt" --checkpoint-every 10000 & pid=$!
+  for i in $(seq 1 6000); do [ -e "$name.ckpt" ] && break; sleep 0.01; done
+  kill -9 $pid 2> /dev/null; { wait $pid; } 2> /dev/null
+  [ -e "$name.csv.part" ] && [ ! -e "$name.csv" ] && ok || bad "the $what run ended before it was killed"
+  "$VARSYM" run --resume "$name.ckpt" 2> stderr.txt && cmp -s "$name.csv" "${name}_straight.csv" &&
+    diff <(grep '^history' "$name.ckpt") <(grep '^history' "${name}_straight.ckpt") > /dev/null &&
+    ok || bad "resume of a run with $what: $(cat stderr.txt)"
+}
 # gauss-4 on Kepler starting each step from the previous step's polynomial and keeping its
-# Jacobian across steps: the checkpoint carries that history. 2e5 steps (about 0.2 s in Release),
-# killed as soon as its first checkpoint exists. The final checkpoint holds the history (a 1
-# first: a previous step to continue).
-kargs=(run --model kepler --scheme gauss --degree 4 --iteration simplified --predictor previous
-       --periods 400 --steps-per-period 500 --every 100)
-"$VARSYM" "${kargs[@]}" -o h_straight.csv --checkpoint h_straight.ckpt || bad "history run failed"
-"$VARSYM" "${kargs[@]}" -o h.csv --checkpoint h.ckpt --checkpoint-every 10000 & pid=$!
-for i in $(seq 1 6000); do [ -e h.ckpt ] && break; sleep 0.01; done
-kill -9 $pid 2> /dev/null; { wait $pid; } 2> /dev/null
-# Not vacuous: the run was cut short (a finished run would leave h.csv, not h.csv.part).
-[ -e h.csv.part ] && [ ! -e h.csv ] && ok || bad "the history run ended before it was killed"
-"$VARSYM" run --resume h.ckpt 2> stderr.txt && cmp -s h.csv h_straight.csv && ok ||
-  bad "resume of a run with --predictor previous: $(cat stderr.txt)"
-[ "$(grep -c '^history 1p+0 ' h.ckpt)" = 1 ] && diff <(grep '^history' h.ckpt) <(grep '^history' h_straight.ckpt) > /dev/null &&
-  ok || bad "the checkpoint's history line: $(grep '^history' h.ckpt | cut -c1-80)"
-
-# The same with the forces start (the previous step's gradients and contraction rate), killed
-# after its first checkpoint: the resumed run's rows and final history match the straight run's.
-fargs=(run --model kepler --scheme gauss --degree 4 --predictor forces
-       --periods 2000 --steps-per-period 500 --every 500)
-"$VARSYM" "${fargs[@]}" -o fs_straight.csv --checkpoint fs_straight.ckpt || bad "forces run failed"
-"$VARSYM" "${fargs[@]}" -o fs.csv --checkpoint fs.ckpt --checkpoint-every 10000 & pid=$!
-for i in $(seq 1 6000); do [ -e fs.ckpt ] && break; sleep 0.01; done
-kill -9 $pid 2> /dev/null; { wait $pid; } 2> /dev/null
-[ -e fs.csv.part ] && [ ! -e fs.csv ] && ok || bad "the forces run ended before it was killed"
-"$VARSYM" run --resume fs.ckpt 2> stderr.txt && cmp -s fs.csv fs_straight.csv &&
-  diff <(grep '^history' fs.ckpt) <(grep '^history' fs_straight.ckpt) > /dev/null && ok ||
-  bad "resume of a run with --predictor forces: $(cat stderr.txt)"
+# Jacobian across steps: the checkpoint carries that history. 2e5 steps (about 0.2 s in
+# Release). The final checkpoint holds the history (a 1 first: a previous step to continue).
+killed_and_resumed h "--predictor previous" run --model kepler --scheme gauss --degree 4 \
+  --iteration simplified --predictor previous --periods 400 --steps-per-period 500 --every 100
+[ "$(grep -c '^history 1p+0 ' h.ckpt)" = 1 ] && ok ||
+  bad "the checkpoint's history line: $(grep '^history' h.ckpt | cut -c1-80)"
+# The same with the forces start (the previous step's gradients and contraction rate).
+killed_and_resumed fs "--predictor forces" run --model kepler --scheme gauss --degree 4 \
+  --predictor forces --periods 2000 --steps-per-period 500 --every 500
 
 # --- refused checkpoints and options: exit 2, one line ------------------------------------------
 "$VARSYM" run --steps-per-period 100 --periods 20 -o c.csv --checkpoint c.ckpt --checkpoint-every 100 2> /dev/null
