@@ -17,6 +17,7 @@
 #include "varsym/models/model.hpp"
 #include "varsym/run/energy.hpp"
 #include "varsym/run/ensemble.hpp"
+#include "varsym/solvers/solver_name.hpp"
 
 namespace py = pybind11;
 using namespace varsym;
@@ -30,29 +31,6 @@ scheme_spec spec_of(const std::string& scheme, int degree) {
 }
 
 namespace {
-
-/// ITERATION[+previous|+forces], as the tool's bench takes it: the suffix picks the start.
-newton_options newton_of(std::string iteration) {
-    newton_options opt;
-    for (const auto& [suffix, start] :
-         {std::pair{std::string("+previous"), predictor_kind::previous},
-          std::pair{std::string("+forces"), predictor_kind::forces}})
-        if (iteration.ends_with(suffix)) {
-            opt.predictor = start;
-            iteration.resize(iteration.size() - suffix.size());
-        }
-    if (iteration == "simplified")
-        opt.iteration = iteration_kind::simplified;
-    else if (iteration == "fixed-point")
-        opt.iteration = iteration_kind::fixed_point;
-    else if (iteration == "newton")
-        opt.iteration = iteration_kind::newton;
-    else if (iteration != "automatic")
-        throw std::invalid_argument("unknown iteration '" + iteration +
-                                    "': automatic, newton, simplified or fixed-point, "
-                                    "optionally followed by +previous or +forces");
-    return opt;
-}
 
 py::array_t<double> array_of(std::span<const double> v) {
     return py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
@@ -251,7 +229,7 @@ void bind_simulation(py::module_& m) {
             "simulate",
             [](const models::problem& p, double h, const std::string& scheme, int degree,
                const std::string& iteration) {
-                return p.simulate({spec_of(scheme, degree), newton_of(iteration), h});
+                return p.simulate({spec_of(scheme, degree), parse_solver(iteration), h});
             },
             py::arg("h"), py::arg("scheme"), py::arg("degree"), py::arg("iteration"));
 
@@ -308,7 +286,7 @@ void bind_simulation(py::module_& m) {
            const std::vector<double>& q0, const std::vector<double>& p0, double t0, double h,
            const std::string& scheme, int degree, const std::string& iteration) {
             return models::simulate_expression(l, force_of(l, force), state_of(q0, p0),
-                                               {spec_of(scheme, degree), newton_of(iteration), h},
+                                               {spec_of(scheme, degree), parse_solver(iteration), h},
                                                t0);
         },
         py::arg("lagrangian"), py::arg("force"), py::arg("q0"), py::arg("p0"), py::arg("t0"),
@@ -322,7 +300,7 @@ void bind_simulation(py::module_& m) {
             const expression_constraint c(constraints, l.coordinates(), l.parameters());
             return models::simulate_constrained_expression(
                 l, c, force_of(l, force), state_of(q0, p0),
-                {spec_of(scheme, degree), newton_of(iteration), h}, t0, project);
+                {spec_of(scheme, degree), parse_solver(iteration), h}, t0, project);
         },
         py::arg("lagrangian"), py::arg("constraints"), py::arg("force"), py::arg("q0"),
         py::arg("p0"), py::arg("t0"), py::arg("h"), py::arg("scheme"), py::arg("degree"),

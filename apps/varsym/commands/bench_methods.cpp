@@ -23,6 +23,7 @@
 #include "varsym/schemes/composition.hpp"
 #include "varsym/schemes/scheme_kind.hpp"
 #include "varsym/schemes/variational.hpp"
+#include "varsym/solvers/solver_name.hpp"
 
 namespace varsym::cli {
 
@@ -49,27 +50,14 @@ scheme_spec parse_spec(const std::string& label) {
     return {*kind, s};
 }
 
-/// A solver name: ITERATION[+previous|+forces] (newton, simplified, fixed-point), as after the
-/// '/' in a --schemes entry (gauss-4/fixed-point+forces) or in --solver.
-newton_options parse_solver(std::string solver, const std::string& where) {
-    newton_options opt;
-    if (solver.ends_with("+previous")) {
-        opt.predictor = predictor_kind::previous;
-        solver.resize(solver.size() - 9);
-    } else if (solver.ends_with("+forces")) {
-        opt.predictor = predictor_kind::forces;
-        solver.resize(solver.size() - 7);
+/// A solver name (varsym/solvers/solver_name.hpp), as after the '/' in a --schemes entry
+/// (gauss-4/fixed-point+forces) or in --solver.
+newton_options solver_of(const std::string& solver, const std::string& where) {
+    try {
+        return parse_solver(solver);
+    } catch (const std::invalid_argument& e) {
+        throw usage_error(where + ": " + e.what());
     }
-    if (solver == "simplified")
-        opt.iteration = iteration_kind::simplified;
-    else if (solver == "fixed-point")
-        opt.iteration = iteration_kind::fixed_point;
-    else if (solver == "newton")
-        opt.iteration = iteration_kind::newton;
-    else
-        throw usage_error(where + ": the solver must be newton, simplified or fixed-point, " +
-                          "optionally followed by +previous or +forces");
-    return opt;
 }
 
 /// Runs a varsym stepper: timed loop without observer, or an observed run for the energy.
@@ -180,8 +168,8 @@ void add_varsym_methods(bench_problem& b, const bench_selection& selection, cons
         const scheme_spec spec = parse_spec(label.substr(0, slash));
         const newton_options opt =
             slash == std::string::npos
-                ? parse_solver(selection.solver, "--solver")
-                : parse_solver(label.substr(slash + 1), "--schemes: in " + shown(label));
+                ? solver_of(selection.solver, "--solver")
+                : solver_of(label.substr(slash + 1), "--schemes: in " + shown(label));
         const std::string name =
             slash == std::string::npos ? spec.label() : spec.label() + label.substr(slash);
         b.methods.push_back({name, spec.order(), false, [=](std::size_t n, double h, bool observe) {

@@ -18,6 +18,7 @@
 #include "models.hpp"
 #include "registry_models.hpp"
 #include "shared_options.hpp"
+#include "varsym/solvers/solver_name.hpp"
 
 namespace varsym::cli {
 
@@ -234,9 +235,7 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
     cmd->add_option_function<std::string>(
            "--iteration",
            [&s](const std::string& v) {
-               s.newton.iteration = v == "fixed-point"  ? iteration_kind::fixed_point
-                                    : v == "simplified" ? iteration_kind::simplified
-                                                        : iteration_kind::newton;
+               s.newton.iteration = named(iteration_names, v).value();
            },
            "How lobatto-s (s >= 3) and gauss-s (s >= 2), and every scheme of double-pendulum and "
            "heavy-top, solve a step: newton (exact Jacobian each iteration; the default on "
@@ -250,9 +249,7 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
     cmd->add_option_function<std::string>(
            "--predictor",
            [&s](const std::string& v) {
-               s.newton.predictor = v == "previous" ? predictor_kind::previous
-                                    : v == "forces" ? predictor_kind::forces
-                                                    : predictor_kind::taylor;
+               s.newton.predictor = named(predictor_names, v).value();
            },
            "Where a step's iteration starts: taylor (from q and p; default), previous (the "
            "previous step's polynomial continued) or forces (the previous step's forces "
