@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -108,11 +109,14 @@ struct tableau {
                     if (n != m) value *= (x - control[n]) / (control[m] - control[n]);
                 extrapolation(m - 1, l - 1) = value - (m == s ? 1 : 0);
             }
-        matrix_ld weights = matrix_ld::Zero(r, r);
-        for (Eigen::Index k = 0; k < r; ++k)
-            weights(k, k) = quad.weights[k];
-        matrix_ld stiffness = dphi * weights * dphi.transpose();
-        stiffness = (0.5L * (stiffness + stiffness.transpose())).eval(); // exactly symmetric
+        matrix_ld stiffness(s + 1, s + 1); // A_il = Σ_k ℓ_i'(c_k) w_k ℓ_l'(c_k)
+        for (int i = 0; i <= s; ++i)
+            for (int l = 0; l <= i; ++l) {
+                LD sum = 0;
+                for (Eigen::Index k = 0; k < r; ++k)
+                    sum += dphi(i, k) * quad.weights[k] * dphi(l, k);
+                stiffness(i, l) = stiffness(l, i) = sum; // exactly symmetric
+            }
 
         tableau t;
         t.degree = s;
@@ -154,6 +158,56 @@ struct tableau {
             const double p = x.h * y.h;
             const double e = std::fma(x.h, y.h, -p); // two_prod: p + e = x.h y.h exactly
             return normalized(p, e + (x.h * y.l + x.l * y.h));
+        }
+    };
+
+    /// Gaussian elimination with partial pivoting in long double, for the s × s system of
+    /// make_starts. Plain loops: Eigen's LU and products in long double, instantiated in every
+    /// translation unit that includes this header, cost each about 3 s of compile time.
+    struct small_lu {
+        using matrix_ld = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
+        matrix_ld lu;
+        std::vector<Eigen::Index> row; // row[i]: the row of the original system in place i
+
+        explicit small_lu(matrix_ld a)
+            : lu(std::move(a)), row(static_cast<std::size_t>(lu.rows())) {
+            const Eigen::Index n = lu.rows();
+            for (Eigen::Index i = 0; i < n; ++i)
+                row[static_cast<std::size_t>(i)] = i;
+            for (Eigen::Index k = 0; k < n; ++k) {
+                Eigen::Index p = k;
+                for (Eigen::Index i = k + 1; i < n; ++i)
+                    if (std::abs(lu(i, k)) > std::abs(lu(p, k))) p = i;
+                if (p != k) {
+                    for (Eigen::Index j = 0; j < n; ++j)
+                        std::swap(lu(k, j), lu(p, j));
+                    std::swap(row[static_cast<std::size_t>(k)], row[static_cast<std::size_t>(p)]);
+                }
+                for (Eigen::Index i = k + 1; i < n; ++i) {
+                    lu(i, k) /= lu(k, k);
+                    for (Eigen::Index j = k + 1; j < n; ++j)
+                        lu(i, j) -= lu(i, k) * lu(k, j);
+                }
+            }
+        }
+        [[nodiscard]] matrix_ld solve(const matrix_ld& b) const {
+            const Eigen::Index n = lu.rows();
+            matrix_ld x(n, b.cols());
+            for (Eigen::Index c = 0; c < b.cols(); ++c) {
+                for (Eigen::Index i = 0; i < n; ++i) { // L y = P b
+                    long double v = b(row[static_cast<std::size_t>(i)], c);
+                    for (Eigen::Index j = 0; j < i; ++j)
+                        v -= lu(i, j) * x(j, c);
+                    x(i, c) = v;
+                }
+                for (Eigen::Index i = n - 1; i >= 0; --i) { // U x = y
+                    long double v = x(i, c);
+                    for (Eigen::Index j = i + 1; j < n; ++j)
+                        v -= lu(i, j) * x(j, c);
+                    x(i, c) = v / lu(i, i);
+                }
+            }
+            return x;
         }
     };
 
@@ -215,7 +269,7 @@ struct tableau {
         rhs.leftCols(r) = wphi.hi.cast<LD>() + wphi.lo.cast<LD>();
         rhs.col(r).setZero();
         rhs(0, r) = -1;
-        const auto lu = a.partialPivLu();
+        const small_lu lu(a);
         const matrix_ld x0 = lu.solve(rhs);
         // The residual [U, −e_0] − A x0 in double-double (products of hi + lo values), then the
         // correction in long double: x = x0 + δ to ~1e-19 of δ.
