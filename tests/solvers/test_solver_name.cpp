@@ -39,12 +39,13 @@ TEST(SolverName, EveryNameReadsBack) {
             EXPECT_EQ(back.iteration, iteration) << iname;
             EXPECT_EQ(back.predictor, start) << pname;
         }
-    EXPECT_EQ(varsym::solver_name(varsym::parse_solver("fixed-point+forces")), "fixed-point+forces");
+    EXPECT_EQ(varsym::solver_name(varsym::parse_solver("fixed-point+forces")),
+              "fixed-point+forces");
 }
 
 TEST(SolverName, RefusesWhatItDoesNotKnow) {
-    for (const char* bad : {"", "chord", "newton+", "+forces", "newton+forces+previous",
-                            "Newton", "fixed-point+guess"})
+    for (const char* bad : {"", "chord", "newton+", "+forces", "newton+forces+previous", "Newton",
+                            "fixed-point+guess"})
         EXPECT_THROW(varsym::parse_solver(bad), std::invalid_argument) << bad;
 }
 
