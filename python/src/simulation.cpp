@@ -285,9 +285,9 @@ void bind_simulation(py::module_& m) {
         [](const expression_lagrangian& l, const std::vector<std::string>& force,
            const std::vector<double>& q0, const std::vector<double>& p0, double t0, double h,
            const std::string& scheme, int degree, const std::string& iteration) {
-            return models::simulate_expression(l, force_of(l, force), state_of(q0, p0),
-                                               {spec_of(scheme, degree), parse_solver(iteration), h},
-                                               t0);
+            return models::simulate_expression(
+                l, force_of(l, force), state_of(q0, p0),
+                {spec_of(scheme, degree), parse_solver(iteration), h}, t0);
         },
         py::arg("lagrangian"), py::arg("force"), py::arg("q0"), py::arg("p0"), py::arg("t0"),
         py::arg("h"), py::arg("scheme"), py::arg("degree"), py::arg("iteration"));

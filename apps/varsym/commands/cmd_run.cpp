@@ -234,9 +234,7 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
         ->capture_default_str();
     cmd->add_option_function<std::string>(
            "--iteration",
-           [&s](const std::string& v) {
-               s.newton.iteration = named(iteration_names, v).value();
-           },
+           [&s](const std::string& v) { s.newton.iteration = named(iteration_names, v).value(); },
            "How lobatto-s (s >= 3) and gauss-s (s >= 2), and every scheme of double-pendulum and "
            "heavy-top, solve a step: newton (exact Jacobian each iteration; the default on "
            "the general engine's models with exact derivatives), "
@@ -248,9 +246,7 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
         ->check(CLI::IsMember({"newton", "simplified", "fixed-point"}));
     cmd->add_option_function<std::string>(
            "--predictor",
-           [&s](const std::string& v) {
-               s.newton.predictor = named(predictor_names, v).value();
-           },
+           [&s](const std::string& v) { s.newton.predictor = named(predictor_names, v).value(); },
            "Where a step's iteration starts: taylor (from q and p; default), previous (the "
            "previous step's polynomial continued) or forces (the previous step's forces "
            "continued: fewest iterations, 10-30 % faster, round-off growing as sqrt(t) instead "
