@@ -87,7 +87,10 @@ double highest_frequency(const S& sys, const phase_state<S::dim>& x) {
             mass = sys.mass() * mat<D>::Identity(hess.rows(), hess.cols());
         else
             mass = sys.mass();
-        Eigen::GeneralizedSelfAdjointEigenSolver<mat<D>> eig(hess, mass, Eigen::EigenvaluesOnly);
+        // Dynamic size, here and below: one instantiation serves every dimension (each a few
+        // seconds of compile time), for a solve done once per run.
+        const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(hess, mass,
+                                                                            Eigen::EigenvaluesOnly);
         if (eig.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
         return std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff()));
     }
@@ -104,7 +107,8 @@ double highest_frequency(const lagrangian_system<L>& sys, const phase_state<L::d
     lagrangian_terms<D> t;
     evaluate(sys.lagrangian(), x.q, sys.velocity(x.q, x.p, time), time, t);
     const mat<D> k = -t.lqq;
-    Eigen::GeneralizedSelfAdjointEigenSolver<mat<D>> eig(k, t.lvv, Eigen::EigenvaluesOnly);
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(k, t.lvv,
+                                                                        Eigen::EigenvaluesOnly);
     if (eig.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
     return std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff()));
 }

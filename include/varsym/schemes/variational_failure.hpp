@@ -31,7 +31,8 @@ bool finite_force(const force_terms<D>& f) {
 /// else what it is.
 template <int D>
 std::string mass_matrix_problem(const mat<D>& m) {
-    const Eigen::SelfAdjointEigenSolver<mat<D>> eig(m, Eigen::EigenvaluesOnly);
+    // Dynamic size: one instantiation serves every dimension, on a failure path.
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(m, Eigen::EigenvaluesOnly);
     const double lo = eig.eigenvalues().minCoeff(), hi = eig.eigenvalues().maxCoeff();
     if (lo > 1e-12 * std::abs(hi)) return {};
     char buf[160];

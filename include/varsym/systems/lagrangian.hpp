@@ -370,7 +370,8 @@ class lagrangian_system {
                 "the Lagrangian or its derivatives are NaN or infinite at the "
                 "initial state");
         // Eigenvalues, not a Cholesky attempt: round-off can let a singular matrix pass LLᵀ.
-        const Eigen::SelfAdjointEigenSolver<mat<dim>> eig(t.lvv, Eigen::EigenvaluesOnly);
+        // Dynamic size: one instantiation serves every dimension, for a check done once.
+        const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(t.lvv, Eigen::EigenvaluesOnly);
         const double lo = eig.eigenvalues().minCoeff(), hi = eig.eigenvalues().maxCoeff();
         if (!(lo > 1e-12 * hi)) {
             char range[80];
