@@ -93,7 +93,7 @@ class constrained_stepper : public stepper<L, F> {
         jacobian_type jac(m_, x.q.size());
         evaluate_constraint(c_, x.q, g, jac);
         check_independent<dim, count>(jac, "at the initial state");
-        sigma_ref_ = Eigen::JacobiSVD<Eigen::MatrixXd>(jac).singularValues().minCoeff();
+        sigma_ref_ = singular_values(jac).minCoeff();
         const double scale = jac.template lpNorm<Eigen::Infinity>();
         const double off = g.template lpNorm<Eigen::Infinity>();
         char buf[200];
@@ -123,7 +123,7 @@ class constrained_stepper : public stepper<L, F> {
         jacobian_type jac(m_, x.q.size());
         evaluate_constraint(c_, x.q, g, jac);
         check_independent<dim, count>(jac, "at the projected initial state");
-        sigma_ref_ = Eigen::JacobiSVD<Eigen::MatrixXd>(jac).singularValues().minCoeff();
+        sigma_ref_ = singular_values(jac).minCoeff();
         vec<dim> v = this->sys_.velocity(x.q, x.p, this->t_);
         const vec<count> mu =
             tangent_momentum(at(this->sys_.lagrangian(), this->t_), x.q, x.p, jac, v);

@@ -26,7 +26,7 @@ std::string constrained_stepper<L, C, F>::constraint_problem(const vec<dim>& q, 
     evaluate_constraint(c_, q, g, jac);
     if (!g.allFinite() || !jac.allFinite())
         return "the constraint or its Jacobian is NaN or infinite" + detail::where_when(where, t);
-    const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(jac).singularValues();
+    const Eigen::VectorXd sv = singular_values(jac);
     const double lo = sv(sv.size() - 1), hi = sv(0);
     if (lo > 1e-10 * hi && lo > 1e-2 * sigma_ref_) return {};
     char buf[200];
