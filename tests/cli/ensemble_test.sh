@@ -36,8 +36,8 @@ echo "$row" | awk -F, '{ exit !($4 == "completed" && $11 < 1e-4 && $12 == $12 + 
   ok || bad "member 210: $row"
 
 # --- killed with SIGKILL and restarted: the same file, nothing lost or twice --------------------
-big=(ensemble --model henon-heiles --grid q0_2=-0.4:0.6:30 --grid p0_2=-0.4:0.4:30 --time 500
-  --steps 10000)
+big=(ensemble --model henon-heiles --grid q0_2=-0.4:0.6:30 --grid p0_2=-0.4:0.4:30 --time 250
+  --steps 5000)
 "$VARSYM" "${big[@]}" -o straight.csv 2> /dev/null || bad "straight ensemble"
 "$VARSYM" "${big[@]}" --threads 1 -o killed.csv 2> /dev/null &
 pid=$!
