@@ -8,6 +8,7 @@
 #include <limits>
 #include <vector>
 
+#include "varsym/solvers/eigenvalues.hpp"
 #include "varsym/systems/lagrangian.hpp"
 #include "varsym/systems/separable.hpp"
 #include "varsym/types.hpp"
@@ -87,12 +88,9 @@ double highest_frequency(const S& sys, const phase_state<S::dim>& x) {
             mass = sys.mass() * mat<D>::Identity(hess.rows(), hess.cols());
         else
             mass = sys.mass();
-        // Dynamic size, here and below: one instantiation serves every dimension (each a few
-        // seconds of compile time), for a solve done once per run.
-        const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(hess, mass,
-                                                                            Eigen::EigenvaluesOnly);
-        if (eig.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
-        return std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff()));
+        const auto lambda = generalized_eigenvalues<D>(hess, mass);
+        if (!lambda) return std::numeric_limits<double>::quiet_NaN();
+        return std::sqrt(std::max(0.0, lambda->maxCoeff()));
     }
 }
 
@@ -107,10 +105,9 @@ double highest_frequency(const lagrangian_system<L>& sys, const phase_state<L::d
     lagrangian_terms<D> t;
     evaluate(sys.lagrangian(), x.q, sys.velocity(x.q, x.p, time), time, t);
     const mat<D> k = -t.lqq;
-    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(k, t.lvv,
-                                                                        Eigen::EigenvaluesOnly);
-    if (eig.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
-    return std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff()));
+    const auto lambda = generalized_eigenvalues<D>(k, t.lvv);
+    if (!lambda) return std::numeric_limits<double>::quiet_NaN();
+    return std::sqrt(std::max(0.0, lambda->maxCoeff()));
 }
 template <class L>
 double highest_frequency(const lagrangian_system<L>& sys,

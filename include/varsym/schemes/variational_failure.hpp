@@ -12,6 +12,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "varsym/schemes/variational.hpp"
+#include "varsym/solvers/eigenvalues.hpp"
 
 namespace varsym {
 namespace detail {
@@ -31,9 +32,8 @@ bool finite_force(const force_terms<D>& f) {
 /// else what it is.
 template <int D>
 std::string mass_matrix_problem(const mat<D>& m) {
-    // Dynamic size: one instantiation serves every dimension, on a failure path.
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(m, Eigen::EigenvaluesOnly);
-    const double lo = eig.eigenvalues().minCoeff(), hi = eig.eigenvalues().maxCoeff();
+    const Eigen::VectorXd lambda = symmetric_eigenvalues<D>(m);
+    const double lo = lambda.minCoeff(), hi = lambda.maxCoeff();
     if (lo > 1e-12 * std::abs(hi)) return {};
     char buf[160];
     std::snprintf(buf, sizeof buf,

@@ -15,6 +15,7 @@
 
 #include "varsym/autodiff/reverse.hpp"
 #include "varsym/autodiff/second_order.hpp"
+#include "varsym/solvers/eigenvalues.hpp"
 #include "varsym/systems/separable.hpp"
 #include "varsym/types.hpp"
 
@@ -370,9 +371,8 @@ class lagrangian_system {
                 "the Lagrangian or its derivatives are NaN or infinite at the "
                 "initial state");
         // Eigenvalues, not a Cholesky attempt: round-off can let a singular matrix pass LLᵀ.
-        // Dynamic size: one instantiation serves every dimension, for a check done once.
-        const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(t.lvv, Eigen::EigenvaluesOnly);
-        const double lo = eig.eigenvalues().minCoeff(), hi = eig.eigenvalues().maxCoeff();
+        const Eigen::VectorXd lambda = symmetric_eigenvalues<dim>(t.lvv);
+        const double lo = lambda.minCoeff(), hi = lambda.maxCoeff();
         if (!(lo > 1e-12 * hi)) {
             char range[80];
             std::snprintf(range, sizeof range, " (eigenvalues from %.3g to %.3g)", lo, hi);
