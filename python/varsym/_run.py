@@ -67,9 +67,8 @@ def _trajectory(path):
 # The options of varsym.run that a model of the models layer takes in-process (varsym.simulate);
 # the others run the command line in-process, through a temporary CSV file.
 _IN_PROCESS = {"scheme", "degree", "steps_per_period", "periods", "time", "steps", "every", "q0",
-               "p0", "v0", "iteration", "max_energy_error"}
-_TOOL_ONLY = {"newton_tol", "newton_max_iter", "predictor", "stats",
-              "checkpoint_every", "checkpoint_seconds"}
+               "p0", "v0", "iteration", "predictor", "max_energy_error"}
+_TOOL_ONLY = {"newton_tol", "newton_max_iter", "stats", "checkpoint_every", "checkpoint_seconds"}
 
 
 def _parameters_of_options(model, options):
@@ -98,6 +97,8 @@ def _run_in_process(model, options):
     parameters = {k: v for k, v in options.items() if k in names}
     rest = {k: v for k, v in options.items() if k not in names}
     m = Model(model, **parameters)
+    if "predictor" in rest:  # the tool's --iteration and --predictor, as one solver name
+        rest["iteration"] = f"{rest.get('iteration', 'automatic')}+{rest.pop('predictor')}"
     if "time" in rest or "steps" in rest:
         if "steps_per_period" in rest or "periods" in rest:
             raise UsageError("give --time and --steps, or --steps-per-period and --periods")

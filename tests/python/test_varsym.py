@@ -37,6 +37,20 @@ def test_kepler_run_follows_the_exact_orbit_and_conserves():
     assert np.ptp(tr["angular_momentum"]) < 1e-12  # a symmetry: conserved to round-off
 
 
+def test_run_takes_the_predictor_in_process_as_the_tool_does():
+    # predictor="forces" runs in-process (iteration "fixed-point+forces"); newton_max_iter (at
+    # its default) sends the same run through the command-line engine: the same steps.
+    opts = dict(scheme="gauss", degree=4, steps_per_period=50, periods=20, eccentricity=0.6,
+                iteration="fixed-point", predictor="forces")
+    here = varsym.run("kepler", **opts)
+    tool = varsym.run("kepler", newton_max_iter=25, **opts)
+    assert np.array_equal(here.q, tool.q) and np.array_equal(here.p, tool.p)
+    # Negative control: the Taylor start takes other steps (round-off apart, not identical).
+    taylor = varsym.run("kepler", **dict(opts, predictor="taylor"))
+    assert not np.array_equal(here.q, taylor.q)
+    assert np.max(np.abs(here.q - taylor.q)) < 1e-9
+
+
 def test_expression_double_pendulum_matches_the_builtin_model():
     # Same scheme and steps: the two differ only by round-off in L's derivatives (the built-in
     # model is differentiated by AD), amplified by the chaotic motion over 1 s.
