@@ -4,7 +4,8 @@
 // the double pendulum (built in: the general engine, fixed d = 2, automatic derivatives) and
 // Kepler (built in: the separable fast path `varsym run --model kepler` takes, and the general
 // engine with automatic derivatives), the expression Kepler by the general engine and by the
-// separable steppers that models::simulate_expression picks for it (expression_separable.hpp).
+// separable steppers that models::simulate_expression picks for it (expression_separable.hpp), at
+// its fixed size 2 (as the models layer runs one to three coordinates) and at run-time size.
 // Simpson (arg 0) and gauss-4 (arg 1); docs/python.md.
 #include <benchmark/benchmark.h>
 
@@ -64,7 +65,11 @@ void kepler_expression(benchmark::State& s) {
     const phase_state<2> x0 = orbit.at(0.0);
     run_steps(s, stepper, phase_state<dynamic>{x0.q, x0.p});
 }
-void kepler_expression_separable(benchmark::State& s) {
+void kepler_expression_separable(benchmark::State& s) { // at d = 2, as simulate_expression runs it
+    with_stepper(member(s), separable_system_of<2>(kepler_l), kepler_h, {},
+                 [&](auto& stepper) { run_steps(s, stepper, orbit.at(0.0)); });
+}
+void kepler_expression_separable_dynamic(benchmark::State& s) { // d known at run time (d > 3)
     const phase_state<2> x0 = orbit.at(0.0);
     with_stepper(member(s), separable_system_of(kepler_l), kepler_h, {}, [&](auto& stepper) {
         run_steps(s, stepper, phase_state<dynamic>{x0.q, x0.p});
@@ -79,3 +84,4 @@ BENCHMARK(kepler_builtin_separable)->Arg(0)->Arg(1);
 BENCHMARK(kepler_builtin_general)->Arg(0)->Arg(1);
 BENCHMARK(kepler_expression)->Arg(0)->Arg(1);
 BENCHMARK(kepler_expression_separable)->Arg(0)->Arg(1);
+BENCHMARK(kepler_expression_separable_dynamic)->Arg(0)->Arg(1);

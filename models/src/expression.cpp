@@ -61,14 +61,29 @@ std::unique_ptr<simulation> simulate_expression(const expression_lagrangian& l,
         return detail::simulate_general(
             general::stepper<expression_lagrangian>(sys, o.h, o.spec, o.newton), x0,
             detail::column_set{balanced, balance}, t0);
-    if (f.zero() && l.separable()) // ½ q̇ᵀ M q̇ − V(q): the paper's steppers and the family's
-        return detail::simulate_family(
-            separable_system_of(l), x0, o,
-            detail::column_set{{"energy"},
-                               [](double, const auto& x, const auto& st, double* out) {
-                                   out[0] = st.system().energy(x);
-                               }},
-            t0);
+    if (f.zero() && l.separable()) { // ½ q̇ᵀ M q̇ − V(q): the paper's steppers and the family's
+        // Fixed-size vectors for one to three coordinates (one angle, a particle in a plane or
+        // in space), as a built-in model has them; sizes known only at run time above three.
+        auto family = [&]<int D>() {
+            return detail::simulate_family(
+                separable_system_of<D>(l), x0, o,
+                detail::column_set{{"energy"},
+                                   [](double, const auto& x, const auto& st, double* out) {
+                                       out[0] = st.system().energy(x);
+                                   }},
+                t0);
+        };
+        switch (l.dimension()) {
+        case 1:
+            return family.template operator()<1>();
+        case 2:
+            return family.template operator()<2>();
+        case 3:
+            return family.template operator()<3>();
+        default:
+            return family.template operator()<dynamic>();
+        }
+    }
     if (f.zero())
         return detail::simulate_general(
             general::stepper<expression_lagrangian>(sys, o.h, o.spec, o.newton), x0,

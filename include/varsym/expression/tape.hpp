@@ -59,10 +59,13 @@ class tape {
 
     /// Evaluates with these inputs (inputs() of them); output(k) reads the k-th result. Not for
     /// concurrent use of one tape (its registers are its own): copy it per thread.
-    void run(std::span<const double> in) const {
+    void run(std::span<const double> in) const { run_prefix(in.data(), inputs_); }
+    /// Evaluates with inputs 0 … n − 1 from `in` (n ≤ inputs()); the inputs past n keep the
+    /// values the last run gave them (0 for a tape never run with them).
+    void run_prefix(const double* in, int n) const {
         double* r = registers_.data();
-        for (int k = 0; k < inputs_; ++k)
-            r[k] = in[static_cast<std::size_t>(k)];
+        for (int k = 0; k < n; ++k)
+            r[k] = in[k];
         for (const instruction& i : code_) {
             const double a = r[i.a];
             switch (i.kind) {
@@ -95,6 +98,9 @@ class tape {
                 break;
             case op::cos:
                 r[i.dst] = std::cos(a);
+                break;
+            case op::sqrt: // distances: in most potentials
+                r[i.dst] = std::sqrt(a);
                 break;
             default:
                 r[i.dst] = apply(i.kind, a);

@@ -101,6 +101,23 @@ class expression_lagrangian {
             r(i) = -potential_gradient_.output(static_cast<std::size_t>(i));
         return r;
     }
+    /// ∇V(q) into g[0 … d) and ∇²V(q) into h[0 … d²) (column-major), q[0 … d): the separable
+    /// steppers' hot path, no check and no allocation. V's own code reads q̇ and t as 0, and is
+    /// only ever run here, so that only the positions are loaded.
+    void potential_gradient(const double* q, double* g) const {
+        const int d = dimension();
+        potential_gradient_.run_prefix(q, d);
+        for (int i = 0; i < d; ++i)
+            g[i] = -potential_gradient_.output(static_cast<std::size_t>(i));
+    }
+    void potential_hessian(const double* q, double* h) const {
+        const int d = dimension();
+        potential_hessian_.run_prefix(q, d);
+        std::size_t k = 0;
+        for (int i = 0; i < d; ++i)
+            for (int j = i; j < d; ++j)
+                h[i + j * d] = h[j + i * d] = -potential_hessian_.output(k++);
+    }
     [[nodiscard]] mat<dynamic> potential_hessian(const vec<dynamic>& q) const {
         const int d = dimension();
         potential_hessian_.run(load_position(q));
