@@ -271,9 +271,10 @@ inline int graph::differentiate(int f, int k) {
     case op::mul:
         r = add(mul(d(n.a), n.b), mul(n.a, d(n.b)));
         break;
-    case op::div:
-        r = div(sub(d(n.a), mul(f, d(n.b))), n.b);
-        break; // (a' − (a/b) b')/b
+    case op::div: // (a' − (a/b) b')/b; with a' = 0, −((a/b)/b) b': one quotient for every k
+        r = is(d(n.a), 0.0) ? neg(mul(div(f, n.b), d(n.b)))
+                            : div(sub(d(n.a), mul(f, d(n.b))), n.b);
+        break;
     case op::neg:
         r = neg(d(n.a));
         break;
@@ -301,8 +302,8 @@ inline int graph::differentiate(int f, int k) {
     case op::log:
         r = div(d(n.a), n.a);
         break;
-    case op::sqrt:
-        r = div(d(n.a), mul(constant(2.0), f));
+    case op::sqrt: // a' (0.5/√a): one quotient for every k
+        r = mul(d(n.a), div(constant(0.5), f));
         break;
     case op::sinh:
         r = mul(call(op::cosh, n.a), d(n.a));
