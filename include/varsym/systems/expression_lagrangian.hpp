@@ -94,12 +94,9 @@ class expression_lagrangian {
         return -value_.output(0);
     }
     [[nodiscard]] vec<dynamic> potential_gradient(const vec<dynamic>& q) const {
-        const int d = dimension();
-        potential_gradient_.run(load_position(q));
-        vec<dynamic> r(d);
-        for (int i = 0; i < d; ++i)
-            r(i) = -potential_gradient_.output(static_cast<std::size_t>(i));
-        return r;
+        vec<dynamic> g(dimension());
+        potential_gradient(load_position(q).data(), g.data());
+        return g;
     }
     /// ∇V(q) into g[0 … d) and ∇²V(q) into h[0 … d²) (column-major), q[0 … d): the separable
     /// steppers' hot path, no check and no allocation. V's own code reads q̇ and t as 0, and is
@@ -119,13 +116,8 @@ class expression_lagrangian {
                 h[i + j * d] = h[j + i * d] = -potential_hessian_.output(k++);
     }
     [[nodiscard]] mat<dynamic> potential_hessian(const vec<dynamic>& q) const {
-        const int d = dimension();
-        potential_hessian_.run(load_position(q));
-        mat<dynamic> h(d, d);
-        std::size_t k = 0;
-        for (int i = 0; i < d; ++i)
-            for (int j = i; j < d; ++j)
-                h(i, j) = h(j, i) = -potential_hessian_.output(k++);
+        mat<dynamic> h(dimension(), dimension());
+        potential_hessian(load_position(q).data(), h.data());
         return h;
     }
     /// The length of the compiled code of L and all its derivatives (instructions).
