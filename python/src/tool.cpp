@@ -1,7 +1,8 @@
 // python/src/tool.cpp: varsym._tool, the command line run in-process: for varsym.call (any of
 // the tool's commands) and the options of `varsym run` that the models layer's simulation does
-// not take (Newton's tolerance and limit, statistics, checkpoints). A module of its own, so that varsym._core builds without the tool's engine
-// (pip builds _tool only when VARSYM_PIP_TOOL=1).
+// not take (Newton's tolerance and limit, statistics, checkpoints). A module of its own, so
+// that varsym._core builds without the tool's engine (pip builds _tool only when
+// VARSYM_PIP_TOOL=1).
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
