@@ -9,7 +9,7 @@
 // linear drift. Bound: each step adds a round-off error of a few ulps of E, independent from
 // step to step, so after n steps a random walk of about √n·ε; the tests allow 10 ε √n (9.8e-13
 // at n = 2·10⁵). Measured with the tables as built (tableau::kinetic, wphi with their low parts):
-// |trend| ≤ 6.5e-13 for every member (lobatto-5, N = 30, the largest), most below 1e-13; with
+// |trend| ≤ 5.5e-13 for every member (gauss-3, N = 60, the largest), most below 1.5e-13; with
 // the low parts dropped, gauss-6 and lobatto-6 at N = 20 drift by +6.1e-12 and +6.3e-12, as the
 // textbook form of the equations did (+6.3e-12 and +6.6e-12; docs/design.md, "Round-off").
 #include <gtest/gtest.h>

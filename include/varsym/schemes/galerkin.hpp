@@ -117,7 +117,7 @@ class stepper {
             flight_[l] = tab_.flight.hi(0, l);
             flight_lo_[l] = tab_.flight.lo(0, l);
         }
-        for (auto* m : {&xm_, &mx_, &gu_, &gl_, &previous_})
+        for (auto* m : {&xm_, &mx_, &gu_, &previous_})
             m->setZero(d, s);
         grads_.setZero(d, r);
         previous_grads_.setZero(d, tab_.force_extrapolation.rows());
@@ -303,11 +303,10 @@ class stepper {
     /// that no rounded h² or h c_l biases every step alike.
     template <class Out>
     void closed_form(Out&& out, bool exact) {
-        detail::times_transpose(gu_, grads_, sweep_t_);
-        if (exact) {
-            detail::times_transpose(gl_, grads_, sweep_lo_t_);
-            gu_ += gl_;
-        }
+        if (exact)
+            detail::times_transpose_compensated(gu_, grads_, sweep_t_, sweep_lo_t_);
+        else
+            detail::times_transpose(gu_, grads_, sweep_t_);
         apply_mass<true>(out, h_ * (h_ * gu_));
         acc_ = h_ * vel_; // acc_ is free here: h v
         for (int l = 0; l < s_; ++l) {
@@ -368,7 +367,7 @@ class stepper {
     std::array<bool, max_points> at_start_{}, at_end_{};
     std::array<double, max_points> weight_{}, weight_lo_{};
     std::array<double, max_degree> control_{}, flight_{}, flight_lo_{};
-    stage_matrix xm_, mx_, gu_, gl_, previous_;
+    stage_matrix xm_, mx_, gu_, previous_;
     point_matrix grads_;
     kept_matrix previous_grads_; ///< ∇V at the last step's points (and ∇V(q_j), Gauss)
     std::vector<mat<dim>> hess_;

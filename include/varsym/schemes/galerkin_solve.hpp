@@ -168,17 +168,12 @@ void stepper<System>::residual(const phase_state<dim>& x, bool hessians) {
     gradients(x, hessians);
     Eigen::Map<stage_matrix> rm(res_.data(), d, s);
     apply_mass<false>(mx_, xm_);
-    // Products as column axpys (detail::times_transpose): blocks of at most max_degree + 1
-    // columns, where Eigen's blocked or lazy products cost more than the arithmetic.
-    // The low parts' products are summed apart and added once (each low term added to the
-    // running sum of the high ones would mostly be rounded away).
-    detail::times_transpose(rm, mx_, a_);
-    detail::times_transpose(gu_, mx_, a_lo_);
-    rm += gu_;
+    // The tables' products summed with compensation, their low parts' products added once
+    // (detail::times_transpose_compensated): A's and U's rows cancel against increments and
+    // gradients that change little across a step, and a plain sum's rounding tilted the energy.
+    detail::times_transpose_compensated(rm, mx_, a_, a_lo_);
     rm *= hinv_;
-    detail::times_transpose(gu_, grads_, u_);
-    detail::times_transpose(mx_, grads_, u_lo_);
-    gu_ += mx_;
+    detail::times_transpose_compensated(gu_, grads_, u_, u_lo_);
     rm.noalias() -= h_ * gu_;
     rm.col(0) += x.p;
 }

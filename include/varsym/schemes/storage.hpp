@@ -51,6 +51,32 @@ void times_transpose(Out&& out, const In& in, const C& c) {
     }
 }
 
+/// out = in (C + C_lo)ᵀ for a table held as double C plus the low part C_lo that rounding left
+/// out: each entry of out is summed with Neumaier's compensation (two_sum), the low part's
+/// products and the carries added once at the end. For the family's tables (the closing sweep's
+/// K, the residual's A and U), whose rows have entries of both signs that largely cancel against
+/// increments and gradients changing little across a step: a plain sum's rounding then depends
+/// smoothly on the state, does not average out over a run, and tilts the energy linearly
+/// (docs/performance.md, "Round-off over long runs", has what compensating it bought).
+template <class Out, class In, class C>
+void times_transpose_compensated(Out&& out, const In& in, const C& c, const C& c_lo) {
+    const Eigen::Index d = in.rows();
+    const double* x = in.data();
+    for (Eigen::Index i = 0; i < c.rows(); ++i) {
+        double* o = out.data() + i * d;
+        for (Eigen::Index a = 0; a < d; ++a) {
+            double sum = 0.0, carry = 0.0;
+            for (Eigen::Index l = 0; l < c.cols(); ++l) {
+                const double t = c(i, l) * x[l * d + a];
+                const double next = sum + t, v = next - sum;
+                carry += ((sum - (next - v)) + (t - v)) + c_lo(i, l) * x[l * d + a];
+                sum = next;
+            }
+            o[a] = sum + carry;
+        }
+    }
+}
+
 /// out = base + in c (a combination of in's columns), as above.
 template <class Out, class Base, class In, class C>
 void add_combination(Out&& out, const Base& base, const In& in, const C& c) {
