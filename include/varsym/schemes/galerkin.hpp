@@ -318,6 +318,9 @@ class stepper {
     [[nodiscard]] Eigen::Index kept_grads() const { return sys_.dimension() * r_; }
     /// ∇V at the quadrature points that move with the increments, into grads_.
     void gradients(const phase_state<dim>& x, bool hessians);
+    /// One sweep of the fixed point (not the closing one) at d = 1: xm_ updated in place; returns
+    /// the update's largest entry (NaN if not finite) and sets `size` to xm_'s.
+    double scalar_sweep(const phase_state<dim>& x, double& size);
 
     /// Solves the step's equations by `kind` from the predictor. A simplified Newton whose kept
     /// Jacobian fails is refreshed at q_j and restarted once; one that contracted slower than

@@ -61,7 +61,16 @@ newton_report stepper<System>::iterate(const phase_state<dim>& x, iteration_kind
     while (true) {
         Eigen::Map<stage_matrix> dm(delta_.data(), d, s);
         if (monitor.exhausted()) return unsolved();
-        if (fixed) {
+        double step = 0.0, size = 0.0;
+        bool swept = false;
+        if constexpr (dim == 1) {
+            if (fixed && !closing) {
+                step = scalar_sweep(x, size);
+                swept = true;
+            }
+        }
+        if (swept) {
+        } else if (fixed) {
             gradients(x, false);
             closed_form(mx_, closing);
             dm = xm_ - mx_;
@@ -75,14 +84,16 @@ newton_report stepper<System>::iterate(const phase_state<dim>& x, iteration_kind
                 linear_solve();
             }
         }
-        const double step = delta_.template lpNorm<Eigen::Infinity>();
+        if (!swept) step = delta_.template lpNorm<Eigen::Infinity>();
         rep.iterations = monitor.iterations() + 1;
         if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
-        if (fixed)
-            xm_ = mx_;
-        else
-            xm_ -= dm;
-        const double size = xm_.template lpNorm<Eigen::Infinity>();
+        if (!swept) {
+            if (fixed)
+                xm_ = mx_;
+            else
+                xm_ -= dm;
+            size = xm_.template lpNorm<Eigen::Infinity>();
+        }
         const bool done = monitor.converged(step, size);
         if (fixed) {
             // Linear convergence at rate ρ = step/last leaves ρ/(1 − ρ) step to go. The closing
@@ -160,6 +171,55 @@ void stepper<System>::gradients(const phase_state<dim>& x, bool hessians) {
         grads_.col(k) = v.gradient(qk_);
         if (hessians) hess_[k] = v.hessian(qk_);
     }
+}
+
+template <separable System>
+double stepper<System>::scalar_sweep(const phase_state<dim>& x, double& size) {
+    // gradients(x, false), closed_form(mx_, false) and xm_ = mx_ for d = 1 on raw entries, in
+    // the same order of operations (so the same roundings), with the sizes, the step and the
+    // tables' strides in locals: the writes through raw pointers would otherwise make the
+    // compiler reload every member at every entry.
+    const auto& v = sys_.potential();
+    const int s = s_, r = r_;
+    const double h = h_, q = x.q(0);
+    const double* basis = v_.data();
+    const Eigen::Index basis_stride = v_.outerStride();
+    const double* sweep = sweep_t_.data();
+    const Eigen::Index sweep_stride = sweep_t_.outerStride();
+    double* g = grads_.data();
+    double* xs = xm_.data();
+    for (int k = 0; k < r; ++k)
+        g[k] = at_start_[k] ? grad_j_(0) : 0.0;
+    for (int a = 0; a < n_active_; ++a) {
+        const int k = active_[a];
+        const double* column = basis + k * basis_stride;
+        double point = q;
+        for (int l = 0; l < s; ++l)
+            point += column[l] * xs[l];
+        qk_(0) = point;
+        g[k] = v.gradient(qk_)(0);
+    }
+    double minv = 0.0;
+    if constexpr (scalar_mass<System>)
+        minv = sys_.inverse_mass();
+    else
+        minv = diagonal_mass_ ? inverse_mass_diagonal_(0) : sys_.inverse_mass()(0, 0);
+    const double flight = h * vel_(0);
+    acc_(0) = flight;
+    double step = 0.0, largest = 0.0;
+    bool finite = true;
+    for (int l = 0; l < s; ++l) {
+        double sum = sweep[l] * g[0];
+        for (int k = 1; k < r; ++k)
+            sum += sweep[l + k * sweep_stride] * g[k];
+        const double out = minv * (h * (h * sum)) + flight_[l] * flight;
+        finite = finite && std::isfinite(out);
+        step = std::max(step, std::abs(xs[l] - out));
+        largest = std::max(largest, std::abs(out));
+        xs[l] = out;
+    }
+    size = largest;
+    return finite ? step : std::numeric_limits<double>::quiet_NaN();
 }
 
 template <separable System>
