@@ -69,22 +69,23 @@ newton_report stepper<System>::iterate(const phase_state<dim>& x, iteration_kind
                 swept = true;
             }
         }
-        if (swept) {
-        } else if (fixed) {
-            gradients(x, false);
-            closed_form(mx_, closing);
-            dm = xm_ - mx_;
-        } else {
-            residual(x, newton);
-            rep.residual = res_.template lpNorm<Eigen::Infinity>();
-            if (!newton) {
-                delta_.noalias() = jinv_ * res_;
+        if (!swept) {
+            if (fixed) {
+                gradients(x, false);
+                closed_form(mx_, closing);
+                dm = xm_ - mx_;
             } else {
-                jacobian();
-                linear_solve();
+                residual(x, newton);
+                rep.residual = res_.template lpNorm<Eigen::Infinity>();
+                if (!newton) {
+                    delta_.noalias() = jinv_ * res_;
+                } else {
+                    jacobian();
+                    linear_solve();
+                }
             }
+            step = delta_.template lpNorm<Eigen::Infinity>();
         }
-        if (!swept) step = delta_.template lpNorm<Eigen::Infinity>();
         rep.iterations = monitor.iterations() + 1;
         if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
         if (!swept) {

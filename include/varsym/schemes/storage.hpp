@@ -54,11 +54,12 @@ void times_transpose(Out&& out, const In& in, const C& c) {
 /// out = in (C + C_lo)ᵀ for a table held as double C plus the low part C_lo that rounding left
 /// out: each entry of out is summed with Neumaier's compensation (two_sum), the low part's
 /// products and the carries added once at the end, so that the sum of the products (each
-/// rounded once) is correctly rounded (tests/schemes/test_storage.cpp). For the family's tables (the closing sweep's
-/// K, the residual's A and U), whose rows have entries of both signs that largely cancel against
-/// increments and gradients changing little across a step: a plain sum's rounding then depends
-/// smoothly on the state, does not average out over a run, and tilts the energy linearly
-/// (docs/performance.md, "Round-off over long runs", has what compensating it bought).
+/// rounded once) is correctly rounded (tests/schemes/test_storage.cpp). For the family's tables
+/// (the closing sweep's K, the residual's A and U), whose rows have entries of both signs that
+/// largely cancel against increments and gradients changing little across a step: a plain sum's
+/// rounding then depends smoothly on the state, does not average out over a run, and tilts the
+/// energy linearly (docs/performance.md, "Where the drift comes from", has what compensating it
+/// bought).
 template <class Out, class In, class C>
 void times_transpose_compensated(Out&& out, const In& in, const C& c, const C& c_lo) {
     const Eigen::Index d = in.rows();
