@@ -206,7 +206,6 @@ double stepper<System>::scalar_sweep(const phase_state<dim>& x, double& size) {
     else
         minv = diagonal_mass_ ? inverse_mass_diagonal_(0) : sys_.inverse_mass()(0, 0);
     const double flight = h * vel_(0);
-    acc_(0) = flight;
     double step = 0.0, largest = 0.0;
     bool finite = true;
     for (int l = 0; l < s; ++l) {
