@@ -299,7 +299,8 @@ class stepper {
 
     /// out = h² M⁻¹ G K + h v cᵀ for the gradients G in grads_ and v = M⁻¹ p_j in vel_: the
     /// increments whose equations the gradients G satisfy (tableau::sweep, flight); with
-    /// `exact`, K and c as double + low part. h multiplies the values, not the constants, so
+    /// `exact`, K and c as double + low part and G K summed with compensation
+    /// (detail::times_transpose_compensated). h multiplies the values, not the constants, so
     /// that no rounded h² or h c_l biases every step alike.
     template <class Out>
     void closed_form(Out&& out, bool exact) {
