@@ -97,8 +97,9 @@ inline double integer_power(double x, int n) {
 }
 
 /// The expression graph. Builders return node ids; they fold constants and apply the identities
-/// x + 0 = x, x·1 = x, x·0 = 0, x − x = 0, x/1 = x, −(−x) = x, x^1 = x, x^2 = x·x, and order the
-/// operands of + and · so that a + b and b + a are one node.
+/// x + 0 = x, x·1 = x, x·0 = 0, x − x = 0, x/1 = x, −(−x) = x, x^1 = x, x^2 = x·x,
+/// (c·u)·(c'/v) = u·((c c')/v), and order the operands of + and · so that a + b and b + a are
+/// one node.
 class graph {
   public:
     [[nodiscard]] const node& operator[](int id) const {
@@ -148,6 +149,17 @@ class graph {
         if (a == b) return square(a);
         if (kind(a) == op::neg) return neg(mul((*this)[a].a, b));
         if (kind(b) == op::neg) return neg(mul(a, (*this)[b].a));
+        // (c·u)·(c'/v) = u·((c c')/v): the chain rule's constants meet (d√(x² + y²)/dx =
+        // 2x · (0.5/√…) = x · (1/√…), one quotient shared by every coordinate).
+        const auto scaled = [&](int x) { return kind(x) == op::mul && is_constant((*this)[x].a); };
+        const auto reciprocal = [&](int x) {
+            return kind(x) == op::div && is_constant((*this)[x].a);
+        };
+        if (scaled(b) && reciprocal(a)) std::swap(a, b);
+        if (scaled(a) && reciprocal(b)) {
+            const node u = (*this)[a], v = (*this)[b]; // copies: building may reallocate
+            return mul(u.b, div(constant(value(u.a) * value(v.a)), v.b));
+        }
         return make({op::mul, std::min(a, b), std::max(a, b), 0.0});
     }
     int div(int a, int b) {

@@ -3,6 +3,7 @@
 // by a loop over the instructions. No allocation and no call back into the graph per evaluation.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -51,7 +52,15 @@ class tape {
         for (const int o : outputs)
             outputs_.push_back(reg[static_cast<std::size_t>(o)]);
         inputs_ = inputs;
+        lanes_.assign(registers_.size() * lanes, 0.0);
+        for (std::size_t k = 0; k < registers_.size(); ++k)
+            std::fill_n(lanes_.begin() + static_cast<std::ptrdiff_t>(k * lanes), lanes,
+                        registers_[k]);
     }
+
+    /// How many input sets run_batch evaluates per pass over the instructions (measured on the
+    /// family's Kepler steps: 4 beat 2 and 8, docs/python.md).
+    static constexpr int lanes = 4;
 
     [[nodiscard]] int inputs() const { return inputs_; }
     [[nodiscard]] std::size_t outputs() const { return outputs_.size(); }
@@ -108,6 +117,20 @@ class tape {
             }
         }
     }
+    /// Evaluates `count` input sets, set j's inputs 0 … n − 1 at in[j · n + i] (n ≤ inputs();
+    /// those past n are 0), and writes set j's outputs to out[j · outputs() + k]. Each set goes
+    /// through the same operations in the same order as in run_prefix, so the results are those
+    /// of run_prefix bit for bit; the dispatch on the instruction is paid once per `lanes` sets,
+    /// whose operations run side by side (the family stepper's points of a sweep).
+    void run_batch(const double* in, int n, int count, double* out) const {
+        for (int first = 0; first < count;) {
+            const int sets = count - first;
+            if (sets >= 3) // a last chunk of 3 repeats a set; one of 1 or 2 takes two lanes
+                first += run_chunk<lanes>(in, n, first, std::min(lanes, sets), out);
+            else
+                first += run_chunk<2>(in, n, first, sets, out);
+        }
+    }
     [[nodiscard]] double output(std::size_t k) const {
         return registers_[static_cast<std::size_t>(outputs_[k])];
     }
@@ -117,9 +140,79 @@ class tape {
         op kind;
         int dst, a, b; ///< registers (b: the exponent of powi)
     };
+
+    /// Sets first … first + sets − 1 (sets ≤ width) through the code side by side (an unused
+    /// lane repeats the last set), their outputs into out; returns sets.
+    template <int width>
+    int run_chunk(const double* in, int n, int first, int sets, double* out) const {
+        double* r = lanes_.data();
+        for (int k = 0; k < n; ++k)
+            for (int j = 0; j < width; ++j)
+                r[k * lanes + j] = in[(first + std::min(j, sets - 1)) * n + k];
+        for (const instruction& i : code_)
+            run_lanes<width>(i, r);
+        const std::size_t m = outputs_.size();
+        for (int j = 0; j < sets; ++j)
+            for (std::size_t k = 0; k < m; ++k)
+                out[static_cast<std::size_t>(first + j) * m + k] =
+                    r[static_cast<std::size_t>(outputs_[k]) * lanes + static_cast<std::size_t>(j)];
+        return sets;
+    }
+
+    /// One instruction on the first `width` lanes. dst is never an operand: the pointers do not
+    /// alias, which lets the loops compile to packed operations.
+    template <int width>
+    [[gnu::always_inline]] static void run_lanes(const instruction& i, double* r) {
+        double* __restrict o = r + i.dst * lanes;
+        const double* __restrict a = r + i.a * lanes;
+        const auto second = [&] { return r + i.b * lanes; }; // the binary operations' b
+        switch (i.kind) {
+        case op::add:
+            for (int j = 0; j < width; ++j)
+                o[j] = a[j] + second()[j];
+            break;
+        case op::sub:
+            for (int j = 0; j < width; ++j)
+                o[j] = a[j] - second()[j];
+            break;
+        case op::mul:
+            for (int j = 0; j < width; ++j)
+                o[j] = a[j] * second()[j];
+            break;
+        case op::div:
+            for (int j = 0; j < width; ++j)
+                o[j] = a[j] / second()[j];
+            break;
+        case op::pow:
+            for (int j = 0; j < width; ++j)
+                o[j] = std::pow(a[j], second()[j]);
+            break;
+        case op::square:
+            for (int j = 0; j < width; ++j)
+                o[j] = a[j] * a[j];
+            break;
+        case op::neg:
+            for (int j = 0; j < width; ++j)
+                o[j] = -a[j];
+            break;
+        case op::sqrt:
+            for (int j = 0; j < width; ++j)
+                o[j] = std::sqrt(a[j]);
+            break;
+        case op::powi:
+            for (int j = 0; j < width; ++j)
+                o[j] = integer_power(a[j], i.b);
+            break;
+        default:
+            for (int j = 0; j < width; ++j)
+                o[j] = apply(i.kind, a[j]);
+            break;
+        }
+    }
+
     std::vector<instruction> code_;
     std::vector<int> outputs_;
-    mutable std::vector<double> registers_;
+    mutable std::vector<double> registers_, lanes_; ///< lanes_: register k of set j at k·lanes + j
     int inputs_ = 0;
 };
 

@@ -119,7 +119,8 @@ class stepper {
         }
         for (auto* m : {&xm_, &mx_, &gu_, &previous_})
             m->setZero(d, s);
-        grads_.setZero(d, r);
+        for (auto* m : {&grads_, &points_, &batch_})
+            m->setZero(d, r);
         previous_grads_.setZero(d, tab_.force_extrapolation.rows());
         hess_.assign(static_cast<std::size_t>(r), mat<dim>::Zero(d, d));
         curvature_.setZero(r);
@@ -221,20 +222,9 @@ class stepper {
         sum_.add_q(x, xm_.col(s - 1));
         // Σ_k w_k ∇V(q_k) with w_k as double + low part, then times −h.
         dp_.setZero();
-        bool has_end = false;
-        for (int k = 0; k < r_; ++k) {
-            auto g = previous_grads_.col(k);
-            if (at_end_[k]) {
-                g = v.gradient(x.q); // ∇V(q_{j+1}), the next step's ∇V(q_j)
-                has_end = true;
-            } else if (at_start_[k]) {
-                g = grad_j_;
-            } else {
-                detail::add_combination(qk_, q_j_, xm_, v_.col(k));
-                g = v.gradient(qk_);
-            }
-            add_weighted(k, g);
-        }
+        const bool has_end = converged_gradients(x);
+        for (int k = 0; k < r_; ++k)
+            add_weighted(k, previous_grads_.col(k));
         dp_ *= -h;
         if (has_end) grad_j_ = previous_grads_.col(r_ - 1);
         cache_valid_ = has_end;
@@ -319,6 +309,9 @@ class stepper {
     [[nodiscard]] Eigen::Index kept_grads() const { return sys_.dimension() * r_; }
     /// ∇V at the quadrature points that move with the increments, into grads_.
     void gradients(const phase_state<dim>& x, bool hessians);
+    /// ∇V at every quadrature point of the step just solved (q_j in q_j_, q_{j+1} in x), into
+    /// previous_grads_; whether a point is at c = 1 (its ∇V is the next step's ∇V(q_j)).
+    bool converged_gradients(const phase_state<dim>& x);
     /// One sweep of the fixed point (not the closing one) at d = 1: xm_ updated in place; returns
     /// the update's largest entry (NaN if not finite) and sets `size` to xm_'s.
     double scalar_sweep(const phase_state<dim>& x, double& size);
@@ -372,7 +365,7 @@ class stepper {
     std::array<double, max_points> weight_{}, weight_lo_{};
     std::array<double, max_degree> control_{}, flight_{}, flight_lo_{};
     stage_matrix xm_, mx_, gu_, previous_;
-    point_matrix grads_;
+    point_matrix grads_, points_, batch_; ///< points_, batch_: a batch_potential's q and ∇V
     kept_matrix previous_grads_; ///< ∇V at the last step's points (and ∇V(q_j), Gauss)
     std::vector<mat<dim>> hess_;
     detail::bounded_vector<max_points> curvature_;

@@ -166,12 +166,51 @@ void stepper<System>::gradients(const phase_state<dim>& x, bool hessians) {
         else
             grads_.col(k).setZero();
     }
+    if constexpr (batch_potential<std::remove_cvref_t<decltype(v)>>) {
+        if (!hessians) { // the points first, then ∇V at all of them in one call
+            for (int a = 0; a < n_active_; ++a)
+                detail::add_combination(points_.col(a), x.q, xm_, v_.col(active_[a]));
+            v.gradients(points_.data(), n_active_, batch_.data());
+            for (int a = 0; a < n_active_; ++a)
+                grads_.col(active_[a]) = batch_.col(a);
+            return;
+        }
+    }
     for (int a = 0; a < n_active_; ++a) {
         const int k = active_[a];
         detail::add_combination(qk_, x.q, xm_, v_.col(k));
         grads_.col(k) = v.gradient(qk_);
         if (hessians) hess_[k] = v.hessian(qk_);
     }
+}
+
+template <separable System>
+bool stepper<System>::converged_gradients(const phase_state<dim>& x) {
+    const auto& v = sys_.potential();
+    bool has_end = false;
+    int n = 0; // points evaluated by a batch_potential, in points_'s first columns
+    for (int k = 0; k < r_; ++k) {
+        auto g = previous_grads_.col(k);
+        if (at_end_[k]) {
+            qk_ = x.q; // ∇V(q_{j+1}), the next step's ∇V(q_j)
+            has_end = true;
+        } else if (at_start_[k]) {
+            g = grad_j_;
+            continue;
+        } else {
+            detail::add_combination(qk_, q_j_, xm_, v_.col(k));
+        }
+        if constexpr (batch_potential<std::remove_cvref_t<decltype(v)>>)
+            points_.col(n++) = qk_;
+        else
+            g = v.gradient(qk_);
+    }
+    if constexpr (batch_potential<std::remove_cvref_t<decltype(v)>>) {
+        v.gradients(points_.data(), n, batch_.data());
+        for (int k = 0, a = 0; k < r_; ++k)
+            if (!at_start_[k]) previous_grads_.col(k) = batch_.col(a++);
+    }
+    return has_end;
 }
 
 template <separable System>
@@ -197,8 +236,17 @@ double stepper<System>::scalar_sweep(const phase_state<dim>& x, double& size) {
         double point = q;
         for (int l = 0; l < s; ++l)
             point += column[l] * xs[l];
-        qk_(0) = point;
-        g[k] = v.gradient(qk_)(0);
+        if constexpr (batch_potential<std::remove_cvref_t<decltype(v)>>) {
+            points_(0, a) = point;
+        } else {
+            qk_(0) = point;
+            g[k] = v.gradient(qk_)(0);
+        }
+    }
+    if constexpr (batch_potential<std::remove_cvref_t<decltype(v)>>) {
+        v.gradients(points_.data(), n_active_, batch_.data());
+        for (int a = 0; a < n_active_; ++a)
+            g[active_[a]] = batch_(0, a);
     }
     double minv = 0.0;
     if constexpr (scalar_mass<System>)

@@ -34,6 +34,11 @@ class expression_potential_of {
         l_.potential_gradient(q.data(), g.data());
         return g;
     }
+    /// ∇V at `count` points (d × count, column-major) into g (the same layout), in one pass
+    /// over the compiled code: the family stepper's points of a sweep (separable.hpp).
+    void gradients(const double* q, int count, double* g) const {
+        l_.potential_gradients(q, count, g);
+    }
     [[nodiscard]] mat<D> hessian(const vec<D>& q) const {
         mat<D> h(q.size(), q.size());
         l_.potential_hessian(q.data(), h.data());

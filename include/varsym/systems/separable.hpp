@@ -17,6 +17,15 @@ concept potential = requires(const P& v, const vec<D>& q) {
     { v.hessian(q) } -> std::convertible_to<mat<D>>;
 };
 
+/// Optional on a potential: `gradients(q, count, g)`, ∇V at `count` points at once (q and g
+/// d × count, column-major), for a potential whose cost per call is mostly overhead (an
+/// interpreted expression, expression_separable.hpp). The family stepper then evaluates a
+/// sweep's points in one call. It must give gradient()'s values.
+template <class P>
+concept batch_potential = requires(const P& v, const double* q, int count, double* g) {
+    v.gradients(q, count, g);
+};
+
 /// The protocol of a separable system L = ½ q̇ᵀ M q̇ − V(q), which the Simpson, Newmark and family
 /// steppers take: `dim` (a size ≥ 1, or `dynamic` when d is known only at run time),
 /// `dimension()`, a constant mass M and its inverse (a matrix, or one number for M = m I), the
