@@ -2,6 +2,8 @@
 // separable system, M x + c ∇V(x) = b, solved by Newton with Jacobian M + c ∇²V(x).
 #pragma once
 
+#include <type_traits>
+
 #include "varsym/solvers/newton.hpp"
 #include "varsym/systems/separable.hpp"
 
@@ -52,12 +54,20 @@ newton_report solve_stage_increment(const System& sys, double c, const vec<Syste
             delta,
             [&](const vec<D>& y, vec<D>& res, mat<D>& jac) {
                 const vec<D> x = q + y;
-                res.noalias() = m * y + c * v.gradient(x) - r;
+                vec<D> g;
+                mat<D> hessian;
+                if constexpr (joint_potential<std::remove_cvref_t<decltype(v)>, D>) {
+                    v.gradient_and_hessian(x, g, hessian);
+                } else {
+                    g = v.gradient(x);
+                    hessian = v.hessian(x);
+                }
+                res.noalias() = m * y + c * g - r;
                 if constexpr (scalar_mass<System>) {
-                    jac.noalias() = c * v.hessian(x);
+                    jac.noalias() = c * hessian;
                     jac.diagonal().array() += m;
                 } else {
-                    jac.noalias() = m + c * v.hessian(x);
+                    jac.noalias() = m + c * hessian;
                 }
             },
             local);

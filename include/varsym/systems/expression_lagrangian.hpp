@@ -121,6 +121,18 @@ class expression_lagrangian {
             for (int j = i; j < d; ++j)
                 h[i + j * d] = h[j + i * d] = potential_hessian_.output(k++);
     }
+    /// ∇V(q) into g and ∇²V(q) into h (as above) by one code, their common terms once: the same
+    /// values as potential_gradient's and potential_hessian's, bit for bit.
+    void potential_gradient_and_hessian(const double* q, double* g, double* h) const {
+        const int d = dimension();
+        potential_derivatives_.run_prefix(q, d);
+        std::size_t k = 0;
+        for (int i = 0; i < d; ++i)
+            g[i] = potential_derivatives_.output(k++);
+        for (int i = 0; i < d; ++i)
+            for (int j = i; j < d; ++j)
+                h[i + j * d] = h[j + i * d] = potential_derivatives_.output(k++);
+    }
     [[nodiscard]] mat<dynamic> potential_hessian(const vec<dynamic>& q) const {
         mat<dynamic> h(dimension(), dimension());
         potential_hessian(load_position(q).data(), h.data());
@@ -207,6 +219,8 @@ class expression_lagrangian {
             hess.push_back(g.neg(*i));
         potential_gradient_ = expr::tape(g, grad, vars_.inputs());
         potential_hessian_ = expr::tape(g, hess, vars_.inputs());
+        grad.insert(grad.end(), hess.begin(), hess.end());
+        potential_derivatives_ = expr::tape(g, grad, vars_.inputs());
         separable_ = true;
     }
 
@@ -229,7 +243,8 @@ class expression_lagrangian {
 
     std::string text_;
     expr::variables vars_;
-    expr::tape value_, gradient_, all_, time_rate_, potential_gradient_, potential_hessian_;
+    expr::tape value_, gradient_, all_, time_rate_, potential_gradient_, potential_hessian_,
+        potential_derivatives_;
     mutable std::vector<double> input_, position_input_;
     bool time_dependent_ = false, separable_ = false;
     mat<dynamic> mass_;

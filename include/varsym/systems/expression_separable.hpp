@@ -39,6 +39,12 @@ class expression_potential_of {
     void gradients(const double* q, int count, double* g) const {
         l_.potential_gradients(q, count, g);
     }
+    /// ∇V and ∇²V at q by one code (Simpson's and Newmark's Newton iterations, separable.hpp).
+    void gradient_and_hessian(const vec<D>& q, vec<D>& g, mat<D>& h) const {
+        g.resize(q.size());
+        h.resize(q.size(), q.size());
+        l_.potential_gradient_and_hessian(q.data(), g.data(), h.data());
+    }
     [[nodiscard]] mat<D> hessian(const vec<D>& q) const {
         mat<D> h(q.size(), q.size());
         l_.potential_hessian(q.data(), h.data());

@@ -26,6 +26,14 @@ concept batch_potential = requires(const P& v, const double* q, int count, doubl
     v.gradients(q, count, g);
 };
 
+/// Optional on a potential: `gradient_and_hessian(q, g, h)`, ∇V and ∇²V at one point in one
+/// evaluation (their common subexpressions once), for the Newton iterations of Simpson's and
+/// Newmark's stage equation, which need both. It must give gradient()'s and hessian()'s values.
+template <class P, int D>
+concept joint_potential = requires(const P& v, const vec<D>& q, vec<D>& g, mat<D>& h) {
+    v.gradient_and_hessian(q, g, h);
+};
+
 /// The protocol of a separable system L = ½ q̇ᵀ M q̇ − V(q), which the Simpson, Newmark and family
 /// steppers take: `dim` (a size ≥ 1, or `dynamic` when d is known only at run time),
 /// `dimension()`, a constant mass M and its inverse (a matrix, or one number for M = m I), the
