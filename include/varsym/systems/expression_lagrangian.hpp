@@ -208,9 +208,10 @@ class expression_lagrangian {
             if (gradient_.output(static_cast<std::size_t>(1 + d + i)) != 0.0) return;
         const Eigen::LLT<mat<dynamic>> llt(mass_);
         if (llt.info() != Eigen::Success) return; // not positive definite: the general engine
-        // ∇V and ∇²V each by its own code: a step asks for gradients far more often.
-        // Their outputs are ∇V = −L_q and ∇²V = −L_qq, built in the graph, where −(−x) = x
-        // removes the negations the rules for − and / leave.
+        // ∇V and ∇²V each by its own code (a step asks for gradients far more often), and both
+        // by one (Newton's stage iterations ask for both at one point). Their outputs are
+        // ∇V = −L_q and ∇²V = −L_qq, built in the graph, where −(−x) = x removes the negations
+        // the rules for − and / leave.
         std::vector<int> grad, hess;
         for (const int i : lq)
             grad.push_back(g.neg(i));
