@@ -50,12 +50,14 @@ newton_report solve_stage_increment(const System& sys, double c, const vec<Syste
         newton_options local = opt;
         local.typical = delta.template lpNorm<Eigen::Infinity>();
         local.reference = q.template lpNorm<Eigen::Infinity>();
+        // x = q + δ, ∇V(x) and ∇²V(x), sized once per solve: at a run-time d a joint_potential's
+        // iterations then allocate nothing.
+        vec<D> x(q.size()), g(q.size());
+        mat<D> hessian(q.size(), q.size());
         return newton_solve<D>(
             delta,
             [&](const vec<D>& y, vec<D>& res, mat<D>& jac) {
-                const vec<D> x = q + y;
-                vec<D> g;
-                mat<D> hessian;
+                x.noalias() = q + y;
                 if constexpr (joint_potential<std::remove_cvref_t<decltype(v)>, D>) {
                     v.gradient_and_hessian(x, g, hessian);
                 } else {
