@@ -255,6 +255,9 @@ class stepper {
         dp_ += weight_lo_[k] * g;
     }
 
+    /// Whether the potential evaluates ∇V at several points in one call (points_ → batch_).
+    static constexpr bool batched =
+        batch_potential<std::remove_cvref_t<decltype(std::declval<const System&>().potential())>>;
     static constexpr int max_unknowns = dim == dynamic ? dynamic : dim * max_degree;
     static constexpr int max_points = max_degree + 1;
     static constexpr bool needs_lu =

@@ -166,7 +166,7 @@ void stepper<System>::gradients(const phase_state<dim>& x, bool hessians) {
         else
             grads_.col(k).setZero();
     }
-    if constexpr (batch_potential<std::remove_cvref_t<decltype(v)>>) {
+    if constexpr (batched) {
         if (!hessians) { // the points first, then ∇V at all of them in one call
             for (int a = 0; a < n_active_; ++a)
                 detail::add_combination(points_.col(a), x.q, xm_, v_.col(active_[a]));
@@ -200,12 +200,12 @@ bool stepper<System>::converged_gradients(const phase_state<dim>& x) {
         } else {
             detail::add_combination(qk_, q_j_, xm_, v_.col(k));
         }
-        if constexpr (batch_potential<std::remove_cvref_t<decltype(v)>>)
+        if constexpr (batched)
             points_.col(n++) = qk_;
         else
             g = v.gradient(qk_);
     }
-    if constexpr (batch_potential<std::remove_cvref_t<decltype(v)>>) {
+    if constexpr (batched) {
         v.gradients(points_.data(), n, batch_.data());
         for (int k = 0, a = 0; k < r_; ++k)
             if (!at_start_[k]) previous_grads_.col(k) = batch_.col(a++);
@@ -236,14 +236,14 @@ double stepper<System>::scalar_sweep(const phase_state<dim>& x, double& size) {
         double point = q;
         for (int l = 0; l < s; ++l)
             point += column[l] * xs[l];
-        if constexpr (batch_potential<std::remove_cvref_t<decltype(v)>>) {
+        if constexpr (batched) {
             points_(0, a) = point;
         } else {
             qk_(0) = point;
             g[k] = v.gradient(qk_)(0);
         }
     }
-    if constexpr (batch_potential<std::remove_cvref_t<decltype(v)>>) {
+    if constexpr (batched) {
         v.gradients(points_.data(), n_active_, batch_.data());
         for (int a = 0; a < n_active_; ++a)
             g[active_[a]] = batch_(0, a);
