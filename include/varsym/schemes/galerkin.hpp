@@ -312,6 +312,9 @@ class stepper {
     [[nodiscard]] Eigen::Index kept_grads() const { return sys_.dimension() * r_; }
     /// ∇V at the quadrature points that move with the increments, into grads_.
     void gradients(const phase_state<dim>& x, bool hessians);
+    /// A batch_potential's ∇V at the moving points, which are in points_'s first n_active_
+    /// columns, into their columns of grads_.
+    void active_gradients();
     /// ∇V at every quadrature point of the step just solved (q_j in q_j_, q_{j+1} in x), into
     /// previous_grads_; whether a point is at c = 1 (its ∇V is the next step's ∇V(q_j)).
     bool converged_gradients(const phase_state<dim>& x);

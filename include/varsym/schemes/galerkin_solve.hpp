@@ -170,9 +170,7 @@ void stepper<System>::gradients(const phase_state<dim>& x, bool hessians) {
         if (!hessians) { // the points first, then ∇V at all of them in one call
             for (int a = 0; a < n_active_; ++a)
                 detail::add_combination(points_.col(a), x.q, xm_, v_.col(active_[a]));
-            v.gradients(points_.data(), n_active_, batch_.data());
-            for (int a = 0; a < n_active_; ++a)
-                grads_.col(active_[a]) = batch_.col(a);
+            active_gradients();
             return;
         }
     }
@@ -182,6 +180,13 @@ void stepper<System>::gradients(const phase_state<dim>& x, bool hessians) {
         grads_.col(k) = v.gradient(qk_);
         if (hessians) hess_[k] = v.hessian(qk_);
     }
+}
+
+template <separable System>
+void stepper<System>::active_gradients() {
+    sys_.potential().gradients(points_.data(), n_active_, batch_.data());
+    for (int a = 0; a < n_active_; ++a)
+        grads_.col(active_[a]) = batch_.col(a);
 }
 
 template <separable System>
@@ -243,11 +248,7 @@ double stepper<System>::scalar_sweep(const phase_state<dim>& x, double& size) {
             g[k] = v.gradient(qk_)(0);
         }
     }
-    if constexpr (batched) {
-        v.gradients(points_.data(), n_active_, batch_.data());
-        for (int a = 0; a < n_active_; ++a)
-            g[active_[a]] = batch_(0, a);
-    }
+    if constexpr (batched) active_gradients(); // into grads_, whose entries g points at
     double minv = 0.0;
     if constexpr (scalar_mass<System>)
         minv = sys_.inverse_mass();
