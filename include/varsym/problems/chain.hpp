@@ -41,15 +41,20 @@ struct potential {
     }
     /// ∂V/∂q_i = V'(r_{i−1}) − V'(r_i), V'(r) = r + β r³.
     [[nodiscard]] vec<dynamic> gradient(const vec<dynamic>& q) const {
+        vec<dynamic> g(q.size());
+        gradient(q, g);
+        return g;
+    }
+    /// The same into g (sized here; no allocation once it has the size): the steppers' path.
+    void gradient(const vec<dynamic>& q, vec<dynamic>& g) const {
         const Eigen::Index n = q.size();
-        vec<dynamic> g(n);
+        g.resize(n);
         double left = force(stretch(q, 0));
         for (Eigen::Index i = 0; i < n; ++i) {
             const double right = force(stretch(q, i + 1));
             g(i) = left - right;
             left = right;
         }
-        return g;
     }
     /// ∂²V/∂q_i² = V''(r_{i−1}) + V''(r_i), ∂²V/∂q_i∂q_{i+1} = −V''(r_i), V''(r) = 1 + 3βr².
     void hessian_diagonals(const vec<dynamic>& q, Eigen::Ref<Eigen::VectorXd> diag,
@@ -126,21 +131,33 @@ class system {
         return std::sqrt(bound * minv_);
     }
 
+    /// The scratch of solve_stage, kept by the stepper across steps (stage_equation.hpp).
+    struct stage_workspace {
+        Eigen::VectorXd x, gradient, res, diag, off;
+    };
+
     /// Newton on m δ + c ∇V(q + δ) = r (the stage equation of stage_equation.hpp) with the
     /// tridiagonal Jacobian m I + c ∇²V solved in O(n): the Simpson and Newmark steppers call it
-    /// through varsym::solve_stage_increment in place of the dense Newton.
+    /// through varsym::solve_stage_increment in place of the dense Newton. Allocates nothing once
+    /// `ws` has the size.
     [[nodiscard]] newton_report solve_stage(double c, const vec<dynamic>& q, const vec<dynamic>& r,
-                                            vec<dynamic>& delta, const newton_options& opt) const {
+                                            vec<dynamic>& delta, const newton_options& opt,
+                                            stage_workspace& ws) const {
         const Eigen::Index n = q.size();
         newton_options local = opt;
         local.typical = delta.lpNorm<Eigen::Infinity>();
         local.reference = q.lpNorm<Eigen::Infinity>();
         newton_monitor monitor(local);
         newton_report rep;
-        Eigen::VectorXd x(n), res(n), diag(n), off(std::max<Eigen::Index>(n - 1, 0));
+        ws.x.resize(n);
+        ws.res.resize(n);
+        ws.diag.resize(n);
+        ws.off.resize(std::max<Eigen::Index>(n - 1, 0));
+        auto &x = ws.x, &res = ws.res, &diag = ws.diag, &off = ws.off;
         while (!monitor.exhausted()) {
             x.noalias() = q + delta;
-            res.noalias() = m_ * delta + c * v_.gradient(x) - r;
+            v_.gradient(x, ws.gradient);
+            res.noalias() = m_ * delta + c * ws.gradient - r;
             rep.residual = res.lpNorm<Eigen::Infinity>();
             v_.hessian_diagonals(x, diag, off);
             diag = (m_ + c * diag.array()).matrix();

@@ -154,7 +154,7 @@ class stepper {
         dq_.noalias() = (half_[0] * h) * (sys_.inverse_mass() * x.p);
         for (std::size_t i = 0; i < scheme_.gamma.size(); ++i) {
             point_ = x.q + dq_;
-            grad_ = v.gradient(point_);
+            gradient_into(v, point_, grad_);
             dp_ -= (scheme_.gamma[i] * h) * grad_;
             point_ = x.p + dp_;
             dq_.noalias() += (half_[i + 1] * h) * (sys_.inverse_mass() * point_);
@@ -163,7 +163,7 @@ class stepper {
     /// Δq, Δp of one step with merged half kicks; ∇V at the end is the next step's first.
     void kick_drift_kick(const phase_state<dim>& x) {
         const auto& v = sys_.potential();
-        if (!cache_valid_ || cached_q_ != x.q) grad_ = v.gradient(x.q);
+        if (!cache_valid_ || cached_q_ != x.q) gradient_into(v, x.q, grad_);
         const double h = h_;
         dq_.setZero();
         dp_ = -(half_[0] * h) * grad_;
@@ -171,7 +171,7 @@ class stepper {
             point_ = x.p + dp_;
             dq_.noalias() += (scheme_.gamma[i] * h) * (sys_.inverse_mass() * point_);
             point_ = x.q + dq_;
-            grad_ = v.gradient(point_);
+            gradient_into(v, point_, grad_);
             dp_ -= (half_[i + 1] * h) * grad_;
         }
     }

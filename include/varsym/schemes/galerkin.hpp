@@ -124,7 +124,7 @@ class stepper {
         previous_grads_.setZero(d, tab_.force_extrapolation.rows());
         hess_.assign(static_cast<std::size_t>(r), mat<dim>::Zero(d, d));
         curvature_.setZero(r);
-        for (auto* v : {&grad_j_, &cached_q_, &q_j_, &qk_, &vel_, &acc_, &dp_, &q_bar_})
+        for (auto* v : {&grad_j_, &cached_q_, &q_j_, &qk_, &vel_, &acc_, &dp_, &q_bar_, &gk_})
             v->setZero(d);
         res_.setZero(n_);
         delta_.setZero(n_);
@@ -207,7 +207,7 @@ class stepper {
         const double h = h_;
         const int s = s_;
         const bool continues = continuable_ && cached_q_ == x.q;
-        if (!cache_valid_ || cached_q_ != x.q) grad_j_ = v.gradient(x.q);
+        if (!cache_valid_ || cached_q_ != x.q) gradient_into(v, x.q, grad_j_);
         newton_report rep = solve(x, opt_.iteration, continues);
         if (!rep.converged && opt_.iteration != iteration_kind::newton) {
             const int spent = rep.iterations;
@@ -250,7 +250,8 @@ class stepper {
     [[nodiscard]] stepper with_step_size(double h) const { return stepper(sys_, h, tab_, opt_); }
 
   private:
-    void add_weighted(int k, const vec<dim>& g) {
+    template <class G>
+    void add_weighted(int k, const Eigen::MatrixBase<G>& g) {
         dp_ += weight_[k] * g;
         dp_ += weight_lo_[k] * g;
     }
@@ -375,7 +376,7 @@ class stepper {
     kept_matrix previous_grads_; ///< ∇V at the last step's points (and ∇V(q_j), Gauss)
     std::vector<mat<dim>> hess_;
     detail::bounded_vector<max_points> curvature_;
-    vec<dim> grad_j_, cached_q_, q_j_, qk_, vel_, acc_, dp_, q_bar_;
+    vec<dim> grad_j_, cached_q_, q_j_, qk_, vel_, acc_, dp_, q_bar_, gk_; ///< gk_: ∇V(qk_)
     bool diagonal_mass_ = false;
     vec<dim> mass_diagonal_, inverse_mass_diagonal_;
     bool cache_valid_ = false;

@@ -11,6 +11,20 @@
 
 namespace varsym::galerkin {
 
+namespace detail {
+/// out = ∇V(q), written through `scratch` where the potential writes in place
+/// (in_place_gradient): at a run-time d no vector is then allocated.
+template <class P, int D, class Out>
+void gradient_to(const P& v, const vec<D>& q, vec<D>& scratch, Out&& out) {
+    if constexpr (in_place_gradient<P, D>) {
+        v.gradient(q, scratch);
+        out = scratch;
+    } else {
+        out = v.gradient(q);
+    }
+}
+} // namespace detail
+
 template <separable System>
 newton_report stepper<System>::solve(const phase_state<dim>& x, iteration_kind kind,
                                      bool continues) {
@@ -177,7 +191,7 @@ void stepper<System>::gradients(const phase_state<dim>& x, bool hessians) {
     for (int a = 0; a < n_active_; ++a) {
         const int k = active_[a];
         detail::add_combination(qk_, x.q, xm_, v_.col(k));
-        grads_.col(k) = v.gradient(qk_);
+        detail::gradient_to(v, qk_, gk_, grads_.col(k));
         if (hessians) hess_[k] = v.hessian(qk_);
     }
 }
@@ -208,7 +222,7 @@ bool stepper<System>::converged_gradients(const phase_state<dim>& x) {
         if constexpr (batched)
             points_.col(n++) = qk_;
         else
-            g = v.gradient(qk_);
+            detail::gradient_to(v, qk_, gk_, g);
     }
     if constexpr (batched) {
         v.gradients(points_.data(), n, batch_.data());
@@ -245,7 +259,12 @@ double stepper<System>::scalar_sweep(const phase_state<dim>& x, double& size) {
             points_(0, a) = point;
         } else {
             qk_(0) = point;
-            g[k] = v.gradient(qk_)(0);
+            if constexpr (in_place_gradient<std::remove_cvref_t<decltype(v)>, dim>) {
+                v.gradient(qk_, gk_);
+                g[k] = gk_(0);
+            } else {
+                g[k] = v.gradient(qk_)(0);
+            }
         }
     }
     if constexpr (batched) active_gradients(); // into grads_, whose entries g points at

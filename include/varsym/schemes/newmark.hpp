@@ -43,21 +43,25 @@ class stepper {
         const auto& minv = sys_.inverse_mass();
         const double h = h_;
         // Predictor: Taylor to second order, q̄ − q_j ≈ (h/2) M⁻¹p − (h²/8) M⁻¹∇V(q).
-        vec<dim> delta = minv * (0.5 * h * x.p - 0.125 * h * h * sys_.potential().gradient(x.q));
+        gradient_into(sys_.potential(), x.q, grad_);
+        r_ = 0.5 * h * x.p - 0.125 * h * h * grad_;
+        delta_.noalias() = minv * r_;
         // M q̄ + (h²/4) ∇V(q̄) = M q_j + (h/2) p_j  (eq. systeme-dynamique-discret-ordre-2, reduced),
         // solved for δ = q̄ − q_j:  M δ + (h²/4) ∇V(q_j + δ) = (h/2) p_j
         const double c = 0.25 * h * h;
-        const newton_report rep =
-            solve_stage_increment(sys_, c, x.q, vec<dim>(0.5 * h * x.p), delta, opt_);
+        r_ = 0.5 * h * x.p;
+        const newton_report rep = solve_stage_increment(sys_, c, x.q, r_, delta_, opt_, stage_ws_);
         if (!rep.converged) return rep;
         // q_{j+1} = 2 q̄ − q_j, p_{j+1} = p_j − h ∇V(q̄)  (eq. systeme-dynamique-discret-ordre-2),
         // with h written (c/(h/4)) from the stage equation's own rounded c = fl(h²/4): the step is
         // then exactly the map of one discrete Lagrangian (docs/design.md, "Round-off that tilts
         // the map").
-        mid_ = x.q + delta;
-        const vec<dim> dp = -(c * sys_.potential().gradient(mid_)) / (0.25 * h);
-        sum_.add_q(x, 2.0 * delta);
-        sum_.add_p(x, dp);
+        mid_ = x.q + delta_;
+        gradient_into(sys_.potential(), mid_, grad_);
+        r_ = 2.0 * delta_;
+        sum_.add_q(x, r_);
+        r_ = -(c * grad_) / (0.25 * h);
+        sum_.add_p(x, r_);
         return rep;
     }
 
@@ -95,6 +99,9 @@ class stepper {
     newton_options opt_;
     compensated_update<dim> sum_;
     vec<dim> mid_{}; ///< q̄ of the last successful step
+    // The step's scratch, kept so that a step at a run-time d allocates nothing.
+    vec<dim> grad_{}, r_{}, delta_{};
+    stage_workspace_of<System> stage_ws_{};
 };
 
 } // namespace varsym::newmark

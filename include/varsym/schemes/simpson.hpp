@@ -28,16 +28,19 @@ double discrete_lagrangian(const System& sys, double h, const vec<System::dim>& 
            h / 6.0 * (v.value(ql) + 4.0 * v.value(qm) + v.value(qr));
 }
 
-/// M⁻¹ g for a separable system, to the last bit that a division or one refinement step gives:
-/// a product with the rounded M⁻¹ alone would be the same tilt of every step.
+/// y = M⁻¹ g for a separable system, to the last bit that a division or one refinement step
+/// gives: a product with the rounded M⁻¹ alone would be the same tilt of every step. `t` is
+/// scratch (the refinement's residual).
 template <class System>
-vec<System::dim> solve_mass(const System& sys, const vec<System::dim>& g) {
+void solve_mass(const System& sys, const vec<System::dim>& g, vec<System::dim>& y,
+                vec<System::dim>& t) {
     if constexpr (scalar_mass<System>) {
-        return g / sys.mass();
+        y = g / sys.mass();
     } else {
-        vec<System::dim> y = sys.inverse_mass() * g;
-        y += sys.inverse_mass() * (g - sys.mass() * y);
-        return y;
+        y.noalias() = sys.inverse_mass() * g;
+        t.noalias() = sys.mass() * y;
+        t = g - t;
+        y.noalias() += sys.inverse_mass() * t;
     }
 }
 
@@ -67,10 +70,11 @@ class stepper {
     newton_report step(phase_state<dim>& x) {
         const auto& minv = sys_.inverse_mass();
         const auto& v = sys_.potential();
-        if (!cache_valid_ || cached_q_ != x.q) grad_ = v.gradient(x.q);
+        if (!cache_valid_ || cached_q_ != x.q) gradient_into(v, x.q, grad_);
         const double h = h_;
         // Predictor: q_m − q_j ≈ (h/2) M⁻¹p − (h²/8) M⁻¹∇V(q).
-        vec<dim> delta = minv * (0.5 * h * x.p - 0.125 * h * h * grad_);
+        r_ = 0.5 * h * x.p - 0.125 * h * h * grad_;
+        delta_.noalias() = minv * r_;
         // M q_m + (h²/24) ∇V(q_m) = M q_j + (h/2) p_j − (h²/12) ∇V(q_j)
         // (eqs. equation-milieu-intervalle + simpson-hamilton, reduced), solved for δ = q_m − q_j.
         // Every later coefficient is derived from c = fl(h²/24) and e = h/2 by operations on the
@@ -78,17 +82,21 @@ class stepper {
         // one discrete Lagrangian (docs/design.md, "Round-off that tilts the map"): h²/12 = 2c,
         // h²/4 = 6c, h/6 = 2c/e.
         const double c = h * h / 24.0, e = 0.5 * h;
-        const vec<dim> r = e * x.p - (2.0 * c) * grad_;
-        const newton_report rep = solve_stage_increment(sys_, c, x.q, r, delta, opt_);
+        r_ = e * x.p - (2.0 * c) * grad_;
+        const newton_report rep = solve_stage_increment(sys_, c, x.q, r_, delta_, opt_, stage_ws_);
         if (!rep.converged) return rep;
-        stage_ = x.q + delta;
-        const vec<dim> grad_m = v.gradient(stage_);
+        stage_ = x.q + delta_;
+        gradient_into(v, stage_, grad_m_);
         // q_{j+1} − q_j = 2 δ − (h²/4) M⁻¹ ∇V_m   (eq. simpson-hamilton with the midpoint row)
-        sum_.add_q(x, 2.0 * delta - 6.0 * solve_mass(sys_, vec<dim>(c * grad_m)));
-        const vec<dim> grad_r = v.gradient(x.q);
+        r_ = c * grad_m_;
+        solve_mass(sys_, r_, inc_, grad_r_);
+        inc_ = 2.0 * delta_ - 6.0 * inc_;
+        sum_.add_q(x, inc_);
+        gradient_into(v, x.q, grad_r_);
         // p_{j+1} = p_j − (h/6) (∇V_j + 4 ∇V_m + ∇V_{j+1})   (eq. simpson-hamilton, 1st line)
-        sum_.add_p(x, -(2.0 * (c * (grad_ + 4.0 * grad_m + grad_r))) / e);
-        grad_ = grad_r;
+        inc_ = -(2.0 * (c * (grad_ + 4.0 * grad_m_ + grad_r_))) / e;
+        sum_.add_p(x, inc_);
+        grad_.swap(grad_r_);
         cached_q_ = x.q;
         cache_valid_ = true;
         return rep;
@@ -142,6 +150,10 @@ class stepper {
     newton_options opt_;
     vec<dim> grad_{};
     vec<dim> stage_{};
+    // The step's scratch, kept so that a step at a run-time d allocates nothing: the predictor's
+    // and right-hand side's r, δ, ∇V at the midpoint and at the end, an increment.
+    vec<dim> r_{}, delta_{}, grad_m_{}, grad_r_{}, inc_{};
+    stage_workspace_of<System> stage_ws_{};
     Update sum_;
     vec<dim> cached_q_{};
     bool cache_valid_ = false;

@@ -18,14 +18,17 @@ class compensated_update {
             for (auto* v : {&cq_, &cp_, &q_, &p_})
                 v->setZero();
     }
-    void add_q(phase_state<D>& x, const vec<D>& dq) {
+    /// dq and dp: a vector or a column of a matrix (no copy made).
+    template <class Dq>
+    void add_q(phase_state<D>& x, const Eigen::MatrixBase<Dq>& dq) {
         if (!valid_ || x.q != q_ || x.p != p_) {
             cq_.setZero(x.q.size());
             cp_.setZero(x.p.size());
         }
         add(x.q, dq, cq_);
     }
-    void add_p(phase_state<D>& x, const vec<D>& dp) {
+    template <class Dp>
+    void add_p(phase_state<D>& x, const Eigen::MatrixBase<Dp>& dp) {
         add(x.p, dp, cp_);
         q_ = x.q;
         p_ = x.p;
@@ -46,7 +49,8 @@ class compensated_update {
     }
 
   private:
-    static void add(vec<D>& sum, const vec<D>& increment, vec<D>& carry) {
+    template <class Increment>
+    static void add(vec<D>& sum, const Eigen::MatrixBase<Increment>& increment, vec<D>& carry) {
         for (Eigen::Index i = 0; i < sum.size(); ++i) {
             const double y = increment(i) + carry(i);
             const double t = sum(i) + y;
@@ -62,8 +66,14 @@ class compensated_update {
 /// `make soak` compares compensated summation against.
 template <int D>
 struct plain_update {
-    void add_q(phase_state<D>& x, const vec<D>& dq) { x.q += dq; }
-    void add_p(phase_state<D>& x, const vec<D>& dp) { x.p += dp; }
+    template <class Dq>
+    void add_q(phase_state<D>& x, const Eigen::MatrixBase<Dq>& dq) {
+        x.q += dq;
+    }
+    template <class Dp>
+    void add_p(phase_state<D>& x, const Eigen::MatrixBase<Dp>& dp) {
+        x.p += dp;
+    }
 };
 
 } // namespace varsym

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "varsym/types.hpp"
 
@@ -101,31 +102,63 @@ class newton_monitor {
     double previous_ = std::numeric_limits<double>::infinity();
 };
 
+/// The residual, Jacobian, update and LU factorisation of newton_solve's iterations: held by a
+/// caller that solves again and again (a stepper), so that at a run-time size the iterations
+/// allocate nothing once the first solve has sized them.
+template <int N>
+struct newton_workspace {
+    vec<N> residual, update;
+    mat<N> jacobian;
+    Eigen::PartialPivLU<mat<N>> lu; ///< unused at N = 1 (a division)
+
+    void resize(Eigen::Index n) {
+        residual.resize(n);
+        update.resize(n);
+        jacobian.resize(n, n);
+    }
+    /// update = jacobian⁻¹ residual: the values of solve_dense<N>(jacobian, residual).
+    void solve() {
+        if constexpr (N == 1) {
+            update(0) = residual(0) / jacobian(0, 0);
+        } else {
+            lu.compute(jacobian);
+            update.noalias() = lu.solve(residual);
+        }
+    }
+};
+
 /// Solves F(x) = 0 from the starting guess in `x`. `f(x, r, J)` writes F(x) into r and the
 /// Jacobian dF(x) into J. Stops by newton_monitor's rule; fails (converged = false) on NaN or
-/// infinity, or after `max_iterations` linear solves.
+/// infinity, or after `max_iterations` linear solves. Its vectors and matrices are `ws`'s.
 template <int N, class Function>
-newton_report newton_solve(vec<N>& x, Function&& f, const newton_options& opt = {}) {
-    vec<N> r(x.size());
-    mat<N> jac(x.size(), x.size());
+newton_report newton_solve(vec<N>& x, Function&& f, const newton_options& opt,
+                           newton_workspace<N>& ws) {
+    ws.resize(x.size());
     newton_report rep;
     newton_monitor monitor(opt);
     while (!monitor.exhausted()) {
-        f(x, r, jac);
-        rep.residual = r.template lpNorm<Eigen::Infinity>();
-        const vec<N> delta = solve_dense<N>(jac, r);
-        const double step = delta.template lpNorm<Eigen::Infinity>();
+        f(x, ws.residual, ws.jacobian);
+        rep.residual = ws.residual.template lpNorm<Eigen::Infinity>();
+        ws.solve();
+        const double step = ws.update.template lpNorm<Eigen::Infinity>();
         rep.iterations = monitor.iterations() + 1;
         if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
-        x -= delta;
+        x -= ws.update;
         if (monitor.converged(step, x.template lpNorm<Eigen::Infinity>())) {
             rep.converged = true;
             return rep;
         }
     }
-    f(x, r, jac);
-    rep.residual = r.template lpNorm<Eigen::Infinity>();
+    f(x, ws.residual, ws.jacobian);
+    rep.residual = ws.residual.template lpNorm<Eigen::Infinity>();
     return rep;
+}
+
+/// newton_solve with a workspace of its own (a one-off solve).
+template <int N, class Function>
+newton_report newton_solve(vec<N>& x, Function&& f, const newton_options& opt = {}) {
+    newton_workspace<N> ws;
+    return newton_solve<N>(x, std::forward<Function>(f), opt, ws);
 }
 
 } // namespace varsym

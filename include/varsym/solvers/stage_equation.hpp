@@ -9,15 +9,38 @@
 
 namespace varsym {
 
-/// A system that solves its own stage equation (e.g. in O(d) for a banded Hessian): a member
-/// `newton_report solve_stage(double c, const vec& q, const vec& r, vec& delta,
-/// const newton_options&) const`, used by the Simpson and Newmark steppers instead of the dense
-/// Newton below.
+/// The scratch of the dense stage Newton below: x = q + δ, ∇V(x), ∇²V(x) and Newton's own
+/// (newton_workspace), kept by the stepper so that a step at a run-time d allocates none of them.
+template <int D>
+struct dense_stage_workspace {
+    vec<D> x, gradient;
+    mat<D> hessian;
+    newton_workspace<D> newton;
+};
+
+/// A system that solves its own stage equation (e.g. in O(d) for a banded Hessian): a type
+/// `stage_workspace` (its scratch, default-constructible, sized by the solve itself and kept
+/// by the stepper across steps) and a member `newton_report solve_stage(double c, const vec& q,
+/// const vec& r, vec& delta, const newton_options&, stage_workspace&) const`, used by the
+/// Simpson and Newmark steppers instead of the dense Newton below.
 template <class System>
 concept has_stage_solver = requires(const System& s, const vec<System::dim>& q,
-                                    vec<System::dim>& delta, const newton_options& opt) {
-    { s.solve_stage(1.0, q, q, delta, opt) } -> std::same_as<newton_report>;
+                                    vec<System::dim>& delta, const newton_options& opt,
+                                    typename System::stage_workspace& ws) {
+    { s.solve_stage(1.0, q, q, delta, opt, ws) } -> std::same_as<newton_report>;
 };
+
+/// The scratch a stepper keeps for solve_stage_increment on System.
+template <class System>
+struct stage_workspace_for {
+    using type = dense_stage_workspace<System::dim>;
+};
+template <has_stage_solver System>
+struct stage_workspace_for<System> {
+    using type = typename System::stage_workspace;
+};
+template <class System>
+using stage_workspace_of = typename stage_workspace_for<System>::type;
 
 /// The stage equation's Jacobian M + c ∇²V, with `hessian` = ∇²V at the point: the Newton matrix
 /// of the reduced steps, whose inverse their tangent maps apply (simpson.hpp, newmark.hpp).
@@ -36,13 +59,13 @@ mat<System::dim> stage_jacobian(const System& sys, double c, const mat<System::d
 /// stopping test). Solving for δ rather than x keeps δ's relative accuracy when |δ| ≪ |q|, which
 /// is what the update q_{j+1} = q_j + Δq needs. Newmark: c = h²/4, x = q̄ the midpoint; Simpson:
 /// c = h²/24, x = q_{j+½} (docs/design.md, "Reduced steps"). A system with its own
-/// solve_stage member (has_stage_solver) solves it instead.
+/// solve_stage member (has_stage_solver) solves it instead. The vectors and matrices are `ws`'s.
 template <separable System>
 newton_report solve_stage_increment(const System& sys, double c, const vec<System::dim>& q,
                                     const vec<System::dim>& r, vec<System::dim>& delta,
-                                    const newton_options& opt) {
+                                    const newton_options& opt, stage_workspace_of<System>& ws) {
     if constexpr (has_stage_solver<System>) {
-        return sys.solve_stage(c, q, r, delta, opt);
+        return sys.solve_stage(c, q, r, delta, opt, ws);
     } else {
         constexpr int D = System::dim;
         const auto& m = sys.mass();
@@ -50,29 +73,36 @@ newton_report solve_stage_increment(const System& sys, double c, const vec<Syste
         newton_options local = opt;
         local.typical = delta.template lpNorm<Eigen::Infinity>();
         local.reference = q.template lpNorm<Eigen::Infinity>();
-        // x = q + δ, ∇V(x) and ∇²V(x), sized once per solve: at a run-time d a joint_potential's
-        // iterations then allocate nothing.
-        vec<D> x(q.size()), g(q.size());
-        mat<D> hessian(q.size(), q.size());
+        ws.x.resize(q.size());
+        ws.gradient.resize(q.size());
+        ws.hessian.resize(q.size(), q.size());
         return newton_solve<D>(
             delta,
             [&](const vec<D>& y, vec<D>& res, mat<D>& jac) {
-                x.noalias() = q + y;
+                ws.x.noalias() = q + y;
                 if constexpr (joint_potential<std::remove_cvref_t<decltype(v)>, D>) {
-                    v.gradient_and_hessian(x, g, hessian);
+                    v.gradient_and_hessian(ws.x, ws.gradient, ws.hessian);
                 } else {
-                    g = v.gradient(x);
-                    hessian = v.hessian(x);
+                    gradient_into(v, ws.x, ws.gradient);
+                    ws.hessian = v.hessian(ws.x);
                 }
-                res.noalias() = m * y + c * g - r;
+                if constexpr (scalar_mass<System> || D != dynamic) {
+                    res.noalias() = m * y + c * ws.gradient - r;
+                } else {
+                    // (M y + c ∇V) − r in that order, the product into res itself (inside a
+                    // sum at a run-time size Eigen would evaluate it into a temporary).
+                    res.noalias() = m * y;
+                    res += c * ws.gradient;
+                    res -= r;
+                }
                 if constexpr (scalar_mass<System>) {
-                    jac.noalias() = c * hessian;
+                    jac.noalias() = c * ws.hessian;
                     jac.diagonal().array() += m;
                 } else {
-                    jac.noalias() = m + c * hessian;
+                    jac.noalias() = m + c * ws.hessian;
                 }
             },
-            local);
+            local, ws.newton);
     }
 }
 

@@ -34,6 +34,11 @@ class expression_potential_of {
         l_.potential_gradient(q.data(), g.data());
         return g;
     }
+    /// The same into g, which keeps its storage across calls (separable.hpp, in_place_gradient).
+    void gradient(const vec<D>& q, vec<D>& g) const {
+        g.resize(q.size());
+        l_.potential_gradient(q.data(), g.data());
+    }
     /// ∇V at `count` points (d × count, column-major) into g (the same layout), in one pass
     /// over the compiled code: the family stepper's points of a sweep (separable.hpp).
     void gradients(const double* q, int count, double* g) const {

@@ -34,12 +34,30 @@ concept joint_potential = requires(const P& v, const vec<D>& q, vec<D>& g, mat<D
     v.gradient_and_hessian(q, g, h);
 };
 
+/// Optional on a potential: `gradient(q, g)`, ∇V at q written into g (sized by the caller or
+/// by the member), for potentials at a run-time dimension: the steppers then keep g across
+/// steps instead of receiving a newly allocated vector at every call. It must give
+/// gradient(q)'s values.
+template <class P, int D>
+concept in_place_gradient = requires(const P& v, const vec<D>& q, vec<D>& g) {
+    v.gradient(q, g);
+};
+
+/// g = ∇V(q), in place when the potential can (in_place_gradient).
+template <int D, class P>
+void gradient_into(const P& v, const vec<D>& q, vec<D>& g) {
+    if constexpr (in_place_gradient<P, D>)
+        v.gradient(q, g);
+    else
+        g = v.gradient(q);
+}
+
 /// The protocol of a separable system L = ½ q̇ᵀ M q̇ − V(q), which the Simpson, Newmark and family
 /// steppers take: `dim` (a size ≥ 1, or `dynamic` when d is known only at run time),
 /// `dimension()`, a constant mass M and its inverse (a matrix, or one number for M = m I), the
 /// potential's gradient and Hessian, and the energy. Optional: a member
-/// `solve_stage(c, q, r, delta, opt)` replacing the dense Newton on M δ + c ∇V(q + δ) = r
-/// (solvers/stage_equation.hpp), e.g. by a banded solve.
+/// `solve_stage(c, q, r, delta, opt, workspace)` with its type `stage_workspace`, replacing the
+/// dense Newton on M δ + c ∇V(q + δ) = r (solvers/stage_equation.hpp), e.g. by a banded solve.
 template <class S>
 concept separable = requires {
     S::dim;
