@@ -22,6 +22,7 @@
 #include "varsym/problems/chain.hpp"
 #include "varsym/problems/double_pendulum.hpp"
 #include "varsym/problems/kepler.hpp"
+#include "varsym/problems/oscillator.hpp"
 #include "varsym/problems/pendulum.hpp"
 #include "varsym/reference/paper_schemes.hpp"
 #include "varsym/schemes/composition.hpp"
@@ -176,4 +177,14 @@ TEST(Allocations, RunTimeDimensionStepsWithoutAllocating) {
     EXPECT_EQ(allocations_in_steps(ks, k0), 0);
     EXPECT_EQ(allocations_in_steps(kn, k0), 0);
     EXPECT_EQ(allocations_in_steps(kg, k0), 0);
+    // A mass matrix at a run-time d (a 3-d oscillator with coupled M and K): the dense stage
+    // Newton's M δ and the refined M⁻¹ of Simpson's update.
+    const auto osc = oscillator::make_system(
+        (Eigen::MatrixXd(3, 3) << 2, 0.3, 0, 0.3, 1, 0.1, 0, 0.1, 1.5).finished(),
+        (Eigen::MatrixXd(3, 3) << 5, -2, 0, -2, 4, -1, 0, -1, 3).finished());
+    const phase_state<dynamic> o0{Eigen::Vector3d{1.0, -0.5, 0.2}, Eigen::Vector3d{0.0, 0.3, -0.1}};
+    simpson::stepper os(osc, 0.05);
+    newmark::stepper on(osc, 0.05);
+    EXPECT_EQ(allocations_in_steps(os, o0), 0);
+    EXPECT_EQ(allocations_in_steps(on, o0), 0);
 }

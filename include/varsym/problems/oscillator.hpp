@@ -21,6 +21,12 @@ struct potential {
     [[nodiscard]] double value(const vec<dynamic>& q) const { return 0.5 * q.dot(k * q); }
     [[nodiscard]] vec<dynamic> gradient(const vec<dynamic>& q) const { return k * q; }
     [[nodiscard]] mat<dynamic> hessian(const vec<dynamic>&) const { return k; }
+    /// The same into g (and h), keeping their storage: a step then allocates nothing.
+    void gradient(const vec<dynamic>& q, vec<dynamic>& g) const { g.noalias() = k * q; }
+    void gradient_and_hessian(const vec<dynamic>& q, vec<dynamic>& g, mat<dynamic>& h) const {
+        g.noalias() = k * q;
+        h = k;
+    }
 };
 
 using system = separable_system<dynamic, potential>;
