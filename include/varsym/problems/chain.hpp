@@ -68,6 +68,34 @@ struct potential {
             left = right;
         }
     }
+    /// The stage equation m δ + c ∇V(q + δ) = r of the Simpson and Newmark steps at δ, in one
+    /// pass over the stretches (each r_i's V' and V'' once, at x = q + δ): its residual
+    /// m δ + c ∇V(x) − r into res and its Jacobian m I + c ∇²V(x) as diagonal and off-diagonal,
+    /// each entry by the same operations as gradient() and hessian_diagonals() followed by
+    /// those sums (the steps are the same bit for bit as by the separate passes).
+    void stage_terms(double m, double c, const vec<dynamic>& q, const vec<dynamic>& delta,
+                     const vec<dynamic>& r, Eigen::VectorXd& res, Eigen::VectorXd& diag,
+                     Eigen::VectorXd& off) const {
+        const Eigen::Index n = q.size();
+        res.resize(n);
+        diag.resize(n);
+        off.resize(std::max<Eigen::Index>(n - 1, 0));
+        double x = q(0) + delta(0);
+        const double first = x - 0.0; // r_0 = x_1 − x_0, x_0 = 0 the fixed end
+        double force_left = force(first), stiffness_left = stiffness(first);
+        for (Eigen::Index i = 0; i < n; ++i) {
+            const double next = i + 1 < n ? q(i + 1) + delta(i + 1) : 0.0; // x_{n+1} = 0
+            const double stretch_right = next - x;
+            const double force_right = force(stretch_right);
+            const double stiffness_right = stiffness(stretch_right);
+            res(i) = m * delta(i) + c * (force_left - force_right) - r(i);
+            diag(i) = m + c * (stiffness_left + stiffness_right);
+            if (i + 1 < n) off(i) = -stiffness_right * c;
+            x = next;
+            force_left = force_right;
+            stiffness_left = stiffness_right;
+        }
+    }
     [[nodiscard]] mat<dynamic> hessian(const vec<dynamic>& q) const {
         const Eigen::Index n = q.size();
         Eigen::VectorXd d(n), o(std::max<Eigen::Index>(n - 1, 0));
@@ -133,40 +161,30 @@ class system {
 
     /// The scratch of solve_stage, kept by the stepper across steps (stage_equation.hpp).
     struct stage_workspace {
-        Eigen::VectorXd x, gradient, res, diag, off;
+        Eigen::VectorXd res, diag, off;
     };
 
     /// Newton on m δ + c ∇V(q + δ) = r (the stage equation of stage_equation.hpp) with the
     /// tridiagonal Jacobian m I + c ∇²V solved in O(n): the Simpson and Newmark steppers call it
-    /// through varsym::solve_stage_increment in place of the dense Newton. Allocates nothing once
-    /// `ws` has the size.
+    /// through varsym::solve_stage_increment in place of the dense Newton. Three passes over the
+    /// chain an iteration (the equation's terms, the two sweeps of the solve); allocates nothing
+    /// once `ws` has the size.
     [[nodiscard]] newton_report solve_stage(double c, const vec<dynamic>& q, const vec<dynamic>& r,
                                             vec<dynamic>& delta, const newton_options& opt,
                                             stage_workspace& ws) const {
-        const Eigen::Index n = q.size();
         newton_options local = opt;
         local.typical = delta.lpNorm<Eigen::Infinity>();
         local.reference = q.lpNorm<Eigen::Infinity>();
         newton_monitor monitor(local);
         newton_report rep;
-        ws.x.resize(n);
-        ws.res.resize(n);
-        ws.diag.resize(n);
-        ws.off.resize(std::max<Eigen::Index>(n - 1, 0));
-        auto &x = ws.x, &res = ws.res, &diag = ws.diag, &off = ws.off;
         while (!monitor.exhausted()) {
-            x.noalias() = q + delta;
-            v_.gradient(x, ws.gradient);
-            res.noalias() = m_ * delta + c * ws.gradient - r;
-            rep.residual = res.lpNorm<Eigen::Infinity>();
-            v_.hessian_diagonals(x, diag, off);
-            diag = (m_ + c * diag.array()).matrix();
-            off *= c;
+            v_.stage_terms(m_, c, q, delta, r, ws.res, ws.diag, ws.off);
+            rep.residual = ws.res.lpNorm<Eigen::Infinity>();
             rep.iterations = monitor.iterations() + 1;
-            if (!solve_symmetric_tridiagonal(diag, off, res)) return rep;
-            const double step = res.lpNorm<Eigen::Infinity>();
+            if (!solve_symmetric_tridiagonal(ws.diag, ws.off, ws.res)) return rep;
+            const double step = ws.res.lpNorm<Eigen::Infinity>();
             if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
-            delta -= res;
+            delta -= ws.res;
             if (monitor.converged(step, delta.lpNorm<Eigen::Infinity>())) {
                 rep.converged = true;
                 return rep;
