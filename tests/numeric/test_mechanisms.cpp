@@ -153,6 +153,31 @@ TEST(Chain, TridiagonalNewtonMatchesDense) {
     EXPECT_LE(worst, 1e-13);
 }
 
+// The stage Newton's one-pass terms against ∇V and ∇²V's diagonals evaluated apart and combined
+// as the equation m δ + c ∇V(q + δ) − r and its Jacobian m I + c ∇²V: the same operations per
+// entry, so equal bit for bit, ends included (n = 1, 2, 7).
+TEST(Chain, StageTermsAreTheSeparatePassesCombined) {
+    const chain::potential v{0.7};
+    const double m = 1.3, c = 0.01;
+    for (int n : {1, 2, 7}) {
+        const Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(n, -0.8, 1.1);
+        const Eigen::VectorXd delta = 0.05 * Eigen::VectorXd::LinSpaced(n, 1.0, -0.3);
+        const Eigen::VectorXd r = Eigen::VectorXd::LinSpaced(n, 0.2, 0.4);
+        Eigen::VectorXd res, diag, off;
+        v.stage_terms(m, c, q, delta, r, res, diag, off);
+        const Eigen::VectorXd x = q + delta;
+        Eigen::VectorXd d(n), o(std::max(n - 1, 0));
+        v.hessian_diagonals(x, d, o);
+        EXPECT_TRUE(res == (m * delta + c * v.gradient(x) - r).eval()) << "n = " << n;
+        EXPECT_TRUE(diag == (m + c * d.array()).matrix().eval()) << "n = " << n;
+        EXPECT_TRUE(off == (c * o).eval()) << "n = " << n;
+        // Negative control: another β gives other terms.
+        Eigen::VectorXd res2, diag2, off2;
+        chain::potential{0.8}.stage_terms(m, c, q, delta, r, res2, diag2, off2);
+        EXPECT_FALSE(res2 == res) << "n = " << n;
+    }
+}
+
 TEST(Chain, EnergyBounded) {
     const chain::system sys(64, 1.0);
     simpson::stepper s(sys, 0.1);
