@@ -22,6 +22,7 @@
 #include "varsym/problems/chain.hpp"
 #include "varsym/problems/double_pendulum.hpp"
 #include "varsym/problems/kepler.hpp"
+#include "varsym/problems/linked_pendulum.hpp"
 #include "varsym/problems/oscillator.hpp"
 #include "varsym/problems/pendulum.hpp"
 #include "varsym/reference/paper_schemes.hpp"
@@ -187,4 +188,25 @@ TEST(Allocations, RunTimeDimensionStepsWithoutAllocating) {
     newmark::stepper on(osc, 0.05);
     EXPECT_EQ(allocations_in_steps(os, o0), 0);
     EXPECT_EQ(allocations_in_steps(on, o0), 0);
+}
+
+TEST(Allocations, LinkedPendulumDerivativesWithoutAllocating) {
+    // The arm's Lagrangian at a run-time number of links (6): its hand derivatives keep their
+    // matrices per thread. (The general engine's step around them still allocates: not checked.)
+    const linked_pendulum::lagrangian<dynamic> l(std::vector<double>(6, 1.0),
+                                                 std::vector<double>(6, 1.0 / 6), 9.81);
+    const vec<dynamic> q = vec<dynamic>::LinSpaced(6, -0.4, 0.9);
+    const vec<dynamic> v = vec<dynamic>::LinSpaced(6, 0.3, -0.2);
+    lagrangian_terms<dynamic> t;
+    l.derivatives(q, v, t); // sizes t and the scratch
+    Eigen::internal::set_is_malloc_allowed(false);
+    try {
+        l.derivatives(q, v, t);
+        l.gradient(q, v, t);
+    } catch (...) {
+        Eigen::internal::set_is_malloc_allowed(true);
+        throw;
+    }
+    Eigen::internal::set_is_malloc_allowed(true);
+    EXPECT_TRUE(t.lqq.allFinite());
 }

@@ -84,12 +84,15 @@ struct lagrangian {
     /// L, ∂L/∂q and ∂L/∂q̇ by hand: with c_kj = cos(θ_k − θ_j), s_kj = sin(θ_k − θ_j),
     ///   ∂L/∂ω_k = Σ_j a_kj c_kj ω_j,  ∂L/∂θ_k = −ω_k Σ_j a_kj s_kj ω_j − b_k sin θ_k.
     void gradient(const vec<N>& q, const vec<N>& v, lagrangian_terms<N>& t) const {
-        mat<N> c, s;
-        trig(q, c, s);
-        t.lv.noalias() = a.cwiseProduct(c) * v;
-        const vec<N> sw = a.cwiseProduct(s) * v;
+        scratch local; // unused at N = dynamic
+        scratch& w = N == dynamic ? work() : local;
+        trig(q, w);
+        w.ac = a.cwiseProduct(w.c);
+        w.as = a.cwiseProduct(w.s);
+        t.lv.noalias() = w.ac * v;
+        w.sw.noalias() = w.as * v;
         t.value = 0.5 * v.dot(t.lv) + b.dot(q.array().cos().matrix());
-        t.lq = -v.cwiseProduct(sw) - b.cwiseProduct(q.array().sin().matrix());
+        t.lq = -v.cwiseProduct(w.sw) - b.cwiseProduct(q.array().sin().matrix());
     }
 
     /// gradient() and the second derivatives by hand:
@@ -98,28 +101,45 @@ struct lagrangian {
     ///   ∂²L/∂θ_k∂θ_m = a_km c_km ω_k ω_m (m ≠ k),  −ω_k Σ_{j≠k} a_kj c_kj ω_j − b_k cos θ_k (m =
     ///   k).
     void derivatives(const vec<N>& q, const vec<N>& v, lagrangian_terms<N>& t) const {
-        mat<N> c, s;
-        trig(q, c, s);
-        const mat<N> ac = a.cwiseProduct(c), as = a.cwiseProduct(s);
-        t.lv.noalias() = ac * v;
-        const vec<N> sw = as * v;
+        scratch local; // unused at N = dynamic
+        scratch& w = N == dynamic ? work() : local;
+        trig(q, w);
+        w.ac = a.cwiseProduct(w.c);
+        w.as = a.cwiseProduct(w.s);
+        t.lv.noalias() = w.ac * v;
+        w.sw.noalias() = w.as * v;
         t.value = 0.5 * v.dot(t.lv) + b.dot(q.array().cos().matrix());
-        t.lq = -v.cwiseProduct(sw) - b.cwiseProduct(q.array().sin().matrix());
-        t.lvv = ac;
-        t.lqv = -(v.asDiagonal() * as);
-        t.lqv.diagonal() -= sw;
-        t.lqq = v.asDiagonal() * ac * v.asDiagonal();
-        const vec<N> cw = ac * v; // includes j = k: a_kk ω_k
+        t.lq = -v.cwiseProduct(w.sw) - b.cwiseProduct(q.array().sin().matrix());
+        t.lvv = w.ac;
+        t.lqv = -(v.asDiagonal() * w.as);
+        t.lqv.diagonal() -= w.sw;
+        t.lqq = v.asDiagonal() * w.ac * v.asDiagonal();
+        w.cw.noalias() = w.ac * v; // includes j = k: a_kk ω_k
         for (int k = 0; k < dimension(); ++k)
-            t.lqq(k, k) = -v(k) * (cw(k) - ac(k, k) * v(k)) - b(k) * std::cos(q(k));
+            t.lqq(k, k) = -v(k) * (w.cw(k) - w.ac(k, k) * v(k)) - b(k) * std::cos(q(k));
     }
 
   private:
+    /// The matrices and vectors of one evaluation. At N = dynamic one set per thread (the
+    /// Lagrangian stays const and shareable), so that an evaluation allocates nothing once they
+    /// have the size (the arm of 6 links on the general engine: 94 → 15 allocations a gauss-2
+    /// step); at a fixed N on the stack.
+    struct scratch {
+        mat<N> c, s, ac, as;
+        vec<N> cq, sq, sw, cw;
+    };
+    static scratch& work() {
+        thread_local scratch w;
+        return w;
+    }
     /// c_ij = cos(θ_i − θ_j) and s_ij = sin(θ_i − θ_j) from 2N sines and cosines.
-    static void trig(const vec<N>& q, mat<N>& c, mat<N>& s) {
-        const vec<N> cq = q.array().cos().matrix(), sq = q.array().sin().matrix();
-        c.noalias() = cq * cq.transpose() + sq * sq.transpose();
-        s.noalias() = sq * cq.transpose() - cq * sq.transpose();
+    static void trig(const vec<N>& q, scratch& w) {
+        w.cq = q.array().cos().matrix();
+        w.sq = q.array().sin().matrix();
+        w.c.noalias() = w.cq * w.cq.transpose();
+        w.c.noalias() += w.sq * w.sq.transpose();
+        w.s.noalias() = w.sq * w.cq.transpose();
+        w.s.noalias() -= w.cq * w.sq.transpose();
     }
 };
 
