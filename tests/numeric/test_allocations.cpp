@@ -19,6 +19,7 @@
 
 #include "schemes/nbody.hpp"
 #include "test_support.hpp"
+#include "varsym/problems/arm.hpp"
 #include "varsym/problems/chain.hpp"
 #include "varsym/problems/double_pendulum.hpp"
 #include "varsym/problems/kepler.hpp"
@@ -190,23 +191,32 @@ TEST(Allocations, RunTimeDimensionStepsWithoutAllocating) {
     EXPECT_EQ(allocations_in_steps(on, o0), 0);
 }
 
-TEST(Allocations, LinkedPendulumDerivativesWithoutAllocating) {
-    // The arm's Lagrangian at a run-time number of links (6): its hand derivatives keep their
-    // matrices per thread. (The general engine's step around them still allocates: not checked.)
-    const linked_pendulum::lagrangian<dynamic> l(std::vector<double>(6, 1.0),
-                                                 std::vector<double>(6, 1.0 / 6), 9.81);
+TEST(Allocations, ArmDerivativesWithoutAllocating) {
+    // The arm at a run-time number of links (6): its Lagrangian's hand derivatives and its force
+    // (damping + PD with gravity compensation) keep their matrices per thread. (The general
+    // engine's step around them still allocates in its predictor: not checked here.)
+    const arm::lagrangian l(std::vector<double>(6, 1.0), std::vector<double>(6, 1.0 / 6), 9.81);
+    arm::control c;
+    c.kp.assign(6, 100.0);
+    c.kd.assign(6, 40.0);
+    c.damping.assign(6, 0.5);
+    c.reference = {vec<dynamic>::Zero(6), vec<dynamic>::Constant(6, 0.5), 2.0};
+    const arm::force f = arm::make_force(l, c);
     const vec<dynamic> q = vec<dynamic>::LinSpaced(6, -0.4, 0.9);
     const vec<dynamic> v = vec<dynamic>::LinSpaced(6, 0.3, -0.2);
     lagrangian_terms<dynamic> t;
-    l.derivatives(q, v, t); // sizes t and the scratch
+    force_terms<dynamic> r;
+    l.derivatives(q, v, t); // sizes t, r and the scratch
+    f.derivatives(q, v, 0.5, r);
     Eigen::internal::set_is_malloc_allowed(false);
     try {
         l.derivatives(q, v, t);
         l.gradient(q, v, t);
+        f.derivatives(q, v, 0.7, r);
     } catch (...) {
         Eigen::internal::set_is_malloc_allowed(true);
         throw;
     }
     Eigen::internal::set_is_malloc_allowed(true);
-    EXPECT_TRUE(t.lqq.allFinite());
+    EXPECT_TRUE(t.lqq.allFinite() && r.fq.allFinite());
 }

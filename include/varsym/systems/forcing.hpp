@@ -114,7 +114,8 @@ struct rayleigh_damping {
     [[nodiscard]] int dimension() const { return static_cast<int>(c.rows()); }
     vec<D> operator()(const vec<D>&, const vec<D>& v, double) const { return -(c * v); }
     void derivatives(const vec<D>& q, const vec<D>& v, double, force_terms<D>& r) const {
-        r.f.noalias() = -(c * v);
+        r.f.noalias() = c * v; // then negated: −(C q̇) without a temporary for the product
+        r.f = -r.f;
         r.fq.setZero(q.size(), q.size());
         r.fv = -c;
     }
@@ -184,8 +185,10 @@ struct pd_controller {
     template <lagrangian L>
     pd_controller& compensate(L l) {
         compensation = [l = std::move(l)](const vec<D>& q, vec<D>& tau, mat<D>& dtau) {
-            lagrangian_terms<D> t;
-            evaluate(l, q, vec<D>::Zero(q.size()), t);
+            thread_local lagrangian_terms<D> t; // kept: no allocation once sized
+            thread_local vec<D> rest;
+            rest.setZero(q.size());
+            evaluate(l, q, rest, t);
             tau = -t.lq;
             dtau = -t.lqq;
         };
@@ -198,19 +201,34 @@ struct pd_controller {
         return r.f;
     }
     void derivatives(const vec<D>& q, const vec<D>& v, double t, force_terms<D>& r) const {
-        vec<D> ref = vec<D>::Zero(q.size()), rate = vec<D>::Zero(q.size());
-        if (reference) reference(t, ref, rate);
-        r.f.noalias() = kp * (ref - q);
-        r.f.noalias() += kd * (rate - v);
+        scratch local; // unused at D = dynamic
+        scratch& w = D == dynamic ? work() : local;
+        w.ref.setZero(q.size());
+        w.rate.setZero(q.size());
+        if (reference) reference(t, w.ref, w.rate);
+        w.error = w.ref - q;
+        r.f.noalias() = kp * w.error;
+        w.error = w.rate - v;
+        r.f.noalias() += kd * w.error;
         r.fq = -kp;
         r.fv = -kd;
         if (compensation) {
-            vec<D> tau;
-            mat<D> dtau;
-            compensation(q, tau, dtau);
-            r.f += tau;
-            r.fq += dtau;
+            compensation(q, w.tau, w.dtau);
+            r.f += w.tau;
+            r.fq += w.dtau;
         }
+    }
+
+  private:
+    /// The vectors of one evaluation: at D = dynamic one set per thread (the controller stays
+    /// const and shareable), so that an evaluation allocates nothing once they have the size.
+    struct scratch {
+        vec<D> ref, rate, error, tau;
+        mat<D> dtau;
+    };
+    static scratch& work() {
+        thread_local scratch w;
+        return w;
     }
 };
 
@@ -265,7 +283,12 @@ struct force_sum {
         return f;
     }
     void derivatives(const vec<dim>& q, const vec<dim>& v, double t, force_terms<dim>& r) const {
-        force_terms<dim> part{r}; // sized like r
+        // One part's terms: at a run-time dim kept per thread (no allocation once sized).
+        force_terms<dim> local;
+        force_terms<dim>& part = dim == dynamic ? work() : local;
+        part.f.resize(q.size());
+        part.fq.resize(q.size(), q.size());
+        part.fv.resize(q.size(), q.size());
         r.f.setZero(q.size());
         r.fq.setZero(q.size(), q.size());
         r.fv.setZero(q.size(), q.size());
@@ -276,6 +299,12 @@ struct force_sum {
                  ...);
             },
             parts);
+    }
+
+  private:
+    static force_terms<dim>& work() {
+        thread_local force_terms<dim> w;
+        return w;
     }
 };
 
