@@ -18,7 +18,8 @@ class compensated_update {
             for (auto* v : {&cq_, &cp_, &q_, &p_})
                 v->setZero();
     }
-    /// dq and dp: a vector or a column of a matrix (no copy made).
+    /// dq and dp: a vector, a column of a matrix or an expression, read while x is updated
+    /// (no copy made): they must not refer to x.
     template <class Dq>
     void add_q(phase_state<D>& x, const Eigen::MatrixBase<Dq>& dq) {
         if (!valid_ || x.q != q_ || x.p != p_) {
