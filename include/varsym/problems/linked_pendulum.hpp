@@ -85,14 +85,7 @@ struct lagrangian {
     ///   ∂L/∂ω_k = Σ_j a_kj c_kj ω_j,  ∂L/∂θ_k = −ω_k Σ_j a_kj s_kj ω_j − b_k sin θ_k.
     void gradient(const vec<N>& q, const vec<N>& v, lagrangian_terms<N>& t) const {
         scratch local; // unused at N = dynamic
-        scratch& w = N == dynamic ? work() : local;
-        trig(q, w);
-        w.ac = a.cwiseProduct(w.c);
-        w.as = a.cwiseProduct(w.s);
-        t.lv.noalias() = w.ac * v;
-        w.sw.noalias() = w.as * v;
-        t.value = 0.5 * v.dot(t.lv) + b.dot(q.array().cos().matrix());
-        t.lq = -v.cwiseProduct(w.sw) - b.cwiseProduct(q.array().sin().matrix());
+        first_derivatives(q, v, t, N == dynamic ? work() : local);
     }
 
     /// gradient() and the second derivatives by hand:
@@ -103,20 +96,14 @@ struct lagrangian {
     void derivatives(const vec<N>& q, const vec<N>& v, lagrangian_terms<N>& t) const {
         scratch local; // unused at N = dynamic
         scratch& w = N == dynamic ? work() : local;
-        trig(q, w);
-        w.ac = a.cwiseProduct(w.c);
-        w.as = a.cwiseProduct(w.s);
-        t.lv.noalias() = w.ac * v;
-        w.sw.noalias() = w.as * v;
-        t.value = 0.5 * v.dot(t.lv) + b.dot(q.array().cos().matrix());
-        t.lq = -v.cwiseProduct(w.sw) - b.cwiseProduct(q.array().sin().matrix());
+        first_derivatives(q, v, t, w);
         t.lvv = w.ac;
         t.lqv = -(v.asDiagonal() * w.as);
         t.lqv.diagonal() -= w.sw;
         t.lqq = v.asDiagonal() * w.ac * v.asDiagonal();
-        w.cw.noalias() = w.ac * v; // includes j = k: a_kk ω_k
+        // t.lv = Σ_j a_kj c_kj ω_j includes j = k: a_kk ω_k, taken out below.
         for (int k = 0; k < dimension(); ++k)
-            t.lqq(k, k) = -v(k) * (w.cw(k) - w.ac(k, k) * v(k)) - b(k) * std::cos(q(k));
+            t.lqq(k, k) = -v(k) * (t.lv(k) - w.ac(k, k) * v(k)) - b(k) * std::cos(q(k));
     }
 
   private:
@@ -126,11 +113,23 @@ struct lagrangian {
     /// step); at a fixed N on the stack.
     struct scratch {
         mat<N> c, s, ac, as;
-        vec<N> cq, sq, sw, cw;
+        vec<N> cq, sq, sw;
     };
     static scratch& work() {
         thread_local scratch w;
         return w;
+    }
+    /// L, ∂L/∂q and ∂L/∂q̇ (gradient()), leaving a_kj c_kj, a_kj s_kj and Σ_j a_kj s_kj ω_j in w
+    /// for the second derivatives.
+    void first_derivatives(const vec<N>& q, const vec<N>& v, lagrangian_terms<N>& t,
+                           scratch& w) const {
+        trig(q, w);
+        w.ac = a.cwiseProduct(w.c);
+        w.as = a.cwiseProduct(w.s);
+        t.lv.noalias() = w.ac * v;
+        w.sw.noalias() = w.as * v;
+        t.value = 0.5 * v.dot(t.lv) + b.dot(q.array().cos().matrix());
+        t.lq = -v.cwiseProduct(w.sw) - b.cwiseProduct(q.array().sin().matrix());
     }
     /// c_ij = cos(θ_i − θ_j) and s_ij = sin(θ_i − θ_j) from 2N sines and cosines.
     static void trig(const vec<N>& q, scratch& w) {
