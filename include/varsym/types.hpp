@@ -57,28 +57,31 @@ vec<N> solve_dense(const mat<N>& a, const vec<N>& b) {
     }
 }
 
-/// Solves A x = b where the symmetric A is positive definite, by one LDLᵀ (a division when
-/// N == 1), and returns true; returns false, x unchanged, where A is not (a pivot ≤ 0).
+/// Solves A x = b where the symmetric A is positive definite, by one LDLᵀ into `f` (a division
+/// when N == 1), and returns true; returns false, x unchanged, where A is not (a pivot ≤ 0). The
+/// caller keeps `f`, so that at a run-time N its storage is allocated once.
 template <int N>
-bool solve_positive_definite(const mat<N>& a, const vec<N>& b, vec<N>& x) {
+bool solve_positive_definite(Eigen::LDLT<mat<N>>& f, const mat<N>& a, const vec<N>& b, vec<N>& x) {
     if constexpr (N == 1) {
         if (!(a(0, 0) > 0.0)) return false;
         x = vec<N>{b(0) / a(0, 0)};
     } else {
-        const auto f = a.ldlt();
+        f.compute(a);
         if (f.info() != Eigen::Success || !(f.vectorD().array() > 0.0).all()) return false;
         x = f.solve(b);
     }
     return true;
 }
 
-/// Solves A x = b for a small symmetric A (a mass matrix): a division when N == 1, LDLᵀ else.
+/// Solves A x = b for a small symmetric A (a mass matrix): a division when N == 1, LDLᵀ into the
+/// caller's `f` else.
 template <int N>
-vec<N> solve_symmetric(const mat<N>& a, const vec<N>& b) {
+void solve_symmetric(Eigen::LDLT<mat<N>>& f, const mat<N>& a, const vec<N>& b, vec<N>& x) {
     if constexpr (N == 1) {
-        return vec<N>{b(0) / a(0, 0)};
+        x = vec<N>{b(0) / a(0, 0)};
     } else {
-        return a.ldlt().solve(b);
+        f.compute(a);
+        x = f.solve(b);
     }
 }
 

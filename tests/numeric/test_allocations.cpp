@@ -191,17 +191,24 @@ TEST(Allocations, RunTimeDimensionStepsWithoutAllocating) {
     EXPECT_EQ(allocations_in_steps(on, o0), 0);
 }
 
-TEST(Allocations, ArmDerivativesWithoutAllocating) {
-    // The arm at a run-time number of links (6): its Lagrangian's hand derivatives and its force
-    // (damping + PD with gravity compensation) keep their matrices per thread. (The general
-    // engine's step around them still allocates in its predictor: not checked here.)
-    const arm::lagrangian l(std::vector<double>(6, 1.0), std::vector<double>(6, 1.0 / 6), 9.81);
+namespace {
+// The arm at a run-time number of links (6), with damping and PD control with gravity
+// compensation.
+const arm::lagrangian arm6(std::vector<double>(6, 1.0), std::vector<double>(6, 1.0 / 6), 9.81);
+arm::force arm6_control() {
     arm::control c;
     c.kp.assign(6, 100.0);
     c.kd.assign(6, 40.0);
     c.damping.assign(6, 0.5);
     c.reference = {vec<dynamic>::Zero(6), vec<dynamic>::Constant(6, 0.5), 2.0};
-    const arm::force f = arm::make_force(l, c);
+    return arm::make_force(arm6, c);
+}
+} // namespace
+
+TEST(Allocations, ArmDerivativesWithoutAllocating) {
+    // The arm's Lagrangian's hand derivatives and its force keep their matrices per thread.
+    const arm::lagrangian& l = arm6;
+    const arm::force f = arm6_control();
     const vec<dynamic> q = vec<dynamic>::LinSpaced(6, -0.4, 0.9);
     const vec<dynamic> v = vec<dynamic>::LinSpaced(6, 0.3, -0.2);
     lagrangian_terms<dynamic> t;
@@ -219,4 +226,22 @@ TEST(Allocations, ArmDerivativesWithoutAllocating) {
     }
     Eigen::internal::set_is_malloc_allowed(true);
     EXPECT_TRUE(t.lqq.allFinite() && r.fq.allFinite());
+}
+
+TEST(Allocations, GeneralEngineAtRunTimeDimensionStepsWithoutAllocating) {
+    // The arm on the general engine (the tool's path for it), by the simplified iteration (its
+    // full Taylor predictor taken at each refresh of the kept Jacobian) and by Newton (the full
+    // predictor at every step), with and without its force.
+    const lagrangian_system<arm::lagrangian> robot(arm6);
+    const arm::force f = arm6_control();
+    const phase_state<dynamic> y0{vec<dynamic>::LinSpaced(6, -0.4, 0.9), vec<dynamic>::Zero(6)};
+    for (auto kind : {iteration_kind::simplified, iteration_kind::newton}) {
+        newton_options opt;
+        opt.iteration = kind;
+        general::stepper<arm::lagrangian> free(robot, 1e-3, {scheme_kind::gauss, 2}, opt);
+        general::stepper<arm::lagrangian, arm::force> forced(robot, f, 1e-3,
+                                                             {scheme_kind::gauss, 2}, opt);
+        EXPECT_EQ(allocations_in_steps(free, y0), 0);
+        EXPECT_EQ(allocations_in_steps(forced, y0), 0);
+    }
 }

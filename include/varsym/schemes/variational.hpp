@@ -109,7 +109,7 @@ class stepper {
                 t.fv.setZero(d_, d_);
             }
         }
-        for (auto* v : {&qk_, &vk_, &dp_, &dq_, &acc_, &lq0_, &lv0_, &q_bar_, &v_bar_})
+        for (auto* v : {&qk_, &vk_, &dp_, &dq_, &acc_, &lq0_, &lv0_, &q_bar_, &v_bar_, &rhs_})
             v->setZero(d_);
         res_.setZero(s_ * d_);
         delta_.setZero(s_ * d_);
@@ -260,15 +260,20 @@ class stepper {
         lagrangian_terms<dim>& t = terms_[0];
         vk_.setZero();
         evaluate(sys_.lagrangian(), x.q, vk_, t_, t);
-        vec<dim> v = x.p; // from p where ∂²L/∂q̇² is not positive definite at q̇ = 0
-        solve_positive_definite<dim>(t.lvv, x.p - t.lv, v);
-        evaluate(sys_.lagrangian(), x.q, v, t_, t);
-        if constexpr (forced) add_force(0, x.q, v, t_, true);
+        v_bar_ = x.p; // from p where ∂²L/∂q̇² is not positive definite at q̇ = 0
+        rhs_ = x.p - t.lv;
+        solve_positive_definite<dim>(ldlt_, t.lvv, rhs_, v_bar_);
+        evaluate(sys_.lagrangian(), x.q, v_bar_, t_, t);
+        if constexpr (forced) add_force(0, x.q, v_bar_, t_, true);
         q_bar_ = x.q; // terms_[0] (and fterms_[0]) now hold the derivatives at (q̄, v̄)
-        v_bar_ = v;
         t_bar_ = t_;
-        v += solve_symmetric<dim>(t.lvv, x.p - t.lv);
-        const vec<dim> a = solve_symmetric<dim>(t.lvv, t.lq - t.lqv.transpose() * v);
+        rhs_ = x.p - t.lv;
+        solve_symmetric<dim>(ldlt_, t.lvv, rhs_, dq_);
+        const vec<dim>& v = dq_ += v_bar_; // one Newton step on ∂L/∂q̇(q, v) = p
+        rhs_ = t.lq;
+        rhs_.noalias() -= t.lqv.transpose() * v;
+        solve_symmetric<dim>(ldlt_, t.lvv, rhs_, acc_);
+        const vec<dim>& a = acc_;
         for (int l = 0; l < s_; ++l) {
             const double tau = tab_.control[l + 1] * h_;
             x_.col(l) = tau * v + (0.5 * tau * tau) * a;
@@ -356,7 +361,8 @@ class stepper {
     int s_ = 0, r_ = 0, d_ = 0;
     Eigen::Matrix<double, dim, Eigen::Dynamic> x_;
     vec<dim> qk_, vk_, dp_, dq_, acc_, lq0_,
-        lv0_; // lq0_, lv0_: L_q, L_v at (q_j, v) in predict_kept
+        lv0_, // lq0_, lv0_: L_q, L_v at (q_j, v) in predict_kept
+        rhs_; // a right-hand side of the predictor's solves
     std::vector<lagrangian_terms<dim>> terms_;
     std::vector<force_terms<dim>> fterms_;      // the force at each quadrature point (if forced)
     double t_ = 0.0, work_ = 0.0, t_bar_ = 0.0; // t_bar_: the time of (q̄, v̄), if timed
@@ -367,6 +373,7 @@ class stepper {
     Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
     vec<dim> q_bar_, v_bar_;     // where the kept Jacobian was taken
     Eigen::LDLT<mat<dim>> mbar_; // ∂²L/∂q̇² there, factorised: the kept predictor's mass matrix
+    Eigen::LDLT<mat<dim>> ldlt_; // the full predictor's factorisations
     bool kept_ = false;
     double rate_ = 0.0; // the slowest contraction of the last linear iteration
     compensated_update<dim> sum_;

@@ -142,7 +142,8 @@ void stepper<L, F>::refresh(const lagrangian_terms<dim>& t) {
     }
     mbar_.compute(t.lvv);
     // assemble() also writes a residual; only its Jacobian is used here.
-    assemble(vec<dim>::Zero(d_), true);
+    rhs_.setZero();
+    assemble(rhs_, true);
     lu_.compute(jac_);
     // Column by column through the work vectors: lu_.inverse() would allocate a temporary.
     for (Eigen::Index c = 0; c < res_.size(); ++c) {
