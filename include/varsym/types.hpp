@@ -85,6 +85,17 @@ void solve_symmetric(Eigen::LDLT<mat<N>>& f, const mat<N>& a, const vec<N>& b, v
     }
 }
 
+/// Solves A x = b again, for another b, with the factorisation of A that solve_symmetric left
+/// in `f` (a division when N == 1): A must be the same matrix, unchanged since.
+template <int N>
+void solve_symmetric_again(const Eigen::LDLT<mat<N>>& f, const mat<N>& a, const vec<N>& b,
+                           vec<N>& x) {
+    if constexpr (N == 1)
+        x = vec<N>{b(0) / a(0, 0)};
+    else
+        x = f.solve(b);
+}
+
 } // namespace varsym
 
 namespace varsym::detail {

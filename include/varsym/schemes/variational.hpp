@@ -272,7 +272,7 @@ class stepper {
         const vec<dim>& v = dq_ += v_bar_; // one Newton step on ∂L/∂q̇(q, v) = p
         rhs_ = t.lq;
         rhs_.noalias() -= t.lqv.transpose() * v;
-        solve_symmetric<dim>(ldlt_, t.lvv, rhs_, acc_);
+        solve_symmetric_again<dim>(ldlt_, t.lvv, rhs_, acc_); // the same L_vv as v's correction
         const vec<dim>& a = acc_;
         for (int l = 0; l < s_; ++l) {
             const double tau = tab_.control[l + 1] * h_;
