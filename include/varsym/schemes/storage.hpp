@@ -2,6 +2,7 @@
 // iterates in, sized once by its constructor so that a step allocates nothing.
 #pragma once
 
+#include <algorithm>
 #include <type_traits>
 
 #include "varsym/types.hpp"
@@ -59,22 +60,33 @@ void times_transpose(Out&& out, const In& in, const C& c) {
 /// largely cancel against increments and gradients changing little across a step: a plain sum's
 /// rounding then depends smoothly on the state, does not average out over a run, and tilts the
 /// energy linearly (docs/performance.md, "Where the drift comes from", has what compensating it
-/// bought).
+/// bought). Up to eight of a column's entries are summed side by side (each with the same
+/// operations in the same order as alone): their chains of dependent additions then overlap and
+/// the compiler packs them, where one entry at a time left the solar system's closing sweep
+/// (d = 18) waiting on each addition (docs/performance.md).
 template <class Out, class In, class C>
 void times_transpose_compensated(Out&& out, const In& in, const C& c, const C& c_lo) {
+    constexpr int rows = static_cast<int>(rows_at_compile_time<In>);
+    constexpr Eigen::Index block = rows > 0 && rows <= 8 ? rows : 8;
     const Eigen::Index d = in.rows();
     const double* x = in.data();
     for (Eigen::Index i = 0; i < c.rows(); ++i) {
         double* o = out.data() + i * d;
-        for (Eigen::Index a = 0; a < d; ++a) {
-            double sum = 0.0, carry = 0.0;
+        for (Eigen::Index first = 0; first < d; first += block) {
+            const Eigen::Index n = rows > 0 && rows <= 8 ? block : std::min(block, d - first);
+            double sum[block] = {}, carry[block] = {};
             for (Eigen::Index l = 0; l < c.cols(); ++l) {
-                const double t = c(i, l) * x[l * d + a];
-                const double next = sum + t, v = next - sum;
-                carry += ((sum - (next - v)) + (t - v)) + c_lo(i, l) * x[l * d + a];
-                sum = next;
+                const double cl = c(i, l), lo = c_lo(i, l);
+                const double* xl = x + l * d + first;
+                for (Eigen::Index a = 0; a < n; ++a) {
+                    const double t = cl * xl[a];
+                    const double next = sum[a] + t, v = next - sum[a];
+                    carry[a] += ((sum[a] - (next - v)) + (t - v)) + lo * xl[a];
+                    sum[a] = next;
+                }
             }
-            o[a] = sum + carry;
+            for (Eigen::Index a = 0; a < n; ++a)
+                o[first + a] = sum[a] + carry[a];
         }
     }
 }
