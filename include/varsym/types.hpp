@@ -73,18 +73,6 @@ bool solve_positive_definite(Eigen::LDLT<mat<N>>& f, const mat<N>& a, const vec<
     return true;
 }
 
-/// Solves A x = b for a small symmetric A (a mass matrix): a division when N == 1, LDLᵀ into the
-/// caller's `f` else.
-template <int N>
-void solve_symmetric(Eigen::LDLT<mat<N>>& f, const mat<N>& a, const vec<N>& b, vec<N>& x) {
-    if constexpr (N == 1) {
-        x = vec<N>{b(0) / a(0, 0)};
-    } else {
-        f.compute(a);
-        x = f.solve(b);
-    }
-}
-
 /// Solves A x = b again, for another b, with the factorisation of A that solve_symmetric left
 /// in `f` (a division when N == 1): A must be the same matrix, unchanged since.
 template <int N>
@@ -94,6 +82,14 @@ void solve_symmetric_again(const Eigen::LDLT<mat<N>>& f, const mat<N>& a, const 
         x = vec<N>{b(0) / a(0, 0)};
     else
         x = f.solve(b);
+}
+
+/// Solves A x = b for a small symmetric A (a mass matrix): a division when N == 1, LDLᵀ into the
+/// caller's `f` else.
+template <int N>
+void solve_symmetric(Eigen::LDLT<mat<N>>& f, const mat<N>& a, const vec<N>& b, vec<N>& x) {
+    if constexpr (N != 1) f.compute(a);
+    solve_symmetric_again<N>(f, a, b, x);
 }
 
 } // namespace varsym
