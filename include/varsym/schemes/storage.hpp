@@ -67,13 +67,14 @@ void times_transpose(Out&& out, const In& in, const C& c) {
 template <class Out, class In, class C>
 void times_transpose_compensated(Out&& out, const In& in, const C& c, const C& c_lo) {
     constexpr int rows = static_cast<int>(rows_at_compile_time<In>);
-    constexpr Eigen::Index block = rows > 0 && rows <= 8 ? rows : 8;
+    constexpr bool one_block = rows > 0 && rows <= 8; // a fixed d ≤ 8: the block is the column
+    constexpr Eigen::Index block = one_block ? rows : 8;
     const Eigen::Index d = in.rows();
     const double* x = in.data();
     for (Eigen::Index i = 0; i < c.rows(); ++i) {
         double* o = out.data() + i * d;
         for (Eigen::Index first = 0; first < d; first += block) {
-            const Eigen::Index n = rows > 0 && rows <= 8 ? block : std::min(block, d - first);
+            const Eigen::Index n = one_block ? block : std::min(block, d - first);
             double sum[block] = {}, carry[block] = {};
             for (Eigen::Index l = 0; l < c.cols(); ++l) {
                 const double cl = c(i, l), lo = c_lo(i, l);
