@@ -1,0 +1,201 @@
+// varsym/multibody/algorithms.hpp: the recursive algorithms over a model and a workspace
+// (model.hpp), in world coordinates (Featherstone's spatial notation, spatial.hpp): kinematics,
+// the Lagrangian L = ½ Σ v_iᵀ I_i v_i − V(q), V = −Σ m_i g·c_i, with its first derivatives in
+// O(n) and its second derivatives in O(n²) (the variational steppers' residuals and Newton
+// Jacobians), the mass matrix, gravity and bias forces, and frame poses.
+//
+// The derivatives, with S_i the world motion subspace of joint i, v_i the velocity of body i,
+// h^c_i, I^c_i and F^c_i the momentum, inertia and gravity wrench (I a_g, a_g = (0; g)) summed
+// over body i's subtree, λ(i) its parent, u_i = S_i × v_λ(i) and α_i = S_i × a_g:
+//   ∂L/∂q̇_j = S_jᵀ h^c_j,   ∂L/∂q_j = S_jᵀ (F^c_j − v_j ×* h^c_j)   (∂S_j/∂q_i = S_i × S_j)
+// and, for i an ancestor of j or j itself (i ≼ j),
+//   ∂²L/∂q_i∂q̇_j = −S_jᵀ I^c_j u_i,
+//   ∂²L/∂q_i∂q_j = S_jᵀ (u_i ×* h^c_j + v_j ×* I^c_j u_i − I^c_j α_i),
+//   ∂²L/∂q̇_i∂q̇_j = M_ij = S_iᵀ I^c_j S_j,
+// and, for j a strict ancestor of i (j ≺ i), with dh_i = S_i ×* h^c_i − I^c_i u_i and
+// dF_i = S_i ×* F^c_i − I^c_i α_i (the changes of i's subtree's momentum and gravity wrench),
+//   ∂²L/∂q_i∂q̇_j = S_jᵀ dh_i,   ∂²L/∂q_i∂q_j = S_jᵀ (dF_i − v_j ×* dh_i);
+// zero where neither joint is above the other. The world-frame quantities moving rigidly with
+// joint i change by S_i × (motions) and S_i ×* (forces) and those changes cancel in each S_jᵀ(·)
+// product; what is left are the terms in u_i and α_i (docs/robots.md derives them).
+#pragma once
+
+#include <Eigen/Core>
+
+#include "varsym/multibody/model.hpp"
+
+namespace varsym::multibody {
+
+/// Body poses, joint motion subspaces S_i, world spatial inertias I_i and gravity wrenches
+/// f_i = I_i (0; g) at q.
+template <class Q>
+void kinematics(const model& m, workspace& w, const Eigen::MatrixBase<Q>& q) {
+    const int n = m.dof();
+    w.resize(n);
+    for (int i = 0; i < n; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        const body& b = m.bodies[k];
+        const pose joint = b.parent < 0 ? b.placement
+                                        : w.x[static_cast<std::size_t>(b.parent)] * b.placement;
+        const vec3 a = joint.rotation * b.axis;
+        if (b.kind == joint_kind::revolute) {
+            w.s[k] << a, joint.origin.cross(a); // rotation about the axis through the joint
+            w.x[k] = {joint.rotation * axis_angle(b.axis, q(i)), joint.origin};
+        } else {
+            w.s[k] << vec3::Zero(), a;
+            w.x[k] = {joint.rotation, joint.origin + a * q(i)};
+        }
+        const mat3& r = w.x[k].rotation;
+        const vec3 c = w.x[k].point(b.com);
+        w.inertia[k] = spatial_inertia(b.mass, c, r * b.inertia * r.transpose());
+        w.f[k] << b.mass * c.cross(m.gravity), b.mass * m.gravity;
+    }
+}
+
+/// Body velocities v_i = v_λ(i) + S_i q̇_i and momenta h_i = I_i v_i (after kinematics).
+template <class V>
+void velocities(const model& m, workspace& w, const Eigen::MatrixBase<V>& qd) {
+    for (int i = 0; i < m.dof(); ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        const int p = m.bodies[k].parent;
+        w.v[k] = w.s[k] * qd(i);
+        if (p >= 0) w.v[k] += w.v[static_cast<std::size_t>(p)];
+        w.h[k].noalias() = w.inertia[k] * w.v[k];
+    }
+}
+
+/// L = T − V from the bodies' velocities, momenta and wrenches (after velocities, before
+/// the subtree sums): T = ½ Σ v_iᵀ h_i, V = −Σ m_i g·c_i (the wrench's moment is m c × g).
+inline double lagrangian_value(const model& m, const workspace& w) {
+    double t = 0.0, minus_v = 0.0;
+    for (std::size_t k = 0; k < m.bodies.size(); ++k) {
+        t += w.v[k].dot(w.h[k]);
+        // m g·c from the wrench (m c × g; m g): c = x.point(com) again is cheaper to keep.
+        minus_v += m.bodies[k].mass * m.gravity.dot(w.x[k].point(m.bodies[k].com));
+    }
+    return 0.5 * t + minus_v;
+}
+
+/// Sums momenta and gravity wrenches (and, with inertias, spatial inertias) over each subtree,
+/// leaves first: h^c_i, F^c_i (I^c_i).
+inline void subtree_sums(const model& m, workspace& w, bool inertias) {
+    for (int i = m.dof() - 1; i >= 0; --i) {
+        const int p = m.bodies[static_cast<std::size_t>(i)].parent;
+        if (p < 0) continue;
+        const auto k = static_cast<std::size_t>(i), pk = static_cast<std::size_t>(p);
+        w.h[pk] += w.h[k];
+        w.f[pk] += w.f[k];
+        if (inertias) w.inertia[pk] += w.inertia[k];
+    }
+}
+
+/// L(q, q̇), ∂L/∂q and ∂L/∂q̇ in O(n): value, lq, lv (sized n).
+template <class Q, class V, class Out>
+double lagrangian_gradient(const model& m, workspace& w, const Eigen::MatrixBase<Q>& q,
+                           const Eigen::MatrixBase<V>& qd, Eigen::MatrixBase<Out>& lq,
+                           Eigen::MatrixBase<Out>& lv, bool keep_inertias = false) {
+    kinematics(m, w, q);
+    velocities(m, w, qd);
+    const double value = lagrangian_value(m, w);
+    subtree_sums(m, w, keep_inertias);
+    for (int j = 0; j < m.dof(); ++j) {
+        const auto k = static_cast<std::size_t>(j);
+        lv(j) = w.s[k].dot(w.h[k]);
+        lq(j) = w.s[k].dot(w.f[k] - cross_force(w.v[k], w.h[k]));
+    }
+    return value;
+}
+
+/// The first and second derivatives of L in O(n²) (the formulas at the top of this file):
+/// lq, lv, and lqq, lqv (lqv(i, j) = ∂²L/∂q_i∂q̇_j), lvv = M(q). Returns L.
+template <class Q, class V, class Vec, class Mat>
+double lagrangian_derivatives(const model& m, workspace& w, const Eigen::MatrixBase<Q>& q,
+                              const Eigen::MatrixBase<V>& qd, Eigen::MatrixBase<Vec>& lq,
+                              Eigen::MatrixBase<Vec>& lv, Eigen::MatrixBase<Mat>& lqq,
+                              Eigen::MatrixBase<Mat>& lqv, Eigen::MatrixBase<Mat>& lvv) {
+    const double value = lagrangian_gradient(m, w, q, qd, lq, lv, true);
+    const int n = m.dof();
+    const vec6 ag = (vec6() << vec3::Zero(), m.gravity).finished();
+    lqq.setZero();
+    lqv.setZero();
+    lvv.setZero();
+    for (int i = 0; i < n; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        const int p = m.bodies[k].parent;
+        if (p >= 0)
+            w.u[k] = cross_motion(w.s[k], w.v[static_cast<std::size_t>(p)]);
+        else
+            w.u[k].setZero();
+        w.alpha[k] = cross_motion(w.s[k], ag);
+        w.dh[k] = cross_force(w.s[k], w.h[k]) - w.inertia[k] * w.u[k];
+        w.df[k] = cross_force(w.s[k], w.f[k]) - w.inertia[k] * w.alpha[k];
+        w.s_ic[k].noalias() = w.s[k].transpose() * w.inertia[k];
+        w.r[k].noalias() = w.s[k].transpose() *
+                           (force_bar_matrix(w.h[k]) + cross_force_matrix(w.v[k]) * w.inertia[k]);
+        w.t[k].noalias() = w.s[k].transpose() * cross_force_matrix(w.v[k]);
+    }
+    for (int j = 0; j < n; ++j) {
+        const auto jk = static_cast<std::size_t>(j);
+        // i ≼ j: j itself and its ancestors.
+        for (int i = j; i >= 0; i = m.bodies[static_cast<std::size_t>(i)].parent) {
+            const auto ik = static_cast<std::size_t>(i);
+            lqv(i, j) = -w.s_ic[jk].dot(w.u[ik]);
+            lqq(i, j) = w.r[jk].dot(w.u[ik]) - w.s_ic[jk].dot(w.alpha[ik]);
+            lvv(i, j) = lvv(j, i) = w.s_ic[jk].dot(w.s[ik]);
+        }
+        // j ≺ i, seen from i = j: its strict ancestors a take the (i = j, j = a) entries.
+        for (int a = m.bodies[jk].parent; a >= 0; a = m.bodies[static_cast<std::size_t>(a)].parent) {
+            const auto ak = static_cast<std::size_t>(a);
+            lqv(j, a) = w.s[ak].dot(w.dh[jk]);
+            lqq(j, a) = w.s[ak].dot(w.df[jk]) - w.t[ak].dot(w.dh[jk]);
+        }
+    }
+    return value;
+}
+
+/// The joint-space mass matrix M(q) by the composite-rigid-body algorithm (O(n²)).
+template <class Q, class Mat>
+void mass_matrix(const model& m, workspace& w, const Eigen::MatrixBase<Q>& q,
+                 Eigen::MatrixBase<Mat>& out) {
+    kinematics(m, w, q);
+    subtree_sums(m, w, true);
+    out.setZero();
+    for (int j = 0; j < m.dof(); ++j) {
+        const auto jk = static_cast<std::size_t>(j);
+        const vec6 ics = w.inertia[jk] * w.s[jk];
+        for (int i = j; i >= 0; i = m.bodies[static_cast<std::size_t>(i)].parent)
+            out(i, j) = out(j, i) = w.s[static_cast<std::size_t>(i)].dot(ics);
+    }
+}
+
+/// The generalized forces of q̈ = 0 by the recursive Newton–Euler algorithm (Featherstone
+/// §5.3, in world coordinates, gravity as the base's acceleration −a_g): the bias
+/// C(q, q̇)q̇ + g(q) with M(q)q̈ + C(q, q̇)q̇ + g(q) = τ. With q̇ = 0 it is g(q) = ∂V/∂q.
+template <class Q, class V, class Out>
+void bias_forces(const model& m, workspace& w, const Eigen::MatrixBase<Q>& q,
+                 const Eigen::MatrixBase<V>& qd, Eigen::MatrixBase<Out>& out) {
+    kinematics(m, w, q);
+    velocities(m, w, qd);
+    const vec6 base = (vec6() << vec3::Zero(), -m.gravity).finished();
+    for (int i = 0; i < m.dof(); ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        const int p = m.bodies[k].parent;
+        // a_i = a_λ(i) + Ṡ_i q̇_i, Ṡ_i = v_i × S_i; f_i = I_i a_i + v_i ×* I_i v_i.
+        w.a[k] = (p < 0 ? base : w.a[static_cast<std::size_t>(p)]) +
+                 cross_motion(w.v[k], w.s[k]) * qd(i);
+        w.f[k] = w.inertia[k] * w.a[k] + cross_force(w.v[k], w.h[k]);
+    }
+    for (int i = m.dof() - 1; i >= 0; --i) {
+        const auto k = static_cast<std::size_t>(i);
+        out(i) = w.s[k].dot(w.f[k]);
+        const int p = m.bodies[k].parent;
+        if (p >= 0) w.f[static_cast<std::size_t>(p)] += w.f[k];
+    }
+}
+
+/// A named frame's pose in the world at the last kinematics.
+inline pose frame_pose(const workspace& w, const frame& f) {
+    return f.body < 0 ? f.offset : w.x[static_cast<std::size_t>(f.body)] * f.offset;
+}
+
+} // namespace varsym::multibody

@@ -1,0 +1,137 @@
+// The recursive derivatives of a multibody Lagrangian (varsym/multibody/algorithms.hpp) against
+// forward-mode AD of a second implementation that shares no code with them
+// (reference_lagrangian.hpp: classical vectors, no spatial algebra), on a branched tree of
+// revolute and prismatic joints with random placements, axes and full inertia tensors; and the
+// recursive Newton–Euler bias forces and the composite-rigid-body M(q) against the Euler–Lagrange
+// equations they must satisfy.
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "multibody/reference_lagrangian.hpp"
+#include "varsym/multibody/lagrangian.hpp"
+
+namespace {
+
+using namespace varsym;
+using multibody::vec3;
+
+/// A random positive definite inertia about the centre of mass that meets the triangle
+/// inequality: principal moments from random (a, b, c) ≥ 0 as (b + c, a + c, a + b), rotated.
+multibody::mat3 random_inertia(std::mt19937& g) {
+    std::uniform_real_distribution<double> u(0.05, 1.0);
+    const double a = u(g), b = u(g), c = u(g);
+    const multibody::mat3 r =
+        multibody::roll_pitch_yaw(vec3(3.0 * u(g), 3.0 * u(g), 3.0 * u(g)));
+    return r * vec3(b + c, a + c, a + b).asDiagonal() * r.transpose();
+}
+
+/// Seven bodies: a branched tree (0 ← 1 ← 2, 1 ← 3 ← 4, 0 ← 5 ← 6), bodies 2 and 5 on prismatic
+/// joints, every placement, axis, mass and centre of mass random.
+multibody::model random_tree(unsigned seed) {
+    std::mt19937 g(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    multibody::model m;
+    const int parents[] = {-1, 0, 1, 1, 3, 0, 5};
+    for (int i = 0; i < 7; ++i) {
+        multibody::body b;
+        b.name = "j" + std::to_string(i);
+        b.link = "l" + std::to_string(i);
+        b.parent = parents[i];
+        b.kind = (i == 2 || i == 5) ? multibody::joint_kind::prismatic
+                                    : multibody::joint_kind::revolute;
+        b.placement.rotation = multibody::roll_pitch_yaw(vec3(3 * u(g), 3 * u(g), 3 * u(g)));
+        b.placement.origin = vec3(u(g), u(g), u(g)) * 0.5;
+        b.axis = vec3(u(g), u(g), u(g)).normalized();
+        b.mass = 1.0 + u(g) * 0.5;
+        b.com = vec3(u(g), u(g), u(g)) * 0.3;
+        b.inertia = random_inertia(g);
+        m.bodies.push_back(b);
+    }
+    m.gravity = vec3(0.3, -0.2, -9.81);
+    return m;
+}
+
+/// Largest |a − b| relative to max(1, |b|) over the entries.
+template <class A, class B>
+double relative_gap(const A& a, const B& b) {
+    return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
+}
+
+// Both sides sum O(10²) products of O(1–10) numbers in double: a few hundred ulps of the
+// largest term, 1e-12 relative, is round-off; a wrong sign or term is O(1).
+constexpr double tolerance = 1e-12;
+
+TEST(MultibodyDerivatives, FirstAndSecondDerivativesEqualAutomaticDifferentiationOfASecondImplementation) {
+    const multibody::model m = random_tree(7);
+    const multibody::robot_lagrangian l(std::make_shared<const multibody::model>(m));
+    const test::reference_lagrangian<7> ref{&m};
+    std::mt19937 g(11);
+    std::uniform_real_distribution<double> u(-2.0, 2.0);
+    for (int k = 0; k < 5; ++k) {
+        vec<7> q, v;
+        for (int i = 0; i < 7; ++i) {
+            q(i) = u(g);
+            v(i) = u(g);
+        }
+        lagrangian_terms<7> expected;
+        evaluate(ref, q, v, expected);
+        lagrangian_terms<dynamic> got;
+        l.derivatives(q, v, got);
+        EXPECT_NEAR(got.value, expected.value, tolerance * std::max(1.0, std::abs(expected.value)));
+        EXPECT_LT(relative_gap(got.lq, expected.lq), tolerance) << "dL/dq at state " << k;
+        EXPECT_LT(relative_gap(got.lv, expected.lv), tolerance) << "dL/dqdot at state " << k;
+        EXPECT_LT(relative_gap(got.lqq, expected.lqq), tolerance) << "d2L/dq2 at state " << k;
+        EXPECT_LT(relative_gap(got.lqv, expected.lqv), tolerance) << "d2L/dqdqdot at state " << k;
+        EXPECT_LT(relative_gap(got.lvv, expected.lvv), tolerance) << "M(q) at state " << k;
+        lagrangian_terms<dynamic> first;
+        l.gradient(q, v, first);
+        EXPECT_EQ(first.lq, got.lq);
+        EXPECT_EQ(first.lv, got.lv);
+        EXPECT_DOUBLE_EQ(l(q, v), got.value);
+    }
+}
+
+TEST(MultibodyDerivatives, ADifferentInertiaInTheReferenceIsSeen) {
+    // Negative control: the comparison above detects a 1 % change of one off-diagonal inertia.
+    const multibody::model m = random_tree(7);
+    multibody::model changed = m;
+    changed.bodies[4].inertia(0, 1) *= 1.01;
+    changed.bodies[4].inertia(1, 0) *= 1.01;
+    const multibody::robot_lagrangian l(std::make_shared<const multibody::model>(m));
+    const test::reference_lagrangian<7> ref{&changed};
+    vec<7> q, v;
+    q << 0.3, -0.7, 0.2, 1.1, -0.4, 0.5, 0.9;
+    v << 1.0, 0.5, -0.3, 0.8, -1.2, 0.4, 0.7;
+    lagrangian_terms<7> expected;
+    evaluate(ref, q, v, expected);
+    lagrangian_terms<dynamic> got;
+    l.derivatives(q, v, got);
+    EXPECT_GT(relative_gap(got.lvv, expected.lvv), 100 * tolerance);
+    EXPECT_GT(relative_gap(got.lqq, expected.lqq), 100 * tolerance);
+}
+
+TEST(MultibodyDerivatives, NewtonEulerBiasAndCompositeMassMatrixSatisfyEulerLagrange) {
+    // d/dt ∂L/∂q̇ − ∂L/∂q = M q̈ + (∂²L/∂q∂q̇)ᵀ q̇ − ∂L/∂q: the bias C q̇ + g of the recursive
+    // Newton–Euler pass is (∂²L/∂q∂q̇)ᵀ q̇ − ∂L/∂q, and g(q) = −∂L/∂q(q, 0).
+    const multibody::model m = random_tree(3);
+    const multibody::robot_lagrangian l(std::make_shared<const multibody::model>(m));
+    multibody::workspace w;
+    vec<dynamic> q(7), v(7), bias(7), gravity(7);
+    q << 0.3, -0.7, 0.2, 1.1, -0.4, 0.5, 0.9;
+    v << 1.0, 0.5, -0.3, 0.8, -1.2, 0.4, 0.7;
+    lagrangian_terms<dynamic> t;
+    l.derivatives(q, v, t);
+    multibody::bias_forces(m, w, q, v, bias);
+    EXPECT_LT(relative_gap(bias, vec<dynamic>(t.lqv.transpose() * v - t.lq)), tolerance);
+    multibody::bias_forces(m, w, q, vec<dynamic>::Zero(7), gravity);
+    lagrangian_terms<dynamic> rest;
+    l.gradient(q, vec<dynamic>::Zero(7), rest);
+    EXPECT_LT(relative_gap(gravity, vec<dynamic>(-rest.lq)), tolerance);
+    mat<dynamic> mass(7, 7);
+    multibody::mass_matrix(m, w, q, mass);
+    EXPECT_LT(relative_gap(mass, t.lvv), tolerance);
+    EXPECT_EQ(mass, mass.transpose());
+}
+
+} // namespace
