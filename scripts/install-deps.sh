@@ -10,6 +10,7 @@ packages=(
   libboost-dev              # Boost.Math (elliptic functions, quadrature), Boost.Odeint
   libcli11-dev              # command line
   libtomlplusplus-dev       # config files (varsym run --config)
+  libtinyxml2-dev           # URDF robots (varsym run --urdf)
   libgtest-dev              # tests
   libbenchmark-dev          # benchmarks
   gnuplot-nox               # figures (pngcairo and svg terminals)
