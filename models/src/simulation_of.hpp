@@ -27,9 +27,14 @@ template <class Fill>
 struct column_set {
     std::vector<std::string> names;
     Fill fill;
+    /// The coordinates' names for the state columns q_NAME, p_NAME (a robot's joints); empty:
+    /// q_1 … q_d.
+    std::vector<std::string> coordinates = {};
 };
 template <class Fill>
 column_set(std::vector<std::string>, Fill) -> column_set<Fill>;
+template <class Fill>
+column_set(std::vector<std::string>, Fill, std::vector<std::string>) -> column_set<Fill>;
 
 template <class S, class Fill>
 class simulation_of final : public simulation {
@@ -50,6 +55,14 @@ class simulation_of final : public simulation {
         return {r_.x.p.data(), static_cast<std::size_t>(r_.x.p.size())};
     }
     [[nodiscard]] const std::vector<std::string>& columns() const override { return cols_.names; }
+    [[nodiscard]] std::vector<std::string> state_columns() const override {
+        if (cols_.coordinates.empty()) return simulation::state_columns();
+        std::vector<std::string> names;
+        for (const char* prefix : {"q_", "p_"})
+            for (const std::string& c : cols_.coordinates)
+                names.push_back(prefix + c);
+        return names;
+    }
     void values(std::span<double> out) const override {
         if (out.size() < cols_.names.size())
             throw std::invalid_argument("simulation::values: room for " +
