@@ -1,5 +1,6 @@
 // optimal/src/ipopt_solve.cpp: the IPOPT adapter (a TNLP over an optimal::nlp).
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
 
 #include <IpIpoptApplication.hpp>
@@ -190,6 +191,12 @@ nlp_result solve(const nlp& problem, const solver_options& options, const vector
                                     "limited-memory approximation");
     const bool exact = options.hessian != hessian_kind::limited_memory && problem.has_hessian();
     nlp_result out;
+    // One IPOPT solve at a time in the process: the sequential MUMPS that Debian's IPOPT links
+    // keeps global state (its MPI stub, its load-balancing arrays), and two solves on two
+    // threads at once crash the process ("PB allocation in DMUMPS_LOAD_INIT", SIGSEGV: 8 runs in
+    // 8 from Python threads). Threads that optimise wait here for each other.
+    static std::mutex one_solve;
+    const std::lock_guard<std::mutex> only_this_one(one_solve);
     Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
     auto& opt = *app->Options();
     opt.SetIntegerValue("print_level", options.print_level);
@@ -204,7 +211,11 @@ nlp_result solve(const nlp& problem, const solver_options& options, const vector
     opt.SetNumericValue("bound_relax_factor", 0.0);
     opt.SetStringValue("hessian_approximation", exact ? "exact" : "limited-memory");
     if (options.derivative_test) opt.SetStringValue("derivative_test", "first-order");
-    if (app->Initialize() != Ipopt::Solve_Succeeded)
+    // "": IPOPT reads no ipopt.opt from the working directory. A stray one could name an
+    // output_file (truncating any file, past the tool's file checks), print into a CSV on
+    // standard output, or loosen the tolerances under a "solved" verdict; our options are the
+    // only ones.
+    if (app->Initialize(std::string()) != Ipopt::Solve_Succeeded)
         throw std::runtime_error("IPOPT could not be initialised");
     Ipopt::SmartPtr<Ipopt::TNLP> tnlp = new adapter(problem, options, start, exact, out);
     const Ipopt::ApplicationReturnStatus r = app->OptimizeTNLP(tnlp);

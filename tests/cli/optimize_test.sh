@@ -147,6 +147,19 @@ rc=$?
 grep -q '^varsym: error: .*infeasible' unreachable.err && ok || bad "message: $(cat unreachable.err)"
 [ "$(wc -l < unreachable.csv)" -eq 52 ] && ok || bad "the last iterate was not written"
 
+# A stray ipopt.opt in the working directory is not read: it would name an output file (and
+# truncate it), loosen the tolerance and stop after one iteration. Negative control: the same
+# solve gives the same cost with and without the file.
+mkdir -p stray && cp acrobot.csv stray/victim.csv
+printf 'output_file victim.csv\ntol 1e3\nmax_iter 1\nprint_level 12\n' > stray/ipopt.opt
+(cd stray && "$VARSYM" optimize --model acrobot --time 4 --steps 40 --from 0,0 --to $pi,0 \
+  --quiet --output stray.csv 2> stray.err)
+rc=$?
+[ $rc -eq 0 ] && ok || bad "with a stray ipopt.opt: exit $rc ($(tail -1 stray/stray.err))"
+cmp -s stray/victim.csv acrobot.csv && ok || bad "ipopt.opt's output_file overwrote victim.csv"
+[ "$(tail -1 stray/stray.csv)" = "$(tail -1 acrobot.csv)" ] && ok ||
+  bad "ipopt.opt changed the solution: $(tail -1 stray/stray.csv)"
+
 # SIGINT during a long solve: exit 130 within a fraction of a second, the last iterate kept.
 timeout --preserve-status -s INT 0.5 "$VARSYM" optimize --model acrobot --time 8 --steps 2000 \
   --scheme gauss --degree 3 --from 0,0 --to $pi,0 --quiet --output stopped.csv 2> stopped.err

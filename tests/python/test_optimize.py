@@ -128,3 +128,27 @@ def test_ctrl_c_stops_the_solver_with_the_last_iterate():
                         progress=interrupt)
     assert e.value.partial["iterations"] <= 3
     assert e.value.partial["q"].shape == (41, 2)
+
+
+def test_optimize_from_two_threads_at_once():
+    # IPOPT's sequential MUMPS keeps global state: two solves at once crashed the interpreter
+    # (SIGSEGV or a Fortran runtime error, 8 runs in 8). The solves now take turns; both give
+    # the one-thread answer to the last bit.
+    import threading
+
+    args = dict(time=4.0, steps=40, q_start=[0, 0], q_end=[math.pi, 0])
+    alone = varsym.optimize("acrobot", **args)
+    results = [None] * 4
+
+    def run(k):
+        results[k] = varsym.optimize("acrobot", **args)
+
+    threads = [threading.Thread(target=run, args=(k,)) for k in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for out in results:
+        assert out["status"] == "solved" and out["cost"] == alone["cost"]
+        assert np.array_equal(out["u"], alone["u"])
+

@@ -28,8 +28,13 @@ std::string node_rows(const optimal::trajectory& path) {
     const auto d = path.q.rows();
     std::string out = "t";
     for (const char* name : {"q", "v", "p", "lambda"})
-        for (Eigen::Index i = 1; i <= d; ++i)
-            out += "," + std::string(name) + std::to_string(i);
+        for (Eigen::Index i = 1; i <= d; ++i) {
+            // Appended piece by piece: GCC 12 sees a false -Wstringop-overflow in the
+            // concatenation "," + std::string(name) + … at -O2.
+            out += ',';
+            out += name;
+            out += std::to_string(i);
+        }
     out += '\n';
     for (Eigen::Index n = 0; n < path.node_times.size(); ++n) {
         append_number(out, path.node_times(n));

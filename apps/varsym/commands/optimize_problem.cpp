@@ -22,7 +22,8 @@ std::vector<double> vector_of(const std::string& list, const char* option, int d
 
 /// --cost NAME[=WEIGHT][,NAME[=WEIGHT]...]: effort, invariant, power (weight 1 if not given).
 optimal::cost_weights cost_of(const std::string& text) {
-    optimal::cost_weights w{.effort = 0.0};
+    optimal::cost_weights w;
+    w.effort = 0.0;
     std::size_t at = 0;
     while (at <= text.size()) {
         const std::size_t end = std::min(text.find(',', at), text.size());
