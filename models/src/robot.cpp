@@ -172,4 +172,19 @@ model robot_model(std::shared_ptr<const multibody::model> r) {
     return m;
 }
 
+const model& robot_options() {
+    static const model m = [] {
+        auto one = std::make_shared<multibody::model>();
+        one->name = "one joint";
+        multibody::body b;
+        b.name = "joint";
+        b.link = "link";
+        b.mass = 1.0;
+        b.inertia = multibody::mat3::Identity();
+        one->bodies.push_back(b);
+        return robot_model(one);
+    }();
+    return m;
+}
+
 } // namespace varsym::models

@@ -111,6 +111,7 @@ void check_model_options(const std::vector<model>& models, const model& chosen,
 
 void run(run_options& o, const CLI::App& cmd, const run_context& ctx) {
     if (cmd.count("--lagrangian") > 0 && cmd.count("--model") == 0) o.model = "lagrangian";
+    if (cmd.count("--urdf") > 0 && cmd.count("--model") == 0) o.model = "urdf";
     const auto it = std::find_if(o.models.begin(), o.models.end(),
                                  [&](const model& m) { return m.name == o.model; });
     check_model_options(o.models, *it, cmd);
@@ -181,6 +182,7 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
         "  varsym run --model heavy-top --scheme gauss --degree 3 --periods 5\n"
         "  varsym run --model double-pendulum --time 20 --steps 20000 --every 100 -o arm.csv\n"
         "  varsym run --lagrangian \"0.5*th_dot**2 + 9.81*cos(th)\" --coordinates th --q0 1\n"
+        "  varsym run --urdf ur5.urdf --scheme gauss --degree 2 --time 2 --steps 2000\n"
         "  varsym run --config kepler.toml\n"
         "  varsym run --time 1e5 --steps 100000000 --every 10000 -o long.csv --checkpoint "
         "long.ckpt\n"

@@ -14,6 +14,7 @@ std::vector<model> make_models(std::shared_ptr<parameter_options> po) {
     for (const models::model& m : models::registry())
         all.push_back(make_registry_model(m, po));
     all.push_back(make_expression_model(po));
+    all.push_back(make_robot_model(po));
     return all;
 }
 

@@ -9,6 +9,7 @@
 
 #include "checkpoint.hpp"
 #include "cli_common.hpp"
+#include "varsym/models/model.hpp"
 #include "varsym/schemes/scheme_kind.hpp"
 
 namespace varsym::cli {
@@ -64,6 +65,13 @@ std::vector<model> make_models(std::shared_ptr<class parameter_options> po = nul
 /// `lagrangian`: the user's L given by --lagrangian (model_expression.cpp); --project read
 /// from `po`.
 model make_expression_model(std::shared_ptr<class parameter_options> po = nullptr);
+
+/// `urdf`: a robot from the URDF file of --urdf (model_robot.cpp); its parameters read from `po`.
+model make_robot_model(std::shared_ptr<class parameter_options> po = nullptr);
+/// The model of the URDF file `path` (usage_error naming --urdf where it cannot be read).
+std::shared_ptr<const models::model> robot_model_of(const std::string& path);
+/// Adds --urdf FILE to cmd.
+void add_urdf_option(CLI::App& cmd, std::string& path);
 
 /// The most steps one run may take (1e15; the fuzz target lowers it to run actions cheaply).
 extern double max_run_steps;

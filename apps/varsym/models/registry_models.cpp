@@ -11,6 +11,7 @@
 #include "model_run.hpp"
 #include "registry_models.hpp"
 #include "varsym/models/event.hpp"
+#include "varsym/models/robot.hpp"
 
 namespace varsym::cli {
 
@@ -110,7 +111,12 @@ void parameter_options::add(CLI::App& cmd) {
             }
         known.emplace_back(m.name, text);
     };
-    for (const auto& m : models::registry()) {
+    std::vector<const models::model*> all;
+    for (const auto& m : models::registry())
+        all.push_back(&m);
+    all.push_back(&models::robot_options()); // `--urdf FILE`'s, the same for every robot
+    for (const models::model* mp : all) {
+        const models::model& m = *mp;
         for (const auto& p : m.parameters) {
             uses[p.option_name()].push_back(p);
             list[p.option_name()] = list[p.option_name()] || p.option_index >= 0;

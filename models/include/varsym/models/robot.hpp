@@ -38,4 +38,8 @@ std::shared_ptr<const multibody::model> parse_urdf(std::string_view xml,
 /// their position limits at that row).
 model robot_model(std::shared_ptr<const multibody::model> r);
 
+/// The parameters and lists that robot_model gives every robot (a one-joint robot's model), for
+/// a front end that declares its options before it reads a URDF file.
+const model& robot_options();
+
 } // namespace varsym::models

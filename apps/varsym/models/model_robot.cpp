@@ -1,0 +1,62 @@
+// apps/varsym/models/model_robot.cpp: the model `urdf`, a robot read from the URDF file of
+// --urdf FILE (the models layer's robot_model), which `varsym run`, `ensemble`, `section`,
+// `converge` and `stability` run like a registry model. Its parameters (gravity, damping, the PD
+// controller, torques) are the shared parameter options.
+#include <memory>
+
+#include "model_run.hpp"
+#include "registry_models.hpp"
+#include "varsym/models/robot.hpp"
+
+namespace varsym::cli {
+
+std::shared_ptr<const models::model> robot_model_of(const std::string& path) {
+    if (path.empty())
+        throw usage_error("--model urdf needs --urdf FILE, the robot's URDF description");
+    try {
+        return std::make_shared<const models::model>(models::robot_model(models::load_urdf(path)));
+    } catch (const models::urdf_error& e) {
+        throw usage_error(std::string("--urdf: ") + e.what());
+    }
+}
+
+void add_urdf_option(CLI::App& cmd, std::string& path) {
+    cmd.add_option("--urdf", path,
+                   "urdf: the robot's URDF file (implies --model urdf; see 'varsym models')");
+}
+
+model make_robot_model(std::shared_ptr<parameter_options> po) {
+    auto path = std::make_shared<std::string>();
+    const models::model& rm = models::robot_options();
+    model m;
+    m.name = "urdf";
+    m.summary = "your robot from its URDF file (--urdf FILE): joints, inertias, damping, PD";
+    std::string own = describe(rm, false);
+    const auto cut = own.find("\n  Parameters:");
+    m.description =
+        "  --urdf FILE: the robot's revolute, continuous and prismatic joints are the\n"
+        "  coordinates (fixed joints merge their links); L = 1/2 qdot' M(q) qdot - V(q) from\n"
+        "  the links' masses and inertia tensors, derivatives by the recursive algorithms\n"
+        "  (docs/robots.md). q: joint positions [rad, m] in depth-first order from the root\n"
+        "  link; columns q_JOINT, p_JOINT by the URDF's joint names. Gravity along -z.\n"
+        "  Forces: the URDF's joint damping (--no-damping drops it); with --kp a PD controller\n"
+        "  on every joint tracking a minimum-jerk move from the start to --target over\n"
+        "  --move-time, with gravity compensation unless --no-gravity-compensation; constant\n"
+        "  joint torques --torque. Columns: energy, work, energy_balance (energy - E0 - work),\n"
+        "  limit_violations (joints outside their URDF position limits). Start: --q0 (0),\n"
+        "  --v0 (0) or --p0. No period: default --time 5 --steps 5000." +
+        (cut == std::string::npos ? "" : own.substr(cut, own.find("\n  Initial state") - cut));
+    m.options = {"--urdf"};
+    for (const auto& p : rm.parameters)
+        m.options.push_back("--" + p.option_name());
+    for (const auto& l : rm.lists)
+        m.options.push_back("--" + l.option_name());
+    m.add_options = [path](CLI::App& cmd) { add_urdf_option(cmd, *path); };
+    m.run = [path, po](const run_setup& s) {
+        const auto robot = robot_model_of(*path);
+        run_model(*robot, s, po->values(*robot), po->lists(*robot));
+    };
+    return m;
+}
+
+} // namespace varsym::cli
