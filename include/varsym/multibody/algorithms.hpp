@@ -130,9 +130,16 @@ double lagrangian_derivatives(const model& m, workspace& w, const Eigen::MatrixB
         w.dh[k] = cross_force(w.s[k], w.h[k]) - w.inertia[k] * w.u[k];
         w.df[k] = cross_force(w.s[k], w.f[k]) - w.inertia[k] * w.alpha[k];
         w.s_ic[k].noalias() = w.s[k].transpose() * w.inertia[k];
-        w.r[k].noalias() = w.s[k].transpose() *
-                           (force_bar_matrix(w.h[k]) + cross_force_matrix(w.v[k]) * w.inertia[k]);
-        w.t[k].noalias() = w.s[k].transpose() * cross_force_matrix(w.v[k]);
+        // t = Sᵀ (v ×*), and r with r u = Sᵀ (u ×* h + v ×* I u): for u = (a; b), h = (n; f),
+        // S = (s₁; s₂), Sᵀ (u ×* h) = a·(n × s₁ + f × s₂) + b·(f × s₁).
+        const vec3 s1 = w.s[k].head<3>(), s2 = w.s[k].tail<3>();
+        const vec3 om = w.v[k].head<3>(), vo = w.v[k].tail<3>();
+        const vec3 hn = w.h[k].head<3>(), fh = w.h[k].tail<3>();
+        w.t[k].head<3>() = s1.cross(om).transpose(); // Sᵀ (v ×* g) = t g
+        w.t[k].tail<3>() = (s1.cross(vo) + s2.cross(om)).transpose();
+        w.r[k].noalias() = w.t[k] * w.inertia[k];
+        w.r[k].head<3>() += (hn.cross(s1) + fh.cross(s2)).transpose();
+        w.r[k].tail<3>() += fh.cross(s1).transpose();
     }
     for (int j = 0; j < n; ++j) {
         const auto jk = static_cast<std::size_t>(j);

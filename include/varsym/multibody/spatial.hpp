@@ -44,26 +44,6 @@ inline vec6 cross_force(const vec6& m, const vec6& f) {
     return r;
 }
 
-/// The matrix of f ↦ m ×* f.
-inline mat6 cross_force_matrix(const vec6& m) {
-    mat6 x = mat6::Zero();
-    const mat3 w = skew(m.head<3>());
-    x.topLeftCorner<3, 3>() = w;
-    x.topRightCorner<3, 3>() = skew(m.tail<3>());
-    x.bottomRightCorner<3, 3>() = w;
-    return x;
-}
-
-/// The matrix of m ↦ m ×* f for a fixed force f (Featherstone's f ×̄*): m ×* f = B(f) m.
-inline mat6 force_bar_matrix(const vec6& f) {
-    mat6 b = mat6::Zero();
-    const mat3 n = skew(f.head<3>()), ff = skew(f.tail<3>());
-    b.topLeftCorner<3, 3>() = -n;
-    b.topRightCorner<3, 3>() = -ff;
-    b.bottomLeftCorner<3, 3>() = -ff;
-    return b;
-}
-
 /// A rigid pose: a point x of the frame is at rotation · x + origin in the frame it is given in.
 struct pose {
     mat3 rotation = mat3::Identity();
