@@ -199,7 +199,11 @@ void project_position(const C& c, vec<C::dim>& q) {
     for (int it = 0; it < 50; ++it) {
         evaluate_constraint(c, q, g, jac);
         const mat<C::count> ggt = jac * jac.transpose();
-        const vec<C::count> y = ggt.ldlt().solve(g);
+        vec<C::count> y;
+        if constexpr (C::count == 1) // one constraint: a division (GCC 12 sees a false
+            y(0) = g(0) / ggt(0, 0); // -Warray-bounds in the 1×1 LDLᵀ's pivoting)
+        else
+            y = ggt.ldlt().solve(g);
         const vec<C::dim> dq = jac.transpose() * y;
         q -= dq;
         if (!q.allFinite()) break;
