@@ -35,10 +35,13 @@ struct converge_options {
     std::vector<std::string> set; ///< NAME=VALUE: a parameter or q0_I/p0_I (not the pendulum)
     double time = 0.0;            ///< the span of a model without a period (0: the model's)
     expression_spec expression;   ///< --lagrangian etc., for --model lagrangian
+    std::string urdf;             ///< --urdf FILE, for --model urdf
 };
 
 /// The model of --model: the registry's, or `lagrangian` made from its options.
 std::shared_ptr<const models::model> model_of(const converge_options& o) {
+    if (o.model == "urdf") return robot_model_of(o.urdf);
+    if (!o.urdf.empty()) throw usage_error("--urdf is for --model urdf, not " + shown(o.model));
     if (o.model == "lagrangian") return expression_model_of(o.expression);
     if (!o.expression.lagrangian.empty())
         throw usage_error("--lagrangian is for --model lagrangian, not " + shown(o.model));
@@ -396,18 +399,20 @@ void add_converge_command(CLI::App& app, action& todo) {
         "  varsym converge --model kepler --set eccentricity=0.9 --scheme gauss --degree 2\n"
         "  varsym converge --model acrobot --set torque=1 --time 2 --steps 50,100,200,400\n"
         "  varsym converge --model lagrangian --lagrangian \"0.5*x_dot**2 - 0.25*x**4\" "
-        "--coordinates x \\\n    --set q0_1=1 --time 10 --scheme gauss --degree 2\n");
+        "--coordinates x \\\n    --set q0_1=1 --time 10 --scheme gauss --degree 2\n"
+        "  varsym converge --urdf ur5.urdf --set q0_2=-1 --time 1 --scheme gauss --degree 2\n");
     std::vector<std::string> names;
     for (const auto& m : models::registry())
         names.push_back(m.name);
     names.emplace_back("lagrangian");
+    names.emplace_back("urdf");
     std::string list;
     for (const auto& n : names)
         list += (list.empty() ? "" : ", ") + n;
     cmd->add_option("--model", o->model,
                     "Model: " + list +
                         " (the models layer's; lagrangian: your L, from --lagrangian and its "
-                        "options; errors against the exact solution where the "
+                        "options; urdf: your robot, from --urdf FILE; errors against the exact solution where the "
                         "model has one, else against gauss-8 at twice the steps' common "
                         "multiple; the rigid bodies run their Lie group integrator, its order "
                         "by --set order=2|4|6, against order 6; their q: Euler angles, p: Pi)")
@@ -418,6 +423,7 @@ void add_converge_command(CLI::App& app, action& todo) {
                     "q0_I, p0_I (the others from the model's start, as in an ensemble's "
                     "members; repeat; 'varsym models')");
     add_expression_options(*cmd, o->expression);
+    add_urdf_option(*cmd, o->urdf);
     cmd->add_option("--time", o->time,
                     "Span of a model without a period (default: the model's run length)")
         ->transform(positive_number);
@@ -441,7 +447,14 @@ void add_converge_command(CLI::App& app, action& todo) {
         "--plot", o->plot,
         "Log-log convergence plot, .png or .svg (data and gnuplot script kept beside it); "
         "repeat for both formats");
-    cmd->callback([o, cmd, &todo] { todo = [o, cmd] { converge(*o, *cmd); }; });
+    cmd->callback([o, cmd, &todo] {
+        todo = [o, cmd] {
+            // --lagrangian and --urdf imply their models.
+            if (cmd->count("--model") == 0 && cmd->count("--lagrangian") > 0) o->model = "lagrangian";
+            if (cmd->count("--model") == 0 && cmd->count("--urdf") > 0) o->model = "urdf";
+            converge(*o, *cmd);
+        };
+    });
 }
 
 } // namespace varsym::cli

@@ -93,8 +93,10 @@ void add_member_options(CLI::App& cmd, member_options& o) {
 }
 
 void add_member_run_options(CLI::App& cmd, member_run_options& o, const std::string& models) {
-    cmd.add_option("--model", o.model, "Model: " + models)->required();
+    cmd.add_option("--model", o.model,
+                   "Model: " + models + " (--lagrangian implies lagrangian, --urdf urdf)");
     add_expression_options(cmd, o.expression);
+    add_urdf_option(cmd, o.urdf);
     add_scheme_options(cmd, o.scheme);
     cmd.add_option("--time", o.time, "Length of every member's run (default: the model's)")
         ->transform(positive_number);
@@ -244,7 +246,22 @@ std::vector<ensemble_model> ensemble_models() {
     return all;
 }
 
-ensemble_model find_ensemble_model(const member_run_options& o) {
+ensemble_model find_ensemble_model(const member_run_options& given) {
+    member_run_options o = given;
+    if (o.model.empty()) {
+        if (!o.expression.lagrangian.empty())
+            o.model = "lagrangian";
+        else if (!o.urdf.empty())
+            o.model = "urdf";
+        else
+            throw usage_error("--model is required (one of " + ensemble_model_names() + ")");
+    }
+    if (o.model == "urdf") {
+        ensemble_model m = make_registry_ensemble(robot_model_of(o.urdf));
+        m.identity = "urdf file=[" + o.urdf + "]";
+        return m;
+    }
+    if (!o.urdf.empty()) throw usage_error("--urdf is for --model urdf, not " + shown(o.model));
     if (o.model == "lagrangian") {
         ensemble_model m = make_registry_ensemble(expression_model_of(o.expression));
         m.identity = "lagrangian L=[" + o.expression.lagrangian + "] coordinates=[" +
@@ -267,7 +284,7 @@ std::string ensemble_model_names() {
     std::string s;
     for (const auto& m : ensemble_models())
         s += (s.empty() ? "" : ", ") + m.name;
-    return s + ", lagrangian";
+    return s + ", lagrangian, urdf";
 }
 
 expr::tape compile_event(const std::string& text, int d) {

@@ -29,12 +29,13 @@ void add_member_options(CLI::App& cmd, member_options& o);
 struct member_run_options {
     std::string model;
     expression_spec expression; ///< --lagrangian etc., for --model lagrangian
+    std::string urdf;           ///< --urdf FILE, for --model urdf
     scheme_options scheme;
     double time = 0.0;
     long long steps = 0;
     member_options members;
 };
-/// --model (required; `models` names the choices), --scheme, --degree, --time, --steps and the
+/// --model (required, unless --lagrangian or --urdf implies it; `models` names the choices), --scheme, --degree, --time, --steps and the
 /// member options.
 void add_member_run_options(CLI::App& cmd, member_run_options& o, const std::string& models);
 

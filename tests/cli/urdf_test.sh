@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# tests/cli/urdf_test.sh VARSYM: robots from URDF files (`--urdf FILE`, the model urdf) through
+# run, converge and ensemble. References: the energy (conserved without forces, balanced by the
+# forces' work with them), the orders 2s of gauss-s and 4 of Simpson measured by converge against
+# gauss-8 at twice the steps, a PD controller's target, and every refusal (exit 2, one line).
+data=$(realpath "$(dirname "$0")/../data/urdf")
+source "$(dirname "$0")/lib.sh" "$@"
+ur5=$data/ur5_robot.urdf
+iiwa=$data/iiwa14_no_collision.urdf
+# max_abs FILE COLUMN_NAME: the largest |value| of that column.
+max_abs() {
+  awk -F, -v name="$2" 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == name) c = i; next }
+    { v = $c < 0 ? -$c : $c; if (v > m) m = v } END { printf "%.3g", m }' "$1"
+}
+below() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a + 0 < b + 0) }'; }
+
+# --- a passive UR5 conserves its energy (gauss-2, h = 1 ms, 2 s of free fall and swing) --------
+"$VARSYM" run --urdf "$ur5" --q0 0,-1,1,0,0.5,0 --scheme gauss --degree 2 --time 2 --steps 2000 \
+  --every 100 -o ur5.csv 2> ur5.err && ok || bad "UR5 run: $(cat ur5.err)"
+head -1 ur5.csv | grep -q '^step,t,q_shoulder_pan_joint,q_shoulder_lift_joint,.*,p_wrist_3_joint,energy,work,energy_balance,limit_violations$' &&
+  ok || bad "UR5 columns: $(head -1 ur5.csv)"
+# E ≈ 51 J; the order-4 error at h ω ≈ 0.02 is far below 1e-7 of it (measured 3e-9 J).
+e=$(max_abs ur5.csv energy_balance)
+below "$e" 1e-6 && ok || bad "UR5 energy error $e J"
+
+# --- the URDF's joint damping: energy falls by the damping's work --------------------------------
+"$VARSYM" run --urdf "$iiwa" --q0 0.3,1,0,-1,0,0.5,0 --scheme gauss --degree 2 --time 2 \
+  --steps 2000 --every 100 -o iiwa.csv 2> iiwa.err && ok || bad "iiwa run: $(cat iiwa.err)"
+e=$(max_abs iiwa.csv energy_balance)
+below "$e" 1e-6 && ok || bad "iiwa energy balance $e J"
+w=$(tail -1 iiwa.csv | awk -F, '{ print $(NF - 2) }')
+below "$w" -1 && ok || bad "iiwa: damping took no energy ($w J)"
+# Negative control: without the damping nothing is taken.
+"$VARSYM" run --urdf "$iiwa" --no-damping --q0 0.3,1,0,-1,0,0.5,0 --time 2 --steps 2000 \
+  --every 2000 -o free.csv 2> free.err && [ "$(tail -1 free.csv | awk -F, '{ print $(NF - 2) }')" = 0 ] &&
+  ok || bad "--no-damping: $(tail -1 free.csv)"
+
+# --- PD control with gravity compensation reaches its target -----------------------------------
+"$VARSYM" run --urdf "$iiwa" --kp 400,400,300,300,100,50,20 --kd 40,40,30,30,10,5,2 \
+  --target 0.5,0.5,0,-1,0,0.5,0 --move-time 1 --time 3 --steps 3000 --every 3000 -o pd.csv \
+  2> pd.err && ok || bad "PD run: $(cat pd.err)"
+tail -1 pd.csv | awk -F, '{ t[1] = 0.5; t[2] = 0.5; t[3] = 0; t[4] = -1; t[5] = 0; t[6] = 0.5; t[7] = 0
+  for (i = 1; i <= 7; ++i) { d = $(i + 2) - t[i]; if (d < 0) d = -d; if (d > m) m = d }
+  exit !(m < 1e-3) }' && ok || bad "PD did not reach the target: $(tail -1 pd.csv | cut -d, -f1-9)"
+
+# --- orders: gauss-s is of order 2s, Simpson 4, on the 3-D UR5 --------------------------------
+order() { # order ARGS...: the fitted order of the state error over the last pair of step counts
+  "$VARSYM" converge --urdf "$ur5" --set q0_2=-1 --set q0_3=1 --set q0_5=0.5 --time 1 \
+    --steps 20,40,80,160 "$@" 2>&1 | awk '$1 == 160 { gsub(/[()]/, "", $5); print $5 }'
+}
+for s in 1 2 3 4; do
+  k=$(order --scheme gauss --degree "$s")
+  awk -v k="$k" -v p=$((2 * s)) 'BEGIN { d = k - p; if (d < 0) d = -d; exit !(d < 0.35) }' && ok ||
+    bad "gauss-$s on the UR5: order $k, expected $((2 * s))"
+done
+k=$(order --scheme simpson)
+awk -v k="$k" 'BEGIN { exit !(k > 3.7 && k < 4.3) }' && ok || bad "Simpson on the UR5: order $k"
+
+# --- an ensemble over a joint's start (--urdf implies --model urdf) -----------------------------
+"$VARSYM" ensemble --urdf "$ur5" --grid q0_2=-1.5:-0.5:3 --time 0.5 --steps 500 -o ens.csv \
+  2> ens.err && grep -q '3 completed' ens.err && [ "$(wc -l < ens.csv)" -eq 4 ] && ok ||
+  bad "ensemble: $(cat ens.err)"
+
+# --- refusals: exit 2, one line, nothing written ------------------------------------------------
+expect_error 2 "missing URDF" run --urdf no_such.urdf -o out.csv
+expect_error 2 "mimic joint" run --urdf "$data/panda.urdf" -o out.csv
+grep -q "panda.urdf:348: <mimic>: joint panda_finger_joint2" stderr.txt && ok || bad "$(cat stderr.txt)"
+printf '<robot name="r"><link name="a"/>\n' > broken.urdf
+expect_error 2 "malformed XML" run --urdf broken.urdf -o out.csv
+sed 's/type="revolute"/type="floating"/' "$ur5" > floating.urdf
+expect_error 2 "floating joint" run --urdf floating.urdf -o out.csv
+sed 's/izz="0.00666"/izz="0.1"/' "$ur5" > triangle.urdf
+expect_error 2 "triangle inequality" run --urdf triangle.urdf -o out.csv
+grep -q "link shoulder_link: principal moments .* break the triangle inequality" stderr.txt && ok ||
+  bad "$(cat stderr.txt)"
+expect_error 2 "no --urdf" run --model urdf -o out.csv
+expect_error 2 "--urdf with another model" converge --model kepler --urdf "$ur5"
+expect_error 2 "kp count" run --urdf "$ur5" --kp 1,2 -o out.csv
+expect_error 2 "q0 count" run --urdf "$ur5" --q0 1,2 -o out.csv
+
+finish
