@@ -15,10 +15,6 @@
 namespace py = pybind11;
 using namespace varsym;
 
-namespace {
-
-/// The members of model `mod` (one row of `values` each, and of q0 and p0 where given) run on
-/// `threads` threads without the GIL: a dict of arrays, one entry per member.
 py::dict run_ensemble(const models::model& mod, py::array_t<double, py::array::c_style> values,
                       py::array_t<double, py::array::c_style> q0,
                       py::array_t<double, py::array::c_style> p0, double h, long long steps,
@@ -107,8 +103,6 @@ py::dict run_ensemble(const models::model& mod, py::array_t<double, py::array::c
     out["cause"] = cause;
     return out;
 }
-
-} // namespace
 
 void bind_ensemble(py::module_& m) {
     m.def(

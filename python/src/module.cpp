@@ -156,4 +156,5 @@ PYBIND11_MODULE(_core, m) {
 
     bind_simulation(m);
     bind_optimal(m);
+    bind_robot(m);
 }

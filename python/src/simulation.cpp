@@ -40,7 +40,9 @@ py::array_t<double> array_of(std::span<const double> v) {
 /// Ω, where they are not q and p) and the model's.
 std::vector<std::string> row_columns(const models::simulation& sim) {
     std::vector<std::string> names = sim.state_columns();
-    if (names == sim.models::simulation::state_columns()) names.clear();
+    // q and p under other names (a robot's joints: the Trajectory's coordinates name them), or
+    // under their own: no columns of their own.
+    if (names.size() == 2 * static_cast<std::size_t>(sim.dim())) names.clear();
     names.insert(names.end(), sim.columns().begin(), sim.columns().end());
     return names;
 }
@@ -151,6 +153,34 @@ phase_state<dynamic> state_of(const std::vector<double>& q0, const std::vector<d
 
 } // namespace
 
+py::dict model_info(const models::model& mod) {
+    py::list parameters, lists;
+    for (const auto& l : mod.lists)
+        lists.append(py::dict(py::arg("name") = l.name, py::arg("default") = l.value,
+                              py::arg("unit") = l.unit, py::arg("doc") = l.doc,
+                              py::arg("range") = "each " + l.range(),
+                              py::arg("sets_dimension") = l.sets_dimension,
+                              py::arg("option") = l.option_name()));
+    for (const auto& p : mod.parameters)
+        parameters.append(py::dict(
+            py::arg("name") = p.name, py::arg("default") = p.value, py::arg("unit") = p.unit,
+            py::arg("doc") = p.doc, py::arg("range") = p.range(),
+            py::arg("nan_means") = p.nan_means, py::arg("integer") = p.integer,
+            py::arg("flag") = p.flag, py::arg("sets_dimension") = p.sets_dimension,
+            py::arg("option") = p.option_name(), py::arg("option_index") = p.option_index));
+    return py::dict(
+        py::arg("name") = mod.name, py::arg("summary") = mod.summary,
+        py::arg("description") = mod.description, py::arg("dim") = mod.dim,
+        py::arg("coordinates") = mod.coordinates, py::arg("parameters") = parameters,
+        py::arg("q0") = mod.q0, py::arg("p0") = mod.p0, py::arg("fixed_start") = mod.fixed_start,
+        py::arg("velocities") = mod.velocities, py::arg("short_start") = mod.short_start,
+        py::arg("lists") = lists, py::arg("steps_per_period") = mod.steps_per_period,
+        py::arg("time") = mod.time, py::arg("steps") = mod.steps,
+        py::arg("ensemble_time") = mod.ensemble_time,
+        py::arg("ensemble_steps") = mod.ensemble_steps,
+        py::arg("integrator_note") = mod.integrator_note);
+}
+
 void bind_simulation(py::module_& m) {
     py::class_<models::simulation>(m, "_Simulation")
         .def_property_readonly("dim", &models::simulation::dim)
@@ -242,33 +272,8 @@ void bind_simulation(py::module_& m) {
         py::arg("scheme"), py::arg("degree"));
     m.def("registry", [] {
         py::list out;
-        for (const models::model& mod : models::registry()) {
-            py::list parameters, lists;
-            for (const auto& l : mod.lists)
-                lists.append(py::dict(py::arg("name") = l.name, py::arg("default") = l.value,
-                                      py::arg("unit") = l.unit, py::arg("doc") = l.doc,
-                                      py::arg("range") = "each " + l.range(),
-                                      py::arg("sets_dimension") = l.sets_dimension,
-                                      py::arg("option") = l.option_name()));
-            for (const auto& p : mod.parameters)
-                parameters.append(py::dict(
-                    py::arg("name") = p.name, py::arg("default") = p.value,
-                    py::arg("unit") = p.unit, py::arg("doc") = p.doc, py::arg("range") = p.range(),
-                    py::arg("nan_means") = p.nan_means, py::arg("integer") = p.integer,
-                    py::arg("flag") = p.flag, py::arg("sets_dimension") = p.sets_dimension,
-                    py::arg("option") = p.option_name(), py::arg("option_index") = p.option_index));
-            out.append(py::dict(
-                py::arg("name") = mod.name, py::arg("summary") = mod.summary,
-                py::arg("description") = mod.description, py::arg("dim") = mod.dim,
-                py::arg("coordinates") = mod.coordinates, py::arg("parameters") = parameters,
-                py::arg("q0") = mod.q0, py::arg("p0") = mod.p0,
-                py::arg("fixed_start") = mod.fixed_start, py::arg("velocities") = mod.velocities,
-                py::arg("short_start") = mod.short_start, py::arg("lists") = lists,
-                py::arg("steps_per_period") = mod.steps_per_period, py::arg("time") = mod.time,
-                py::arg("steps") = mod.steps, py::arg("ensemble_time") = mod.ensemble_time,
-                py::arg("ensemble_steps") = mod.ensemble_steps,
-                py::arg("integrator_note") = mod.integrator_note));
-        }
+        for (const models::model& mod : models::registry())
+            out.append(model_info(mod));
         return out;
     });
     m.def(

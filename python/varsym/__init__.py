@@ -8,7 +8,8 @@
 ``simulate`` integrates a built-in model (``models()``; ``Model`` sets its parameters) or your
 own Lagrangian (``Lagrangian``) and returns a ``Trajectory``; ``Stepper`` steps one, with its
 tangent map and Poincaré sections; ``Model.ensemble`` runs many initial states on every core.
-``optimize`` finds the controls of a model with inputs (the acrobot, the cart-pole) that
+``Robot`` reads a robot from its URDF file (a Model with its joints, limits, mass matrix,
+gravity and frame poses). ``optimize`` finds the controls of a model with inputs (the acrobot, the cart-pole) that
 reach a target state at least cost. The paper's Table 1 and figures: ``table1``, ``figure_data``. Everything is computed by the
 compiled C++ library, in-process. Errors are varsym.Error subclasses carrying the tool's
 one-line messages; Ctrl-C raises varsym.Interrupted (a KeyboardInterrupt) with the rows so far.
@@ -19,10 +20,11 @@ from .errors import EnergyError, Error, ExpressionError, Interrupted, StepFailur
 from ._lagrangian import Lagrangian
 from ._trajectory import Trajectory
 from ._simulate import Model, Stepper, simulate
+from ._robot import Robot
 from ._run import Table, call, figure_data, models, run, table1
 from ._optimize import SolverError, optimize
 
-__all__ = ["simulate", "Model", "Stepper", "Trajectory", "Lagrangian", "run", "table1",
+__all__ = ["simulate", "Model", "Robot", "Stepper", "Trajectory", "Lagrangian", "run", "table1",
            "figure_data", "models", "call", "Table", "Error", "UsageError", "ExpressionError",
            "StepFailure", "EnergyError", "Interrupted", "SolverError", "optimize",
            "__version__"]

@@ -73,8 +73,12 @@ class Model:
             near = difflib.get_close_matches(str(name), list(_REGISTRY), n=1)
             hint = f"; did you mean {near[0]!r}?" if near else ""
             raise UsageError(f"no model {name!r}{hint} The models: {', '.join(_REGISTRY)}")
+        self._set(name, _REGISTRY[name], parameters)
+
+    def _set(self, name, info, parameters):
+        """The model `name` of data `info` (as the registry's) at these parameters."""
         self.name = name
-        self.info = _REGISTRY[name]
+        self.info = info
         names = [p["name"] for p in self.info["parameters"]]
         list_names = [p["name"] for p in self.info["lists"]]
         for key in parameters:
@@ -103,8 +107,18 @@ class Model:
         """The model at its parameters from (q0, p0 or v0; each default: the model's): its
         complete initial state (``q0``, ``p0``) and ``period`` (0 where it has none)."""
         d, short = self.dim, self.info["short_start"]
-        return _core.prepare(self.name, self._values(), _vector(q0, d, "q0", short),
-                             _vector(p0, d, "p0"), _vector(v0, d, "v0", short), self._lists())
+        return self._prepare(self._values(), _vector(q0, d, "q0", short), _vector(p0, d, "p0"),
+                             _vector(v0, d, "v0", short), self._lists())
+
+    def _prepare(self, values, q0, p0, v0, lists):
+        return _core.prepare(self.name, values, q0, p0, v0, lists)
+
+    def _ensemble(self, *args):
+        return _core.ensemble(self.name, *args)
+
+    def _with(self, **parameters):
+        """This model (of the same kind) with these parameters changed."""
+        return type(self)(self, **parameters)
 
     def _values(self):
         return [self.parameters[p["name"]] for p in self.info["parameters"]]
@@ -139,9 +153,8 @@ class Model:
         time = self.info["ensemble_time"] if t_span is None else float(t_span)
         steps = self.info["ensemble_steps"] if steps is None else int(steps)
         self._refuse_scheme(scheme, degree)
-        return _core.ensemble(self.name, values, q0, p0, time / steps, steps,
-                              scheme or "simpson", degree or 0, indicators, threads,
-                              event or "", self._lists())
+        return self._ensemble(values, q0, p0, time / steps, steps, scheme or "simpson",
+                              degree or 0, indicators, threads, event or "", self._lists())
 
     def _refuse_scheme(self, scheme, degree):
         """Raises UsageError where a scheme or degree is given to a model with its own
@@ -205,7 +218,8 @@ class Stepper:
                                  "and constraints are its own")
             if t0 != 0.0:
                 raise UsageError("t0 is for a Lagrangian; a model starts at t = 0")
-            self.model = Model(system, **parameters)
+            self.model = (system._with(**parameters) if isinstance(system, Model)
+                          else Model(system, **parameters))
             self.lagrangian = None
             self.coordinates = self.model.coordinates
             problem = self.model.problem(q0, p0, v0)
@@ -422,12 +436,13 @@ def simulate(system, *, t_span=None, steps=None, h=None, q0=None, p0=None, v0=No
     if isinstance(system, Model) or (isinstance(system, str) and system in _REGISTRY):
         if project is not False:  # the constrained models' parameter of that name
             parameters = {**parameters, "project": project}
-        info = _REGISTRY[system.name if isinstance(system, Model) else system]
+        info = system.info if isinstance(system, Model) else _REGISTRY[system]
         names = [p["name"] for p in info["parameters"] + info["lists"]]
         for key in parameters:
             if key not in names:
                 raise _keyword_error("simulate", key, _SIMULATE_KEYS + names)
-        model = Model(system, **parameters)
+        model = system._with(**parameters) if isinstance(system, Model) else Model(system,
+                                                                                   **parameters)
     elif isinstance(system, str) and "_dot" not in system:
         near = difflib.get_close_matches(system, list(_REGISTRY), n=1)
         hint = f"; did you mean {near[0]!r}?" if near else ""

@@ -1,0 +1,166 @@
+// python/src/robot.cpp: varsym._core._Robot, a robot read from a URDF file (the models layer's
+// load_urdf and robot_model): its joints, limits and frames, its dynamics at a state (M(q), g(q),
+// the bias C(q, q̇)q̇ + g(q), the energy, frame poses) by the recursive algorithms, and the
+// problems and ensembles of its model, which varsym.Robot (a varsym.Model) simulates.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "bindings.hpp"
+#include "varsym/models/robot.hpp"
+#include "varsym/multibody/algorithms.hpp"
+
+namespace py = pybind11;
+using namespace varsym;
+
+namespace {
+
+struct robot {
+    std::shared_ptr<const multibody::model> tree;
+    models::model model;
+
+    /// The tree with gravity g along −z (the model's parameter `gravity`).
+    [[nodiscard]] multibody::model at_gravity(double g) const {
+        multibody::model m = *tree;
+        m.gravity = multibody::vec3(0.0, 0.0, -g);
+        return m;
+    }
+    [[nodiscard]] vec<dynamic> vector(const std::vector<double>& x, const char* what) const {
+        if (static_cast<int>(x.size()) != tree->dof())
+            throw std::invalid_argument(std::string(what) + " needs " +
+                                        std::to_string(tree->dof()) + " values (one per joint), got " +
+                                        std::to_string(x.size()));
+        vec<dynamic> v = Eigen::Map<const vec<dynamic>>(x.data(), std::ssize(x));
+        if (!v.allFinite()) throw std::invalid_argument(std::string(what) + " must be finite");
+        return v;
+    }
+};
+
+py::array_t<double> array_of(const vec<dynamic>& v) {
+    return py::array_t<double>(v.size(), v.data());
+}
+py::array_t<double> array_of(const mat<dynamic>& m) {
+    py::array_t<double> a({m.rows(), m.cols()});
+    for (Eigen::Index i = 0; i < m.rows(); ++i)
+        for (Eigen::Index j = 0; j < m.cols(); ++j)
+            a.mutable_at(i, j) = m(i, j);
+    return a;
+}
+
+} // namespace
+
+void bind_robot(py::module_& m) {
+    py::class_<robot>(m, "_Robot")
+        .def(py::init([](const std::string& source, bool text) {
+                 auto tree = text ? models::parse_urdf(source) : models::load_urdf(source);
+                 return robot{tree, models::robot_model(tree)};
+             }),
+             py::arg("source"), py::arg("text") = false)
+        .def_property_readonly("name", [](const robot& r) { return r.tree->name; })
+        .def_property_readonly("info", [](const robot& r) { return model_info(r.model); })
+        .def_property_readonly("joints",
+                               [](const robot& r) {
+                                   std::vector<std::string> out;
+                                   for (const auto& b : r.tree->bodies)
+                                       out.push_back(b.name);
+                                   return out;
+                               })
+        .def_property_readonly("frames",
+                               [](const robot& r) {
+                                   std::vector<std::string> out;
+                                   for (const auto& f : r.tree->frames)
+                                       out.push_back(f.name);
+                                   return out;
+                               })
+        .def_property_readonly(
+            "limits",
+            [](const robot& r) {
+                const auto n = r.tree->dof();
+                vec<dynamic> lo(n), hi(n), effort(n), velocity(n), damping(n);
+                for (int i = 0; i < n; ++i) {
+                    const auto& l = r.tree->bodies[static_cast<std::size_t>(i)].limits;
+                    lo(i) = l.lower;
+                    hi(i) = l.upper;
+                    effort(i) = l.effort;
+                    velocity(i) = l.velocity;
+                    damping(i) = l.damping;
+                }
+                py::dict out;
+                out["lower"] = array_of(lo);
+                out["upper"] = array_of(hi);
+                out["effort"] = array_of(effort);
+                out["velocity"] = array_of(velocity);
+                out["damping"] = array_of(damping);
+                return out;
+            })
+        .def(
+            "mass_matrix",
+            [](const robot& r, const std::vector<double>& q) {
+                multibody::workspace w;
+                mat<dynamic> out(r.tree->dof(), r.tree->dof());
+                multibody::mass_matrix(*r.tree, w, r.vector(q, "q"), out);
+                return array_of(out);
+            },
+            py::arg("q"))
+        .def(
+            "bias",
+            [](const robot& r, const std::vector<double>& q, const std::vector<double>& v,
+               double g) {
+                multibody::workspace w;
+                vec<dynamic> out(r.tree->dof());
+                multibody::bias_forces(r.at_gravity(g), w, r.vector(q, "q"), r.vector(v, "v"), out);
+                return array_of(out);
+            },
+            py::arg("q"), py::arg("v"), py::arg("gravity"))
+        .def(
+            "energy",
+            [](const robot& r, const std::vector<double>& q, const std::vector<double>& v,
+               double g) {
+                // E = T + V = 2T − L, T = ½ q̇ᵀ M q̇.
+                const multibody::model m = r.at_gravity(g);
+                multibody::workspace w;
+                multibody::kinematics(m, w, r.vector(q, "q"));
+                multibody::velocities(m, w, r.vector(v, "v"));
+                double t = 0.0;
+                for (std::size_t k = 0; k < m.bodies.size(); ++k)
+                    t += 0.5 * w.v[k].dot(w.h[k]);
+                return 2.0 * t - multibody::lagrangian_value(m, w);
+            },
+            py::arg("q"), py::arg("v"), py::arg("gravity"))
+        .def(
+            "pose",
+            [](const robot& r, const std::string& frame, const std::vector<double>& q) {
+                const auto& frames = r.tree->frames;
+                const auto f = std::find_if(frames.begin(), frames.end(),
+                                            [&](const auto& x) { return x.name == frame; });
+                if (f == frames.end())
+                    throw std::invalid_argument("no link '" + frame + "' in " + r.tree->name);
+                multibody::workspace w;
+                multibody::kinematics(*r.tree, w, r.vector(q, "q"));
+                const multibody::pose x = multibody::frame_pose(w, *f);
+                mat<dynamic> out = mat<dynamic>::Identity(4, 4);
+                out.topLeftCorner(3, 3) = x.rotation;
+                out.topRightCorner(3, 1) = x.origin;
+                return array_of(out);
+            },
+            py::arg("frame"), py::arg("q"))
+        .def(
+            "prepare",
+            [](const robot& r, const std::vector<double>& values, const std::vector<double>& q0,
+               const std::vector<double>& p0, const std::vector<double>& v0,
+               const models::lists& lists) { return r.model.prepare(values, {q0, p0, v0}, lists); },
+            py::arg("values"), py::arg("q0"), py::arg("p0"), py::arg("v0"), py::arg("lists"))
+        .def(
+            "ensemble",
+            [](const robot& r, py::array_t<double, py::array::c_style> values,
+               py::array_t<double, py::array::c_style> q0,
+               py::array_t<double, py::array::c_style> p0, double h, long long steps,
+               const std::string& scheme, int degree, bool indicators, unsigned threads,
+               const std::string& event, const models::lists& lists) {
+                return run_ensemble(r.model, values, q0, p0, h, steps, scheme, degree, indicators,
+                                    threads, event, lists);
+            },
+            py::arg("values"), py::arg("q0"), py::arg("p0"), py::arg("h"), py::arg("steps"),
+            py::arg("scheme"), py::arg("degree"), py::arg("indicators"), py::arg("threads"),
+            py::arg("event"), py::arg("lists"));
+}

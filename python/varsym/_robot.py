@@ -1,0 +1,88 @@
+"""varsym.Robot: a robot read from its URDF file, a Model like the built-in ones (simulate,
+Stepper, ensemble), with its dynamics at a state: M(q), g(q), the bias C(q, q̇)q̇ + g(q), the
+energy and the links' poses, by the recursive multibody algorithms of the C++ library."""
+
+import os
+
+import numpy as np
+
+from . import _core
+from ._simulate import Model
+
+
+class Robot(Model):
+    """A robot from a URDF file: ``Robot("ur5.urdf")``, or from its XML text with
+    ``Robot(text=...)``. Its coordinates are the revolute, continuous and prismatic joints
+    (``joints``, depth first from the root link; fixed joints merge their links). Parameters,
+    as for a Model: ``gravity`` (9.81 m/s², along −z), ``no_damping`` (1: leave the URDF's
+    joint damping out), a PD controller on every joint with ``kp``, ``kd`` (one gain per
+    joint), ``target`` (joint positions; default the start) reached by a minimum-jerk move over
+    ``move_time`` s with gravity compensation unless ``no_gravity_compensation`` = 1, and
+    constant joint torques ``torque``. ``limits`` holds the URDF's lower, upper, effort,
+    velocity and damping per joint. A file that cannot be read, or a robot varsym refuses
+    (floating, planar or mimic joints, closed loops, a moving link without inertia, an inertia
+    that is not positive definite or breaks the triangle inequality), raises UsageError naming
+    the file, line and element (docs/robots.md)."""
+
+    def __init__(self, source=None, *, text=None, **parameters):
+        if isinstance(source, Robot):
+            self._core, parameters = source._core, {**source.parameters, **parameters}
+            parameters = {k: v for k, v in parameters.items() if v is not None}
+        elif (source is None) == (text is None):
+            raise TypeError("Robot(path) or Robot(text=URDF_XML)")
+        else:
+            self._core = (_core._Robot(text, True) if text is not None
+                          else _core._Robot(os.fspath(source)))
+        self._set("urdf", self._core.info, parameters)
+        self.joints = list(self._core.joints)
+        self.coordinates = self.joints
+        self.dim = len(self.joints)
+
+    @property
+    def robot_name(self):
+        """The URDF's <robot name>."""
+        return self._core.name
+
+    @property
+    def limits(self):
+        """The joints' URDF limits: a dict of arrays lower, upper [rad or m], effort [N m or N],
+        velocity, damping (±inf where the URDF gives none)."""
+        return dict(self._core.limits)
+
+    @property
+    def frames(self):
+        """Every link's name (the merged ones too), for ``pose``."""
+        return list(self._core.frames)
+
+    def mass_matrix(self, q):
+        """M(q), the joint-space mass matrix (composite-rigid-body algorithm)."""
+        return self._core.mass_matrix(_list(q))
+
+    def gravity(self, q):
+        """g(q) = ∂V/∂q, the joint torques that hold the robot still at q."""
+        return self._core.bias(_list(q), [0.0] * self.dim, self.parameters["gravity"])
+
+    def bias(self, q, v):
+        """C(q, q̇)q̇ + g(q), with M(q)q̈ + C(q, q̇)q̇ + g(q) = τ (recursive Newton–Euler)."""
+        return self._core.bias(_list(q), _list(v), self.parameters["gravity"])
+
+    def energy(self, q, v):
+        """The mechanical energy ½ q̇ᵀM(q)q̇ + V(q) [J], V = −Σ m g·c (zero at the base)."""
+        return self._core.energy(_list(q), _list(v), self.parameters["gravity"])
+
+    def pose(self, link, q):
+        """The 4×4 homogeneous transform of link ``link``'s frame in the world at q."""
+        return self._core.pose(link, _list(q))
+
+    def _prepare(self, values, q0, p0, v0, lists):
+        return self._core.prepare(values, q0, p0, v0, lists)
+
+    def _ensemble(self, *args):
+        return self._core.ensemble(*args)
+
+    def __repr__(self):
+        return f"varsym.Robot({self._core.name!r}, {self.dim} joints)"
+
+
+def _list(x):
+    return np.asarray(x, dtype=float).ravel().tolist()
