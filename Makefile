@@ -14,7 +14,7 @@ OUT ?= out
 VARSYM = $(BUILD_DIR)/apps/varsym/varsym
 
 .PHONY: all deps configure build tool python run test install san-configure test-sanitize \
-  test-sanitize-cli fuzz bench bench-optimal soak clean
+  test-sanitize-cli fuzz bench bench-optimal bench-robots soak clean
 
 all: build
 
@@ -100,11 +100,22 @@ bench: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_bench varsym_bench_family
 	$(BUILD_DIR)/bench/varsym_bench --benchmark_min_time=0.2
 	$(BUILD_DIR)/bench/varsym_bench_family --benchmark_min_time=0.2
+	@$(MAKE) --no-print-directory bench-robots
 
 # Optimal control: time, iterations and accuracy per second (bench/bench_optimal.cpp).
 bench-optimal: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_bench_optimal
 	$(BUILD_DIR)/bench/varsym_bench_optimal 3
+
+# URDF robots against MuJoCo (bench/bench_robots.cpp; docs/robots.md): MuJoCo from Debian's
+# libmujoco-dev, installed here as a benchmark peer only. ROBOT_BENCH: the sections to run
+# (check steps precision scaling, and energy FILE for the 10^6-step energy data).
+ROBOT_BENCH ?= check steps precision scaling
+bench-robots: deps
+	@bash scripts/install-deps.sh libmujoco-dev
+	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -Wno-dev >/dev/null
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_bench_robots
+	$(BUILD_DIR)/bench/varsym_bench_robots $(ROBOT_BENCH)
 
 soak: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_soak
