@@ -316,28 +316,34 @@ void energy(const pair& p, const std::string& file, long steps) {
     out << "step,t,varsym_gauss2,mujoco_rk4,mujoco_euler\n";
     const std::vector<double> q0 = start_of(p);
     auto sim = varsym_run(p, scheme_spec(scheme_kind::gauss, 2), 1e-3, q0);
+    // Two MuJoCo models: the integrator is the model's option, and both step side by side.
+    pair euler = p;
+    euler.mj = mj_copyModel(nullptr, p.mj);
     mjData* rk = mujoco_run(p, mjINT_RK4, 1e-3, q0);
-    mjData* eu = mujoco_run(p, mjINT_EULER, 1e-3, q0);
-    auto mj_energy = [&](mjData* d) {
-        mj_energyPos(p.mj, d);
-        mj_energyVel(p.mj, d);
+    mjData* eu = mujoco_run(euler, mjINT_EULER, 1e-3, q0);
+    // The energy at the current state: mj_forward recomputes what mj_step left at its last
+    // stage (with mjENBL_ENERGY set it fills d->energy: potential, kinetic).
+    auto mj_energy = [](const mjModel* m, mjData* d) {
+        mj_forward(m, d);
         return d->energy[0] + d->energy[1];
     };
-    const double e0 = sim->watched_energy(), r0 = mj_energy(rk), u0 = mj_energy(eu);
+    const double e0 = sim->watched_energy(), r0 = mj_energy(p.mj, rk),
+                 u0 = mj_energy(euler.mj, eu);
     double worst[3] = {0, 0, 0};
     for (long k = 0; k <= steps; k += 1000) {
         const double a = (sim->watched_energy() - e0) / std::abs(e0);
-        const double b = (mj_energy(rk) - r0) / std::abs(r0), c = (mj_energy(eu) - u0) / std::abs(u0);
+        const double b = (mj_energy(p.mj, rk) - r0) / std::abs(r0),
+                     c = (mj_energy(euler.mj, eu) - u0) / std::abs(u0);
         worst[0] = std::max(worst[0], std::abs(a));
         worst[1] = std::max(worst[1], std::abs(b));
         worst[2] = std::max(worst[2], std::abs(c));
         out << k << ',' << static_cast<double>(k) * 1e-3 << ',' << a << ',' << b << ',' << c
             << '\n';
         if (k == steps) break;
-        sim->advance(1000);
+        sim->advance(static_cast<std::size_t>(k + 1000)); // to step k + 1000
         for (int j = 0; j < 1000; ++j) {
             mj_step(p.mj, rk);
-            mj_step(p.mj, eu);
+            mj_step(euler.mj, eu);
         }
     }
     std::printf("\n%s, %ld steps of 1 ms: max relative energy error varsym gauss-2 %.1e, MuJoCo "
@@ -345,6 +351,7 @@ void energy(const pair& p, const std::string& file, long steps) {
                 p.name.c_str(), steps, worst[0], worst[1], worst[2], file.c_str());
     mj_deleteData(rk);
     mj_deleteData(eu);
+    mj_deleteModel(euler.mj);
 }
 
 void scaling(int rounds) {
