@@ -61,6 +61,16 @@ awk -v k="$k" 'BEGIN { exit !(k > 3.7 && k < 4.3) }' && ok || bad "Simpson on th
   2> ens.err && grep -q '3 completed' ens.err && [ "$(wc -l < ens.csv)" -eq 4 ] && ok ||
   bad "ensemble: $(cat ens.err)"
 
+# Members by joint name: q0_shoulder_lift_joint is q0_2 (the same rows).
+"$VARSYM" ensemble --urdf "$ur5" --grid q0_shoulder_lift_joint=-1.5:-0.5:3 --time 0.5 \
+  --steps 500 -o named.csv 2> named.err && ok || bad "ensemble by joint name: $(cat named.err)"
+[ "$(cut -d, -f3- named.csv | tail -3)" = "$(cut -d, -f3- ens.csv | tail -3)" ] && ok ||
+  bad "q0_shoulder_lift_joint and q0_2 differ"
+# A section of the swinging arm (dense output of the general engine).
+"$VARSYM" section --urdf "$ur5" --grid q0_2=-1.5:-0.5:2 --plane q1=0 --time 5 --steps 5000 \
+  -o sec.csv 2> sec.err && grep -q '2 orbits' sec.err && [ "$(wc -l < sec.csv)" -gt 2 ] && ok ||
+  bad "section: $(cat sec.err)"
+
 # --- refusals: exit 2, one line, nothing written ------------------------------------------------
 expect_error 2 "missing URDF" run --urdf no_such.urdf -o out.csv
 expect_error 2 "mimic joint" run --urdf "$data/panda.urdf" -o out.csv
@@ -77,5 +87,6 @@ expect_error 2 "no --urdf" run --model urdf -o out.csv
 expect_error 2 "--urdf with another model" converge --model kepler --urdf "$ur5"
 expect_error 2 "kp count" run --urdf "$ur5" --kp 1,2 -o out.csv
 expect_error 2 "q0 count" run --urdf "$ur5" --q0 1,2 -o out.csv
+expect_error 2 "unknown joint key" ensemble --urdf "$ur5" --grid q0_hand=1:2:2 -o out.csv
 
 finish

@@ -40,6 +40,9 @@ struct ensemble_model {
     /// expressions (one line).
     std::string identity;
     int dim = 0;
+    /// The coordinates' names where each is a plain name (a robot's joints, the cart-pole's x
+    /// and theta): the keys q0_NAME and p0_NAME then stand for q0_I and p0_I. Else empty.
+    std::vector<std::string> coordinates;
     std::vector<std::pair<std::string, double>> parameters; ///< names and defaults (NaN: unset)
     std::string help;                                       ///< for --help: what they mean
     bool fixed_start = false; ///< the initial state follows from the parameters (no q0, p0)

@@ -50,7 +50,8 @@ void add_identity(std::string& id, const char* name, const std::vector<double>& 
 
 } // namespace
 
-/// Where key `k` goes for `model`: q0_i, p0_i (1 ≤ i ≤ d) or a parameter's name.
+/// Where key `k` goes for `model`: q0_i, p0_i (1 ≤ i ≤ d), q0_NAME, p0_NAME (NAME a
+/// coordinate's name) or a parameter's name.
 std::pair<int, std::size_t> target_of(const std::string& k, const ensemble_model& model) {
     for (int kind = 0; kind < 2 && !model.fixed_start; ++kind) {
         const std::string prefix = kind == 0 ? "q0_" : "p0_";
@@ -65,6 +66,9 @@ std::pair<int, std::size_t> target_of(const std::string& k, const ensemble_model
                                       "; did you mean " + prefix + std::to_string(i) + "?");
                 return {kind, i - 1};
             }
+            for (std::size_t j = 0; j < model.coordinates.size(); ++j) // q0_NAME
+                if (k.compare(prefix.size(), std::string::npos, model.coordinates[j]) == 0)
+                    return {kind, j};
         }
     }
     for (std::size_t j = 0; j < model.parameters.size(); ++j)
@@ -72,6 +76,8 @@ std::pair<int, std::size_t> target_of(const std::string& k, const ensemble_model
     std::string known;
     for (int i = 1; i <= (model.fixed_start ? 0 : model.dim); ++i)
         known += " q0_" + std::to_string(i) + " p0_" + std::to_string(i);
+    for (const std::string& c : model.fixed_start ? std::vector<std::string>{} : model.coordinates)
+        known += " q0_" + c + " p0_" + c;
     for (const auto& p : model.parameters)
         known += " " + p.first;
     throw usage_error("'" + k + "' is not a key of " + model.name + "; its keys:" + known);

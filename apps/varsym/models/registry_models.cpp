@@ -2,6 +2,7 @@
 // as the tool's commands see them: `varsym run` options, help and runs, and `varsym ensemble` and
 // `varsym section` models, all generated from each model's one definition.
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <map>
@@ -325,6 +326,24 @@ ensemble_model make_registry_ensemble(std::shared_ptr<const models::model> model
     m.name = rm.name;
     m.dim = rm.dim;
     m.fixed_start = !rm.fixed_start.empty();
+    // Names for the keys q0_NAME: the coordinates "x, theta" where each is a plain identifier
+    // and there are d of them ("th_1 ... th_n" is not a list of names).
+    std::vector<std::string> names;
+    for (std::size_t at = 0; at <= rm.coordinates.size();) {
+        const std::size_t comma = std::min(rm.coordinates.find(',', at), rm.coordinates.size());
+        std::string c = rm.coordinates.substr(at, comma - at);
+        c.erase(0, c.find_first_not_of(' '));
+        c.erase(c.find_last_not_of(' ') + 1);
+        names.push_back(c);
+        at = comma + 1;
+    }
+    const bool plain = std::all_of(names.begin(), names.end(), [](const std::string& c) {
+        return !c.empty() && !std::isdigit(static_cast<unsigned char>(c[0])) &&
+               std::all_of(c.begin(), c.end(), [](char ch) {
+                   return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-';
+               });
+    });
+    if (plain && std::ssize(names) == rm.dim) m.coordinates = names;
     for (const auto& p : rm.parameters) {
         m.parameters.emplace_back(p.name, p.value);
         if (p.sets_dimension) m.dimension_keys.push_back(p.name);
