@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # tests/cli/registry_test.sh VARSYM: every model of the registry (the rows of `varsym models
-# --format csv` but `lagrangian`, which is made from its options and tested in
-# expression_test.sh) through every command that runs it: `run`,
+# --format csv` but `lagrangian` and `urdf`, which are made from their options and tested in
+# expression_test.sh and urdf_test.sh) through every command that runs it: `run`,
 # `ensemble` (a grid over its first parameter, or over q0_1), `converge` (Simpson's order 4; the
 # rigid bodies' lgvi-4, also 4) and `section` where the model has dense output. References: the
 # ensemble member's final state equals `varsym run`'s last row from the same parameters and state
@@ -22,8 +22,8 @@ q_1() {
 }
 
 "$VARSYM" models --format csv > models.csv || bad "varsym models --format csv failed"
-mapfile -t names < <(awk -F, 'NR > 1 && $2 ~ /converge/ && $1 != "lagrangian" { print $1 }' \
-  models.csv | uniq)
+mapfile -t names < <(awk -F, 'NR > 1 && $2 ~ /converge/ && $1 != "lagrangian" && $1 != "urdf" {
+  print $1 }' models.csv | uniq)
 [ "${#names[@]}" -ge 16 ] && ok || bad "only ${#names[@]} models in the registry: ${names[*]}"
 for m in pendulum kepler henon-heiles double-pendulum heavy-top cart-pole acrobot chain four-bar \
   slider-crank spherical-pendulum rigid-body top pendulum-3d; do
