@@ -3,11 +3,13 @@
 // forces: the URDF's joint damping, a joint PD controller tracking a minimum-jerk move to a
 // target (optionally with gravity compensation), and constant joint torques. One stepper type
 // with forces and one without serve every robot: nothing is compiled per robot.
+#include <cstdio>
 #include <string>
 #include <vector>
 
 #include "simulation_of.hpp"
 #include "varsym/models/robot.hpp"
+#include "varsym/systems/expression_force.hpp"
 #include "varsym/multibody/lagrangian.hpp"
 #include "varsym/problems/arm.hpp"
 
@@ -17,8 +19,9 @@ namespace {
 
 using robot = multibody::robot_lagrangian;
 using robot_system = lagrangian_system<robot>;
-using robot_force =
-    force_sum<rayleigh_damping<dynamic>, pd_controller<dynamic>, prescribed_force<dynamic>>;
+/// Damping, the PD controller, and the joint torques typed as expressions (constant torques
+/// are expressions too).
+using robot_force = force_sum<rayleigh_damping<dynamic>, pd_controller<dynamic>, expression_force>;
 
 /// The joints outside their position limits at q.
 int limit_violations(const multibody::model& m, const vec<dynamic>& q) {
@@ -32,9 +35,20 @@ int limit_violations(const multibody::model& m, const vec<dynamic>& q) {
 
 } // namespace
 
-model robot_model(std::shared_ptr<const multibody::model> r) {
+model robot_model(std::shared_ptr<const multibody::model> r,
+                  const std::vector<std::string>& torques) {
     if (!r) throw std::invalid_argument("robot_model: no robot");
     const int n = r->dof();
+    std::vector<std::string> joints;
+    for (const auto& b : r->bodies)
+        joints.push_back(b.name);
+    if (!torques.empty() && static_cast<int>(torques.size()) != n)
+        throw std::invalid_argument("the joint torques need " + std::to_string(n) +
+                                    " expressions (one per joint), got " +
+                                    std::to_string(torques.size()));
+    // Parsed once here, refusing a bad expression before any run; copied by every problem.
+    const expression_force typed =
+        torques.empty() ? expression_force(n) : expression_force(torques, joints, {});
     model m;
     m.name = "urdf";
     m.summary = "a robot read from a URDF file: joint damping, PD control, joint torques";
@@ -46,7 +60,8 @@ model robot_model(std::shared_ptr<const multibody::model> r) {
         "  Forces: the URDF's joint damping (--no-damping drops it); a PD controller on every\n"
         "  joint when --kp is given, tracking a minimum-jerk move from the start to --target\n"
         "  over --move-time, with gravity compensation unless --no-gravity-compensation;\n"
-        "  constant joint torques --torque. Columns: energy, work (of the forces since t = 0),\n"
+        "  constant joint torques --torque, or torques typed as expressions in t, the joints'\n"
+        "  names and NAME_dot. Columns: energy, work (of the forces since t = 0),\n"
         "  energy_balance (energy - E0 - work: the scheme's error), limit_violations (joints\n"
         "  outside their URDF position limits). Conserved without forces: energy. No period.";
     m.dim = n;
@@ -85,7 +100,7 @@ model robot_model(std::shared_ptr<const multibody::model> r) {
     m.ensemble_steps = 1000;
     m.q0.assign(static_cast<std::size_t>(n), 0.0);
     m.p0 = m.q0;
-    m.make = [r, n](std::span<const double> v, const start& s, const lists& l) {
+    m.make = [r, n, typed, joints](std::span<const double> v, const start& s, const lists& l) {
         auto each = [n](const std::vector<double>& given, const char* name) {
             if (!given.empty() && static_cast<int>(given.size()) != n)
                 throw std::invalid_argument(std::string(name) + " needs " + std::to_string(n) +
@@ -108,14 +123,11 @@ model robot_model(std::shared_ptr<const multibody::model> r) {
         if (!controlled && !l[1].empty())
             throw std::invalid_argument("kd without kp: give the proportional gains too");
         const vec<dynamic> torque = each(l[3], "torque");
-        const bool forced = controlled || !torque.isZero(0.0) || !damping.isZero(0.0);
+        if (!l[3].empty() && !typed.zero())
+            throw std::invalid_argument("give constant torques or typed ones, not both");
+        const bool forced =
+            controlled || !torque.isZero(0.0) || !damping.isZero(0.0) || !typed.zero();
         const double e0 = sys.energy(x0);
-        const std::vector<std::string> joints = [&] {
-            std::vector<std::string> j;
-            for (const auto& b : r->bodies)
-                j.push_back(b.name);
-            return j;
-        }();
         problem pr = detail::make_problem(x0, 0.0, {});
         if (!forced) {
             pr.simulate = [sys, x0, e0, joints, r](const step_options& o) {
@@ -148,11 +160,19 @@ model robot_model(std::shared_ptr<const multibody::model> r) {
         } else if (!l[2].empty()) {
             throw std::invalid_argument("target without kp: the PD controller needs its gains");
         }
-        prescribed_force<dynamic> constant;
-        constant.size = n;
-        constant.u = [torque](double) { return torque; };
+        expression_force tau = typed;
+        if (!l[3].empty()) { // constant torques as expressions of their values (17 digits:
+            std::vector<std::string> c, names; // the same doubles), over neutral names
+            for (double x : l[3]) {
+                char buf[32];
+                std::snprintf(buf, sizeof buf, "%.17g", x);
+                c.emplace_back(buf);
+                names.push_back("q" + std::to_string(names.size() + 1));
+            }
+            tau = expression_force(c, names, {});
+        }
         const robot_force f(rayleigh_damping<dynamic>::diagonal(damping), std::move(pd),
-                            std::move(constant));
+                            std::move(tau));
         pr.simulate = [sys, f, x0, e0, joints, r](const step_options& o) {
             detail::check_general(o);
             return detail::simulate_general(

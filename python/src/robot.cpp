@@ -51,11 +51,13 @@ py::array_t<double> array_of(const mat<dynamic>& m) {
 
 void bind_robot(py::module_& m) {
     py::class_<robot>(m, "_Robot")
-        .def(py::init([](const std::string& source, bool text) {
+        .def(py::init([](const std::string& source, bool text,
+                         const std::vector<std::string>& torques) {
                  auto tree = text ? models::parse_urdf(source) : models::load_urdf(source);
-                 return robot{tree, models::robot_model(tree)};
+                 return robot{tree, models::robot_model(tree, torques)};
              }),
-             py::arg("source"), py::arg("text") = false)
+             py::arg("source"), py::arg("text") = false,
+             py::arg("torques") = std::vector<std::string>{})
         .def_property_readonly("name", [](const robot& r) { return r.tree->name; })
         .def_property_readonly("info", [](const robot& r) { return model_info(r.model); })
         .def_property_readonly("joints",

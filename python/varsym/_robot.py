@@ -8,6 +8,7 @@ import numpy as np
 
 from . import _core
 from ._simulate import Model
+from .errors import UsageError
 
 
 class Robot(Model):
@@ -18,21 +19,26 @@ class Robot(Model):
     joint damping out), a PD controller on every joint with ``kp``, ``kd`` (one gain per
     joint), ``target`` (joint positions; default the start) reached by a minimum-jerk move over
     ``move_time`` s with gravity compensation unless ``no_gravity_compensation`` = 1, and
-    constant joint torques ``torque``. ``limits`` holds the URDF's lower, upper, effort,
+    constant joint torques ``torque``, or ``torques``: one expression per joint in t, the
+    joints' names and their velocities NAME_dot (e.g. ``["5*sin(t)", "0", ...]``). ``limits`` holds the URDF's lower, upper, effort,
     velocity and damping per joint. A file that cannot be read, or a robot varsym refuses
     (floating, planar or mimic joints, closed loops, a moving link without inertia, an inertia
     that is not positive definite or breaks the triangle inequality), raises UsageError naming
     the file, line and element (docs/robots.md)."""
 
-    def __init__(self, source=None, *, text=None, **parameters):
+    def __init__(self, source=None, *, text=None, torques=None, **parameters):
         if isinstance(source, Robot):
+            if torques is not None:
+                raise UsageError("torques are fixed when the Robot is read: "
+                                 "Robot(path, torques=[...])")
             self._core, parameters = source._core, {**source.parameters, **parameters}
             parameters = {k: v for k, v in parameters.items() if v is not None}
         elif (source is None) == (text is None):
             raise TypeError("Robot(path) or Robot(text=URDF_XML)")
         else:
-            self._core = (_core._Robot(text, True) if text is not None
-                          else _core._Robot(os.fspath(source)))
+            typed = [] if torques is None else [str(x) for x in torques]
+            self._core = (_core._Robot(text, True, typed) if text is not None
+                          else _core._Robot(os.fspath(source), False, typed))
         self._set("urdf", self._core.info, parameters)
         self.joints = list(self._core.joints)
         self.coordinates = self.joints

@@ -43,6 +43,21 @@ tail -1 pd.csv | awk -F, '{ t[1] = 0.5; t[2] = 0.5; t[3] = 0; t[4] = -1; t[5] = 
   for (i = 1; i <= 7; ++i) { d = $(i + 2) - t[i]; if (d < 0) d = -d; if (d > m) m = d }
   exit !(m < 1e-3) }' && ok || bad "PD did not reach the target: $(tail -1 pd.csv | cut -d, -f1-9)"
 
+# --- joint torques typed in t and the joints' names: their work balances the energy ----------
+"$VARSYM" run --urdf "$ur5" --q0 0,-1,1,0,0.5,0 --torques "5*sin(3*t),0,-2*elbow_joint_dot,0,0,0" \
+  --scheme gauss --degree 2 --time 2 --steps 2000 --every 100 -o typed.csv 2> typed.err && ok ||
+  bad "typed torques: $(cat typed.err)"
+e=$(max_abs typed.csv energy_balance)
+below "$e" 1e-6 && ok || bad "typed torques: energy balance $e J"
+w=$(max_abs typed.csv work)
+below 0.1 "$w" && ok || bad "typed torques did no work ($w J)"
+# Constant torques (--torque) are the typed constants: the same rows.
+"$VARSYM" run --urdf "$ur5" --q0 0,-1,1,0,0.5,0 --torque 1,2,0,0,0,0 --time 0.5 --steps 500 \
+  --every 500 -o const.csv 2> /dev/null &&
+  "$VARSYM" run --urdf "$ur5" --q0 0,-1,1,0,0.5,0 --torques 1,2,0,0,0,0 --time 0.5 --steps 500 \
+    --every 500 -o const2.csv 2> /dev/null && cmp -s const.csv const2.csv && ok ||
+  bad "--torque and --torques of the same constants differ"
+
 # --- orders: gauss-s is of order 2s, Simpson 4, on the 3-D UR5 --------------------------------
 order() { # order ARGS...: the fitted order of the state error over the last pair of step counts
   "$VARSYM" converge --urdf "$ur5" --set q0_2=-1 --set q0_3=1 --set q0_5=0.5 --time 1 \
@@ -87,6 +102,11 @@ expect_error 2 "no --urdf" run --model urdf -o out.csv
 expect_error 2 "--urdf with another model" converge --model kepler --urdf "$ur5"
 expect_error 2 "kp count" run --urdf "$ur5" --kp 1,2 -o out.csv
 expect_error 2 "q0 count" run --urdf "$ur5" --q0 1,2 -o out.csv
+expect_error 2 "torque of an unknown name" run --urdf "$ur5" --torques "hand,0,0,0,0,0" -o out.csv
+expect_error 2 "torques count" run --urdf "$ur5" --torques "1,2" -o out.csv
+expect_error 2 "torques and torque" run --urdf "$ur5" --torques 1,0,0,0,0,0 --torque 1,0,0,0,0,0 \
+  -o out.csv
+expect_error 2 "--torques for another model" run --model kepler --torques 1 -o out.csv
 expect_error 2 "unknown joint key" ensemble --urdf "$ur5" --grid q0_hand=1:2:2 -o out.csv
 
 finish

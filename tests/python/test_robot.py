@@ -203,3 +203,17 @@ def test_refusals_and_ensemble():
     out = robot.ensemble(q0=q0, t_span=0.2, steps=200)
     assert list(out["status"]) == ["completed", "completed"]
     assert (out["max_energy_error"] < 1e-8).all()
+
+
+def test_typed_torques_do_work_that_balances_the_energy():
+    path = os.path.join(DATA, "ur5_robot.urdf")
+    robot = varsym.Robot(path, torques=["5*sin(3*t)", "0", "-2*elbow_joint_dot", "0", "0", "0"])
+    tr = robot.simulate(q0=[0, -1, 1, 0, 0.5, 0], t_span=2.0, steps=2000, scheme="gauss",
+                        degree=2, every=100)
+    assert abs(tr["work"]).max() > 0.1  # the torques act
+    assert abs(tr["energy_balance"]).max() < 1e-6  # E − E0 − W: the scheme's error alone
+    with pytest.raises(varsym.ExpressionError):
+        varsym.Robot(path, torques=["hand", "0", "0", "0", "0", "0"])
+    with pytest.raises(varsym.UsageError, match="6 expressions"):
+        varsym.Robot(path, torques=["1"])
+

@@ -35,13 +35,14 @@ struct converge_options {
     std::vector<std::string> set; ///< NAME=VALUE: a parameter or q0_I/p0_I (not the pendulum)
     double time = 0.0;            ///< the span of a model without a period (0: the model's)
     expression_spec expression;   ///< --lagrangian etc., for --model lagrangian
-    std::string urdf;             ///< --urdf FILE, for --model urdf
+    urdf_spec urdf;               ///< --urdf FILE, --torques, for --model urdf
 };
 
 /// The model of --model: the registry's, or `lagrangian` made from its options.
 std::shared_ptr<const models::model> model_of(const converge_options& o) {
     if (o.model == "urdf") return robot_model_of(o.urdf);
-    if (!o.urdf.empty()) throw usage_error("--urdf is for --model urdf, not " + shown(o.model));
+    if (!o.urdf.path.empty())
+        throw usage_error("--urdf is for --model urdf, not " + shown(o.model));
     if (o.model == "lagrangian") return expression_model_of(o.expression);
     if (!o.expression.lagrangian.empty())
         throw usage_error("--lagrangian is for --model lagrangian, not " + shown(o.model));

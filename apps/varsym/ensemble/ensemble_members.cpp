@@ -257,17 +257,18 @@ ensemble_model find_ensemble_model(const member_run_options& given) {
     if (o.model.empty()) {
         if (!o.expression.lagrangian.empty())
             o.model = "lagrangian";
-        else if (!o.urdf.empty())
+        else if (!o.urdf.path.empty())
             o.model = "urdf";
         else
             throw usage_error("--model is required (one of " + ensemble_model_names() + ")");
     }
     if (o.model == "urdf") {
         ensemble_model m = make_registry_ensemble(robot_model_of(o.urdf));
-        m.identity = "urdf file=[" + o.urdf + "]";
+        m.identity = "urdf file=[" + o.urdf.path + "] torques=[" + o.urdf.torques + "]";
         return m;
     }
-    if (!o.urdf.empty()) throw usage_error("--urdf is for --model urdf, not " + shown(o.model));
+    if (!o.urdf.path.empty())
+        throw usage_error("--urdf is for --model urdf, not " + shown(o.model));
     if (o.model == "lagrangian") {
         ensemble_model m = make_registry_ensemble(expression_model_of(o.expression));
         m.identity = "lagrangian L=[" + o.expression.lagrangian + "] coordinates=[" +

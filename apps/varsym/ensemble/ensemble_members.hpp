@@ -10,6 +10,7 @@
 #include "cli_common.hpp"
 #include "ensemble.hpp"
 #include "expression_options.hpp"
+#include "models.hpp"
 #include "plot.hpp"
 #include "shared_options.hpp"
 
@@ -29,7 +30,7 @@ void add_member_options(CLI::App& cmd, member_options& o);
 struct member_run_options {
     std::string model;
     expression_spec expression; ///< --lagrangian etc., for --model lagrangian
-    std::string urdf;           ///< --urdf FILE, for --model urdf
+    urdf_spec urdf;             ///< --urdf FILE, --torques, for --model urdf
     scheme_options scheme;
     double time = 0.0;
     long long steps = 0;

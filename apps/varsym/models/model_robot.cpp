@@ -4,29 +4,42 @@
 // controller, torques) are the shared parameter options.
 #include <memory>
 
+#include "expression_options.hpp"
 #include "model_run.hpp"
 #include "registry_models.hpp"
 #include "varsym/models/robot.hpp"
 
 namespace varsym::cli {
 
-std::shared_ptr<const models::model> robot_model_of(const std::string& path) {
-    if (path.empty())
+std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u) {
+    if (u.path.empty())
         throw usage_error("--model urdf needs --urdf FILE, the robot's URDF description");
+    std::shared_ptr<const multibody::model> tree;
     try {
-        return std::make_shared<const models::model>(models::robot_model(models::load_urdf(path)));
+        tree = models::load_urdf(u.path);
     } catch (const models::urdf_error& e) {
         throw usage_error(std::string("--urdf: ") + e.what());
     }
+    const std::vector<std::string> torques =
+        u.torques.empty() ? std::vector<std::string>{}
+                          : split_list(u.torques, "--torques", "5*sin(t),0,-2*elbow_joint_dot");
+    try {
+        return std::make_shared<const models::model>(models::robot_model(tree, torques));
+    } catch (const std::exception& e) { // a parse error, a name that is not a joint's
+        throw usage_error(std::string("--torques: ") + e.what());
+    }
 }
 
-void add_urdf_option(CLI::App& cmd, std::string& path) {
-    cmd.add_option("--urdf", path,
+void add_urdf_option(CLI::App& cmd, urdf_spec& u) {
+    cmd.add_option("--urdf", u.path,
                    "urdf: the robot's URDF file (implies --model urdf; see 'varsym models')");
+    cmd.add_option("--torques", u.torques,
+                   "urdf: joint torques as expressions in t, the joints' names and NAME_dot, "
+                   "one per joint, comma-separated [N m or N]");
 }
 
 model make_robot_model(std::shared_ptr<parameter_options> po) {
-    auto path = std::make_shared<std::string>();
+    auto spec = std::make_shared<urdf_spec>();
     const models::model& rm = models::robot_options();
     model m;
     m.name = "urdf";
@@ -42,18 +55,19 @@ model make_robot_model(std::shared_ptr<parameter_options> po) {
         "  Forces: the URDF's joint damping (--no-damping drops it); with --kp a PD controller\n"
         "  on every joint tracking a minimum-jerk move from the start to --target over\n"
         "  --move-time, with gravity compensation unless --no-gravity-compensation; constant\n"
-        "  joint torques --torque. Columns: energy, work, energy_balance (energy - E0 - work),\n"
+        "  joint torques --torque, or --torques typed in t, the joint names and NAME_dot\n"
+        "  (e.g. 5*sin(t)). Columns: energy, work, energy_balance (energy - E0 - work),\n"
         "  limit_violations (joints outside their URDF position limits). Start: --q0 (0),\n"
         "  --v0 (0) or --p0. No period: default --time 5 --steps 5000." +
         (cut == std::string::npos ? "" : own.substr(cut, own.find("\n  Initial state") - cut));
-    m.options = {"--urdf"};
+    m.options = {"--urdf", "--torques"};
     for (const auto& p : rm.parameters)
         m.options.push_back("--" + p.option_name());
     for (const auto& l : rm.lists)
         m.options.push_back("--" + l.option_name());
-    m.add_options = [path](CLI::App& cmd) { add_urdf_option(cmd, *path); };
-    m.run = [path, po](const run_setup& s) {
-        const auto robot = robot_model_of(*path);
+    m.add_options = [spec](CLI::App& cmd) { add_urdf_option(cmd, *spec); };
+    m.run = [spec, po](const run_setup& s) {
+        const auto robot = robot_model_of(*spec);
         run_model(*robot, s, po->values(*robot), po->lists(*robot));
     };
     return m;

@@ -68,10 +68,14 @@ model make_expression_model(std::shared_ptr<class parameter_options> po = nullpt
 
 /// `urdf`: a robot from the URDF file of --urdf (model_robot.cpp); its parameters read from `po`.
 model make_robot_model(std::shared_ptr<class parameter_options> po = nullptr);
-/// The model of the URDF file `path` (usage_error naming --urdf where it cannot be read).
-std::shared_ptr<const models::model> robot_model_of(const std::string& path);
-/// Adds --urdf FILE to cmd.
-void add_urdf_option(CLI::App& cmd, std::string& path);
+/// --urdf FILE and --torques EXPR,... as given.
+struct urdf_spec {
+    std::string path, torques;
+};
+/// The model of the URDF file and typed torques (usage_error naming --urdf or --torques).
+std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u);
+/// Adds --urdf FILE and --torques to cmd.
+void add_urdf_option(CLI::App& cmd, urdf_spec& u);
 
 /// The most steps one run may take (1e15; the fuzz target lowers it to run actions cheaply).
 extern double max_run_steps;

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "varsym/models/model.hpp"
 #include "varsym/multibody/model.hpp"
@@ -33,10 +34,14 @@ std::shared_ptr<const multibody::model> parse_urdf(std::string_view xml,
 /// The model `urdf` of the robot r: its parameters gravity (magnitude along −z, m/s²),
 /// no_damping (leave the URDF's joint damping out), move_time and no_gravity_compensation of the
 /// PD controller; lists kp, kd (per joint; none: no controller), target (joint positions; none:
-/// hold the start) and torque (constant joint torques). Start: q0 (0) and v0 (0) or p0, in the
-/// joints' order. Columns: energy, work, energy_balance, limit_violations (the joints outside
-/// their position limits at that row).
-model robot_model(std::shared_ptr<const multibody::model> r);
+/// hold the start) and torque (constant joint torques). `torques` (empty: none): joint torques
+/// typed as expressions in t, the joints' names and their velocities NAME_dot, one per joint
+/// [N m or N] (throws expr::parse_error or std::invalid_argument for a bad one, or for both
+/// these and the list torque given). Start: q0 (0) and v0 (0) or p0, in the joints' order.
+/// Columns: energy, work, energy_balance, limit_violations (the joints outside their position
+/// limits at that row).
+model robot_model(std::shared_ptr<const multibody::model> r,
+                  const std::vector<std::string>& torques = {});
 
 /// The parameters and lists that robot_model gives every robot (a one-joint robot's model), for
 /// a front end that declares its options before it reads a URDF file.
