@@ -33,6 +33,10 @@ pybind11::dict run_ensemble(const varsym::models::model& mod,
                             bool indicators, unsigned threads, const std::string& event,
                             const varsym::models::lists& lists);
 
+/// A vector or matrix as a NumPy array (a copy) (module.cpp).
+pybind11::array_t<double> to_array(const varsym::vec<varsym::dynamic>& x);
+pybind11::array_t<double> to_array(const varsym::mat<varsym::dynamic>& m);
+
 /// The scheme named `scheme` ("simpson", "gauss", …) of `degree` (0: the scheme's default);
 /// throws std::invalid_argument naming the choices (simulation.cpp).
 varsym::scheme_spec spec_of(const std::string& scheme, int degree);

@@ -23,16 +23,6 @@ namespace {
 vec<dynamic> to_vec(const std::vector<double>& x) {
     return Eigen::Map<const vec<dynamic>>(x.data(), static_cast<Eigen::Index>(x.size()));
 }
-py::array_t<double> to_array(const vec<dynamic>& x) {
-    return py::array_t<double>(x.size(), x.data());
-}
-py::array_t<double> to_array(const mat<dynamic>& m) {
-    py::array_t<double> a({m.rows(), m.cols()});
-    for (Eigen::Index i = 0; i < m.rows(); ++i)
-        for (Eigen::Index j = 0; j < m.cols(); ++j)
-            a.mutable_at(i, j) = m(i, j);
-    return a;
-}
 void check_size(const std::vector<double>& x, int d, const char* what) {
     if (static_cast<int>(x.size()) != d)
         throw std::invalid_argument(std::string(what) + " needs " + std::to_string(d) +
@@ -43,6 +33,17 @@ PyObject* step_error = nullptr; ///< varsym.errors.StepFailure
 PyObject* usage_error = nullptr; ///< varsym.errors.UsageError
 
 } // namespace
+
+py::array_t<double> to_array(const vec<dynamic>& x) {
+    return py::array_t<double>(x.size(), x.data());
+}
+py::array_t<double> to_array(const mat<dynamic>& m) {
+    py::array_t<double> a({m.rows(), m.cols()});
+    for (Eigen::Index i = 0; i < m.rows(); ++i)
+        for (Eigen::Index j = 0; j < m.cols(); ++j)
+            a.mutable_at(i, j) = m(i, j);
+    return a;
+}
 
 void raise_step_failure(const step_failure& e, std::span<const double> q,
                         std::span<const double> p, std::size_t rows) {

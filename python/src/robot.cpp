@@ -36,17 +36,6 @@ struct robot {
     }
 };
 
-py::array_t<double> array_of(const vec<dynamic>& v) {
-    return py::array_t<double>(v.size(), v.data());
-}
-py::array_t<double> array_of(const mat<dynamic>& m) {
-    py::array_t<double> a({m.rows(), m.cols()});
-    for (Eigen::Index i = 0; i < m.rows(); ++i)
-        for (Eigen::Index j = 0; j < m.cols(); ++j)
-            a.mutable_at(i, j) = m(i, j);
-    return a;
-}
-
 } // namespace
 
 void bind_robot(py::module_& m) {
@@ -88,11 +77,11 @@ void bind_robot(py::module_& m) {
                     damping(i) = l.damping;
                 }
                 py::dict out;
-                out["lower"] = array_of(lo);
-                out["upper"] = array_of(hi);
-                out["effort"] = array_of(effort);
-                out["velocity"] = array_of(velocity);
-                out["damping"] = array_of(damping);
+                out["lower"] = to_array(lo);
+                out["upper"] = to_array(hi);
+                out["effort"] = to_array(effort);
+                out["velocity"] = to_array(velocity);
+                out["damping"] = to_array(damping);
                 return out;
             })
         .def(
@@ -101,7 +90,7 @@ void bind_robot(py::module_& m) {
                 multibody::workspace w;
                 mat<dynamic> out(r.tree->dof(), r.tree->dof());
                 multibody::mass_matrix(*r.tree, w, r.vector(q, "q"), out);
-                return array_of(out);
+                return to_array(out);
             },
             py::arg("q"))
         .def(
@@ -111,7 +100,7 @@ void bind_robot(py::module_& m) {
                 multibody::workspace w;
                 vec<dynamic> out(r.tree->dof());
                 multibody::bias_forces(r.at_gravity(g), w, r.vector(q, "q"), r.vector(v, "v"), out);
-                return array_of(out);
+                return to_array(out);
             },
             py::arg("q"), py::arg("v"), py::arg("gravity"))
         .def(
@@ -143,7 +132,7 @@ void bind_robot(py::module_& m) {
                 mat<dynamic> out = mat<dynamic>::Identity(4, 4);
                 out.topLeftCorner(3, 3) = x.rotation;
                 out.topRightCorner(3, 1) = x.origin;
-                return array_of(out);
+                return to_array(out);
             },
             py::arg("frame"), py::arg("q"))
         .def(
