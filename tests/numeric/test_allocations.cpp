@@ -19,6 +19,7 @@
 
 #include "schemes/nbody.hpp"
 #include "test_support.hpp"
+#include "varsym/multibody/lagrangian.hpp"
 #include "varsym/problems/arm.hpp"
 #include "varsym/problems/chain.hpp"
 #include "varsym/problems/double_pendulum.hpp"
@@ -245,3 +246,44 @@ TEST(Allocations, GeneralEngineAtRunTimeDimensionStepsWithoutAllocating) {
         EXPECT_EQ(allocations_in_steps(forced, y0), 0);
     }
 }
+
+TEST(Allocations, MultibodyRobotStepsWithoutAllocating) {
+    // A six-joint tree (a branch at body 1, one prismatic joint) as a run-time multibody model:
+    // its recursive derivatives reuse the thread's workspace, and the general engine's Newton
+    // steps on it allocate nothing once sized (the tool's path for URDF robots).
+    auto tree = std::make_shared<multibody::model>();
+    const int parents[] = {-1, 0, 1, 2, 1, 4};
+    for (int i = 0; i < 6; ++i) {
+        multibody::body b;
+        b.name = b.link = "b" + std::to_string(i);
+        b.parent = parents[i];
+        b.kind = i == 3 ? multibody::joint_kind::prismatic : multibody::joint_kind::revolute;
+        b.placement.origin = multibody::vec3(0.1 * i, 0.0, -0.3);
+        b.axis = (i % 2 ? multibody::vec3(0, 1, 1) : multibody::vec3(1, 0, 0.5)).normalized();
+        b.mass = 1.0 + 0.1 * i;
+        b.com = multibody::vec3(0.0, 0.05, -0.15);
+        b.inertia = multibody::vec3(0.02, 0.03, 0.04).asDiagonal();
+        tree->bodies.push_back(b);
+    }
+    const multibody::robot_lagrangian l(tree);
+    const vec<dynamic> q = vec<dynamic>::LinSpaced(6, -0.4, 0.9);
+    const vec<dynamic> v = vec<dynamic>::LinSpaced(6, 0.3, -0.2);
+    lagrangian_terms<dynamic> t;
+    l.derivatives(q, v, t); // sizes t and the workspace
+    Eigen::internal::set_is_malloc_allowed(false);
+    try {
+        l.derivatives(q, v, t);
+        l.gradient(q, v, t);
+    } catch (...) {
+        Eigen::internal::set_is_malloc_allowed(true);
+        throw;
+    }
+    Eigen::internal::set_is_malloc_allowed(true);
+    EXPECT_TRUE(t.lqq.allFinite());
+    const lagrangian_system<multibody::robot_lagrangian> robot(l);
+    newton_options opt;
+    opt.iteration = iteration_kind::newton;
+    general::stepper<multibody::robot_lagrangian> step(robot, 1e-3, {scheme_kind::gauss, 2}, opt);
+    EXPECT_EQ(allocations_in_steps(step, phase_state<dynamic>{q, vec<dynamic>::Zero(6)}), 0);
+}
+
