@@ -237,4 +237,17 @@ expect_error 2 "unknown model" ensemble --model kepler --grid q0_1=0:1:2 -o out.
 expect_error 2 "bad --set" ensemble --model pendulum --set mass -o out.csv --grid q0_1=0:1:2
 expect_error 2 "too many steps" ensemble --model pendulum --grid q0_1=0:1:1000000000 --steps 10000000 -o out.csv
 
+# A parameter set for every member (--set) is checked once against its range: exit 2 before any
+# member runs (n = 0 and dim = 0 ran every member into an error, n = 2e7 wrote 737 MB of invalid
+# rows, energy = inf marked every member invalid with exit 0). Negative control: in range runs.
+expect_error 2 "--set n=0" ensemble --model chain --set n=0 --grid q0_1=0:1:2 -o out.csv
+expect_error 2 "--set n=2e7" ensemble --model chain --set n=2e7 --grid q0_1=0:1:2 -o out.csv
+expect_error 2 "--set dim=-3" ensemble --model oscillator --set dim=-3 --grid q0_1=0:1:2 -o out.csv
+expect_error 2 "--set dim=0" ensemble --model oscillator --set dim=0 --grid q0_1=0:1:2 -o out.csv
+expect_error 2 "--set energy=inf" ensemble --model henon-heiles --set energy=inf \
+  --grid q0_2=0:0.1:2 -o out.csv
+grep -q "^varsym: error: --set energy: energy must be" stderr.txt && ok || bad "$(cat stderr.txt)"
+"$VARSYM" ensemble --model chain --set n=3 --grid q0_1=0:0.1:2 --time 0.1 --steps 10 \
+  -o set_ok.csv 2> set_ok.err && ok || bad "--set n=3: $(cat set_ok.err)"
+
 finish

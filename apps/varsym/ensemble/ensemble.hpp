@@ -44,6 +44,9 @@ struct ensemble_model {
     /// and theta): the keys q0_NAME and p0_NAME then stand for q0_I and p0_I. Else empty.
     std::vector<std::string> coordinates;
     std::vector<std::pair<std::string, double>> parameters; ///< names and defaults (NaN: unset)
+    /// Throws std::invalid_argument naming the parameter where `value` is outside its range
+    /// (what a parameter set for every member by --set must meet); null: no ranges.
+    std::function<void(std::size_t parameter, double value)> check_parameter;
     std::string help;                                       ///< for --help: what they mean
     bool fixed_start = false; ///< the initial state follows from the parameters (no q0, p0)
     /// Where parameters set d (the chain's n): d from the parameters' values, and the names of

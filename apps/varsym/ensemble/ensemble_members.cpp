@@ -138,6 +138,13 @@ member_set make_member_set(const member_options& o, ensemble_model& model) {
         const auto [kind, i] = target_of(a.substr(0, eq), model);
         if (kind != 2) throw usage_error("--set is for parameters; use --q0/--p0 for " + shown(a));
         s.base.parameters[i] = number(std::string_view(a).substr(eq + 1), "--set", true);
+        // One value for every member: one bad input, refused before any member runs (a count
+        // that sets d is allocated by every member).
+        if (model.check_parameter) try {
+                model.check_parameter(i, s.base.parameters[i]);
+            } catch (const std::invalid_argument& e) {
+                throw usage_error("--set " + a.substr(0, eq) + ": " + e.what());
+            }
     }
     if (model.dimension) model.dim = model.dimension(s.base.parameters);
     const auto d = static_cast<std::size_t>(model.dim);

@@ -348,6 +348,7 @@ ensemble_model make_registry_ensemble(std::shared_ptr<const models::model> model
         m.parameters.emplace_back(p.name, p.value);
         if (p.sets_dimension) m.dimension_keys.push_back(p.name);
     }
+    m.check_parameter = [model](std::size_t i, double v) { model->parameters.at(i).check(v); };
     if (rm.dimension)
         m.dimension = [model](const std::vector<double>& v) { return model->dimension_at(v); };
     m.help = describe(rm, true);
