@@ -147,6 +147,22 @@ rc=$?
 grep -q '^varsym: error: .*infeasible' unreachable.err && ok || bad "message: $(cat unreachable.err)"
 [ "$(wc -l < unreachable.csv)" -eq 52 ] && ok || bad "the last iterate was not written"
 
+# Options the optimiser would drop are refused (they were accepted and ignored, exit 0): the
+# parameter that holds the input constant in a simulation, and another model's parameter.
+# Negative control: the model's own parameter is taken (another gravity, another cost).
+expect_error 2 "--push on the cart-pole" optimize --model cart-pole --push 1e6 --time 2 \
+  --steps 20 --from 0,$pi --to 0,0 -o out.csv
+grep -q "push holds cart-pole's input constant" stderr.txt && ok || bad "$(cat stderr.txt)"
+expect_error 2 "--torque on the acrobot" optimize --model acrobot --torque 1 --time 4 \
+  --steps 20 --from 0,0 --to $pi,0 -o out.csv
+expect_error 2 "another model's option" optimize --model cart-pole --eccentricity 0.3 --time 2 \
+  --steps 20 --from 0,$pi --to 0,0 -o out.csv
+grep -q "eccentricity is not a parameter of --model cart-pole" stderr.txt && ok ||
+  bad "$(cat stderr.txt)"
+"$VARSYM" optimize --model acrobot --time 4 --steps 40 --from 0,0 --to $pi,0 --gravity 9 \
+  --quiet --output moon.csv 2> moon.err && [ "$(tail -1 moon.csv)" != "$(tail -1 acrobot.csv)" ] &&
+  ok || bad "the acrobot's own --gravity: $(tail -1 moon.err)"
+
 # A stray ipopt.opt in the working directory is not read: it would name an output file (and
 # truncate it), loosen the tolerance and stop after one iteration. Negative control: the same
 # solve gives the same cost with and without the file.

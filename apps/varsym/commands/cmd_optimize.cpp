@@ -2,6 +2,7 @@
 // control inputs by discrete mechanics (varsym/optimal/dmoc.hpp), solved by IPOPT
 // (varsym::optimal). Writes the nodes' states and costates, and the controls; prints a progress
 // line per iteration; Ctrl-C stops the solver and keeps the last iterate.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -139,6 +140,24 @@ void optimize(const optimize_options& o) {
                           " has no control input to optimise; models with "
                           "inputs: " +
                           with);
+    }
+    // Another model's parameter, or the one that holds the input constant in a simulation
+    // (which the optimiser computes), would be silently dropped: refused, as `run` refuses them.
+    for (const std::string& name : o.parameters->given_names()) {
+        const bool own =
+            std::any_of(m.parameters.begin(), m.parameters.end(),
+                        [&](const auto& p) { return p.option_name() == name; }) ||
+            std::any_of(m.lists.begin(), m.lists.end(),
+                        [&](const auto& l) { return l.option_name() == name; });
+        if (!own)
+            throw usage_error("--" + name + " is not a parameter of --model " + m.name +
+                              " (see 'varsym models')");
+        if (!m.input_parameter.empty() &&
+            m.parameters[static_cast<std::size_t>(m.parameter_index(m.input_parameter))]
+                    .option_name() == name)
+            throw usage_error("--" + name + " holds " + m.name +
+                              "'s input constant in a simulation; optimize computes the input "
+                              "(bound it with --max-control)");
     }
     const std::vector<double> values = o.parameters->values(m);
     const models::lists lists = o.parameters->lists(m);
@@ -303,7 +322,7 @@ void add_optimize_command(CLI::App& app, action& todo) {
                     "each level started from the previous solution")
         ->check(CLI::Range(0, 10))
         ->capture_default_str();
-    cmd->add_option("--output", o->output, "CSV of the nodes (default: standard output)");
+    cmd->add_option("--output,-o", o->output, "CSV of the nodes (default: standard output)");
     cmd->add_option("--controls", o->controls, "CSV of the controls at the quadrature points");
     cmd->add_option("--plot", o->plot,
                     "Picture of the motion, .png or .svg: the coordinates, the controls and a "

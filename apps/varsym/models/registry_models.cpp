@@ -177,6 +177,13 @@ bool parameter_options::given(const std::string& name) const {
     return it != options_.end() && it->second->count() > 0;
 }
 
+std::vector<std::string> parameter_options::given_names() const {
+    std::vector<std::string> out;
+    for (const auto& [name, option] : options_)
+        if (option->count() > 0) out.push_back(name);
+    return out;
+}
+
 std::vector<double> parameter_options::values(const models::model& m) const {
     std::vector<double> v = m.defaults();
     for (std::size_t i = 0; i < m.parameters.size(); ++i) {

@@ -26,6 +26,8 @@ class parameter_options {
     [[nodiscard]] models::lists lists(const models::model& m) const;
     /// Whether the option --NAME was given.
     [[nodiscard]] bool given(const std::string& name) const;
+    /// The NAMEs of the options --NAME given.
+    [[nodiscard]] std::vector<std::string> given_names() const;
 
   private:
     std::map<std::string, CLI::Option*> options_;

@@ -147,6 +147,10 @@ struct model {
     /// arm's), and the transcription of an optimal control problem (varsym/optimal/dmoc.hpp) at
     /// the parameters' values and lists (empty: the defaults). Empty where it has none.
     std::vector<std::string> controls;
+    /// The parameter that holds the input constant in a simulation (the cart-pole's push, the
+    /// acrobot's torque): an optimisation computes the input instead, and refuses it. Empty:
+    /// none.
+    std::string input_parameter;
     std::function<std::unique_ptr<optimal::transcription>(
         std::span<const double>, const models::lists&, const optimal::control_problem&)>
         optimal;
