@@ -163,6 +163,21 @@ grep -q "eccentricity is not a parameter of --model cart-pole" stderr.txt && ok 
   --quiet --output moon.csv 2> moon.err && [ "$(tail -1 moon.csv)" != "$(tail -1 acrobot.csv)" ] &&
   ok || bad "the acrobot's own --gravity: $(tail -1 moon.err)"
 
+# Minimum time from a far too long first guess stopped at the hidden lower bound T = --time/1000
+# with "solved" and exit 0; it is now exit 3 naming the bound. Negative control: a guess of 3 s
+# reaches the minimum inside the bounds (exit 0).
+"$VARSYM" optimize --model cart-pole --time 1500 --steps 40 --from 0,$pi --to 1,$pi \
+  --max-control 10 --cost time,effort=0.001 --quiet -o bound.csv 2> bound.err
+rc=$?
+[ $rc -eq 3 ] && grep -q "^varsym: error: .*stopped at its lower bound" bound.err && ok ||
+  bad "horizon at its lower bound: exit $rc ($(cat bound.err))"
+"$VARSYM" optimize --model cart-pole --time 3 --steps 40 --from 0,$pi --to 1,$pi --max-control 10 \
+  --cost time,effort=0.001 --quiet --output mintime.csv 2> mintime.err && ok ||
+  bad "minimum time from 3 s: $(tail -1 mintime.err)"
+expect_error 2 "exact Hessian of a free time" optimize --model cart-pole --time 3 --steps 20 \
+  --from 0,$pi --to 1,$pi --max-control 10 --cost time --hessian exact -o out.csv
+grep -q "a free final time (--cost time) has no exact Hessian" stderr.txt && ok || bad "$(cat stderr.txt)"
+
 # A stray ipopt.opt in the working directory is not read: it would name an output file (and
 # truncate it), loosen the tolerance and stop after one iteration. Negative control: the same
 # solve gives the same cost with and without the file.

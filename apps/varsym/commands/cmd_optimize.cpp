@@ -189,8 +189,12 @@ void optimize(const optimize_options& o) {
                  : o.hessian == "automatic" ? optimal::hessian_kind::automatic
                                             : optimal::hessian_kind::limited_memory;
     if (so.hessian == optimal::hessian_kind::exact && !tr->has_hessian())
-        throw usage_error("--hessian exact: the invariant cost has no exact Hessian (it would "
-                          "need L's fourth derivatives); use automatic or limited-memory");
+        throw usage_error(std::string("--hessian exact: ") +
+                          (p.cost.invariant != 0.0
+                               ? "the invariant cost has no exact Hessian (it would need L's "
+                                 "fourth derivatives)"
+                               : "a free final time (--cost time) has no exact Hessian") +
+                          "; use automatic or limited-memory");
     install_signal_handlers();
     set_signal_polling(true);
     so.progress = [&](const optimal::iteration& it) {
@@ -245,6 +249,16 @@ void optimize(const optimize_options& o) {
         throw numerical_error("varsym optimize: " + std::string(optimal::status_name(r.verdict)) +
                               ": " + r.message + "; the files hold the last iterate");
     if (!closure.ok()) throw numerical_error("varsym optimize: not trusted: " + closure.advice());
+    // A free horizon stopped at its lower bound, T = --time / 1000 (the bound that keeps the
+    // steps positive), is that bound's answer, not the minimum: the guess was too long.
+    if (p.free_time) {
+        const double lower = p.time_lower > 0.0 ? p.time_lower : 1e-3 * p.time;
+        const double t_end = path.node_times(path.node_times.size() - 1);
+        if (t_end <= lower * (1.0 + 1e-9))
+            throw numerical_error("varsym optimize: the horizon T = " + std::to_string(t_end) +
+                                  " stopped at its lower bound (--time / 1000): the minimum "
+                                  "time may be shorter; start from a shorter --time");
+    }
 }
 
 } // namespace
