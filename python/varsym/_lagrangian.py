@@ -3,13 +3,13 @@ once into C++ code with exact symbolic derivatives (varsym.Stepper and varsym.si
 
 import numpy as np
 
-from . import _core
+from . import _checks, _core
 from .errors import UsageError
 
 
 def _expression_text(expression):
     if isinstance(expression, str):
-        return expression
+        return _checks.ascii_expression(expression)
     try:
         import sympy  # noqa: PLC0415 (optional: only for SymPy input)
     except ImportError as e:  # pragma: no cover
@@ -120,13 +120,14 @@ class Lagrangian:
                              "constraints=")
         if constraints is not None:  # the model's flag `project` follows L's parameters
             values = np.column_stack([values, np.full(len(values), float(bool(project)))])
-        steps = int(steps)
-        if steps < 1 or not float(t_span) > 0:
-            raise UsageError("t_span and steps must be positive")
+        steps = _checks.count(steps, "steps")
+        t_span = _checks.positive(t_span, "t_span")
         return _core.expression_ensemble(self._core, _force_list(force),
                                          _force_list(constraints), values, q0, p0,
-                                         float(t_span) / steps, steps, scheme or "simpson",
-                                         degree or 0, indicators, threads, event or "")
+                                         t_span / steps, steps, scheme or "simpson",
+                                         _checks.degree(degree) or 0, indicators,
+                                         _checks.count(threads, "threads", 0, 4096),
+                                         event or "")
 
     def __repr__(self):
         return (f"varsym.Lagrangian({self.expression!r}, {self.coordinates!r}, "

@@ -9,7 +9,7 @@ import sys
 
 import numpy as np
 
-from . import _core
+from . import _checks, _core
 from ._lagrangian import Lagrangian, _force_list
 from ._trajectory import Trajectory
 from .errors import EnergyError, Interrupted, StepFailure, UsageError
@@ -150,11 +150,14 @@ class Model:
         values, q0, p0 = _member_arrays("ensemble", parameters, self.parameters,
                                         [p["name"] for p in self.info["parameters"]], q0, p0,
                                         self.dim)
-        time = self.info["ensemble_time"] if t_span is None else float(t_span)
-        steps = self.info["ensemble_steps"] if steps is None else int(steps)
+        time = (self.info["ensemble_time"] if t_span is None
+                else _checks.positive(t_span, "t_span"))
+        steps = self.info["ensemble_steps"] if steps is None else _checks.count(steps, "steps")
         self._refuse_scheme(scheme, degree)
         return self._ensemble(values, q0, p0, time / steps, steps, scheme or "simpson",
-                              degree or 0, indicators, threads, event or "", self._lists())
+                              _checks.degree(degree) or 0, indicators,
+                              _checks.count(threads, "threads", 0, 4096), event or "",
+                              self._lists())
 
     def _refuse_scheme(self, scheme, degree):
         """Raises UsageError where a scheme or degree is given to a model with its own
@@ -203,9 +206,10 @@ class Stepper:
     def __init__(self, system, h, scheme=None, degree=None, q0=None, v0=None, p0=None,
                  t0=0.0, force=None, iteration="automatic", max_energy_error=None,
                  constraints=None, project=False, **parameters):
-        self.h = float(h)
+        self.h = _checks.positive(h, "h")
         self._max_energy_error = max_energy_error
         chosen = (scheme, degree)  # as given: a model with its own integrator refuses them
+        degree = _checks.degree(degree)
         scheme = scheme or "simpson"
         self._order = _core.scheme_order(scheme, degree or 0)
         if isinstance(system, (str, Model)) and not (isinstance(system, str)
@@ -287,9 +291,8 @@ class Stepper:
         then every ``every`` steps and the last (every = 0: the last only). ``progress``: True
         for a progress bar (tqdm), or a function called as progress(steps_done, steps) about
         every 50 ms. Ctrl-C raises Interrupted, whose ``partial`` holds the rows so far."""
-        steps, every = int(steps), int(every)
-        if steps < 0 or every < 0:
-            raise UsageError("steps and every must be >= 0")
+        steps = _checks.count(steps, "steps", 0)
+        every = _checks.count(every, "every", 0)
         sim = self._sim
         first = sim.step
         last = first + steps
@@ -479,12 +482,11 @@ def simulate(system, *, t_span=None, steps=None, h=None, q0=None, p0=None, v0=No
         if steps is None and h is None:
             steps = 10000
     if h is not None:
-        steps = round(length / float(h))
+        h = _checks.positive(h, "h")
+        steps = round(length / h)
         if steps < 1 or abs(steps * float(h) - length) > 1e-9 * length:
             raise UsageError(f"t_span {length:g} is not a whole number of steps h = {h:g}")
-    steps = int(steps)
-    if steps < 1:
-        raise UsageError("steps must be a positive whole number")
+    steps = _checks.count(steps, "steps")
     if model is not None:
         stepper = Stepper(model, length / steps, scheme=scheme, degree=degree, q0=q0, p0=p0,
                           v0=v0, iteration=iteration, max_energy_error=max_energy_error,
