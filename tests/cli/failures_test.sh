@@ -104,4 +104,13 @@ printf 'q0_1,mass\n0.5,1\n1,2\n' > plain.csv
 expect_error 2 "a start that is not finite" run --model henon-heiles --energy 1e308 -o out.csv
 no_output "a start that is not finite"
 
+# Data the library refuses (std::invalid_argument) is bad input wherever a command lets it
+# through: exit 2, not 1 (the I/O failure code) as before.
+expect_error 2 "bench --schemes gauss-9" bench --schemes gauss-9 -o out.csv
+expect_error 2 "converge a chain that does not fit in memory" converge --model chain --set n=1e7 \
+  --time 0.01 --steps 2,4 -o out.csv
+# section --help names the models it runs (it named two of ten).
+"$VARSYM" section --help | grep -q -- '--model TEXT .*kepler.*chain.*urdf' && ok ||
+  bad "section --help: $("$VARSYM" section --help | grep -- '--model')"
+
 finish

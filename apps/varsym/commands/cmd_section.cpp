@@ -198,7 +198,12 @@ void add_section_command(CLI::App& app, action& todo) {
         "Example (docs/figures/sections.sh):\n"
         "  varsym section --model henon-heiles --set energy=0.125 --members orbits.csv \\\n"
         "      --plane q1=0 --direction + --crossings 400 -o sec.csv --plot sec.png\n");
-    add_member_run_options(*cmd, o->run, "pendulum, henon-heiles");
+    // The models whose steppers have dense output (a crossing is found on the step's
+    // polynomial); lagrangian and urdf run the general engine, which has it.
+    std::string with;
+    for (const ensemble_model& m : ensemble_models())
+        if (m.section) with += (with.empty() ? "" : ", ") + m.name;
+    add_member_run_options(*cmd, o->run, with + ", lagrangian, urdf");
     cmd->add_option("--plane", o->plane, "qI=VALUE or pI=VALUE (I from 1)")->capture_default_str();
     cmd->add_option("--direction", o->direction, "+ (increasing), - or both")
         ->check(CLI::IsMember({"+", "-", "both"}))

@@ -169,6 +169,10 @@ int front_end::run() {
         return 128 + e.signal;
     } catch (const std::bad_alloc&) {
         return fail(exit_failure, "out of memory");
+    } catch (const std::invalid_argument& e) {
+        // The library's and the models layer's word for data they refuse (a degree of 9, a
+        // size that does not fit in memory): bad input wherever a command lets it through.
+        return fail(exit_usage, e.what());
     } catch (const std::exception& e) {
         return fail(exit_failure, e.what());
     }
