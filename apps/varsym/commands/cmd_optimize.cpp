@@ -346,7 +346,8 @@ void add_optimize_command(CLI::App& app, action& todo) {
     cmd->add_option("--config", o->config,
                     "TOML file of options: each key a long option without '--' (model = "
                     "\"acrobot\", to = [3.14159, 0], refine = 2); the command line wins");
-    o->parameters->add(*cmd);
+    // Only the parameters of the models with inputs: the others' would be refused anyway.
+    o->parameters->add(*cmd, [](const models::model& m) { return static_cast<bool>(m.optimal); });
     cmd->callback([o, &todo] { todo = [o] { optimize(*o); }; });
 }
 

@@ -96,7 +96,8 @@ std::string describe(const models::model& m, bool ensemble) {
     return s;
 }
 
-void parameter_options::add(CLI::App& cmd) {
+void parameter_options::add(CLI::App& cmd,
+                            const std::function<bool(const models::model&)>& which) {
     // option → what it sets: (the models, their text), models with the same text together
     std::map<std::string, std::vector<std::pair<std::string, std::string>>> texts;
     std::map<std::string, bool> list; // option → whether it takes several values
@@ -118,6 +119,7 @@ void parameter_options::add(CLI::App& cmd) {
     all.push_back(&models::robot_options()); // `--urdf FILE`'s, the same for every robot
     for (const models::model* mp : all) {
         const models::model& m = *mp;
+        if (which && !which(m)) continue;
         for (const auto& p : m.parameters) {
             uses[p.option_name()].push_back(p);
             list[p.option_name()] = list[p.option_name()] || p.option_index >= 0;

@@ -3,6 +3,7 @@
 // registry (registry_models.cpp), with the run loop that streams a simulation (simulation_run.cpp).
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -18,8 +19,9 @@ namespace varsym::cli {
 /// by the models that have it (and with a mechanism's option of the same name).
 class parameter_options {
   public:
-    /// Adds the options not yet on `cmd` and takes over those already there.
-    void add(CLI::App& cmd);
+    /// Adds the options not yet on `cmd` and takes over those already there: those of every
+    /// model, or of the models `which` accepts (optimize: those with inputs).
+    void add(CLI::App& cmd, const std::function<bool(const models::model&)>& which = {});
     /// Model m's parameter values: its defaults, replaced by the options given.
     [[nodiscard]] std::vector<double> values(const models::model& m) const;
     /// Model m's lists: the values of each list option given, else empty (its default).
