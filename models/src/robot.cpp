@@ -122,27 +122,32 @@ model robot_model(std::shared_ptr<const multibody::model> r,
         const bool controlled = !l[0].empty();
         if (!controlled && !l[1].empty())
             throw std::invalid_argument("kd without kp: give the proportional gains too");
+        if (!controlled && !l[2].empty())
+            throw std::invalid_argument("target without kp: the PD controller needs its gains");
         const vec<dynamic> torque = each(l[3], "torque");
         if (!l[3].empty() && !typed.zero())
             throw std::invalid_argument("give constant torques or typed ones, not both");
         const bool forced =
             controlled || !torque.isZero(0.0) || !damping.isZero(0.0) || !typed.zero();
         const double e0 = sys.energy(x0);
+        // Columns: E, the forces' work W (0 without forces), E − E0 − W, joints out of range.
+        auto columns = [sys, e0, r, joints] {
+            return detail::column_set{
+                {"energy", "work", "energy_balance", "limit_violations"},
+                [sys, e0, r](double, const phase_state<dynamic>& x, const auto& st, double* out) {
+                    out[0] = sys.energy(x);
+                    out[1] = st.total_work();
+                    out[2] = out[0] - e0 - out[1];
+                    out[3] = limit_violations(*r, x.q);
+                },
+                joints};
+        };
         problem pr = detail::make_problem(x0, 0.0, {});
         if (!forced) {
-            pr.simulate = [sys, x0, e0, joints, r](const step_options& o) {
+            pr.simulate = [sys, x0, columns](const step_options& o) {
                 detail::check_general(o);
                 return detail::simulate_general(
-                    general::stepper<robot>(sys, o.h, o.spec, o.newton), x0,
-                    detail::column_set{{"energy", "work", "energy_balance", "limit_violations"},
-                                       [sys, e0, r](double, const phase_state<dynamic>& x,
-                                                    const auto&, double* out) {
-                                           out[0] = sys.energy(x);
-                                           out[1] = 0.0;
-                                           out[2] = out[0] - e0;
-                                           out[3] = limit_violations(*r, x.q);
-                                       },
-                                       joints});
+                    general::stepper<robot>(sys, o.h, o.spec, o.newton), x0, columns());
             };
             return pr;
         }
@@ -157,8 +162,6 @@ model robot_model(std::shared_ptr<const multibody::model> r,
                 ref(t, q, rate);
             };
             if (v[3] == 0.0) pd.compensate(lag);
-        } else if (!l[2].empty()) {
-            throw std::invalid_argument("target without kp: the PD controller needs its gains");
         }
         expression_force tau = typed;
         if (!l[3].empty()) { // constant torques as expressions of their values (17 digits:
@@ -173,19 +176,11 @@ model robot_model(std::shared_ptr<const multibody::model> r,
         }
         const robot_force f(rayleigh_damping<dynamic>::diagonal(damping), std::move(pd),
                             std::move(tau));
-        pr.simulate = [sys, f, x0, e0, joints, r](const step_options& o) {
+        pr.simulate = [sys, f, x0, columns](const step_options& o) {
             detail::check_general(o);
             return detail::simulate_general(
                 general::stepper<robot, robot_force>(sys, f, o.h, o.spec, o.newton), x0,
-                detail::column_set{{"energy", "work", "energy_balance", "limit_violations"},
-                                   [sys, e0, r](double, const phase_state<dynamic>& x,
-                                                const auto& st, double* out) {
-                                       out[0] = sys.energy(x);
-                                       out[1] = st.total_work();
-                                       out[2] = out[0] - e0 - out[1];
-                                       out[3] = limit_violations(*r, x.q);
-                                   },
-                                   joints});
+                columns());
         };
         return pr;
     };

@@ -101,6 +101,7 @@ grep -q "link shoulder_link: principal moments .* break the triangle inequality"
 expect_error 2 "no --urdf" run --model urdf -o out.csv
 expect_error 2 "--urdf with another model" converge --model kepler --urdf "$ur5"
 expect_error 2 "kp count" run --urdf "$ur5" --kp 1,2 -o out.csv
+expect_error 2 "target without kp" run --urdf "$ur5" --target 0,0,0,0,0,0 -o out.csv
 expect_error 2 "q0 count" run --urdf "$ur5" --q0 1,2 -o out.csv
 expect_error 2 "torque of an unknown name" run --urdf "$ur5" --torques "hand,0,0,0,0,0" -o out.csv
 expect_error 2 "torques count" run --urdf "$ur5" --torques "1,2" -o out.csv
