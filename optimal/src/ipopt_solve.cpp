@@ -1,6 +1,8 @@
 // optimal/src/ipopt_solve.cpp: the IPOPT adapter (a TNLP over an optimal::nlp).
 #include <cmath>
+#include <fstream>
 #include <mutex>
+#include <sstream>
 #include <stdexcept>
 
 #include <IpIpoptApplication.hpp>
@@ -183,6 +185,21 @@ class adapter final : public Ipopt::TNLP {
     std::vector<double> buffer_;
 };
 
+/// Refuses an options file that cannot be read or names an option IPOPT does not have (IPOPT
+/// itself only says that one line was bad, on its console).
+void check_options_file(Ipopt::IpoptApplication& app, const std::string& file) {
+    std::ifstream in(file);
+    if (!in) throw std::invalid_argument("cannot read the IPOPT options file '" + file + "'");
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+        std::istringstream words(line.substr(0, line.find('#')));
+        std::string name;
+        if ((words >> name) && !Ipopt::IsValid(app.RegOptions()->GetOption(name)))
+            throw std::invalid_argument(file + ":" + std::to_string(number) + ": '" + name +
+                                        "' is not an IPOPT option");
+    }
+}
+
 } // namespace
 
 nlp_result solve(const nlp& problem, const solver_options& options, const vector* start) {
@@ -197,7 +214,11 @@ nlp_result solve(const nlp& problem, const solver_options& options, const vector
     // 8 from Python threads). Threads that optimise wait here for each other.
     static std::mutex one_solve;
     const std::lock_guard<std::mutex> only_this_one(one_solve);
-    Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+    // IPOPT's console is standard error: anything it prints (its table at a print_level the
+    // options file sets, its derivative test, a rejected option) stays out of data that goes
+    // to standard output.
+    Ipopt::SmartPtr<Ipopt::IpoptApplication> app = new Ipopt::IpoptApplication(false);
+    app->Jnlst()->AddFileJournal("console", "stderr", Ipopt::J_NONE); // Initialize sets its level
     auto& opt = *app->Options();
     opt.SetIntegerValue("print_level", options.print_level);
     opt.SetStringValue("sb", "yes"); // no banner
@@ -214,9 +235,15 @@ nlp_result solve(const nlp& problem, const solver_options& options, const vector
     // "": IPOPT reads no ipopt.opt from the working directory. A stray one could name an
     // output_file (truncating any file, past the tool's file checks), print into a CSV on
     // standard output, or loosen the tolerances under a "solved" verdict; our options are the
-    // only ones.
-    if (app->Initialize(std::string()) != Ipopt::Solve_Succeeded)
-        throw std::runtime_error("IPOPT could not be initialised");
+    // only ones, with the file the caller names.
+    if (!options.options_file.empty()) check_options_file(*app, options.options_file);
+    if (app->Initialize(options.options_file) != Ipopt::Solve_Succeeded)
+        throw std::invalid_argument(
+            options.options_file.empty()
+                ? std::string("IPOPT could not be initialised")
+                : "IPOPT rejected the options file '" + options.options_file +
+                      "' (an unknown option or a value out of its range: see IPOPT's "
+                      "options reference)");
     Ipopt::SmartPtr<Ipopt::TNLP> tnlp = new adapter(problem, options, start, exact, out);
     const Ipopt::ApplicationReturnStatus r = app->OptimizeTNLP(tnlp);
     if (out.x.size() == 0) { // IPOPT stopped before finalize_solution (bad problem, options)

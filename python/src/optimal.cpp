@@ -13,6 +13,7 @@
 #include "bindings.hpp"
 #include "varsym/models/model.hpp"
 #include "varsym/optimal/problem.hpp"
+#include "varsym/optimal/solution_check.hpp"
 #include "varsym/optimal/solve.hpp"
 
 namespace py = pybind11;
@@ -28,7 +29,7 @@ py::dict optimize(const std::string& name, const std::vector<double>& values,
                   const std::vector<bool>& free_q, const std::vector<bool>& free_v,
                   const Eigen::VectorXd& terminal_q, const Eigen::VectorXd& terminal_v,
                   const std::string& hessian, int max_iterations, int refine,
-                  const std::optional<py::function>& progress) {
+                  const std::optional<py::function>& progress, const std::string& ipopt_options) {
     const models::model& m = models::get(name);
     if (!m.optimal)
         throw std::invalid_argument("model " + m.name + " has no control input to optimise");
@@ -52,6 +53,7 @@ py::dict optimize(const std::string& name, const std::vector<double>& values,
     auto tr = m.optimal(values, lists, p);
     optimal::solver_options so;
     so.max_iterations = max_iterations;
+    so.options_file = ipopt_options;
     if (hessian == "exact")
         so.hessian = optimal::hessian_kind::exact;
     else if (hessian == "limited-memory")
@@ -94,8 +96,8 @@ py::dict optimize(const std::string& name, const std::vector<double>& values,
     }
     if (failure) std::rethrow_exception(failure);
     const optimal::trajectory path = tr->unpack(r);
-    optimal::closure_check closure;
-    if (r.converged()) closure = optimal::check_closure(*tr, path);
+    optimal::solution_check check; // ours, whatever IPOPT says (solution_check.hpp)
+    if (r.converged()) check = optimal::check_solution(*tr, r, path);
     py::dict out;
     out["t"] = path.node_times;
     out["q"] = Eigen::MatrixXd(path.q.transpose());
@@ -108,10 +110,10 @@ py::dict optimize(const std::string& name, const std::vector<double>& values,
     out["status"] = std::string(optimal::status_name(r.verdict));
     out["message"] = r.message;
     out["iterations"] = r.iterations;
-    out["constraint_violation"] = r.constraint_violation;
-    out["closure"] = closure.error;
-    out["trusted"] = !r.converged() || closure.ok();
-    out["closure_advice"] = closure.ok() ? std::string() : closure.advice();
+    out["constraint_violation"] = r.converged() ? check.residual : r.constraint_violation;
+    out["closure"] = check.closure.error;
+    out["trusted"] = !r.converged() || check.ok();
+    out["closure_advice"] = check.ok() ? std::string() : check.advice();
     out["interrupted"] = interrupted;
     return out;
 }

@@ -1,6 +1,7 @@
 """varsym.optimize: optimal control of a built-in model with inputs (docs/optimal_control.md)."""
 
 import math
+import os
 
 import numpy as np
 
@@ -71,7 +72,8 @@ def _free_end(free_end, d):
 
 def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
              scheme="simpson", degree=None, max_control=None, cost="effort", free_end=None,
-             hessian="automatic", max_iterations=3000, refine=0, progress=False, **parameters):
+             hessian="automatic", max_iterations=3000, refine=0, progress=False,
+             ipopt_options=None, **parameters):
     """The controls that take ``model`` (a name or a Model with inputs: "acrobot", "cart-pole",
     "pendulum")
     from (q_start, v_start) at t = 0 to (q_end, v_end) at t = ``time`` at the least cost, by
@@ -89,7 +91,10 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
     against the nodes). Raises SolverError (``partial``: the last iterate) when it is not
     solved, or when the replay misses the optimal motion by more than 1e-6 (steps too coarse
     for the motion: the optimum rides on a spurious root of the step equations), and
-    varsym.Interrupted (``partial``) on Ctrl-C."""
+    varsym.Interrupted (``partial``) on Ctrl-C. ``ipopt_options``: an IPOPT options file (its
+    ipopt.opt format), read over varsym's options; IPOPT reads no other. Whatever it loosens,
+    the answer must pass varsym's own check (the equations re-evaluated, the bounds, every
+    boundary value and the replay), or SolverError."""
     m = model if isinstance(model, Model) else Model(model, **parameters)
     if isinstance(model, Model) and parameters:
         m = Model(model, **parameters)
@@ -112,7 +117,8 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
                              _vector(q_end, d, "q_end"), _vector(v_end, d, "v_end", 0.0),
                              math.inf if max_control is None else float(max_control),
                              *weights.values(), *_free_end(free_end, d), hessian,
-                             int(max_iterations), int(refine), callback)
+                             int(max_iterations), int(refine), callback,
+                             "" if ipopt_options is None else os.fspath(ipopt_options))
     finally:
         if bar is not None:
             bar.close()

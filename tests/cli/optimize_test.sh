@@ -194,6 +194,48 @@ cmp -s stray/victim.csv acrobot.csv && ok || bad "ipopt.opt's output_file overwr
 [ "$(tail -1 stray/stray.csv)" = "$(tail -1 acrobot.csv)" ] && ok ||
   bad "ipopt.opt changed the solution: $(tail -1 stray/stray.csv)"
 
+# --ipopt-options FILE is read (over varsym's options), and whatever it loosens the answer must
+# pass varsym's own check: with IPOPT's tolerances loosened and one iteration allowed, IPOPT says
+# "solved" of the starting guess (max |g| = 1.6, v(T) = 0 where 3 was asked): exit 3, named.
+printf 'tol 1e3\nconstr_viol_tol 10\ndual_inf_tol 1e6\ncompl_inf_tol 1e6\nmax_iter 1\n' > loose.opt
+"$VARSYM" optimize --model pendulum --time 2 --from 0 --to 3.14159 --to-velocity 3 --quiet \
+  --ipopt-options loose.opt --output loose.csv 2> loose.err
+rc=$?
+[ $rc -eq 3 ] && grep -q "^varsym: error: .*not trusted: the discrete equations are not met" loose.err &&
+  ok || bad "loosened IPOPT: exit $rc ($(tail -1 loose.err))"
+grep -q "^varsym optimize: solved " loose.err && ok || bad "negative control: IPOPT did not say solved"
+# A harmless options file changes nothing (exit 0, the same final row as without it).
+printf '# a comment\ntol 1e-10\nprint_level 5\n' > fine.opt
+"$VARSYM" optimize --model acrobot --time 4 --steps 40 --from 0,0 --to $pi,0 --quiet \
+  --ipopt-options fine.opt > fine.csv 2> fine.err && ok || bad "fine.opt: $(tail -1 fine.err)"
+[ "$(tail -1 fine.csv)" = "$(tail -1 acrobot.csv)" ] && ok || bad "fine.opt changed the solution"
+[ "$(head -1 fine.csv)" = "$(head -1 acrobot.csv)" ] && ok || bad "IPOPT printed on standard output"
+grep -q "This is Ipopt" fine.err && ok || bad "print_level 5 in the file was not read"
+printf 'no_such_option 5\n' > bad.opt
+expect_error 2 "unknown IPOPT option" optimize --model pendulum --time 2 --from 0 --to 1 \
+  --ipopt-options bad.opt -o out.csv
+grep -q "bad.opt:1: 'no_such_option' is not an IPOPT option" stderr.txt && ok || bad "$(tail -1 stderr.txt)"
+expect_error 2 "missing IPOPT options file" optimize --model pendulum --time 2 --from 0 --to 1 \
+  --ipopt-options nowhere.opt -o out.csv
+cp acrobot_u.csv kept_u.csv
+printf 'output_file kept_u.csv\n' > clash.opt
+expect_error 2 "output_file on --controls" optimize --model pendulum --time 2 --from 0 --to 1 \
+  --ipopt-options clash.opt -o out.csv --controls kept_u.csv
+cmp -s kept_u.csv acrobot_u.csv && ok || bad "the options file's output_file touched --controls"
+
+# File roles on resolved targets: the nodes on standard output and --controls /dev/stdout, or a
+# dangling link to --output, are one file (the controls were written over the nodes).
+expect_error 2 "--controls /dev/stdout beside standard output" optimize --model pendulum --time 2 \
+  --from 0 --to 1 --controls /dev/stdout
+grep -q "are the same file" stderr.txt && ok || bad "$(tail -1 stderr.txt)"
+rm -f same.csv && ln -sf same.csv dangling.csv
+expect_error 2 "dangling link to --output" optimize --model pendulum --time 2 --from 0 --to 1 \
+  --controls dangling.csv --output same.csv
+[ ! -e same.csv ] && ok || bad "same.csv was written"
+"$VARSYM" optimize --model pendulum --time 2 --from 0 --to 1 --quiet --controls dangling.csv \
+  --output other.csv 2> /dev/null && [ -L dangling.csv ] && [ "$(head -1 same.csv)" = "t,u1" ] &&
+  ok || bad "negative control: --controls through a dangling link to a new file"
+
 # SIGINT during a long solve: exit 130 within a fraction of a second, the last iterate kept.
 timeout --preserve-status -s INT 0.5 "$VARSYM" optimize --model acrobot --time 8 --steps 2000 \
   --scheme gauss --degree 3 --from 0,0 --to $pi,0 --quiet --output stopped.csv 2> stopped.err

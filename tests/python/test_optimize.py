@@ -152,3 +152,21 @@ def test_optimize_from_two_threads_at_once():
         assert out["status"] == "solved" and out["cost"] == alone["cost"]
         assert np.array_equal(out["u"], alone["u"])
 
+
+
+def test_loosened_ipopt_options_are_caught_by_varsyms_own_check(tmp_path):
+    # With its tolerances loosened and one iteration allowed, IPOPT calls the starting guess
+    # "solved" (max |g| = 1.6; v(T) = 0 where 3 was asked). varsym re-evaluates the equations
+    # and refuses it. Negative control: the same problem without the file is solved.
+    loose = tmp_path / "loose.opt"
+    loose.write_text("tol 1e3\nconstr_viol_tol 10\ndual_inf_tol 1e6\ncompl_inf_tol 1e6\n"
+                     "max_iter 1\n")
+    args = dict(time=2.0, q_start=[0], q_end=[3.14159], v_end=[3.0])
+    with pytest.raises(varsym.SolverError, match="equations are not met") as e:
+        varsym.optimize("pendulum", ipopt_options=loose, **args)
+    assert e.value.status == "solved" and e.value.partial["constraint_violation"] > 1.0
+    good = varsym.optimize("pendulum", **args)
+    assert good["constraint_violation"] < 1e-10 and abs(good["v"][-1][0] - 3.0) < 1e-10
+    (tmp_path / "bad.opt").write_text("no_such_option 1\n")
+    with pytest.raises(varsym.UsageError, match="not an IPOPT option"):
+        varsym.optimize("pendulum", ipopt_options=tmp_path / "bad.opt", **args)

@@ -19,6 +19,7 @@
 #include "shared_options.hpp"
 #include "signals.hpp"
 #include "varsym/optimal/problem.hpp"
+#include "varsym/optimal/solution_check.hpp"
 #include "varsym/optimal/solve.hpp"
 
 namespace varsym::cli {
@@ -144,11 +145,10 @@ void optimize(const optimize_options& o) {
     // Another model's parameter, or the one that holds the input constant in a simulation
     // (which the optimiser computes), would be silently dropped: refused, as `run` refuses them.
     for (const std::string& name : o.parameters->given_names()) {
-        const bool own =
-            std::any_of(m.parameters.begin(), m.parameters.end(),
-                        [&](const auto& p) { return p.option_name() == name; }) ||
-            std::any_of(m.lists.begin(), m.lists.end(),
-                        [&](const auto& l) { return l.option_name() == name; });
+        const bool own = std::any_of(m.parameters.begin(), m.parameters.end(),
+                                     [&](const auto& p) { return p.option_name() == name; }) ||
+                         std::any_of(m.lists.begin(), m.lists.end(),
+                                     [&](const auto& l) { return l.option_name() == name; });
         if (!own)
             throw usage_error("--" + name + " is not a parameter of --model " + m.name +
                               " (see 'varsym models')");
@@ -171,8 +171,9 @@ void optimize(const optimize_options& o) {
     }
     file_roles roles;
     if (!o.config.empty()) roles.add("--config", o.config);
-    if (!o.output.empty() && o.output != "-") roles.add("--output", o.output);
+    roles.add_output("--output", o.output);
     if (!o.controls.empty()) roles.add("--controls", o.controls);
+    check_ipopt_options(o.ipopt_options, roles);
     file_roles others = roles;
     if (!o.plot.empty()) {
         check_pictures(o.plot);
@@ -185,6 +186,7 @@ void optimize(const optimize_options& o) {
 
     optimal::solver_options so;
     so.max_iterations = o.max_iterations;
+    so.options_file = o.ipopt_options;
     so.hessian = o.hessian == "exact"       ? optimal::hessian_kind::exact
                  : o.hessian == "automatic" ? optimal::hessian_kind::automatic
                                             : optimal::hessian_kind::limited_memory;
@@ -233,22 +235,24 @@ void optimize(const optimize_options& o) {
         inputs_file->write(control_rows(path));
         inputs_file->commit();
     }
-    optimal::closure_check closure;
-    if (r.converged()) closure = optimal::check_closure(*tr, path);
+    // Our own check, whatever the solver says: the equations, bounds and boundary values, and
+    // the replay (an --ipopt-options file can loosen IPOPT's tolerances under "solved").
+    optimal::solution_check check;
+    if (r.converged()) check = optimal::check_solution(*tr, r, path);
     if (!o.plot.empty()) render_figure(optimize_plot(m, values, path), o.plot, others);
     std::fprintf(stderr,
                  "varsym optimize: %s (%s) after %d iterations in %.3g s: cost %.12g, "
                  "T %.12g, max |g| %.1e, closure (general engine replay) %.1e\n",
                  optimal::status_name(r.verdict), r.message.c_str(), r.iterations, seconds,
-                 path.cost, path.node_times(path.node_times.size() - 1), r.constraint_violation,
-                 closure.error);
+                 path.cost, path.node_times(path.node_times.size() - 1),
+                 r.converged() ? check.residual : r.constraint_violation, check.closure.error);
     if (sig != 0)
         throw interrupted(sig, "varsym optimize: stopped by signal; the files hold the last "
                                "iterate");
     if (!r.converged())
         throw numerical_error("varsym optimize: " + std::string(optimal::status_name(r.verdict)) +
                               ": " + r.message + "; the files hold the last iterate");
-    if (!closure.ok()) throw numerical_error("varsym optimize: not trusted: " + closure.advice());
+    if (!check.ok()) throw numerical_error("varsym optimize: not trusted: " + check.advice());
     // A free horizon stopped at its lower bound, T = --time / 1000 (the bound that keeps the
     // steps positive), is that bound's answer, not the minimum: the guess was too long.
     if (p.free_time) {
@@ -274,7 +278,8 @@ void add_optimize_command(CLI::App& app, action& todo) {
         "discrete mechanics and optimal control: the scheme's discrete Lagrange-d'Alembert\n"
         "equations are the constraints of a sparse nonlinear program solved by IPOPT (exact\n"
         "first and second derivatives). Models with inputs: acrobot (elbow torque), cart-pole\n"
-        "(push on the cart), pendulum (torque at the pivot). Writes the nodes (t, q, v, p and the costates lambda of the\n"
+        "(push on the cart), pendulum (torque at the pivot). Writes the nodes (t, q, v, p and the "
+        "costates lambda of the\n"
         "momenta) to --output, and u at each step's quadrature points to --controls. The\n"
         "optimum found is local: another --scheme or --steps can reach another one.\n"
         "--free-end frees final coordinates; --terminal-weight pulls them towards --to.\n"
@@ -343,6 +348,11 @@ void add_optimize_command(CLI::App& app, action& todo) {
                     "strip of poses (data and gnuplot script kept beside it); repeat for both "
                     "formats");
     cmd->add_flag("--quiet", o->quiet, "No progress line per iteration");
+    cmd->add_option("--ipopt-options", o->ipopt_options,
+                    "IPOPT options file (IPOPT's ipopt.opt format: 'name value' lines), read "
+                    "after and over varsym's options. IPOPT reads no other (./ipopt.opt is "
+                    "ignored). Whatever it loosens, the answer must still pass varsym's own "
+                    "check (the equations, bounds and boundary values, and the replay) to exit 0");
     cmd->add_option("--config", o->config,
                     "TOML file of options: each key a long option without '--' (model = "
                     "\"acrobot\", to = [3.14159, 0], refine = 2); the command line wins");

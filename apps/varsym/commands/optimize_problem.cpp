@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <set>
+#include <sstream>
 
 namespace varsym::cli {
 
@@ -120,6 +121,19 @@ optimal::control_problem problem_of(const optimize_options& o, const models::mod
     p.control_upper = Eigen::VectorXd::Constant(1, o.max_control);
     free_end_of(o.free_end, o.terminal_weight, d, p);
     return p;
+}
+
+void check_ipopt_options(const std::string& file, file_roles& roles) {
+    if (file.empty()) return;
+    const std::string text = read_regular_file(file, 1 << 20, "IPOPT options file");
+    std::istringstream lines(text);
+    std::string line;
+    while (std::getline(lines, line)) {
+        std::istringstream words(line.substr(0, line.find('#')));
+        std::string name, value;
+        if (!(words >> name >> value)) continue;
+        if (name == "output_file") roles.add("--ipopt-options' output_file", value);
+    }
 }
 
 } // namespace varsym::cli

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "files.hpp"
 #include "registry_models.hpp"
 #include "shared_options.hpp"
 #include "varsym/optimal/problem.hpp"
@@ -24,11 +25,15 @@ struct optimize_options {
     double max_control = std::numeric_limits<double>::infinity();
     std::string cost = "effort", hessian = "automatic";
     int max_iterations = 3000, refine = 0;
-    std::string output, controls, config;
+    std::string output, controls, config, ipopt_options;
     std::vector<std::string> plot;
     bool quiet = false;
     std::shared_ptr<parameter_options> parameters = std::make_shared<parameter_options>();
 };
+
+/// --ipopt-options FILE, read for what concerns the tool's own files: its output_file is a
+/// role (file_roles). usage_error on an unreadable file. (IPOPT prints on standard error only.)
+void check_ipopt_options(const std::string& file, file_roles& roles);
 
 /// The problem the options describe for model m at its parameters' values and lists;
 /// usage_error naming the option on bad input.

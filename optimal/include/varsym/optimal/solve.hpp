@@ -30,13 +30,18 @@ struct solver_options {
     double constraint_tolerance = 1e-12; ///< IPOPT's constr_viol_tol (max |g(x)|)
     int max_iterations = 3000;
     hessian_kind hessian = hessian_kind::automatic;
-    int print_level = 0; ///< IPOPT's own output (0: none; 5: its usual table)
+    int print_level = 0; ///< IPOPT's own output on standard error (0: none; 5: its table)
     /// Called after every iteration; return false to stop (status::interrupted), keeping the
     /// iterate reached.
     std::function<bool(const iteration&)> progress;
     /// Checks the first derivatives against finite differences before solving (IPOPT's
-    /// derivative_test), printing what it finds to standard output.
+    /// derivative_test), printing what it finds to standard error.
     bool derivative_test = false;
+    /// An IPOPT options file ("name value" lines, IPOPT's ipopt.opt format) read after the
+    /// options above, which it overrides; empty: none. IPOPT reads no other file (not even
+    /// ./ipopt.opt). Throws std::invalid_argument if it cannot be read or IPOPT rejects it.
+    /// What it loosens is not trusted blindly: check the answer (solution_check.hpp).
+    std::string options_file;
 };
 
 /// Solves `problem` from its start(), or from `start` when given (same size as start()).
