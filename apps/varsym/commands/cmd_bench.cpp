@@ -224,7 +224,7 @@ figure work_precision(const std::vector<row>& rows, const std::vector<std::strin
 
 void bench(const bench_options& o) {
     file_roles roles;
-    roles.add("--output", o.output);
+    roles.add_output("--output", o.output);
     if (!o.plot.empty()) {
         check_pictures(o.plot);
         std::vector<std::string> suffixes;
@@ -271,7 +271,7 @@ void bench(const bench_options& o) {
     }
     out.write(o.format == "csv" ? csv(rows) : text(rows, o));
     file_roles others;
-    others.add("--output", o.output);
+    others.add_output("--output", o.output);
     if (!o.plot.empty()) render_figure(work_precision(rows, problems), o.plot, others);
     out.commit();
 }

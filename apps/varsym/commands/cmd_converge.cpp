@@ -349,7 +349,7 @@ void converge(const converge_options& o, const CLI::App& cmd) {
         refuse_scheme(*model, cmd.count("--scheme") + cmd.count("--degree") > 0, "--set order=K");
     }
     file_roles roles;
-    roles.add("--output", o.output);
+    roles.add_output("--output", o.output);
     if (!o.plot.empty()) {
         check_pictures(o.plot);
         add_figure_files(roles, {".csv"}, o.plot);
@@ -376,7 +376,7 @@ void converge(const converge_options& o, const CLI::App& cmd) {
     out.write(o.format == "csv" ? csv_table(measured, rs)
                                 : text_table(o, measured, period, rs, against));
     file_roles others;
-    others.add("--output", o.output);
+    others.add_output("--output", o.output);
     if (!o.plot.empty()) render_figure(convergence_plot(measured, rs, o.model), o.plot, others);
     out.commit();
 }

@@ -45,7 +45,7 @@ void check_files(const run_setup& s, const std::string& config) {
         throw usage_error("cannot write '" + s.output + "': it is a directory");
     const bool atomic = to_file && out_kind != file_kind::special;
     file_roles roles;
-    roles.add("--output", s.output);
+    roles.add_output("--output", s.output);
     if (atomic) roles.add("the output's partial file", s.output + ".part");
     const std::string ck = !s.checkpoint.empty() ? s.checkpoint : atomic ? s.output + ".ckpt" : "";
     const std::string ck_role = s.checkpoint.empty() ? "the failure checkpoint" : "--checkpoint";

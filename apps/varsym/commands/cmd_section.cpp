@@ -90,7 +90,7 @@ void run_section(const section_options& o) {
     };
     const std::size_t cx = column(x), cy = column(y);
     file_roles roles;
-    roles.add("--output", o.output);
+    roles.add_output("--output", o.output);
     if (!o.plot.empty()) {
         check_pictures(o.plot);
         add_figure_files(roles, {".points.csv"}, o.plot);
@@ -175,7 +175,7 @@ void run_section(const section_options& o) {
                              "plot stem.'.points.csv' using 2:3:1 with points pt 7 ps 0.35 "
                              "lc palette notitle\n";
         file_roles others;
-        others.add("--output", o.output);
+        others.add_output("--output", o.output);
         render_figure({{{".points.csv", points}}, script}, o.plot, others);
     }
     out.commit();

@@ -1,5 +1,5 @@
-// apps/varsym/output/files.cpp: output files (atomic, written through, exclusive and locked), bounded
-// reads, and the collision check of a command's files (files.hpp).
+// apps/varsym/output/files.cpp: output files (atomic, written through, exclusive and locked),
+// bounded reads, and the collision check of a command's files (files.hpp).
 #include "files.hpp"
 
 #include <cerrno>
@@ -29,15 +29,38 @@ bool names_a_descriptor(const std::string& path) {
            path.starts_with("/proc/");
 }
 
+/// Where the dangling link `path` (and the links it leads to, up to 40) ends: a path that does
+/// not exist in a directory that does, or "" (a loop, a missing directory, an unreadable link).
+/// Writing there creates the file the link names, as writing through the link would.
+std::string dangling_target(const std::string& path) {
+    fs::path at = fs::absolute(path);
+    for (int hops = 0; hops < 40; ++hops) {
+        std::error_code ec;
+        const auto status = fs::symlink_status(at, ec);
+        if (ec || status.type() == fs::file_type::not_found) {
+            std::error_code dir;
+            return fs::is_directory(at.parent_path(), dir) ? at.lexically_normal().string() : "";
+        }
+        if (status.type() != fs::file_type::symlink) return "";
+        const fs::path next = fs::read_symlink(at, ec);
+        if (ec) return "";
+        at = next.is_absolute() ? next : at.parent_path() / next;
+    }
+    return "";
+}
+
 /// The kind of `path` and the path to write: a symbolic link to a regular file is replaced at
-/// its target (the link stays a link).
+/// its target (the link stays a link); a dangling one creates its target, atomically too.
 std::pair<file_kind, std::string> resolve(const std::string& path) {
     struct stat st {};
     if (::lstat(path.c_str(), &st) != 0) return {file_kind::absent, path};
     if (S_ISREG(st.st_mode)) return {file_kind::regular, path};
     if (S_ISDIR(st.st_mode)) return {file_kind::directory, path};
     if (!S_ISLNK(st.st_mode) || names_a_descriptor(path)) return {file_kind::special, path};
-    if (::stat(path.c_str(), &st) != 0) return {file_kind::special, path}; // dangling: through
+    if (::stat(path.c_str(), &st) != 0) { // dangling: the file the chain of links would create
+        const std::string end = dangling_target(path);
+        return {end.empty() ? file_kind::special : file_kind::absent, end.empty() ? path : end};
+    }
     if (S_ISDIR(st.st_mode)) return {file_kind::directory, path};
     if (!S_ISREG(st.st_mode)) return {file_kind::special, path};
     std::error_code ec;
@@ -63,8 +86,8 @@ std::pair<file_kind, std::string> resolve(const std::string& path) {
     std::error_code ec;
     if (fs::exists(file + ".ckpt", ec))
         throw usage_error("cannot write '" + file + "': '" + part +
-                          "' exists, the rows of a run that stopped with its checkpoint '" +
-                          file + ".ckpt': resume that run with 'varsym run --resume " + file +
+                          "' exists, the rows of a run that stopped with its checkpoint '" + file +
+                          ".ckpt': resume that run with 'varsym run --resume " + file +
                           ".ckpt', or move both away");
     throw usage_error("cannot write '" + file + "': '" + part +
                       "' exists (the rows of a run that stopped, or a file of yours): move it "
@@ -129,12 +152,29 @@ void file_roles::add(std::string role, const std::string& path) {
     entries_.push_back({std::move(role), path});
 }
 
+void file_roles::add_output(std::string role, const std::string& path) {
+    if (path.empty() || path == "-")
+        entries_.push_back({role + " (standard output)", "/dev/stdout"});
+    else
+        add(std::move(role), path);
+}
+
 void file_roles::check() const {
-    auto same = [](const std::string& a, const std::string& b) {
-        std::error_code e1, e2;
-        const fs::path ca = fs::weakly_canonical(fs::absolute(a), e1);
-        const fs::path cb = fs::weakly_canonical(fs::absolute(b), e2);
-        if (!e1 && !e2 && ca == cb) return true;
+    const auto device = [](const std::string& p) {
+        struct stat st {};
+        return ::stat(p.c_str(), &st) == 0 && S_ISCHR(st.st_mode);
+    };
+    // The file a write to p reaches: links followed, dangling ones to the file they would
+    // create; a name of one of our descriptors as it is (its inode compares below).
+    const auto target = [](const std::string& p) {
+        const auto [kind, path] = resolve(p);
+        std::error_code ec;
+        const fs::path c = fs::weakly_canonical(fs::absolute(path), ec);
+        return ec ? fs::absolute(path).lexically_normal() : c;
+    };
+    auto same = [&](const std::string& a, const std::string& b) {
+        if (device(a) || device(b)) return false;
+        if (target(a) == target(b)) return true;
         struct stat sa {
         }, sb{};
         return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 &&

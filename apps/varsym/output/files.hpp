@@ -1,5 +1,5 @@
-// apps/varsym/output/files.hpp: every file the tool writes or reads goes through here. Regular files
-// are replaced atomically (FILE.part, renamed); FIFOs, devices and links to them are written
+// apps/varsym/output/files.hpp: every file the tool writes or reads goes through here. Regular
+// files are replaced atomically (FILE.part, renamed); FIFOs, devices and links to them are written
 // through; partial files are created exclusively and locked for the whole run; reads are bounded
 // by what a valid file can be; the files of one command are checked against each other before
 // anything is written.
@@ -28,10 +28,17 @@ enum class file_kind { absent, regular, directory, special };
                                             const std::string& role);
 
 /// The files one command will touch, each with its role; check() refuses two roles naming the
-/// same file (same path after resolving links and "..", or the same inode), naming both roles.
+/// same file (same path after resolving links, dangling ones included, and "..", or the same
+/// inode), naming both roles. A terminal or /dev/null (character devices) may take any number
+/// of roles: nothing written there is lost by another role's write.
 class file_roles {
   public:
+    /// A file the command reads or writes; "" and "-" (none given) are skipped.
     void add(std::string role, const std::string& path);
+    /// Where the command writes its main output: "" and "-" mean standard output, which is
+    /// then a role too (`--controls /dev/stdout`, or a file that standard output is redirected
+    /// to, is then the same file).
+    void add_output(std::string role, const std::string& path);
     void check() const;
 
   private:
