@@ -115,6 +115,7 @@ py::dict optimize(const std::string& name, const std::vector<double>& values,
     out["trusted"] = !r.converged() || check.ok();
     out["closure_advice"] = check.ok() ? std::string() : check.advice();
     out["interrupted"] = interrupted;
+    out["controls_at_bound"] = check.controls_at_bound; // active bounds (solution_check.hpp)
     return out;
 }
 

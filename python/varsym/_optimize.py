@@ -84,10 +84,12 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
     ``max_control``: a bound |u| ≤ U on every input. ``free_end``: final coordinates left free,
     "q1", "v2", … (from 1) in a list or string, or a dict of them to terminal weights w, each
     adding w (x(T) − its q_end or v_end)²/2 to the cost. ``refine``: K levels of mesh refinement
-    (solve with steps/2^K first, then double up to ``steps``, each from the previous solution). ``progress``: True for a bar, or a function
-    progress(iteration, cost, infeasibility). Returns a dict of arrays: t, q, v, p and costate
+    (solve with steps/2^K first, then double up to ``steps``, each from the previous
+    solution). ``progress``: True for a bar, or a function progress(iteration, cost,
+    infeasibility). Returns a dict of arrays: t, q, v, p and costate
     (λ_p) at the nodes; control_t and u at the quadrature points; cost, status, message,
-    iterations, constraint_violation and closure (the general engine's replay of the controls
+    iterations, constraint_violation (varsym's max |g|), controls_at_bound (how many control
+    values sit on max_control) and closure (the general engine's replay of the controls
     against the nodes). Raises SolverError (``partial``: the last iterate) when it is not
     solved, or when the replay misses the optimal motion by more than 1e-6 (steps too coarse
     for the motion: the optimum rides on a spurious root of the step equations), and

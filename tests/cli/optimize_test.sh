@@ -177,6 +177,9 @@ rc=$?
 "$VARSYM" optimize --model cart-pole --time 3 --steps 40 --from 0,$pi --to 1,$pi --max-control 10 \
   --cost time,effort=0.001 --quiet --output mintime.csv 2> mintime.err && ok ||
   bad "minimum time from 3 s: $(tail -1 mintime.err)"
+grep -q "^varsym optimize: bound active: |u| = --max-control at [1-9][0-9]* of 120 control values" \
+  mintime.err && ok || bad "minimum time: the saturated push was not reported"
+grep -q "bound active" acrobot.err && bad "an unbounded swing-up reported an active bound" || ok
 expect_error 2 "exact Hessian of a free time" optimize --model cart-pole --time 3 --steps 20 \
   --from 0,$pi --to 1,$pi --max-control 10 --cost time --hessian exact -o out.csv
 grep -q "a free final time (--cost time) has no exact Hessian" stderr.txt && ok || bad "$(cat stderr.txt)"

@@ -73,6 +73,8 @@ def test_minimum_time_saturates_the_push():
     assert 0.5 < out["t"][-1] < 2.5  # the horizon found, below the first guess
     assert np.abs(out["u"]).max() == pytest.approx(10.0, abs=1e-6)
     assert out["closure"] < 1e-8
+    # The active bound is counted, as the values at |u| = 10 are.
+    assert out["controls_at_bound"] == np.sum(np.abs(np.abs(out["u"]) - 10.0) <= 1e-8) > 0
 
 
 def test_refinement_solves_from_a_coarser_solution():

@@ -246,6 +246,11 @@ void optimize(const optimize_options& o) {
                  optimal::status_name(r.verdict), r.message.c_str(), r.iterations, seconds,
                  path.cost, path.node_times(path.node_times.size() - 1),
                  r.converged() ? check.residual : r.constraint_violation, check.closure.error);
+    if (check.controls_at_bound > 0)
+        std::fprintf(stderr,
+                     "varsym optimize: bound active: |u| = --max-control at %d of %lld control "
+                     "values\n",
+                     check.controls_at_bound, static_cast<long long>(path.u.size()));
     if (sig != 0)
         throw interrupted(sig, "varsym optimize: stopped by signal; the files hold the last "
                                "iterate");

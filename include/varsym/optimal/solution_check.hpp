@@ -27,6 +27,10 @@ struct solution_check {
     double bounds = 0.0;        ///< the largest relative excursion of x beyond its bounds
     double boundary = 0.0;      ///< the largest relative miss of a fixed boundary value
     std::string boundary_entry; ///< which one, e.g. "v2(T)"
+    /// Active bounds: control values (of path.u's m × N r) and node positions (of d × (N + 1))
+    /// on a finite bound, to 1e-9 relative. A saturated optimum (bang-bang) is no error, but
+    /// the user should know the answer is the bound's.
+    int controls_at_bound = 0, positions_at_bound = 0;
     closure_check closure;
 
     [[nodiscard]] bool equations_ok() const {
@@ -90,6 +94,23 @@ inline solution_check check_solution(const transcription& t, const nlp_result& r
         if (p.free_end_velocity.empty() || !p.free_end_velocity[at])
             miss(path.v(i, last), p.v_end(i), "v" + k + "(T)");
     }
+    const auto on = [](double x, double lo, double hi) {
+        const auto at = [x](double b) {
+            return std::isfinite(b) && std::abs(x - b) <= 1e-9 * (1.0 + std::abs(b));
+        };
+        return at(lo) || at(hi);
+    };
+    const auto entry = [](const vector& b, Eigen::Index i) {
+        return b.size() == 0 ? unbounded : b(b.size() == 1 ? 0 : i);
+    };
+    for (Eigen::Index j = 0; j < path.u.cols(); ++j)
+        for (Eigen::Index i = 0; i < path.u.rows(); ++i)
+            c.controls_at_bound +=
+                on(path.u(i, j), entry(p.control_lower, i), entry(p.control_upper, i));
+    for (Eigen::Index j = 0; j < path.q.cols(); ++j)
+        for (Eigen::Index i = 0; i < path.q.rows(); ++i)
+            c.positions_at_bound +=
+                on(path.q(i, j), entry(p.position_lower, i), entry(p.position_upper, i));
     c.closure = check_closure(t, path);
     return c;
 }
