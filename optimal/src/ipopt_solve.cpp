@@ -1,9 +1,13 @@
 // optimal/src/ipopt_solve.cpp: the IPOPT adapter (a TNLP over an optimal::nlp).
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
+
+#include <unistd.h>
 
 #include <IpIpoptApplication.hpp>
 #include <IpTNLP.hpp>
@@ -200,13 +204,36 @@ void check_options_file(Ipopt::IpoptApplication& app, const std::string& file) {
     }
 }
 
+/// Refuses a transcription that would not fit in memory: how many steps would.
+void check_memory(const transcription& t) {
+    const double have = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
+                        static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+    const auto need = static_cast<double>(memory_estimate(t));
+    if (!(have > 0.0) || need <= 0.8 * have) return;
+    const double steps = t.problem().steps;
+    const double per_step = (need - 32e6) / steps;
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "%.0f steps need about %.1f GB to optimise (an estimate: %.0f bytes a step), "
+                  "more than 80 %% of this machine's %.1f GB: at most about %.0f steps fit",
+                  steps, need / 1e9, per_step, have / 1e9, (0.8 * have - 32e6) / per_step);
+    throw std::invalid_argument(buf);
+}
+
 } // namespace
+
+std::uint64_t memory_estimate(const transcription& problem) {
+    const double steps = std::max(problem.problem().steps, 1);
+    const double per_step = static_cast<double>(problem.variables()) / steps;
+    return static_cast<std::uint64_t>(300.0 * per_step * per_step * steps + 32e6);
+}
 
 nlp_result solve(const nlp& problem, const solver_options& options, const vector* start) {
     if (options.hessian == hessian_kind::exact && !problem.has_hessian())
         throw std::invalid_argument("this transcription gives no exact Hessian: choose the "
                                     "limited-memory approximation");
     const bool exact = options.hessian != hessian_kind::limited_memory && problem.has_hessian();
+    if (const auto* t = dynamic_cast<const transcription*>(&problem)) check_memory(*t);
     nlp_result out;
     // One IPOPT solve at a time in the process: the sequential MUMPS that Debian's IPOPT links
     // keeps global state (its MPI stub, its load-balancing arrays), and two solves on two

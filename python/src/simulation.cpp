@@ -156,11 +156,10 @@ phase_state<dynamic> state_of(const std::vector<double>& q0, const std::vector<d
 py::dict model_info(const models::model& mod) {
     py::list parameters, lists;
     for (const auto& l : mod.lists)
-        lists.append(py::dict(py::arg("name") = l.name, py::arg("default") = l.value,
-                              py::arg("unit") = l.unit, py::arg("doc") = l.doc,
-                              py::arg("range") = "each " + l.range(),
-                              py::arg("sets_dimension") = l.sets_dimension,
-                              py::arg("option") = l.option_name()));
+        lists.append(py::dict(
+            py::arg("name") = l.name, py::arg("default") = l.value, py::arg("unit") = l.unit,
+            py::arg("doc") = l.doc, py::arg("range") = "each " + l.range(),
+            py::arg("sets_dimension") = l.sets_dimension, py::arg("option") = l.option_name()));
     for (const auto& p : mod.parameters)
         parameters.append(py::dict(
             py::arg("name") = p.name, py::arg("default") = p.value, py::arg("unit") = p.unit,
@@ -168,17 +167,17 @@ py::dict model_info(const models::model& mod) {
             py::arg("nan_means") = p.nan_means, py::arg("integer") = p.integer,
             py::arg("flag") = p.flag, py::arg("sets_dimension") = p.sets_dimension,
             py::arg("option") = p.option_name(), py::arg("option_index") = p.option_index));
-    return py::dict(
-        py::arg("name") = mod.name, py::arg("summary") = mod.summary,
-        py::arg("description") = mod.description, py::arg("dim") = mod.dim,
-        py::arg("coordinates") = mod.coordinates, py::arg("parameters") = parameters,
-        py::arg("q0") = mod.q0, py::arg("p0") = mod.p0, py::arg("fixed_start") = mod.fixed_start,
-        py::arg("velocities") = mod.velocities, py::arg("short_start") = mod.short_start,
-        py::arg("lists") = lists, py::arg("steps_per_period") = mod.steps_per_period,
-        py::arg("time") = mod.time, py::arg("steps") = mod.steps,
-        py::arg("ensemble_time") = mod.ensemble_time,
-        py::arg("ensemble_steps") = mod.ensemble_steps,
-        py::arg("integrator_note") = mod.integrator_note);
+    return py::dict(py::arg("name") = mod.name, py::arg("summary") = mod.summary,
+                    py::arg("description") = mod.description, py::arg("dim") = mod.dim,
+                    py::arg("coordinates") = mod.coordinates, py::arg("parameters") = parameters,
+                    py::arg("q0") = mod.q0, py::arg("p0") = mod.p0,
+                    py::arg("fixed_start") = mod.fixed_start,
+                    py::arg("velocities") = mod.velocities,
+                    py::arg("short_start") = mod.short_start, py::arg("lists") = lists,
+                    py::arg("steps_per_period") = mod.steps_per_period, py::arg("time") = mod.time,
+                    py::arg("steps") = mod.steps, py::arg("ensemble_time") = mod.ensemble_time,
+                    py::arg("ensemble_steps") = mod.ensemble_steps,
+                    py::arg("integrator_note") = mod.integrator_note);
 }
 
 void bind_simulation(py::module_& m) {
@@ -276,6 +275,21 @@ void bind_simulation(py::module_& m) {
             out.append(model_info(mod));
         return out;
     });
+    m.def(
+        "check_parameters",
+        [](const std::string& name, const std::vector<double>& values, const models::lists& lists) {
+            const models::model& mod = models::get(name);
+            try {
+                for (std::size_t i = 0; i < mod.parameters.size() && i < values.size(); ++i)
+                    mod.parameters[i].check(values[i]);
+                for (std::size_t i = 0; i < mod.lists.size() && i < lists.size(); ++i)
+                    if (!lists[i].empty()) mod.lists[i].check(lists[i]);
+            } catch (const std::invalid_argument& e) {
+                throw std::invalid_argument(name + ": " + e.what());
+            }
+        },
+        py::arg("name"), py::arg("values"), py::arg("lists"),
+        "Each parameter against its range (ValueError naming it), before anything is sized.");
     m.def(
         "prepare",
         [](const std::string& name, const std::vector<double>& values,

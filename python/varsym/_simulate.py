@@ -91,6 +91,10 @@ class Model:
             given = parameters.get(p["name"])
             self.parameters[p["name"]] = (None if given is None else
                                           np.atleast_1d(np.asarray(given, float)).ravel().tolist())
+        # The ranges first: d follows from some (the chain's n), and a d out of range must be
+        # refused before anything of that size is made (n = 2e7 took 2.8 GB, then refused).
+        if name in _REGISTRY:
+            _core.check_parameters(name, self._values(), self._lists())
         # d, where a parameter sets it (the chain's n, the arm's masses), follows from it.
         self.dim = self.info["dim"]
         for p in self.info["parameters"]:

@@ -226,6 +226,15 @@ expect_error 2 "output_file on --controls" optimize --model pendulum --time 2 --
   --ipopt-options clash.opt -o out.csv --controls kept_u.csv
 cmp -s kept_u.csv acrobot_u.csv && ok || bad "the options file's output_file touched --controls"
 
+# Sizes checked before memory: 1e8 steps reached 24 GB before the OOM killer; now the estimate
+# (14.7 KB a step for the acrobot) is refused at once, saying how many steps fit; 2e9 steps
+# would overflow IPOPT's indices.
+expect_error 2 "1e8 steps" optimize --model acrobot --time 4 --steps 1e8 --from 0,0 --to 3,0 -o out.csv
+grep -q "100000000 steps need about .* GB to optimise .* at most about [0-9]* steps fit" stderr.txt &&
+  ok || bad "$(cat stderr.txt)"
+expect_error 2 "2e9 steps" optimize --model acrobot --time 4 --steps 2000000000 --from 0,0 --to 3,0 \
+  -o out.csv
+
 # File roles on resolved targets: the nodes on standard output and --controls /dev/stdout, or a
 # dangling link to --output, are one file (the controls were written over the nodes).
 expect_error 2 "--controls /dev/stdout beside standard output" optimize --model pendulum --time 2 \

@@ -49,3 +49,17 @@ def test_whole_numbers_as_floats_and_in_range_values_are_taken():
     # Negative control: 50.0 steps is 50 steps; degree 2 and every 10 run.
     tr = varsym.simulate("pendulum", steps=50.0, every=10, scheme="gauss", degree=2)
     assert tr.q.shape == (6, 1)
+
+
+def test_a_dimension_out_of_range_is_refused_before_anything_is_sized():
+    # Model("chain", n=2e7) made 2e7 coordinate names (2.8 GB, 10 s) before its range error.
+    # The ranges are checked first: the refusal takes well under the time that would take.
+    import resource
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    with pytest.raises(varsym.UsageError, match=r"chain: n must be .* <= 10000000, got 20000000"):
+        varsym.Model("chain", n=2e7)
+    with pytest.raises(varsym.UsageError, match="chain: n must be"):
+        varsym.Model("chain", n=0)
+    grown_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before
+    assert grown_kb < 200_000, f"the refusal grew the process by {grown_kb} kB"
+    assert varsym.Model("chain", n=5).dim == 5  # negative control: in range, sized

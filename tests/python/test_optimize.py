@@ -172,3 +172,9 @@ def test_loosened_ipopt_options_are_caught_by_varsyms_own_check(tmp_path):
     (tmp_path / "bad.opt").write_text("no_such_option 1\n")
     with pytest.raises(varsym.UsageError, match="not an IPOPT option"):
         varsym.optimize("pendulum", ipopt_options=tmp_path / "bad.opt", **args)
+
+
+def test_a_problem_too_large_for_memory_is_refused_before_it_is_sized():
+    # 1e8 steps reached 24 GB before the OOM killer ended the process.
+    with pytest.raises(varsym.UsageError, match=r"steps need about .* at most about \d+ steps fit"):
+        varsym.optimize("acrobot", time=4.0, steps=10**8, q_start=[0, 0], q_end=[3, 0])

@@ -55,6 +55,11 @@ class dmoc final : public transcription {
         s_ = tab_.degree;
         r_ = static_cast<int>(tab_.quad.size());
         n_ = p_.steps;
+        // The unknowns and equations are counted in int (IPOPT's Index).
+        if (static_cast<double>(n_) * (s_ * (D + K) + r_ * M + 1) + 4.0 * D + 2.0 > 2.0e9)
+            throw std::invalid_argument(std::to_string(n_) +
+                                        " steps make more than 2e9 unknowns, beyond what IPOPT "
+                                        "can index: take fewer steps");
         h_ = p_.time / n_;
         control_terms<F> ends;
         bool acts = false;
