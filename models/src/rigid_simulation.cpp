@@ -169,6 +169,10 @@ class rigid_simulation final : public simulation {
         member_watch watch(m.watched_energy(), g(t0));
         long long k = 0;
         for (; k < plan.steps; ++k) {
+            if (plan.stopped()) {
+                r.status = member_result::outcome::stopped;
+                break;
+            }
             const newton_report rep = m.s_.step(m.x_);
             if (!rep.converged || !m.x_.R.allFinite() || !m.x_.pi.allFinite()) {
                 member_watch::fail(r, rep);
@@ -188,7 +192,8 @@ class rigid_simulation final : public simulation {
         return r;
     }
     [[nodiscard]] bool has_dense_output() const override { return false; }
-    [[nodiscard]] section_result section(const section_plane&, long long, long long) override {
+    [[nodiscard]] section_result section(const section_plane&, long long, long long,
+                                         const std::atomic<bool>*) override {
         throw std::logic_error("the rigid bodies' Lie group integrator has no dense output for "
                                "sections");
     }

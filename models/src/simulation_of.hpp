@@ -154,7 +154,8 @@ class simulation_of final : public simulation {
     }
     [[nodiscard]] bool has_dense_output() const override { return dense_stepper<S>; }
     [[nodiscard]] section_result section(const section_plane& plane, long long steps,
-                                         long long crossings) override {
+                                         long long crossings,
+                                         const std::atomic<bool>* stop) override {
         section_result out;
         if constexpr (dense_stepper<S>) {
             S s = s_;
@@ -162,6 +163,10 @@ class simulation_of final : public simulation {
             phase_state<D> x = r_.x;
             const double h = s.step_size();
             for (long long j = 0; j < steps && std::ssize(out.time) < crossings; ++j) {
+                if (stop != nullptr && stop->load(std::memory_order_relaxed)) {
+                    out.stopped = true;
+                    break;
+                }
                 const phase_state<D> from = x;
                 if (!s.step(x).converged || !x.q.allFinite() || !x.p.allFinite()) {
                     out.failed = true;

@@ -4,9 +4,11 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <atomic>
 #include <optional>
 
 #include "bindings.hpp"
+#include "interruptible.hpp"
 #include "varsym/models/event.hpp"
 #include "varsym/models/expression.hpp"
 #include "varsym/models/model.hpp"
@@ -44,29 +46,37 @@ py::dict run_ensemble(const models::model& mod, py::array_t<double, py::array::c
     const double* v = values.data();
     const double* qa = q0.data();
     const double* pa = p0.data();
-    {
-        py::gil_scoped_release unlocked;
-        for_each_member(n, threads, [&](std::size_t k) {
-            try {
-                models::start st;
-                if (start) {
-                    st.q0.assign(qa + k * d, qa + (k + 1) * d);
-                    st.p0.assign(pa + k * d, pa + (k + 1) * d);
+    // Ctrl-C: the members in flight stop after their current step ("stopped"), the others are
+    // not started ("not run"); the members done are returned.
+    std::atomic<bool> stop{false};
+    plan.stop = &stop;
+    std::vector<char> started(n, 0);
+    const bool interrupted = varsym_python::run_interruptible(
+        [&] {
+            for_each_member(n, threads, [&](std::size_t k) {
+                if (stop.load()) return;
+                started[k] = 1;
+                try {
+                    models::start st;
+                    if (start) {
+                        st.q0.assign(qa + k * d, qa + (k + 1) * d);
+                        st.p0.assign(pa + k * d, pa + (k + 1) * d);
+                    }
+                    const auto sim = mod.prepare(std::span<const double>(v + k * np, np), st, lists)
+                                         .simulate(opt);
+                    if (static_cast<std::size_t>(sim->dim()) != d)
+                        throw std::invalid_argument(
+                            "the members share the first member's number of coordinates, " +
+                            std::to_string(d) + ": the parameters that set it must not vary");
+                    const models::event_function g =
+                        event_tape ? models::event_of(*event_tape) : nullptr;
+                    results[k] = sim->run_member(plan, g);
+                } catch (const std::invalid_argument& e) {
+                    invalid[k] = e.what();
                 }
-                const auto sim =
-                    mod.prepare(std::span<const double>(v + k * np, np), st, lists).simulate(opt);
-                if (static_cast<std::size_t>(sim->dim()) != d)
-                    throw std::invalid_argument(
-                        "the members share the first member's number of coordinates, " +
-                        std::to_string(d) + ": the parameters that set it must not vary");
-                const models::event_function g =
-                    event_tape ? models::event_of(*event_tape) : nullptr;
-                results[k] = sim->run_member(plan, g);
-            } catch (const std::invalid_argument& e) {
-                invalid[k] = e.what();
-            }
-        });
-    }
+            });
+        },
+        [&] { stop = true; });
     py::array_t<double> q({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(d)});
     py::array_t<double> p({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(d)});
     py::array_t<double> t(static_cast<py::ssize_t>(n)), lyapunov(t.size()), megno(t.size()),
@@ -74,11 +84,13 @@ py::dict run_ensemble(const models::model& mod, py::array_t<double, py::array::c
     std::vector<std::string> status(n), cause(n);
     for (std::size_t k = 0; k < n; ++k) {
         const member_result& r = results[k];
-        const bool bad = !invalid[k].empty();
-        status[k] = bad                                          ? "invalid"
-                    : r.status == member_result::outcome::failed ? "failed"
-                    : r.status == member_result::outcome::event  ? "event"
-                                                                 : "completed";
+        const bool bad = !invalid[k].empty() || started[k] == 0;
+        status[k] = started[k] == 0                               ? "not run"
+                    : !invalid[k].empty()                         ? "invalid"
+                    : r.status == member_result::outcome::failed  ? "failed"
+                    : r.status == member_result::outcome::event   ? "event"
+                    : r.status == member_result::outcome::stopped ? "stopped"
+                                                                  : "completed";
         cause[k] = bad ? invalid[k] : r.cause;
         const double nan = std::numeric_limits<double>::quiet_NaN();
         for (std::size_t i = 0; i < d; ++i) {
@@ -101,6 +113,7 @@ py::dict run_ensemble(const models::model& mod, py::array_t<double, py::array::c
     out["max_energy_error"] = energy;
     out["event_time"] = event_time;
     out["cause"] = cause;
+    out["interrupted"] = interrupted;
     return out;
 }
 

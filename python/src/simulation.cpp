@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "bindings.hpp"
+#include "interruptible.hpp"
 #include "varsym/models/event.hpp"
 #include "varsym/models/expression.hpp"
 #include "varsym/models/model.hpp"
@@ -232,14 +233,13 @@ void bind_simulation(py::module_& m) {
                long long steps, long long crossings) {
                 const section_plane plane{momentum, index, value, direction};
                 models::section_result r;
-                {
-                    py::gil_scoped_release unlocked;
-                    r = s.section(plane, steps, crossings);
-                }
+                std::atomic<bool> stop{false};
+                varsym_python::run_interruptible(
+                    [&] { r = s.section(plane, steps, crossings, &stop); }, [&] { stop = true; });
                 const auto w = static_cast<py::ssize_t>(2 * s.dim());
                 py::array_t<double> states({static_cast<py::ssize_t>(r.time.size()), w});
                 std::copy(r.states.begin(), r.states.end(), states.mutable_data());
-                return py::make_tuple(array_of(r.time), states, r.failed);
+                return py::make_tuple(array_of(r.time), states, r.failed, r.stopped);
             },
             py::arg("momentum"), py::arg("index"), py::arg("value"), py::arg("direction"),
             py::arg("steps"), py::arg("crossings"));

@@ -6,12 +6,15 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <csignal>
 #include <string>
 #include <tuple>
 #include <vector>
 
 #include "front_end.hpp"
+#include "interruptible.hpp"
 #include "models.hpp"
+#include "signals.hpp"
 
 namespace py = pybind11;
 using namespace varsym;
@@ -22,15 +25,23 @@ PYBIND11_MODULE(_tool, m) {
         "run_cli",
         [](const std::vector<std::string>& args) {
             int status = 0;
-            {
-                py::gil_scoped_release unlocked;
-                cli::set_quiet_failures(true);
-                cli::front_end fe;
-                status = fe.parse(args);
-                if (status < 0) status = fe.run();
-                cli::set_quiet_failures(false);
-            }
-            return py::make_tuple(status, status == 0 ? std::string() : cli::last_failure());
+            std::string message;
+            // In-process, the host's signal handlers stay (cli::set_embedded): Ctrl-C reaches
+            // the command as a first SIGINT would (cli::request_stop), which stops after its
+            // current step keeping what it wrote, and exits 130.
+            cli::set_embedded(true);
+            cli::clear_pending_signal();
+            varsym_python::run_interruptible(
+                [&] { // the failure's message and quietness are per thread
+                    cli::set_quiet_failures(true);
+                    cli::front_end fe;
+                    status = fe.parse(args);
+                    if (status < 0) status = fe.run();
+                    if (status != 0) message = cli::last_failure();
+                },
+                [] { cli::request_stop(SIGINT); });
+            cli::clear_pending_signal();
+            return py::make_tuple(status, message);
         },
         py::arg("args"),
         "Runs the varsym command line in-process; returns (exit code, error message).");

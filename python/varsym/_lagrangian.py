@@ -110,7 +110,7 @@ class Lagrangian:
         constraints as for varsym.simulate (``project``: move each start onto them). Each
         member runs ``steps`` steps over ``t_span``. Returns the same dict of arrays: status,
         t, q, p, lyapunov, mean_megno, max_energy_error, event_time, cause."""
-        from ._simulate import _member_arrays  # noqa: PLC0415 (it imports this module)
+        from ._simulate import _ensemble_result, _member_arrays  # noqa: PLC0415 (a cycle)
 
         # The compiled Lagrangian holds its parameters sorted by name (a std::map).
         values, q0, p0 = _member_arrays("ensemble", parameters, self.parameters,
@@ -122,12 +122,10 @@ class Lagrangian:
             values = np.column_stack([values, np.full(len(values), float(bool(project)))])
         steps = _checks.count(steps, "steps")
         t_span = _checks.positive(t_span, "t_span")
-        return _core.expression_ensemble(self._core, _force_list(force),
-                                         _force_list(constraints), values, q0, p0,
-                                         t_span / steps, steps, scheme or "simpson",
-                                         _checks.degree(degree) or 0, indicators,
-                                         _checks.count(threads, "threads", 0, 4096),
-                                         event or "")
+        return _ensemble_result(_core.expression_ensemble(
+            self._core, _force_list(force), _force_list(constraints), values, q0, p0,
+            t_span / steps, steps, scheme or "simpson", _checks.degree(degree) or 0, indicators,
+            _checks.count(threads, "threads", 0, 4096), event or ""))
 
     def __repr__(self):
         return (f"varsym.Lagrangian({self.expression!r}, {self.coordinates!r}, "

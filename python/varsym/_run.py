@@ -9,9 +9,9 @@ import numpy as np
 from . import _core
 from ._simulate import _REGISTRY, Model, _keyword_error, simulate
 from ._trajectory import Trajectory
-from .errors import EnergyError, Error, StepFailure, UsageError
+from .errors import EnergyError, Error, Interrupted, StepFailure, UsageError
 
-_ERRORS = {2: UsageError, 3: StepFailure, 4: EnergyError}
+_ERRORS = {2: UsageError, 3: StepFailure, 4: EnergyError, 130: Interrupted}
 
 
 def _text(value):
@@ -45,7 +45,9 @@ def _tool():
 
 def call(args):
     """Runs the command line ``varsym ARGS...`` in-process; raises the matching varsym.Error on
-    failure (UsageError for exit code 2, StepFailure 3, EnergyError 4, Error otherwise)."""
+    failure (UsageError for exit code 2, StepFailure 3, EnergyError 4, Error otherwise). Ctrl-C
+    stops the command as a first SIGINT stops the tool (within a step: what it wrote is kept, a
+    run's rows in FILE.part with its checkpoint) and raises varsym.Interrupted."""
     code, message = _tool().run_cli([str(a) for a in args])
     if code != 0:
         raise _ERRORS.get(code, Error)(message)
@@ -165,10 +167,12 @@ def run(model=None, **options):
         out = os.path.join(tmp, "run.csv")
         try:
             call(args + ["--output", out])
-        except (StepFailure, EnergyError) as e:
+        except (StepFailure, EnergyError, Interrupted) as e:
             if os.path.exists(out + ".part"):  # the rows before the failure
                 e.partial = _trajectory(out + ".part")
                 e.args = (str(e).replace(out + ".part", "the exception's .partial"),)
+            if isinstance(e, Interrupted):  # its checkpoint goes with the temporary directory
+                e.args = ("run interrupted; the rows so far are in .partial",)
             raise
         return _trajectory(out)
 

@@ -59,6 +59,17 @@ def _member_arrays(function, parameters, defaults, names, q0, p0, d):
     return values, (empty if q0 is None else q0), (empty if q0 is None else p0)
 
 
+def _ensemble_result(out):
+    """An ensemble's dict, or Interrupted (Ctrl-C) with it in ``partial``: the members done,
+    those stopped in flight ("stopped", at the state reached) and those not run ("not run")."""
+    if out.pop("interrupted"):
+        done = sum(s not in ("stopped", "not run") for s in out["status"])
+        raise Interrupted(f"ensemble interrupted with {done} of {len(out['status'])} members done; "
+                          "all are in .partial (status 'stopped' or 'not run' for the others)",
+                          partial=out)
+    return out
+
+
 class Model:
     """A built-in model with its parameters set, e.g. ``Model("kepler", eccentricity=0.6)``.
     ``varsym.models()`` lists the models; ``Model(name).parameters`` holds every parameter's
@@ -158,10 +169,11 @@ class Model:
                 else _checks.positive(t_span, "t_span"))
         steps = self.info["ensemble_steps"] if steps is None else _checks.count(steps, "steps")
         self._refuse_scheme(scheme, degree)
-        return self._ensemble(values, q0, p0, time / steps, steps, scheme or "simpson",
-                              _checks.degree(degree) or 0, indicators,
-                              _checks.count(threads, "threads", 0, 4096), event or "",
-                              self._lists())
+        return _ensemble_result(self._ensemble(values, q0, p0, time / steps, steps,
+                                               scheme or "simpson", _checks.degree(degree) or 0,
+                                               indicators,
+                                               _checks.count(threads, "threads", 0, 4096),
+                                               event or "", self._lists()))
 
     def _refuse_scheme(self, scheme, degree):
         """Raises UsageError where a scheme or degree is given to a model with its own
@@ -377,9 +389,13 @@ class Stepper:
             raise UsageError("direction: '+', '-' or 'both'")
         if not self._sim.has_dense_output():
             raise UsageError("this model's stepper has no dense output for sections")
-        times, states, _ = self._sim.section(momentum, index, value,
-                                             {"+": 1, "-": -1, "both": 0}[direction],
-                                             int(steps), int(crossings))
+        times, states, _, stopped = self._sim.section(momentum, index, value,
+                                                      {"+": 1, "-": -1, "both": 0}[direction],
+                                                      _checks.count(steps, "steps"),
+                                                      _checks.count(crossings, "crossings"))
+        if stopped:
+            raise Interrupted(f"section interrupted after {len(times)} crossings; they are in "
+                              ".partial (times, states)", partial=(times, states))
         return times, states
 
     q = property(lambda self: self._sim.q, doc="the coordinates q_j")

@@ -54,6 +54,22 @@ cp killed.csv.journal saved.journal
   bad "the restarted ensemble differs from the straight one"
 grep -q "resuming, $done_rows of 900 members already done" resume.txt && ok ||
   bad "resume message: $(cat resume.txt) (journal had $done_rows rows)"
+# --- one SIGINT: said what it waits for, stopped within a second (the members in flight stop
+# after their current step, not written), then the same command finishes the same file --------
+long=(ensemble --model henon-heiles --grid energy=0.05:0.1:4 --time 1e6 --steps 100000000)
+"$VARSYM" "${long[@]}" -o stopped.csv 2> sigint.txt &
+pid=$!
+sleep 1
+sent=$(date +%s%N)
+kill -INT "$pid"
+wait "$pid"
+rc=$?
+took=$((($(date +%s%N) - sent) / 1000000))
+[ $rc -eq 130 ] && [ $took -lt 1000 ] && ok || bad "SIGINT: exit $rc after $took ms"
+grep -q "^varsym: SIGINT: stopping once the members in flight finish their current step" sigint.txt &&
+  ok || bad "no line saying what SIGINT waits for: $(tr '\r' '\n' < sigint.txt)"
+[ ! -e stopped.csv ] && [ "$(grep -c ',completed' stopped.csv.journal)" -eq 0 ] && ok ||
+  bad "a member stopped in flight was written as completed"
 # A journal cut in the middle of a row (a kill during a write): the partial row is redone.
 { cat saved.journal; printf '899,0.6,0.4,compl'; } > cut.csv.journal
 "$VARSYM" "${big[@]}" -o cut.csv 2> /dev/null && cmp -s straight.csv cut.csv && ok ||

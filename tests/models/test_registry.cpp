@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <string>
 
@@ -207,12 +208,24 @@ TEST(Registry, EveryModelRunsEnsembleMembersAndSectionsWhereItHasDenseOutput) {
         EXPECT_NEAR(e.event_time, 10.5 * h, 1e-12);
         if (sim->has_dense_output()) {
             const varsym::section_plane plane{false, 0, 0.5 * sim->q()[0], 0};
-            const vm::section_result s = sim->section(plane, 2000, 3);
+            const vm::section_result s = sim->section(plane, 2000, 3, nullptr);
             EXPECT_FALSE(s.failed);
+            EXPECT_FALSE(s.stopped);
             EXPECT_EQ(s.states.size(), s.time.size() * 2 * static_cast<std::size_t>(m.dim));
+            // A stop flag already set (Ctrl-C) ends it before the first step.
+            const std::atomic<bool> stop{true};
+            const vm::section_result stopped = sim->section(plane, 2000, 3, &stop);
+            EXPECT_TRUE(stopped.stopped && stopped.time.empty());
         } else {
-            EXPECT_THROW((void)sim->section({}, 10, 1), std::logic_error);
+            EXPECT_THROW((void)sim->section({}, 10, 1, nullptr), std::logic_error);
         }
+        // The member's loop watches the flag too: stopped, at the state it started from.
+        const std::atomic<bool> stop{true};
+        varsym::member_plan stopping = plan;
+        stopping.stop = &stop;
+        const varsym::member_result s = sim->run_member(stopping, nullptr);
+        EXPECT_EQ(s.status, varsym::member_result::outcome::stopped);
+        EXPECT_EQ(s.steps, 0);
     }
 }
 

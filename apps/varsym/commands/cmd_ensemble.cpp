@@ -1,9 +1,10 @@
-// apps/varsym/commands/cmd_ensemble.cpp: `varsym ensemble`, one model run from many initial states or
-// parameter sets (a grid or a CSV file), on every core and, built with MPI, across processes:
+// apps/varsym/commands/cmd_ensemble.cpp: `varsym ensemble`, one model run from many initial states
+// or parameter sets (a grid or a CSV file), on every core and, built with MPI, across processes:
 // one CSV row per member in member order, resumable after a kill, and a heat map.
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <mutex>
@@ -13,7 +14,6 @@
 #include <unistd.h>
 
 #include "commands.hpp"
-#include "progress.hpp"
 #include "ensemble.hpp"
 #include "ensemble_journal.hpp"
 #include "ensemble_members.hpp"
@@ -22,6 +22,7 @@
 #include "files.hpp"
 #include "models.hpp"
 #include "plot.hpp"
+#include "progress.hpp"
 #include "shared_options.hpp"
 #include "signals.hpp"
 
@@ -88,6 +89,9 @@ void run_ensemble(const ensemble_options& o) {
     const member_set set = make_member_set(o.run.members, model);
     ensemble_setup setup = make_setup(o.run, model, set.size);
     setup.plan.indicators = !o.no_indicators;
+    // Ctrl-C: the members in flight stop after their current step (member_plan::stop), are
+    // not written, and run again on resume.
+    setup.plan.stop = &stop_flag();
     if (!o.event.empty()) setup.event = compile_event(o.event, model.dim);
     if (o.output.empty() || o.output == "-")
         throw usage_error("--output FILE is required: the ensemble's rows are kept in "
@@ -113,11 +117,11 @@ void run_ensemble(const ensemble_options& o) {
         // 1. (Open MPI's mpirun, itself signalled, exits 1 whatever its ranks give.)
         if (group.size() > 1) {
             const auto* stop = dynamic_cast<const interrupted*>(&e);
-            std::fprintf(stderr, "varsym: %s(MPI rank %d) %s\n", stop ? "" : "error: ",
-                         group.rank(), e.what());
+            std::fprintf(stderr, "varsym: %s(MPI rank %d) %s\n",
+                         stop ? "" : "error: ", group.rank(), e.what());
             group.abort(dynamic_cast<const usage_error*>(&e) != nullptr ? exit_usage
-                        : stop != nullptr                             ? 128 + stop->signal
-                                                                      : exit_failure);
+                        : stop != nullptr                               ? 128 + stop->signal
+                                                                        : exit_failure);
         }
         throw;
     }
@@ -149,8 +153,9 @@ void run_members(const ensemble_options& o, const ensemble_model& model, const m
     // is refused now, before the work.
     if (group.rank() == 0) claim_partial(o.output, journal.found());
     if (journal.rejected() > 0 && group.rank() == 0)
-        std::fprintf(stderr, "varsym ensemble: %zu damaged journal rows ignored (their members "
-                             "are computed again)\n",
+        std::fprintf(stderr,
+                     "varsym ensemble: %zu damaged journal rows ignored (their members "
+                     "are computed again)\n",
                      journal.rejected());
     group.barrier(); // every rank read the journals before any rank writes its own
     journal.start();
@@ -169,7 +174,7 @@ void run_members(const ensemble_options& o, const ensemble_model& model, const m
     std::atomic<std::size_t> done{journal.done_count()};
     std::mutex progress_mutex;
     progress_line progress("varsym ensemble", "members", set.size, journal.done_count());
-    set_signal_polling(true);
+    set_signal_polling(true, "the members in flight finish their current step");
     try {
         const unsigned threads = o.threads > 0 ? o.threads : group.default_threads();
         for_each_member(mine, threads, [&](std::size_t k) {
@@ -188,6 +193,12 @@ void run_members(const ensemble_options& o, const ensemble_model& model, const m
             } catch (const std::exception& e) {
                 invalid = true;
                 r.cause = e.what();
+            }
+            if (r.status == member_result::outcome::stopped) {
+                const int sig = pending_signal() != 0 ? pending_signal() : SIGINT;
+                throw interrupted(sig, "stopped by signal " + std::to_string(sig) +
+                                           "; the members done are in " + o.output +
+                                           ".journal*: run the same command again to continue");
             }
             writer.done(k, member_row(m, keys, r, invalid, d));
             const std::size_t now = ++done;

@@ -1,5 +1,5 @@
-// apps/varsym/ensemble/ensemble.hpp: the models `varsym ensemble` runs, member by member: each builds its
-// system and stepper from one member's initial state and parameters and runs it through
+// apps/varsym/ensemble/ensemble.hpp: the models `varsym ensemble` runs, member by member: each
+// builds its system and stepper from one member's initial state and parameters and runs it through
 // varsym::run_member (varsym/run/ensemble.hpp).
 #pragma once
 
@@ -47,14 +47,14 @@ struct ensemble_model {
     /// Throws std::invalid_argument naming the parameter where `value` is outside its range
     /// (what a parameter set for every member by --set must meet); null: no ranges.
     std::function<void(std::size_t parameter, double value)> check_parameter;
-    std::string help;                                       ///< for --help: what they mean
+    std::string help;         ///< for --help: what they mean
     bool fixed_start = false; ///< the initial state follows from the parameters (no q0, p0)
     /// Where parameters set d (the chain's n): d from the parameters' values, and the names of
     /// those parameters, which --set gives for all members and no member key may vary.
     std::function<int(const std::vector<double>&)> dimension;
     std::vector<std::string> dimension_keys;
-    double time = 0.0;                                      ///< default run length
-    long long steps = 0;                                    ///< default number of steps
+    double time = 0.0;   ///< default run length
+    long long steps = 0; ///< default number of steps
     /// Runs one member; throws std::invalid_argument for data the model refuses (the member's
     /// row then says `invalid` and why).
     std::function<member_result(const member_input&, const ensemble_setup&)> run;
@@ -64,7 +64,6 @@ struct ensemble_model {
                               long long crossings)>
         section;
 };
-
 
 /// Runs one member of s from x with the setup's plan and event (a copy of the tape per call,
 /// so that members run concurrently).
@@ -94,7 +93,7 @@ std::string section_rows(S& s, phase_state<S::dim> x, const ensemble_setup& e,
                          const section_plane& plane, long long crossings) {
     std::string rows;
     long long found = 0;
-    for (long long j = 0; j < e.plan.steps && found < crossings; ++j) {
+    for (long long j = 0; j < e.plan.steps && found < crossings && !e.plan.stopped(); ++j) {
         const phase_state<S::dim> from = x;
         if (!s.step(x).converged || !x.q.allFinite() || !x.p.allFinite()) {
             rows += "failed\n";

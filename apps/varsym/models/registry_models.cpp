@@ -96,8 +96,7 @@ std::string describe(const models::model& m, bool ensemble) {
     return s;
 }
 
-void parameter_options::add(CLI::App& cmd,
-                            const std::function<bool(const models::model&)>& which) {
+void parameter_options::add(CLI::App& cmd, const std::function<bool(const models::model&)>& which) {
     // option → what it sets: (the models, their text), models with the same text together
     std::map<std::string, std::vector<std::pair<std::string, std::string>>> texts;
     std::map<std::string, bool> list; // option → whether it takes several values
@@ -381,7 +380,8 @@ ensemble_model make_registry_ensemble(std::shared_ptr<const models::model> model
         m.section = [model](const member_input& in, const ensemble_setup& e,
                             const section_plane& plane, long long crossings) {
             const auto sim = member_simulation(*model, in, e);
-            const models::section_result r = sim->section(plane, e.plan.steps, crossings);
+            const models::section_result r =
+                sim->section(plane, e.plan.steps, crossings, e.plan.stop);
             std::string rows;
             const std::size_t width = 2 * static_cast<std::size_t>(sim->dim());
             for (std::size_t k = 0; k < r.time.size(); ++k) {

@@ -165,7 +165,8 @@ int front_end::run() {
     } catch (const energy_error& e) {
         return fail(exit_energy, e.what());
     } catch (const interrupted& e) {
-        std::cerr << "varsym: " << e.what() << '\n';
+        if (!quiet) std::cerr << "varsym: " << e.what() << '\n';
+        last_message = e.what();
         return 128 + e.signal;
     } catch (const std::bad_alloc&) {
         return fail(exit_failure, "out of memory");

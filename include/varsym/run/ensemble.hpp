@@ -69,7 +69,7 @@ class grid {
 
 /// What one member's run found.
 struct member_result {
-    enum class outcome { completed, event, failed };
+    enum class outcome { completed, event, failed, stopped };
     outcome status = outcome::completed;
     long long steps = 0;          ///< steps taken
     double time = 0.0;            ///< time reached (t0 + steps · h)
@@ -87,6 +87,12 @@ struct member_plan {
     long long steps = 0;
     bool indicators = true;
     double t0 = 0.0;
+    /// When given and set (by another thread, or a signal handler), the member ends after its
+    /// current step with outcome::stopped and the state reached: Ctrl-C within a step.
+    const std::atomic<bool>* stop = nullptr;
+    [[nodiscard]] bool stopped() const {
+        return stop != nullptr && stop->load(std::memory_order_relaxed);
+    }
 };
 
 /// What a member's loop watches after each step, for run_member and for the steppers of other
@@ -147,6 +153,10 @@ member_result run_member(S& s, phase_state<S::dim> x, const member_plan& plan, E
     phase_state<S::dim> from = x;
     long long k = 0;
     for (; k < plan.steps; ++k) {
+        if (plan.stopped()) {
+            r.status = member_result::outcome::stopped;
+            break;
+        }
         from = x;
         // A forced step depends on its start time: t0 + k h, as integrate() sets it (a time
         // accumulated step by step would drift from it by round-off).

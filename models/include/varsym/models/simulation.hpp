@@ -7,6 +7,7 @@
 // the observer), so a simulation steps as fast as the template it erases.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -42,6 +43,7 @@ struct section_result {
     std::vector<double> time;   ///< the crossings' times
     std::vector<double> states; ///< their states, (q_1..q_d, p_1..p_d) one crossing after another
     bool failed = false;        ///< a step failed before the requested crossings were found
+    bool stopped = false;       ///< the caller's stop flag ended it (the crossings so far)
 };
 
 /// A model's system stepped by one scheme from one initial state.
@@ -112,8 +114,11 @@ class simulation {
     [[nodiscard]] virtual bool has_dense_output() const = 0;
     /// The crossings of `plane` over `steps` steps from the current state, at most `crossings`
     /// of them; throws std::logic_error where !has_dense_output(). The state is not changed.
+    /// `stop`, when given and set (another thread, a signal handler), ends it after the
+    /// current step (section_result::stopped).
     [[nodiscard]] virtual section_result section(const section_plane& plane, long long steps,
-                                                 long long crossings) = 0;
+                                                 long long crossings,
+                                                 const std::atomic<bool>* stop) = 0;
 };
 
 /// Runs f(), an evaluation of the model at the simulation's current state (its row's values,
