@@ -204,6 +204,25 @@ void check_options_file(Ipopt::IpoptApplication& app, const std::string& file) {
     }
 }
 
+/// Refuses a problem whose cost or equations are not finite at its starting point: a boundary
+/// value or a parameter beyond what the model can evaluate (an overflow: --to 1e308, a
+/// frequency of 1e200). IPOPT would fail on the first evaluation with nothing to say why.
+void check_finite_start(const nlp& p, const vector& x0) {
+    vector g, gradient;
+    p.residual(x0, g);
+    p.cost_gradient(x0, gradient);
+    std::vector<double> jacobian;
+    p.jacobian(x0, jacobian);
+    if (std::isfinite(p.cost(x0)) && g.allFinite() && gradient.allFinite() &&
+        std::all_of(jacobian.begin(), jacobian.end(), [](double v) { return std::isfinite(v); }))
+        return;
+    throw std::invalid_argument(
+        "the problem's cost, equations or their derivatives are not finite at its starting "
+        "point (the boundary states joined by a straight line): a boundary value or a model "
+        "parameter too large for the model to evaluate (it overflows); check --from/--to, "
+        "their velocities and the parameters");
+}
+
 /// Refuses a transcription that would not fit in memory: how many steps would.
 void check_memory(const transcription& t) {
     const double have = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
@@ -271,6 +290,7 @@ nlp_result solve(const nlp& problem, const solver_options& options, const vector
                 : "IPOPT rejected the options file '" + options.options_file +
                       "' (an unknown option or a value out of its range: see IPOPT's "
                       "options reference)");
+    check_finite_start(problem, start != nullptr ? *start : problem.start());
     Ipopt::SmartPtr<Ipopt::TNLP> tnlp = new adapter(problem, options, start, exact, out);
     const Ipopt::ApplicationReturnStatus r = app->OptimizeTNLP(tnlp);
     if (out.x.size() == 0) { // IPOPT stopped before finalize_solution (bad problem, options)

@@ -160,7 +160,7 @@ expect_error 2 "another model's option" optimize --model cart-pole --eccentricit
 grep -q "not expected: .*--eccentricity" stderr.txt && ok || bad "$(cat stderr.txt)"
 # optimize --help lists the parameters of the models it takes (it listed every model's).
 "$VARSYM" optimize --help > optimize_help.txt
-grep -q -- '--push' optimize_help.txt && ! grep -q -- '--eccentricity\|--masses\|--urdf' optimize_help.txt &&
+grep -q -- '--omega' optimize_help.txt && ! grep -q -- '--eccentricity\|--masses\|--urdf' optimize_help.txt &&
   ok || bad "optimize --help lists other models' parameters" 
 "$VARSYM" optimize --model acrobot --time 4 --steps 40 --from 0,0 --to $pi,0 --gravity 9 \
   --quiet --output moon.csv 2> moon.err && [ "$(tail -1 moon.csv)" != "$(tail -1 acrobot.csv)" ] &&
@@ -234,6 +234,17 @@ grep -q "100000000 steps need about .* GB to optimise .* at most about [0-9]* st
   ok || bad "$(cat stderr.txt)"
 expect_error 2 "2e9 steps" optimize --model acrobot --time 4 --steps 2000000000 --from 0,0 --to 3,0 \
   -o out.csv
+
+# Values the model cannot evaluate (they overflow) are bad input, said so (was exit 1, "mass
+# matrix singular"); the inputs that optimize computes are not offered by --help.
+expect_error 2 "--to 1e308" optimize --model pendulum --time 2 --from 0 --to 1e308 -o out.csv
+grep -q "not finite at its starting point" stderr.txt && ok || bad "$(cat stderr.txt)"
+expect_error 2 "--omega 1e200" optimize --model pendulum --time 2 --from 0 --to 1 --omega 1e200 \
+  -o out.csv
+"$VARSYM" optimize --help > help.txt
+grep -qE -- "--(push|torque)" help.txt && bad "optimize --help offers --push or --torque" || ok
+grep -q -- "--omega" help.txt && ok || bad "negative control: optimize --help lost --omega"
+expect_error 2 "--push" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --push 3 -o out.csv
 
 # File roles on resolved targets: the nodes on standard output and --controls /dev/stdout, or a
 # dangling link to --output, are one file (the controls were written over the nodes).

@@ -363,6 +363,15 @@ void add_optimize_command(CLI::App& app, action& todo) {
                     "\"acrobot\", to = [3.14159, 0], refine = 2); the command line wins");
     // Only the parameters of the models with inputs: the others' would be refused anyway.
     o->parameters->add(*cmd, [](const models::model& m) { return static_cast<bool>(m.optimal); });
+    // The parameters that hold an input constant in a simulation (--push, --torque) are what
+    // optimize computes: hidden from --help, and refused with a word when given (optimize()).
+    for (const auto& m : models::registry())
+        if (m.optimal && !m.input_parameter.empty())
+            if (auto* opt = cmd->get_option_no_throw(
+                    "--" + m.parameters[static_cast<std::size_t>(
+                                             m.parameter_index(m.input_parameter))]
+                               .option_name()))
+                opt->group("");
     cmd->callback([o, &todo] { todo = [o] { optimize(*o); }; });
 }
 
