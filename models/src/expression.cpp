@@ -24,10 +24,11 @@ namespace varsym::models {
 namespace {
 using expression_system = lagrangian_system<expression_lagrangian>;
 
-/// What a run of L with force f from x0 needs: the same dimensions, a finite positive step, the
-/// general engine's predictor. Throws std::invalid_argument.
+/// What a run of L with force f from x0 needs: the same dimensions, a finite positive step, and
+/// (`general`: off the separable steppers) the general engine's predictor. Throws
+/// std::invalid_argument.
 void check_run(const expression_lagrangian& l, const expression_force& f,
-               const phase_state<dynamic>& x0, const step_options& o) {
+               const phase_state<dynamic>& x0, const step_options& o, bool general) {
     const int d = l.dimension();
     if (f.dimension() != d)
         throw std::invalid_argument("the force has " + std::to_string(f.dimension()) +
@@ -38,7 +39,7 @@ void check_run(const expression_lagrangian& l, const expression_force& f,
                                     " entries each (one per coordinate)");
     if (!(std::isfinite(o.h) && o.h > 0.0))
         throw std::invalid_argument("the time step must be a finite positive number");
-    detail::check_general(o);
+    if (general) detail::check_general(o);
 }
 } // namespace
 
@@ -46,7 +47,9 @@ std::unique_ptr<simulation> simulate_expression(const expression_lagrangian& l,
                                                 const expression_force& f,
                                                 const phase_state<dynamic>& x0,
                                                 const step_options& o, double t0) {
-    check_run(l, f, x0, o);
+    // ½ q̇ᵀ M q̇ − V(q) without a force runs on the separable steppers (their predictors too).
+    const bool separable = f.zero() && !l.depends_on_time() && l.separable();
+    check_run(l, f, x0, o, !separable);
     const expression_system sys(l);
     // E − E0 − W, W the energy put in by the force and by L's time dependence (−∫∂L/∂t dt):
     // what is conserved up to the scheme's error.
@@ -61,7 +64,7 @@ std::unique_ptr<simulation> simulate_expression(const expression_lagrangian& l,
         return detail::simulate_general(
             general::stepper<expression_lagrangian>(sys, o.h, o.spec, o.newton), x0,
             detail::column_set{balanced, balance}, t0);
-    if (f.zero() && l.separable()) { // ½ q̇ᵀ M q̇ − V(q): the paper's steppers and the family's
+    if (separable) { // ½ q̇ᵀ M q̇ − V(q): the paper's steppers and the family's
         // Fixed-size vectors for one to three coordinates (one angle, a particle in a plane or
         // in space), as a built-in model has them; sizes known only at run time above three.
         auto family = [&]<int D>() {
@@ -103,7 +106,7 @@ simulate_constrained_expression(const expression_lagrangian& l, const expression
                                 const step_options& o, double t0, bool project) {
     using stepper = general::constrained_stepper<expression_lagrangian, expression_constraint,
                                                  expression_force>;
-    check_run(l, f, x0, o);
+    check_run(l, f, x0, o, true);
     if (c.dimension() != l.dimension())
         throw std::invalid_argument("the constraints must be on the Lagrangian's " +
                                     std::to_string(l.dimension()) + " coordinates");

@@ -174,4 +174,12 @@ expect_error 2 "--lagrangian with another model" ensemble --model pendulum --lag
   --grid q0_1=0:1:2 -o out.csv
 expect_error 2 "lagrangian ensemble without L" ensemble --model lagrangian --grid q0_1=0:1:2 -o out.csv
 
+# --predictor forces on a separable typed L (the separable steppers take it; it was refused),
+# refused where L runs the general engine.
+"$VARSYM" run --lagrangian "0.5*q_dot^2 - 0.5*q^2" --q0 1 --time 10 --steps 100 --scheme gauss \
+  --degree 4 --iteration fixed-point --predictor forces -o sep.csv 2> sep.err && ok ||
+  bad "--predictor forces on a separable L: $(cat sep.err)"
+expect_error 2 "--predictor forces, general engine" run --lagrangian "0.5*q_dot^2*(1+q^2) - 0.5*q^2" \
+  --q0 1 --time 10 --steps 100 --predictor forces -o out.csv
+
 finish

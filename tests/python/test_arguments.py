@@ -63,3 +63,19 @@ def test_a_dimension_out_of_range_is_refused_before_anything_is_sized():
     grown_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before
     assert grown_kb < 200_000, f"the refusal grew the process by {grown_kb} kB"
     assert varsym.Model("chain", n=5).dim == 5  # negative control: in range, sized
+
+
+def test_a_separable_typed_lagrangian_takes_the_separable_predictors():
+    # 0.5 q'^2 - 0.5 q^2 runs on the separable steppers, whose '+forces' start python.md
+    # offers: it was refused as if it ran the general engine. Same answer as without the start
+    # (to round-off) and as cos t; negative control: a configuration-dependent mass is refused.
+    import numpy as np
+    osc = varsym.Lagrangian("0.5*q_dot**2 - 0.5*q**2", coordinates="q")
+    run = dict(q0=[1], t_span=10, steps=100, scheme="gauss", degree=4)
+    forces = varsym.simulate(osc, iteration="fixed-point+forces", **run)
+    plain = varsym.simulate(osc, iteration="fixed-point", **run)
+    assert np.abs(forces.q - plain.q).max() < 1e-14
+    assert np.abs(forces.q[:, 0] - np.cos(forces.t)).max() < 1e-12  # gauss-4: 8th order
+    with pytest.raises(varsym.UsageError, match="general engine"):
+        varsym.simulate(varsym.Lagrangian("0.5*q_dot**2*(1 + q**2) - 0.5*q**2", coordinates="q"),
+                        iteration="fixed-point+forces", **run)

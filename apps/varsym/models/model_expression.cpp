@@ -156,10 +156,8 @@ model make_expression_model(std::shared_ptr<parameter_options> po) {
                  "--force",      "--constraints", "--project"};
     m.add_options = [par](CLI::App& cmd) { add_expression_options(cmd, *par); };
     m.run = [par, po](const run_setup& s) {
-        if (s.newton.predictor != predictor_kind::taylor)
-            throw usage_error(
-                "--predictor previous or forces is for the separable models; --lagrangian "
-                "runs the general engine: use --predictor taylor");
+        // --predictor previous/forces: taken where L is separable (the models layer refuses it
+        // where L runs the general engine).
         const bool project = po && po->given("project");
         if (project && par->constraints.empty())
             throw usage_error("--project moves the start onto the constraints: it needs "
