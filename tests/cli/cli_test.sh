@@ -230,6 +230,12 @@ printf 'model = \n' > syntax.toml
 expect_error 2 "config syntax error" run --config syntax.toml -o out.csv
 grep -q 'syntax.toml:1' stderr.txt && ok || bad "syntax message: $(cat stderr.txt)"
 expect_error 2 "config missing file" run --config nowhere.toml -o out.csv
+# A repeatable option takes a list: plot = ["a.png", "a.svg"] draws both (it was refused).
+printf 'model = "pendulum"\ntime = 2\nfrom = [0]\nto = [1]\nplot = ["pic.png", "pic.svg"]\n' > plots.toml
+"$VARSYM" optimize --config plots.toml -o plots.csv --quiet 2> stderr.txt && [ -s pic.png ] &&
+  [ -s pic.svg ] && ok || bad "config plot list: $(cat stderr.txt)"
+printf 'model = "pendulum"\ntime = 2\nfrom = [0]\nto = [1]\nplot = ["pic.png", 3]\n' > plot3.toml
+expect_error 2 "config plot list with a number" optimize --config plot3.toml -o out.csv
 
 # --- bench (issue 5): tiny settings; one row per method and N, ratios to odeint's peer ----------
 "$VARSYM" bench --problems pendulum --schemes simpson,gauss-2 --compositions none --steps 25,50 \

@@ -100,7 +100,22 @@ std::vector<std::string> expand_config(const std::vector<std::string>& args, con
             origins["--" + name] = at;
             continue;
         }
-        if (const toml::array* arr = node.as_array()) {
+        const toml::array* arr = node.as_array();
+        if (arr != nullptr && !list && opt->get_expected_max() > 1) {
+            // A repeatable option (plot = ["a.png", "a.svg"]): one --name per entry.
+            if (arr->empty()) throw usage_error(at + ": key '" + name + "' is an empty list");
+            if (on_command_line(args, *opt)) continue;
+            for (const toml::node& item : *arr) {
+                const std::string one = scalar_argument(item, type, error);
+                if (!error.empty())
+                    throw usage_error(at + ": key '" + name + "': every entry " + error);
+                inserted.push_back("--" + name);
+                inserted.push_back(one);
+            }
+            origins["--" + name] = at;
+            continue;
+        }
+        if (arr != nullptr) {
             if (!list) throw usage_error(at + ": key '" + name + "' takes one value, not a list");
             for (const toml::node& item : *arr) {
                 const std::string one = scalar_argument(item, "FLOAT", error);
