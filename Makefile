@@ -100,6 +100,7 @@ bench: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_bench varsym_bench_family
 	$(BUILD_DIR)/bench/varsym_bench --benchmark_min_time=0.2
 	$(BUILD_DIR)/bench/varsym_bench_family --benchmark_min_time=0.2
+	bash bench/compilers.sh 5
 	@$(MAKE) --no-print-directory bench-robots
 
 # Optimal control: time, iterations and accuracy per second (bench/bench_optimal.cpp).
