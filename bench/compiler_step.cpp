@@ -59,8 +59,8 @@ int main() {
         state q{std::numbers::pi / 2}, p{0.0};
         double t = 0.0;
         for (long j = 0; j < steps; ++j, t += h)
-            s.do_step(std::make_pair(coordinate(), momentum()), std::make_pair(std::ref(q), std::ref(p)),
-                      t, h);
+            s.do_step(std::make_pair(coordinate(), momentum()),
+                      std::make_pair(std::ref(q), std::ref(p)), t, h);
         sink += q[0];
     });
     std::printf("%.2f %.2f\n", simpson_ns, odeint_ns);
