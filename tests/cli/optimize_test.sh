@@ -265,5 +265,7 @@ timeout --preserve-status -s INT 0.5 "$VARSYM" optimize --model acrobot --time 8
 rc=$?
 [ $rc -eq 130 ] && ok || bad "SIGINT: exit $rc, expected 130 ($(cat stopped.err))"
 [ "$(wc -l < stopped.csv)" -eq 2002 ] && ok || bad "SIGINT: the last iterate was not written"
+grep -q "^varsym: SIGINT: stopping once IPOPT's current iteration finishes" stopped.err && ok ||
+  bad "SIGINT: no line saying what it waits for ($(cat stopped.err))"
 
 finish

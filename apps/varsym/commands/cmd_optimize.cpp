@@ -198,7 +198,7 @@ void optimize(const optimize_options& o) {
                                : "a free final time (--cost time) has no exact Hessian") +
                           "; use automatic or limited-memory");
     install_signal_handlers();
-    set_signal_polling(true);
+    set_signal_polling(true, "IPOPT's current iteration finishes");
     so.progress = [&](const optimal::iteration& it) {
         if (!o.quiet)
             std::fprintf(stderr,
