@@ -31,7 +31,7 @@ class process_group {
 
   private:
     int rank_ = 0, size_ = 1;
-    bool mpi_ = false;
+    [[maybe_unused]] bool mpi_ = false; // unused in a build without MPI
 };
 
 /// Whether this build has MPI ("" if not, else the library's version line).
