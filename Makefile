@@ -80,7 +80,7 @@ test-sanitize: san-configure
 test-sanitize-cli: san-configure
 	@cmake --build $(SAN_DIR) -j $(JOBS) --target varsym_tool
 	@cd $(SAN_DIR) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-	  ctest --output-on-failure -j $(JOBS) -R '^cli'
+	  VARSYM_SANITIZED=1 ctest --output-on-failure -j $(JOBS) -R '^cli'
 
 # libFuzzer over the command line, config files and checkpoints for FUZZ_SECONDS; seeds in
 # fuzz/corpus, new inputs kept in $(SAN_DIR)/corpus, a crashing input in $(SAN_DIR)/crash-*.
