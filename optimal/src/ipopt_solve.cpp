@@ -189,21 +189,6 @@ class adapter final : public Ipopt::TNLP {
     std::vector<double> buffer_;
 };
 
-/// Refuses an options file that cannot be read or names an option IPOPT does not have (IPOPT
-/// itself only says that one line was bad, on its console).
-void check_options_file(Ipopt::IpoptApplication& app, const std::string& file) {
-    std::ifstream in(file);
-    if (!in) throw std::invalid_argument("cannot read the IPOPT options file '" + file + "'");
-    std::string line;
-    for (int number = 1; std::getline(in, line); ++number) {
-        std::istringstream words(line.substr(0, line.find('#')));
-        std::string name;
-        if ((words >> name) && !Ipopt::IsValid(app.RegOptions()->GetOption(name)))
-            throw std::invalid_argument(file + ":" + std::to_string(number) + ": '" + name +
-                                        "' is not an IPOPT option");
-    }
-}
-
 /// Refuses a problem whose cost or equations are not finite at its starting point: a boundary
 /// value or a parameter beyond what the model can evaluate (an overflow: --to 1e308, a
 /// frequency of 1e200). IPOPT would fail on the first evaluation with nothing to say why.
@@ -240,6 +225,24 @@ void check_memory(const transcription& t) {
 }
 
 } // namespace
+
+std::vector<ipopt_option> parse_ipopt_options(const std::string& text, const std::string& file) {
+    const Ipopt::SmartPtr<Ipopt::IpoptApplication> app = new Ipopt::IpoptApplication(false);
+    std::vector<ipopt_option> out;
+    std::istringstream lines(text);
+    std::string line;
+    for (int number = 1; std::getline(lines, line); ++number) {
+        std::istringstream words(line.substr(0, line.find('#')));
+        ipopt_option o{.line = number};
+        if (!(words >> o.name)) continue;
+        if (!Ipopt::IsValid(app->RegOptions()->GetOption(o.name)))
+            throw std::invalid_argument(file + ":" + std::to_string(number) + ": '" + o.name +
+                                        "' is not an IPOPT option");
+        words >> o.value;
+        out.push_back(std::move(o));
+    }
+    return out;
+}
 
 std::uint64_t memory_estimate(const transcription& problem) {
     const double steps = std::max(problem.problem().steps, 1);
@@ -282,7 +285,15 @@ nlp_result solve(const nlp& problem, const solver_options& options, const vector
     // output_file (truncating any file, past the tool's file checks), print into a CSV on
     // standard output, or loosen the tolerances under a "solved" verdict; our options are the
     // only ones, with the file the caller names.
-    if (!options.options_file.empty()) check_options_file(*app, options.options_file);
+    if (!options.options_file.empty()) {
+        std::ifstream in(options.options_file);
+        if (!in)
+            throw std::invalid_argument("cannot read the IPOPT options file '" +
+                                        options.options_file + "'");
+        std::ostringstream text;
+        text << in.rdbuf();
+        (void)parse_ipopt_options(text.str(), options.options_file);
+    }
     if (app->Initialize(options.options_file) != Ipopt::Solve_Succeeded)
         throw std::invalid_argument(
             options.options_file.empty()

@@ -5,7 +5,8 @@
 
 #include <cmath>
 #include <set>
-#include <sstream>
+
+#include "varsym/optimal/solve.hpp"
 
 namespace varsym::cli {
 
@@ -125,14 +126,12 @@ optimal::control_problem problem_of(const optimize_options& o, const models::mod
 
 void check_ipopt_options(const std::string& file, file_roles& roles) {
     if (file.empty()) return;
-    const std::string text = read_regular_file(file, 1 << 20, "IPOPT options file");
-    std::istringstream lines(text);
-    std::string line;
-    while (std::getline(lines, line)) {
-        std::istringstream words(line.substr(0, line.find('#')));
-        std::string name, value;
-        if (!(words >> name >> value)) continue;
-        if (name == "output_file") roles.add("--ipopt-options' output_file", value);
+    try {
+        for (const auto& o : optimal::parse_ipopt_options(
+                 read_regular_file(file, 1 << 20, "IPOPT options file"), file))
+            if (o.name == "output_file") roles.add("--ipopt-options' output_file", o.value);
+    } catch (const std::invalid_argument& e) {
+        throw usage_error(e.what());
     }
 }
 

@@ -31,8 +31,9 @@ struct optimize_options {
     std::shared_ptr<parameter_options> parameters = std::make_shared<parameter_options>();
 };
 
-/// --ipopt-options FILE, read for what concerns the tool's own files: its output_file is a
-/// role (file_roles). usage_error on an unreadable file. (IPOPT prints on standard error only.)
+/// --ipopt-options FILE, read before any file is made: an unreadable file or an option IPOPT
+/// does not have is a usage_error naming FILE:LINE, and its output_file is a role (file_roles).
+/// (IPOPT prints on standard error only.)
 void check_ipopt_options(const std::string& file, file_roles& roles);
 
 /// The problem the options describe for model m at its parameters' values and lists;

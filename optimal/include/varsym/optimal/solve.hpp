@@ -45,6 +45,17 @@ struct solver_options {
     std::string options_file;
 };
 
+/// One entry of an IPOPT options file.
+struct ipopt_option {
+    std::string name, value;
+    int line = 0;
+};
+/// The entries of an IPOPT options file's text ("name value" a line, '#' comments; `file`
+/// names it in messages), each name checked against IPOPT's options: std::invalid_argument
+/// "FILE:LINE: 'NAME' is not an IPOPT option". solve() reads solver_options::options_file
+/// through it; a front end may call it first, before it creates any file.
+std::vector<ipopt_option> parse_ipopt_options(const std::string& text, const std::string& file);
+
 /// An upper estimate of a transcription's peak memory in a solve [bytes]: 300 (x/N)² N + 32 MB,
 /// x/N the unknowns per step (IPOPT's and MUMPS's sparse factors dominate). Measured at N =
 /// 8000: 4.7 KB a step for the pendulum (Simpson), 10.8 the acrobot, 16.3 Gauss 3, 39.7
