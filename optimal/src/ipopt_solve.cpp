@@ -233,7 +233,8 @@ std::vector<ipopt_option> parse_ipopt_options(const std::string& text, const std
     std::string line;
     for (int number = 1; std::getline(lines, line); ++number) {
         std::istringstream words(line.substr(0, line.find('#')));
-        ipopt_option o{.line = number};
+        ipopt_option o;
+        o.line = number;
         if (!(words >> o.name)) continue;
         if (!Ipopt::IsValid(app->RegOptions()->GetOption(o.name)))
             throw std::invalid_argument(file + ":" + std::to_string(number) + ": '" + o.name +
