@@ -12,7 +12,7 @@
 #include <cmath>
 
 #include "simulation_of.hpp"
-#include "varsym/optimal/dmoc.hpp"
+#include "varsym/optimal/system_of.hpp"
 
 namespace varsym::models::defs {
 

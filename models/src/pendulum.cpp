@@ -4,7 +4,7 @@
 #include <optional>
 
 #include "simulation_of.hpp"
-#include "varsym/optimal/dmoc.hpp"
+#include "varsym/optimal/system_of.hpp"
 #include "varsym/problems/pendulum.hpp"
 
 namespace varsym::models::defs {

@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "optimal/fixtures.hpp"
-#include "varsym/optimal/dmoc.hpp"
+#include "varsym/optimal/system_of.hpp"
 #include "varsym/optimal/replay.hpp"
 #include "varsym/optimal/solve.hpp"
 

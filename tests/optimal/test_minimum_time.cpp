@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "optimal/fixtures.hpp"
-#include "varsym/optimal/dmoc.hpp"
+#include "varsym/optimal/system_of.hpp"
 #include "varsym/optimal/solve.hpp"
 
 namespace {

@@ -17,7 +17,7 @@
 
 #include <gtest/gtest.h>
 
-#include "varsym/optimal/dmoc.hpp"
+#include "varsym/optimal/system_of.hpp"
 #include "varsym/optimal/solve.hpp"
 
 namespace {

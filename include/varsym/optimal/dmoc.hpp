@@ -351,13 +351,13 @@ class dmoc final : public transcription {
 
 /// A transcription for L and F (the type deduced).
 template <lagrangian L, control_force F>
-std::unique_ptr<dmoc<L, F>> transcribe(L l, F force, const control_problem& problem) {
+std::unique_ptr<dmoc<L, F>> transcribe_fixed(L l, F force, const control_problem& problem) {
     return std::make_unique<dmoc<L, F>>(std::move(l), std::move(force), problem);
 }
 
 /// A transcription for L under the holonomic constraints C, with F.
 template <lagrangian L, holonomic_constraint C, control_force F>
-std::unique_ptr<dmoc<L, F, C>> transcribe(L l, C constraints, F force,
+std::unique_ptr<dmoc<L, F, C>> transcribe_fixed(L l, C constraints, F force,
                                           const control_problem& problem) {
     return std::make_unique<dmoc<L, F, C>>(std::move(l), std::move(constraints), std::move(force),
                                            problem);

@@ -8,7 +8,7 @@
 #include <numbers>
 
 #include <varsym/models/model.hpp>
-#include <varsym/optimal/dmoc.hpp>
+#include <varsym/optimal/system_of.hpp>
 #include <varsym/optimal/solve.hpp>
 
 int main() {

@@ -1,0 +1,139 @@
+// varsym/optimal/system.hpp: a mechanical system with control inputs whose sizes are known at run
+// time only (a URDF robot, a typed Lagrangian, a C++ Lagrangian through automatic derivatives),
+// as the one compiled DMOC transcription (varsym::optimal, optimal/transcription.hpp) takes it:
+// the Lagrangian's first, second and contracted third derivatives, the input force f(q, q̇, t, u)
+// with its Jacobians and contracted Hessian, and optional holonomic constraints. Eigen only.
+// See docs/optimal_control.md.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "varsym/optimal/problem.hpp"
+#include "varsym/systems/lagrangian.hpp"
+
+namespace varsym::optimal {
+
+using matrix = Eigen::MatrixXd;
+
+/// f(q, q̇, t, u) and its Jacobians in q, q̇ (d × d) and u (d × m).
+struct input_terms {
+    vector f;
+    matrix fq, fv, fu;
+};
+
+/// A controlled mechanical system of run-time size: L(q, q̇, t) with d coordinates, a
+/// generalized force of m inputs, and k holonomic constraints g(q) = 0 (k may be 0).
+/// Implementations are immutable after construction and may be called from several threads.
+class controlled_system {
+  public:
+    controlled_system() = default;
+    controlled_system(const controlled_system&) = default;
+    controlled_system& operator=(const controlled_system&) = default;
+    controlled_system(controlled_system&&) = default;
+    controlled_system& operator=(controlled_system&&) = default;
+    virtual ~controlled_system() = default;
+
+    [[nodiscard]] virtual int dimension() const = 0; ///< d
+    [[nodiscard]] virtual int inputs() const = 0;    ///< m
+    [[nodiscard]] virtual int constraint_count() const { return 0; } ///< k
+    /// Whether L depends on t explicitly (then a free final time is refused).
+    [[nodiscard]] virtual bool time_dependent() const { return false; }
+
+    /// L, ∂L/∂q and ∂L/∂q̇ at (q, q̇, t) into t.value, t.lq, t.lv (sized here).
+    virtual void gradient(const vector& q, const vector& v, double t,
+                          lagrangian_terms<dynamic>& out) const = 0;
+    /// gradient() and the second derivatives lqq, lqv (∂²L/∂q_i∂q̇_j), lvv.
+    virtual void derivatives(const vector& q, const vector& v, double t,
+                             lagrangian_terms<dynamic>& out) const = 0;
+    /// The Hessian in z = (q, q̇) (2d × 2d) of ψ = aᵀ ∂L/∂q + bᵀ ∂L/∂q̇: the directional
+    /// derivative of ∇²L along w = (a, b). By default a central difference of derivatives()
+    /// along w (step 6e-6 max(1, |z|)/|w|, relative error about 1e-10 on smooth L: an exact
+    /// Hessian of the NLP's Lagrangian to that accuracy); systems with exact third derivatives
+    /// override it (system_of.hpp by automatic differentiation).
+    virtual void third(const vector& q, const vector& v, double t, const vector& a,
+                       const vector& b, matrix& out) const {
+        const int d = dimension();
+        out.setZero(2 * d, 2 * d);
+        const double size = std::max(a.lpNorm<Eigen::Infinity>(), b.lpNorm<Eigen::Infinity>());
+        if (size == 0.0) return;
+        const double scale =
+            std::max({1.0, q.lpNorm<Eigen::Infinity>(), v.lpNorm<Eigen::Infinity>()});
+        const double eps = 6e-6 * scale / size;
+        lagrangian_terms<dynamic> lt;
+        for (const double sign : {1.0, -1.0}) {
+            derivatives(q + sign * eps * a, v + sign * eps * b, t, lt);
+            const double c = sign / (2.0 * eps);
+            out.topLeftCorner(d, d) += c * lt.lqq;
+            out.topRightCorner(d, d) += c * lt.lqv;
+            out.bottomLeftCorner(d, d) += c * lt.lqv.transpose();
+            out.bottomRightCorner(d, d) += c * lt.lvv;
+        }
+    }
+    /// Whether third() is exact (else a difference of exact second derivatives).
+    [[nodiscard]] virtual bool exact_third() const { return false; }
+
+    /// f(q, q̇, t, u) into out.f and, if `jacobians`, its Jacobians fq, fv, fu (sized here).
+    virtual void force(const vector& q, const vector& v, double t, const vector& u,
+                       input_terms& out, bool jacobians) const = 0;
+    /// The Hessian in z = (q, q̇, u) ((2d + m) square) of aᵀ f(q, q̇, t, u); zero for a force
+    /// linear in u with a constant input matrix (the default's contract: override otherwise).
+    virtual void force_hessian(const vector& q, const vector& v, double t, const vector& u,
+                               const vector& a, matrix& out) const {
+        (void)q, (void)v, (void)t, (void)u, (void)a;
+        const int n = 2 * dimension() + inputs();
+        out.setZero(n, n);
+    }
+
+    /// g(q) (k) and G = ∂g/∂q (k × d). Only called when constraint_count() > 0.
+    virtual void constraint(const vector& q, vector& g, matrix& jac) const {
+        (void)q, (void)g, (void)jac;
+        throw std::logic_error("constraint(): the system has no constraints");
+    }
+    /// Σ_a λ_a ∇²g_a(q) (d × d).
+    virtual void constraint_curvature(const vector& q, const vector& lambda, matrix& out) const {
+        (void)q, (void)lambda, (void)out;
+        throw std::logic_error("constraint_curvature(): the system has no constraints");
+    }
+    /// The Hessian in (q, Λ) ((d + k) square) of −Λᵀ G(q) a + νᵀ g(q).
+    virtual void constraint_hessian(const vector& q, const vector& impulse, const vector& a,
+                                    const vector& nu, matrix& out) const {
+        (void)q, (void)impulse, (void)a, (void)nu, (void)out;
+        throw std::logic_error("constraint_hessian(): the system has no constraints");
+    }
+    /// The momentum p at a node made tangent to the constraints (p − Gᵀμ with G q̇ = 0), and q̇.
+    virtual void tangent(const vector& q, vector& p, vector& v, double t) const {
+        (void)q, (void)p, (void)v, (void)t;
+    }
+
+    /// The general engine's nodes (q above p, 2d × (N + 1)) under the trajectory's controls
+    /// from its start: the closure check (problem.hpp). The optimal library's default steps this
+    /// system's own derivatives (optimal/src/replay_system.cpp).
+    [[nodiscard]] virtual matrix replay(const trajectory& path) const;
+};
+
+/// f = B u with a constant input matrix B (d × m): joint torques, a push.
+class input_matrix {
+  public:
+    explicit input_matrix(matrix b) : b_(std::move(b)) {
+        if (b_.rows() < 1 || b_.cols() < 1 || !b_.allFinite())
+            throw std::invalid_argument("the input matrix must be finite, d x m with m >= 1");
+    }
+    [[nodiscard]] const matrix& b() const { return b_; }
+    void evaluate(const vector& u, input_terms& out, bool jacobians) const {
+        out.f.noalias() = b_ * u;
+        if (!jacobians) return;
+        out.fq.setZero(b_.rows(), b_.rows());
+        out.fv.setZero(b_.rows(), b_.rows());
+        out.fu = b_;
+    }
+
+  private:
+    matrix b_;
+};
+
+} // namespace varsym::optimal

@@ -1,0 +1,131 @@
+// varsym/optimal/transcription.hpp: discrete mechanics and optimal control (DMOC; Ober-Blöbaum,
+// Junge & Marsden 2011) at every member of the variational family, for a system of run-time size
+// (system.hpp): one transcription compiled once in varsym::optimal for every system, whether a
+// URDF robot, a typed Lagrangian or a C++ one (system_of.hpp). The unknowns are the control
+// values Q of every step's polynomial (nodes shared between steps) and the controls u at the
+// steps' quadrature points; the equations are the discrete Lagrange–d'Alembert equations of the
+// trajectory, one per control value, with the boundary momenta; the running cost by the action's
+// quadrature. Exact sparse derivatives from the system's own. See docs/optimal_control.md.
+#pragma once
+
+#include <functional>
+#include <memory>
+
+#include "varsym/optimal/problem.hpp"
+#include "varsym/optimal/system.hpp"
+#include "varsym/schemes/tableau.hpp"
+
+namespace varsym::optimal {
+
+/// The transcription of a control_problem for a controlled_system.
+/// Unknowns x = (Q_0 … Q_{Ns}, u_{0,0} … u_{N−1,r−1}, [v_N], [Λ_0 … Λ_{Ns}], [T]):
+/// Q_g = q((k + d_i) h) for g = k s + i, u_{k,j} = u((k + c_j) h). Equations E_g = 0,
+/// g = 0 … N s, d each:
+///   E_g = Σ_{(k,i): ks+i=g} h Σ_j w_j [ℓ_i(c_j) (∂L/∂q + f)(q_kj, v_kj, u_kj) + ℓ_i'(c_j)/h ∂L/∂q̇]
+///         + [g = 0] p_start − [g = N s] p_end − G(Q_g)ᵀ Λ_g,
+/// with q_kj = Σ_l ℓ_l(c_j) Q_{ks+l}, v_kj = Σ_l ℓ_l'(c_j) Q_{ks+l} / h: the discrete
+/// Lagrange–d'Alembert equations (interior values, nodes between steps) and the discrete
+/// Legendre transforms at both ends; and g(Q_g) = 0 between the ends with constraints. With a
+/// free final state the final velocity v_N is d more unknowns, p_end = ∂L/∂q̇(Q_{Ns}, v_N), and
+/// the free entries of Q_{Ns} and v_N are unbounded; the terminal cost is added.
+class dmoc_transcription final : public transcription {
+  public:
+    dmoc_transcription(std::shared_ptr<const controlled_system> system,
+                       const control_problem& problem);
+
+    [[nodiscard]] const control_problem& problem() const override { return p_; }
+    [[nodiscard]] const controlled_system& system() const { return *sys_; }
+    [[nodiscard]] const galerkin::tableau& table() const { return tab_; }
+    [[nodiscard]] int variables() const override {
+        return multiplier_index(points_) + (p_.free_time ? 1 : 0);
+    }
+    [[nodiscard]] int constraints() const override { return points_ * d_ + (points_ - 2) * k_; }
+
+    void bounds(vector& lower, vector& upper) const override;
+    /// The positions interpolated linearly between the ends (put on the constraints where
+    /// possible), the controls zero (clipped into their bounds).
+    [[nodiscard]] vector start() const override;
+    [[nodiscard]] vector start_along(const std::function<vector(double)>& q) const override;
+    [[nodiscard]] vector start_from(const trajectory& guess) const override;
+
+    [[nodiscard]] double cost(cvector x) const override;
+    void cost_gradient(cvector x, vector& gradient) const override;
+    void residual(cvector x, vector& e) const override;
+    [[nodiscard]] sparsity jacobian_pattern() const override;
+    void jacobian(cvector x, std::vector<double>& values) const override;
+    /// Exact (to the system's third derivatives), except with the invariant cost (whose Hessian
+    /// needs L's fourth derivatives) and with a free final time.
+    [[nodiscard]] bool has_hessian() const override {
+        return p_.cost.invariant == 0.0 && !p_.free_time;
+    }
+    [[nodiscard]] sparsity hessian_pattern() const override;
+    void hessian(cvector x, double sigma, cvector lambda,
+                 std::vector<double>& values) const override;
+    [[nodiscard]] trajectory unpack(const nlp_result& result) const override;
+    [[nodiscard]] Eigen::MatrixXd replay(const trajectory& path) const override {
+        return sys_->replay(path);
+    }
+
+  private:
+    std::shared_ptr<const controlled_system> sys_;
+    control_problem p_;
+    galerkin::tableau tab_;
+    int d_ = 1, m_ = 1, k_ = 0;
+    int s_ = 1, r_ = 1, n_ = 1, points_ = 2;
+    bool free_end_ = false;
+    double h_ = 1.0;
+    vector p_start_, p_end_;
+
+    [[nodiscard]] int control_index(int c) const { return points_ * d_ + c * m_; }
+    [[nodiscard]] int end_velocity_index() const { return points_ * d_ + n_ * r_ * m_; }
+    /// (Q_{Ns}, v_N)'s local index i < 2d as an unknown's.
+    [[nodiscard]] int end_index(int i) const {
+        return i < d_ ? (points_ - 1) * d_ + i : end_velocity_index() + i - d_;
+    }
+    [[nodiscard]] int multiplier_index(int g) const {
+        return end_velocity_index() + (free_end_ ? d_ : 0) + g * k_;
+    }
+    [[nodiscard]] int time_index() const { return multiplier_index(points_); }
+    [[nodiscard]] double h_of(cvector x) const { return p_.free_time ? x(time_index()) / n_ : h_; }
+    /// The unknown of step k's local index: its control values, then its controls.
+    [[nodiscard]] int step_index(int k, int local) const {
+        const int wq = (s_ + 1) * d_;
+        return local < wq ? k * s_ * d_ + local : control_index(k * r_) + (local - wq);
+    }
+    [[nodiscard]] double weight(int j) const {
+        return tab_.quad.weights[static_cast<std::size_t>(j)];
+    }
+    [[nodiscard]] double point_time(int k, int j, double h) const {
+        return (k + tab_.quad.nodes[static_cast<std::size_t>(j)]) * h;
+    }
+    /// q and q̇ at step k's quadrature point j.
+    void point(cvector x, int k, int j, vector& q, vector& v) const;
+    [[nodiscard]] vector control(cvector x, int k, int j) const {
+        return x.segment(control_index(k * r_ + j), m_);
+    }
+    double terminal_cost(cvector x, vector* gradient) const;
+    [[nodiscard]] vector end_momentum(cvector x) const;
+    /// The running cost at step k's point j with its gradient (2d + m) and Hessian in z.
+    double integrand(cvector x, int k, int j, vector* g, matrix* hz) const;
+    void add_step_equations(cvector x, vector& e, bool end_only) const;
+    // The constraints' parts (transcription_constraints.cpp; nothing without constraints).
+    void check_boundary_constraints() const;
+    void add_constraint_residual(cvector x, vector& e) const;
+    void add_constraint_jacobian(cvector x, sparsity* pattern, std::vector<double>* values) const;
+    void add_constraint_hessian(cvector x, cvector lambda, sparsity* pattern,
+                                std::vector<double>* values) const;
+};
+
+/// The running cost c(q, q̇, t, u) (cost_weights: effort, invariant, power) of a system at one
+/// point, with its gradient and Hessian (effort and power only) in z = (q, q̇, u).
+double running_cost(const controlled_system& s, const cost_weights& w, const matrix& effort,
+                    const vector& q, const vector& v, double t, const vector& u, vector* gradient,
+                    matrix* hessian);
+
+/// The transcription of `problem` for `system`.
+inline std::unique_ptr<dmoc_transcription>
+transcribe(std::shared_ptr<const controlled_system> system, const control_problem& problem) {
+    return std::make_unique<dmoc_transcription>(std::move(system), problem);
+}
+
+} // namespace varsym::optimal

@@ -1,0 +1,263 @@
+// optimal/src/transcription_derivatives.cpp: the equations of the DMOC transcription
+// (transcription.hpp), their sparse Jacobian and the Hessian of the Lagrangian, and the
+// trajectory of a result. See transcription.hpp for the unknowns and equations.
+#include <Eigen/LU>
+
+#include "varsym/optimal/transcription.hpp"
+
+namespace varsym::optimal {
+
+void dmoc_transcription::residual(cvector x, vector& e) const {
+    e.setZero(constraints());
+    add_step_equations(x, e, false);
+    e.head(d_) += p_start_;                             // p_0 = −D₁L_d − f⁻
+    e.segment((points_ - 1) * d_, d_) -= end_momentum(x); // p_N = D₂L_d + f⁺
+    add_constraint_residual(x, e);
+}
+
+/// Adds each step's terms to the equations of its control values (the discrete forced
+/// Euler–Lagrange equations), or, if `end_only`, to its last control value's only: then e holds
+/// p_{k+1} = D₂L_d + f⁺ at the nodes, the discrete Legendre transform (unpack).
+void dmoc_transcription::add_step_equations(cvector x, vector& e, bool end_only) const {
+    const double h = h_of(x);
+    lagrangian_terms<dynamic> lt;
+    input_terms ft;
+    vector q, v, lq, lv;
+    for (int k = 0; k < n_; ++k)
+        for (int j = 0; j < r_; ++j) {
+            point(x, k, j, q, v);
+            const double t = point_time(k, j, h);
+            sys_->gradient(q, v, t, lt);
+            sys_->force(q, v, t, control(x, k, j), ft, false);
+            lq = h * weight(j) * (lt.lq + ft.f);
+            lv = weight(j) * lt.lv;
+            for (int i = end_only ? s_ : 0; i <= s_; ++i)
+                e.segment((k * s_ + i) * d_, d_) += tab_.phi(i, j) * lq + tab_.dphi(i, j) * lv;
+        }
+}
+
+sparsity dmoc_transcription::jacobian_pattern() const {
+    sparsity s;
+    const int w = (s_ + 1) * d_;
+    for (int k = 0; k < n_; ++k) {
+        for (int row = 0; row < w; ++row)
+            for (int col = 0; col < w; ++col)
+                s.add(k * s_ * d_ + row, k * s_ * d_ + col);
+        for (int row = 0; row < w; ++row)
+            for (int col = 0; col < r_ * m_; ++col)
+                s.add(k * s_ * d_ + row, control_index(k * r_) + col);
+    }
+    if (p_.free_time) // ∂E/∂T: every equation depends on h = T/N
+        for (int row = 0; row < constraints(); ++row)
+            s.add(row, time_index());
+    for (int row = 0; free_end_ && row < d_; ++row) // −∂L/∂q̇(Q_{Ns}, v_N)
+        for (int col = 0; col < 2 * d_; ++col)
+            s.add((points_ - 1) * d_ + row, end_index(col));
+    add_constraint_jacobian(vector(), &s, nullptr);
+    return s;
+}
+
+void dmoc_transcription::jacobian(cvector x, std::vector<double>& values) const {
+    const double h = h_of(x);
+    const int w = (s_ + 1) * d_;
+    const std::size_t blocks =
+        static_cast<std::size_t>(n_) * static_cast<std::size_t>(w * (w + r_ * m_));
+    const std::size_t end = blocks + (p_.free_time ? static_cast<std::size_t>(constraints()) : 0);
+    values.assign(end + (free_end_ ? static_cast<std::size_t>(2 * d_ * d_) : 0), 0.0);
+    lagrangian_terms<dynamic> lt;
+    if (free_end_) { // −∂L/∂q̇(Q_{Ns}, v_N): −L_q̇q, −L_q̇q̇
+        sys_->derivatives(x.segment((points_ - 1) * d_, d_), x.segment(end_velocity_index(), d_),
+                          n_ * h, lt);
+        for (int row = 0; row < d_; ++row)
+            for (int col = 0; col < 2 * d_; ++col)
+                values[end + static_cast<std::size_t>(row * 2 * d_ + col)] =
+                    col < d_ ? -lt.lqv(col, row) : -lt.lvv(row, col - d_);
+    }
+    matrix bq(w, w), bu(w, r_ * m_), qq, qv, vq, vv;
+    input_terms ft;
+    vector q, v;
+    std::size_t at = 0;
+    for (int k = 0; k < n_; ++k) {
+        bq.setZero();
+        bu.setZero();
+        for (int j = 0; j < r_; ++j) {
+            point(x, k, j, q, v);
+            const double t = point_time(k, j, h);
+            sys_->derivatives(q, v, t, lt);
+            sys_->force(q, v, t, control(x, k, j), ft, true);
+            const double hw = h * weight(j);
+            qq = hw * (lt.lqq + ft.fq);
+            qv = weight(j) * (lt.lqv + ft.fv);
+            vq = weight(j) * lt.lqv.transpose();
+            vv = weight(j) / h * lt.lvv;
+            if (p_.free_time) {
+                // dE_i/dh = w_j [ℓ_i (L_q + f) − ℓ_i (L_qv + f_v) v − ℓ_i'/h L_vv v], v = V/h
+                // (an autonomous system: t = (k + c_j) h is not differentiated); dT = N dh.
+                const vector along = weight(j) * (lt.lq + ft.f - (lt.lqv + ft.fv) * v),
+                             across = -weight(j) / h * (lt.lvv * v);
+                for (int i = 0; i <= s_; ++i)
+                    for (int a = 0; a < d_; ++a)
+                        values[blocks + static_cast<std::size_t>((k * s_ + i) * d_ + a)] +=
+                            (tab_.phi(i, j) * along(a) + tab_.dphi(i, j) * across(a)) / n_;
+            }
+            for (int i = 0; i <= s_; ++i) {
+                const double pi = tab_.phi(i, j), di = tab_.dphi(i, j);
+                for (int l = 0; l <= s_; ++l) {
+                    const double pl = tab_.phi(l, j), dl = tab_.dphi(l, j);
+                    bq.block(i * d_, l * d_, d_, d_) +=
+                        pi * pl * qq + pi * dl * qv + di * pl * vq + di * dl * vv;
+                }
+                bu.block(i * d_, j * m_, d_, m_) += hw * pi * ft.fu;
+            }
+        }
+        for (int row = 0; row < w; ++row)
+            for (int col = 0; col < w; ++col)
+                values[at++] = bq(row, col);
+        for (int row = 0; row < w; ++row)
+            for (int col = 0; col < r_ * m_; ++col)
+                values[at++] = bu(row, col);
+    }
+    add_constraint_jacobian(x, nullptr, &values);
+}
+
+/// Lower triangle of each step's dense block over its control values and its controls; with a
+/// free final state, of the block over (Q_{Ns}, v_N).
+sparsity dmoc_transcription::hessian_pattern() const {
+    sparsity s;
+    const int w = (s_ + 1) * d_ + r_ * m_;
+    for (int k = 0; k < n_; ++k)
+        for (int row = 0; row < w; ++row)
+            for (int col = 0; col <= row; ++col)
+                s.add(step_index(k, row), step_index(k, col));
+    for (int row = 0; free_end_ && row < 2 * d_; ++row)
+        for (int col = 0; col <= row; ++col)
+            s.add(end_index(row), end_index(col));
+    add_constraint_hessian(vector(), vector(), &s, nullptr);
+    return s;
+}
+
+/// σ ∇²J + Σ_g λ_gᵀ ∇²E_g: each quadrature point's h w_j ψ with ψ = aᵀ(∂L/∂q + f) +
+/// (b/h)ᵀ ∂L/∂q̇, a = Σ_i ℓ_i(c_j) λ_{ks+i}, b = Σ_i ℓ_i'(c_j) λ_{ks+i}, pulled back to
+/// (Q_{ks} … Q_{ks+s}, u_kj) through z = (q, v, u) = G (Q, u).
+void dmoc_transcription::hessian(cvector x, double sigma, cvector lambda,
+                                 std::vector<double>& values) const {
+    const double h = h_of(x);
+    const int w = (s_ + 1) * d_ + r_ * m_, wq = (s_ + 1) * d_, nz = 2 * d_ + m_;
+    values.assign(static_cast<std::size_t>(n_) * static_cast<std::size_t>(w * (w + 1) / 2), 0.0);
+    matrix hk(w, w), g = matrix::Zero(nz, w), hz, hc, third, gh(w, nz);
+    vector q, v, a, b;
+    std::size_t at = 0;
+    for (int k = 0; k < n_; ++k) {
+        hk.setZero();
+        for (int j = 0; j < r_; ++j) {
+            point(x, k, j, q, v);
+            a.setZero(d_);
+            b.setZero(d_);
+            for (int i = 0; i <= s_; ++i) {
+                a += tab_.phi(i, j) * lambda.segment((k * s_ + i) * d_, d_);
+                b += tab_.dphi(i, j) / h * lambda.segment((k * s_ + i) * d_, d_);
+            }
+            const double t = point_time(k, j, h);
+            const vector u = control(x, k, j);
+            (void)running_cost(*sys_, p_.cost, p_.effort, q, v, t, u, nullptr, &hc);
+            sys_->force_hessian(q, v, t, u, a, hz);
+            hz += sigma * hc;
+            sys_->third(q, v, t, a, b, third);
+            hz.topLeftCorner(2 * d_, 2 * d_) += third;
+            g.setZero();
+            for (int l = 0; l <= s_; ++l) {
+                g.block(0, l * d_, d_, d_).diagonal().setConstant(tab_.phi(l, j));
+                g.block(d_, l * d_, d_, d_).diagonal().setConstant(tab_.dphi(l, j) / h);
+            }
+            g.block(2 * d_, wq + j * m_, m_, m_).setIdentity();
+            gh.noalias() = g.transpose() * hz;
+            hk.noalias() += h * weight(j) * (gh * g);
+        }
+        for (int row = 0; row < w; ++row)
+            for (int col = 0; col <= row; ++col)
+                values[at++] = hk(row, col);
+    }
+    if (free_end_) {
+        // −λ_Nᵀ ∂L/∂q̇(Q_{Ns}, v_N) and σ times the terminal cost, over (Q_{Ns}, v_N).
+        const vector lambda_end = lambda.segment((points_ - 1) * d_, d_);
+        matrix he;
+        sys_->third(x.segment((points_ - 1) * d_, d_), x.segment(end_velocity_index(), d_),
+                    n_ * h, vector::Zero(d_), -lambda_end, he);
+        vector diag(2 * d_);
+        diag << p_.cost.terminal_position, p_.cost.terminal_velocity;
+        he.diagonal() += sigma * diag;
+        for (int row = 0; row < 2 * d_; ++row)
+            for (int col = 0; col <= row; ++col)
+                values.push_back(he(row, col));
+    }
+    add_constraint_hessian(x, lambda, nullptr, &values);
+}
+
+namespace {
+
+/// q̇ with ∂L/∂q̇(q, q̇, t) = p, by Newton's iteration from q̇ = M(q, 0)⁻¹ p (exact in one step for
+/// L quadratic in q̇).
+vector velocity_of(const controlled_system& s, const vector& q, const vector& p, double t) {
+    vector v = vector::Zero(q.size());
+    lagrangian_terms<dynamic> lt;
+    for (int it = 0; it < 50; ++it) {
+        s.derivatives(q, v, t, lt);
+        const vector r = lt.lv - p;
+        if (it > 0 && r.lpNorm<Eigen::Infinity>() <= 1e-14 * std::max(1.0, p.lpNorm<Eigen::Infinity>()))
+            break;
+        v -= lt.lvv.partialPivLu().solve(r);
+    }
+    return v;
+}
+
+} // namespace
+
+trajectory dmoc_transcription::unpack(const nlp_result& result) const {
+    const vector& x = result.x;
+    if (x.size() != variables())
+        throw std::invalid_argument("unpack: the result has " + std::to_string(x.size()) +
+                                    " unknowns, the transcription " + std::to_string(variables()) +
+                                    " (" + result.message + ")");
+    const double h = h_of(x);
+    trajectory out;
+    out.scheme = p_.scheme;
+    out.h = h;
+    out.degree = s_;
+    out.control_nodes = tab_.control;
+    out.cost = cost(x);
+    out.points.resize(d_, points_);
+    for (int g = 0; g < points_; ++g)
+        out.points.col(g) = x.segment(g * d_, d_);
+    out.node_times.resize(n_ + 1);
+    out.q.resize(d_, n_ + 1);
+    out.p.resize(d_, n_ + 1);
+    out.v.resize(d_, n_ + 1);
+    out.costate.resize(d_, n_ + 1);
+    // p_{k+1} = D₂L_d + f⁺: step k's contribution to its end node's equation.
+    vector e_end = vector::Zero(constraints());
+    add_step_equations(x, e_end, true);
+    for (int n = 0; n <= n_; ++n) {
+        out.node_times(n) = n * h;
+        const vector q = x.segment(n * s_ * d_, d_);
+        vector p = n == 0 ? p_start_ : vector(e_end.segment(n * s_ * d_, d_));
+        vector v = velocity_of(*sys_, q, p, n * h);
+        if (k_ > 0 && n > 0) sys_->tangent(q, p, v, n * h);
+        out.q.col(n) = q;
+        out.p.col(n) = p;
+        out.v.col(n) = v;
+        if (result.lambda.size() == constraints())
+            out.costate.col(n) = -result.lambda.segment(n * s_ * d_, d_);
+        else
+            out.costate.col(n).setConstant(std::nan(""));
+    }
+    out.control_times.resize(n_ * r_);
+    out.u.resize(m_, n_ * r_);
+    for (int k = 0; k < n_; ++k)
+        for (int j = 0; j < r_; ++j) {
+            out.control_times(k * r_ + j) = point_time(k, j, h);
+            out.u.col(k * r_ + j) = control(x, k, j);
+        }
+    return out;
+}
+
+} // namespace varsym::optimal
