@@ -12,7 +12,7 @@
 #include <cmath>
 
 #include "simulation_of.hpp"
-#include "varsym/optimal/system_of.hpp"
+#include "varsym/optimal/input_system.hpp"
 
 namespace varsym::models::defs {
 
@@ -102,8 +102,9 @@ model acrobot() {
     m.controls = {"u [N m]: torque at the elbow, on q2"};
     m.input_parameter = "torque";
     m.optimal = [](std::span<const double> v, const lists&, const optimal::control_problem& p) {
-        return std::unique_ptr<optimal::transcription>(optimal::transcribe(
-            acrobot_lagrangian{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]}, elbow_torque{}, p));
+        return std::unique_ptr<optimal::transcription>(optimal::transcribe_inputs(
+            acrobot_lagrangian{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]},
+            optimal::matrix{{0.0}, {1.0}}, p)); // u on q2: f = (0, u)
     };
     return m;
 }

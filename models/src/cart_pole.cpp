@@ -12,7 +12,7 @@
 #include <cmath>
 
 #include "simulation_of.hpp"
-#include "varsym/optimal/system_of.hpp"
+#include "varsym/optimal/input_system.hpp"
 
 namespace varsym::models::defs {
 
@@ -104,8 +104,9 @@ model cart_pole() {
     m.controls = {"u [N]: horizontal push on the cart"};
     m.input_parameter = "push";
     m.optimal = [](std::span<const double> v, const lists&, const optimal::control_problem& p) {
-        return std::unique_ptr<optimal::transcription>(optimal::transcribe(
-            cart_pole_lagrangian{v[0], v[1], v[2], v[3], v[4]}, push_on_cart{}, p));
+        return std::unique_ptr<optimal::transcription>(optimal::transcribe_inputs(
+            cart_pole_lagrangian{v[0], v[1], v[2], v[3], v[4]}, optimal::matrix{{1.0}, {0.0}},
+            p)); // the push on x: f = (u, 0)
     };
     return m;
 }

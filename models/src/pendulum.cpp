@@ -4,7 +4,7 @@
 #include <optional>
 
 #include "simulation_of.hpp"
-#include "varsym/optimal/system_of.hpp"
+#include "varsym/optimal/input_system.hpp"
 #include "varsym/problems/pendulum.hpp"
 
 namespace varsym::models::defs {
@@ -19,13 +19,6 @@ struct pendulum_under_torque {
     T operator()(const tvec<T, 1>& q, const tvec<T, 1>& v) const {
         using std::cos;
         return 0.5 * mass * v(0) * v(0) - mass * omega * omega * (1.0 - cos(q(0)));
-    }
-};
-struct pivot_torque { // u [N m] on q
-    static constexpr int dim = 1, controls = 1;
-    template <class T>
-    tvec<T, 1> operator()(const tvec<T, 1>&, const tvec<T, 1>&, double, const tvec<T, 1>& u) const {
-        return u;
     }
 };
 
@@ -91,7 +84,7 @@ model pendulum() {
     m.controls = {"u [N m]: torque at the pivot"};
     m.optimal = [](std::span<const double> v, const lists&, const optimal::control_problem& p) {
         return std::unique_ptr<optimal::transcription>(
-            optimal::transcribe(pendulum_under_torque{v[0], v[1]}, pivot_torque{}, p));
+            optimal::transcribe_inputs(pendulum_under_torque{v[0], v[1]}, optimal::matrix{{1.0}}, p));
     };
     return m;
 }

@@ -1,0 +1,94 @@
+// varsym/optimal/input_system.hpp: a Lagrangian L driven by inputs through a constant input
+// matrix, f = B u (joint torques, a push, the inputs on named coordinates of a typed
+// Lagrangian), as a controlled_system (system.hpp) for the one compiled transcription. L's first
+// and second derivatives are its own (by hand, as a URDF robot's recursive ones and a typed
+// Lagrangian's symbolic ones, or automatic for a C++ Lagrangian of fixed dimension, the ones its
+// simulation already uses); the third derivatives the exact Hessian needs are a central
+// difference of the exact second ones (controlled_system::third). Instantiating it costs a model
+// little more than its simulation does (docs/optimal_control.md: build times).
+#pragma once
+
+#include <memory>
+#include <utility>
+
+#include "varsym/optimal/transcription.hpp"
+#include "varsym/systems/lagrangian.hpp"
+#include "varsym/systems/lagrangian_time.hpp"
+
+namespace varsym::optimal {
+
+template <lagrangian L>
+class input_system final : public controlled_system {
+  public:
+    static constexpr int D = L::dim;
+
+    /// L and the input matrix B (d × m: column j is the generalized force of unit input j).
+    input_system(L l, matrix b) : l_(std::move(l)), b_(std::move(b)) {
+        if (b_.b().rows() != dimension())
+            throw std::invalid_argument("the input matrix has " +
+                                        std::to_string(b_.b().rows()) + " rows; the system has " +
+                                        std::to_string(dimension()) + " coordinates");
+    }
+
+    [[nodiscard]] const L& lagrangian() const { return l_; }
+    [[nodiscard]] int dimension() const override {
+        if constexpr (D == dynamic)
+            return l_.dimension();
+        else
+            return D;
+    }
+    [[nodiscard]] int inputs() const override { return static_cast<int>(b_.b().cols()); }
+    [[nodiscard]] bool time_dependent() const override {
+        if constexpr (lagrangian_time_known<L>)
+            return depends_on_time(l_);
+        else
+            return time_dependent_lagrangian<L>;
+    }
+
+    void gradient(const vector& q, const vector& v, double t,
+                  lagrangian_terms<dynamic>& out) const override {
+        if constexpr (D == dynamic) {
+            evaluate_gradient(l_, q, v, t, out);
+        } else {
+            lagrangian_terms<D> lt;
+            evaluate_gradient(l_, vec<D>(q), vec<D>(v), t, lt);
+            out.value = lt.value;
+            out.lq = lt.lq;
+            out.lv = lt.lv;
+        }
+    }
+    void derivatives(const vector& q, const vector& v, double t,
+                     lagrangian_terms<dynamic>& out) const override {
+        if constexpr (D == dynamic) {
+            evaluate(l_, q, v, t, out);
+        } else {
+            lagrangian_terms<D> lt;
+            evaluate(l_, vec<D>(q), vec<D>(v), t, lt);
+            out.value = lt.value;
+            out.lq = lt.lq;
+            out.lv = lt.lv;
+            out.lqq = lt.lqq;
+            out.lqv = lt.lqv;
+            out.lvv = lt.lvv;
+        }
+    }
+    void force(const vector& q, const vector& v, double t, const vector& u, input_terms& out,
+               bool jacobians) const override {
+        (void)q, (void)v, (void)t;
+        b_.evaluate(u, out, jacobians);
+    }
+
+  private:
+    L l_;
+    input_matrix b_;
+};
+
+/// The transcription of `problem` for L driven by f = B u.
+template <lagrangian L>
+std::unique_ptr<dmoc_transcription> transcribe_inputs(L l, matrix b,
+                                                      const control_problem& problem) {
+    return transcribe(std::make_shared<const input_system<L>>(std::move(l), std::move(b)),
+                      problem);
+}
+
+} // namespace varsym::optimal
