@@ -100,7 +100,7 @@ model acrobot() {
             0.0, 0.0, ex, ey, ex + l2 * std::sin(q[0] + q[1]), ey - l2 * std::cos(q[0] + q[1])};
     };
     m.controls = {"u [N m]: torque at the elbow, on q2"};
-    m.input_parameter = "torque";
+    m.simulation_only = {"torque"};
     m.optimal = [](std::span<const double> v, const lists&, const optimal::control_problem& p) {
         return std::unique_ptr<optimal::transcription>(optimal::transcribe_inputs(
             acrobot_lagrangian{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]},

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "simulation_of.hpp"
+#include "varsym/optimal/input_system.hpp"
 #include "varsym/problems/arm.hpp"
 
 namespace varsym::models::defs {
@@ -124,6 +125,35 @@ model arm() {
                                        out[3] = (b * x.q - r).lpNorm<Eigen::Infinity>();
                                    }});
         });
+    };
+    // Optimal control: the joint torques tau (one per joint, on the joint angles phi = B th:
+    // the generalized force B^T tau), with the joints' damping B^T C B; the controller's lists
+    // and parameters are a simulation's only.
+    m.controls = {"tau_i [N m]: the torque at joint i (between links i-1 and i), i = 1 ... n"};
+    m.simulation_only = {"move_time", "no_gravity_compensation", "kp", "kd", "target"};
+    m.optimal = [](std::span<const double> v, const lists& l, const optimal::control_problem& p) {
+        const std::vector<double> masses = l[0].empty() ? std::vector<double>{1, 1, 1} : l[0];
+        const auto n = masses.size();
+        const int d = static_cast<int>(n);
+        if (l[1].empty() && n != 3)
+            throw std::invalid_argument("give the lengths of the " + std::to_string(n) + " links");
+        for (std::size_t i : {1U, 2U, 3U})
+            if (!l[i].empty() && l[i].size() != n)
+                throw std::invalid_argument(std::string(i == 1   ? "lengths"
+                                                        : i == 2 ? "inertias"
+                                                                 : "damping") +
+                                            " needs " + std::to_string(n) +
+                                            " values (one per link), got " +
+                                            std::to_string(l[i].size()));
+        const std::vector<double> lengths =
+            l[1].empty() ? std::vector<double>{1.0, 0.8, 0.6} : l[1];
+        const std::vector<double> damping = l[3].empty() ? std::vector<double>(n, 0.5) : l[3];
+        const arm::lagrangian lag(masses, lengths, v[0], l[2]);
+        const mat<dynamic> b = arm::joint_map(d);
+        const vec<dynamic> c = Eigen::Map<const vec<dynamic>>(damping.data(), d);
+        return std::unique_ptr<optimal::transcription>(
+            optimal::transcribe_inputs(lag, optimal::matrix(b.transpose()), p,
+                                       optimal::matrix(b.transpose() * c.asDiagonal() * b)));
     };
     return m;
 }

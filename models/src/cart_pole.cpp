@@ -102,7 +102,7 @@ model cart_pole() {
             l * std::cos(q[1])};
     };
     m.controls = {"u [N]: horizontal push on the cart"};
-    m.input_parameter = "push";
+    m.simulation_only = {"push"};
     m.optimal = [](std::span<const double> v, const lists&, const optimal::control_problem& p) {
         return std::unique_ptr<optimal::transcription>(optimal::transcribe_inputs(
             cart_pole_lagrangian{v[0], v[1], v[2], v[3], v[4]}, optimal::matrix{{1.0}, {0.0}},

@@ -9,9 +9,10 @@
 
 #include "simulation_of.hpp"
 #include "varsym/models/robot.hpp"
-#include "varsym/systems/expression_force.hpp"
 #include "varsym/multibody/lagrangian.hpp"
+#include "varsym/optimal/input_system.hpp"
 #include "varsym/problems/arm.hpp"
+#include "varsym/systems/expression_force.hpp"
 
 namespace varsym::models {
 
@@ -67,33 +68,39 @@ model robot_model(std::shared_ptr<const multibody::model> r,
     m.dim = n;
     for (const auto& b : r->bodies)
         m.coordinates += (m.coordinates.empty() ? "" : ", ") + b.name;
-    m.parameters = {
-        {.name = "gravity", .value = 9.81, .unit = "m/s^2", .doc = "gravity along -z", .lower = 0.0},
-        {.name = "no_damping",
-         .value = 0.0,
-         .doc = "leave the URDF's joint damping out",
-         .lower = 0.0,
-         .upper = 1.0,
-         .flag = true},
-        {.name = "move_time",
-         .value = 2.0,
-         .unit = "s",
-         .doc = "duration of the PD controller's minimum-jerk move to the target",
-         .lower = 0.0,
-         .lower_open = true},
-        {.name = "no_gravity_compensation",
-         .value = 0.0,
-         .doc = "leave gravity out of the PD controller",
-         .lower = 0.0,
-         .upper = 1.0,
-         .flag = true}};
-    m.lists = {
-        {.name = "kp", .unit = "N m/rad", .doc = "PD proportional gain per joint (none: no PD)",
-         .lower = 0.0},
-        {.name = "kd", .unit = "N m s/rad", .doc = "PD derivative gain per joint (0 each)",
-         .lower = 0.0},
-        {.name = "target", .unit = "rad", .doc = "PD target joint positions (the start)"},
-        {.name = "torque", .unit = "N m", .doc = "constant joint torques (0 each)"}};
+    m.parameters = {{.name = "gravity",
+                     .value = 9.81,
+                     .unit = "m/s^2",
+                     .doc = "gravity along -z",
+                     .lower = 0.0},
+                    {.name = "no_damping",
+                     .value = 0.0,
+                     .doc = "leave the URDF's joint damping out",
+                     .lower = 0.0,
+                     .upper = 1.0,
+                     .flag = true},
+                    {.name = "move_time",
+                     .value = 2.0,
+                     .unit = "s",
+                     .doc = "duration of the PD controller's minimum-jerk move to the target",
+                     .lower = 0.0,
+                     .lower_open = true},
+                    {.name = "no_gravity_compensation",
+                     .value = 0.0,
+                     .doc = "leave gravity out of the PD controller",
+                     .lower = 0.0,
+                     .upper = 1.0,
+                     .flag = true}};
+    m.lists = {{.name = "kp",
+                .unit = "N m/rad",
+                .doc = "PD proportional gain per joint (none: no PD)",
+                .lower = 0.0},
+               {.name = "kd",
+                .unit = "N m s/rad",
+                .doc = "PD derivative gain per joint (0 each)",
+                .lower = 0.0},
+               {.name = "target", .unit = "rad", .doc = "PD target joint positions (the start)"},
+               {.name = "torque", .unit = "N m", .doc = "constant joint torques (0 each)"}};
     m.time = 5.0;
     m.steps = 5000;
     m.ensemble_time = 5.0;
@@ -113,9 +120,8 @@ model robot_model(std::shared_ptr<const multibody::model> r,
         robot_at->gravity = multibody::vec3(0.0, 0.0, -v[0]);
         const robot lag(robot_at);
         const robot_system sys(lag);
-        const phase_state<dynamic> x0 =
-            detail::general_start(sys, s, vec<dynamic>(vec<dynamic>::Zero(n)),
-                                  vec<dynamic>(vec<dynamic>::Zero(n)));
+        const phase_state<dynamic> x0 = detail::general_start(
+            sys, s, vec<dynamic>(vec<dynamic>::Zero(n)), vec<dynamic>(vec<dynamic>::Zero(n)));
         vec<dynamic> damping(n);
         for (int i = 0; i < n; ++i)
             damping(i) = v[1] != 0.0 ? 0.0 : r->bodies[static_cast<std::size_t>(i)].limits.damping;
@@ -146,8 +152,8 @@ model robot_model(std::shared_ptr<const multibody::model> r,
         if (!forced) {
             pr.simulate = [sys, x0, columns](const step_options& o) {
                 detail::check_general(o);
-                return detail::simulate_general(
-                    general::stepper<robot>(sys, o.h, o.spec, o.newton), x0, columns());
+                return detail::simulate_general(general::stepper<robot>(sys, o.h, o.spec, o.newton),
+                                                x0, columns());
             };
             return pr;
         }
@@ -179,12 +185,68 @@ model robot_model(std::shared_ptr<const multibody::model> r,
         pr.simulate = [sys, f, x0, columns](const step_options& o) {
             detail::check_general(o);
             return detail::simulate_general(
-                general::stepper<robot, robot_force>(sys, f, o.h, o.spec, o.newton), x0,
-                columns());
+                general::stepper<robot, robot_force>(sys, f, o.h, o.spec, o.newton), x0, columns());
         };
         return pr;
     };
+    // Optimal control: the torques (forces) of the actuated joints, those whose URDF effort is
+    // positive, with the URDF's joint damping; its effort and position limits are the bounds.
+    m.controls = {"u [N m or N]: the torque (force) at each actuated joint (URDF effort > 0)"};
+    m.simulation_only = {"move_time", "no_gravity_compensation", "kp", "kd", "target", "torque"};
+    m.optimal = [r](std::span<const double> v, const lists&, const optimal::control_problem& p) {
+        const auto actuated = actuated_joints(*r);
+        if (actuated.empty())
+            throw std::invalid_argument("no joint of " + r->name +
+                                        " is actuated (its URDF effort is 0 for every joint): "
+                                        "nothing to control");
+        const int d = r->dof();
+        optimal::matrix b = optimal::matrix::Zero(d, static_cast<Eigen::Index>(actuated.size()));
+        optimal::matrix c = optimal::matrix::Zero(d, d);
+        for (std::size_t j = 0; j < actuated.size(); ++j)
+            b(actuated[j], static_cast<Eigen::Index>(j)) = 1.0;
+        for (int i = 0; i < d && v[1] == 0.0; ++i)
+            c(i, i) = r->bodies[static_cast<std::size_t>(i)].limits.damping;
+        auto robot_at = std::make_shared<multibody::model>(*r);
+        robot_at->gravity = multibody::vec3(0.0, 0.0, -v[0]);
+        return std::unique_ptr<optimal::transcription>(
+            optimal::transcribe_inputs(robot(robot_at), std::move(b), p, std::move(c)));
+    };
+    m.limits = [r](std::span<const double>, optimal::control_problem& p) {
+        const auto actuated = actuated_joints(*r);
+        const int d = r->dof(), inputs = static_cast<int>(actuated.size());
+        const auto unbounded = [](const vec<dynamic>& lo, const vec<dynamic>& hi) {
+            return (lo.array() == -optimal::unbounded).all() &&
+                   (hi.array() == optimal::unbounded).all();
+        };
+        if (unbounded(p.control_lower, p.control_upper)) {
+            p.control_lower.resize(inputs);
+            p.control_upper.resize(inputs);
+            for (int j = 0; j < inputs; ++j) {
+                const double e =
+                    r->bodies[static_cast<std::size_t>(actuated[static_cast<std::size_t>(j)])]
+                        .limits.effort;
+                p.control_lower(j) = -e;
+                p.control_upper(j) = e;
+            }
+        }
+        if (unbounded(p.position_lower, p.position_upper)) {
+            p.position_lower.resize(d);
+            p.position_upper.resize(d);
+            for (int i = 0; i < d; ++i) {
+                const auto& l = r->bodies[static_cast<std::size_t>(i)].limits;
+                p.position_lower(i) = l.lower;
+                p.position_upper(i) = l.upper;
+            }
+        }
+    };
     return m;
+}
+
+std::vector<int> actuated_joints(const multibody::model& r) {
+    std::vector<int> out;
+    for (int i = 0; i < r.dof(); ++i)
+        if (r.bodies[static_cast<std::size_t>(i)].limits.effort > 0.0) out.push_back(i);
+    return out;
 }
 
 const model& robot_options() {

@@ -62,7 +62,7 @@ void dmoc_transcription::bounds(vector& lower, vector& upper) const {
         upper.segment(g * d_, d_) = p_.position_upper;
     }
     lower.head(d_) = upper.head(d_) = p_.q_start; // fixed ends
-    for (int i = 0; i < d_; ++i) {                 // the end: fixed, or free within the bounds
+    for (int i = 0; i < d_; ++i) {                // the end: fixed, or free within the bounds
         if (p_.free_end_position[static_cast<std::size_t>(i)]) continue;
         lower((points_ - 1) * d_ + i) = upper((points_ - 1) * d_ + i) = p_.q_end(i);
     }
@@ -113,9 +113,9 @@ vector dmoc_transcription::start_along(const std::function<vector(double)>& q) c
     vector x = start();
     for (int g = 1; g + 1 < points_; ++g) {
         const vector at = q((g / s_ + tab_.control[static_cast<std::size_t>(g % s_)]) * h_);
-        detail::require(at.size() == d_ && at.allFinite(),
-                        "the guessed path must give " + std::to_string(d_) +
-                            " finite coordinates at every time");
+        detail::require(at.size() == d_ && at.allFinite(), "the guessed path must give " +
+                                                               std::to_string(d_) +
+                                                               " finite coordinates at every time");
         x.segment(g * d_, d_) = at;
     }
     return x;

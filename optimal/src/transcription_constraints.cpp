@@ -35,7 +35,8 @@ void dmoc_transcription::check_boundary_constraints() const {
             throw std::invalid_argument(buf);
         }
         const double scale = jac.lpNorm<Eigen::Infinity>(), tolerance = 1e-10;
-        const double off = g.lpNorm<Eigen::Infinity>(), across = (jac * v).lpNorm<Eigen::Infinity>();
+        const double off = g.lpNorm<Eigen::Infinity>(),
+                     across = (jac * v).lpNorm<Eigen::Infinity>();
         if (!(off <= tolerance * scale * std::max(1.0, q.lpNorm<Eigen::Infinity>()))) {
             std::snprintf(buf, sizeof buf,
                           "the %s position violates the constraints (max |g(q)| = %.3g): give a "
@@ -103,12 +104,11 @@ void dmoc_transcription::add_constraint_hessian(cvector x, cvector lambda, spars
     for (int n = 0; k_ > 0 && n < points_; ++n) {
         if (values) {
             const bool inner = n > 0 && n + 1 < points_;
-            sys_->constraint_hessian(
-                x.segment(n * d_, d_), x.segment(multiplier_index(n), k_),
-                lambda.segment(n * d_, d_),
-                inner ? vector(lambda.segment(points_ * d_ + (n - 1) * k_, k_))
-                      : vector(vector::Zero(k_)),
-                h);
+            sys_->constraint_hessian(x.segment(n * d_, d_), x.segment(multiplier_index(n), k_),
+                                     lambda.segment(n * d_, d_),
+                                     inner ? vector(lambda.segment(points_ * d_ + (n - 1) * k_, k_))
+                                           : vector(vector::Zero(k_)),
+                                     h);
         }
         for (int row = 0; row < d_ + k_; ++row)
             for (int col = 0; col <= std::min(row, d_ - 1); ++col) // Λ×Λ is zero

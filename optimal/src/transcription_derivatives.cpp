@@ -10,7 +10,7 @@ namespace varsym::optimal {
 void dmoc_transcription::residual(cvector x, vector& e) const {
     e.setZero(constraints());
     add_step_equations(x, e, false);
-    e.head(d_) += p_start_;                             // p_0 = −D₁L_d − f⁻
+    e.head(d_) += p_start_;                               // p_0 = −D₁L_d − f⁻
     e.segment((points_ - 1) * d_, d_) -= end_momentum(x); // p_N = D₂L_d + f⁺
     add_constraint_residual(x, e);
 }
@@ -181,8 +181,8 @@ void dmoc_transcription::hessian(cvector x, double sigma, cvector lambda,
         // −λ_Nᵀ ∂L/∂q̇(Q_{Ns}, v_N) and σ times the terminal cost, over (Q_{Ns}, v_N).
         const vector lambda_end = lambda.segment((points_ - 1) * d_, d_);
         matrix he;
-        sys_->third(x.segment((points_ - 1) * d_, d_), x.segment(end_velocity_index(), d_),
-                    n_ * h, vector::Zero(d_), -lambda_end, he);
+        sys_->third(x.segment((points_ - 1) * d_, d_), x.segment(end_velocity_index(), d_), n_ * h,
+                    vector::Zero(d_), -lambda_end, he);
         vector diag(2 * d_);
         diag << p_.cost.terminal_position, p_.cost.terminal_velocity;
         he.diagonal() += sigma * diag;
@@ -203,7 +203,8 @@ vector velocity_of(const controlled_system& s, const vector& q, const vector& p,
     for (int it = 0; it < 50; ++it) {
         s.derivatives(q, v, t, lt);
         const vector r = lt.lv - p;
-        if (it > 0 && r.lpNorm<Eigen::Infinity>() <= 1e-14 * std::max(1.0, p.lpNorm<Eigen::Infinity>()))
+        if (it > 0 &&
+            r.lpNorm<Eigen::Infinity>() <= 1e-14 * std::max(1.0, p.lpNorm<Eigen::Infinity>()))
             break;
         v -= lt.lvv.partialPivLu().solve(r);
     }

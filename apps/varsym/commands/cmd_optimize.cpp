@@ -8,16 +8,21 @@
 #include <cstdio>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <memory>
 #include <span>
 
 #include "commands.hpp"
+#include "expression_options.hpp"
 #include "files.hpp"
+#include "models.hpp"
 #include "optimize_problem.hpp"
 #include "plot.hpp"
 #include "registry_models.hpp"
 #include "shared_options.hpp"
 #include "signals.hpp"
+#include "varsym/models/expression.hpp"
+#include "varsym/models/robot.hpp"
 #include "varsym/optimal/problem.hpp"
 #include "varsym/optimal/solution_check.hpp"
 #include "varsym/optimal/solve.hpp"
@@ -125,7 +130,37 @@ figure optimize_plot(const models::model& m, std::span<const double> values,
     return fig;
 }
 
-void optimize(const optimize_options& o) {
+/// The model of --model, --urdf or --lagrangian (with --inputs), with its parameter values.
+std::shared_ptr<const models::model> optimize_model(const optimize_options& o,
+                                                    std::vector<double>& values) {
+    if (o.model == "urdf") {
+        auto robot = robot_model_of(urdf_spec{o.urdf, ""});
+        values = o.parameters->values(*robot);
+        return robot;
+    }
+    if (o.model == "lagrangian") {
+        if (o.lagrangian.empty())
+            throw usage_error("--model lagrangian needs --lagrangian EXPR and --inputs NAMES");
+        if (o.inputs.empty())
+            throw usage_error("--lagrangian needs --inputs: the coordinates the controls act on, "
+                              "comma-separated (e.g. --inputs th1,th2)");
+        const auto coordinates = split_list(o.coordinates, "--coordinates", "th1,th2");
+        const auto parameters = parse_parameters(o.expression_parameters);
+        const auto inputs = split_list(o.inputs, "--inputs", "th1,th2");
+        try {
+            auto m = models::expression_model(o.lagrangian, coordinates, parameters);
+            models::add_expression_inputs(m, o.lagrangian, coordinates, parameters, inputs);
+            values = m.defaults();
+            return std::make_shared<const models::model>(std::move(m));
+        } catch (const usage_error&) {
+            throw;
+        } catch (const std::exception& e) { // a parse error, a bad name, an input not a coordinate
+            throw usage_error(std::string("--lagrangian: ") + e.what());
+        }
+    }
+    if (!o.urdf.empty() || !o.lagrangian.empty())
+        throw usage_error(std::string(o.urdf.empty() ? "--lagrangian" : "--urdf") +
+                          " gives the model itself: leave --model " + o.model + " out");
     const models::model& m = [&]() -> const models::model& {
         try {
             return models::get(o.model);
@@ -138,30 +173,39 @@ void optimize(const optimize_options& o) {
         for (const auto& other : models::registry())
             if (other.optimal) with += (with.empty() ? "" : ", ") + other.name;
         throw usage_error("model " + m.name +
-                          " has no control input to optimise; models with "
-                          "inputs: " +
-                          with);
+                          " has no control input to optimise; models with inputs: " + with +
+                          ", and a URDF robot (--urdf) or a typed L (--lagrangian --inputs)");
     }
-    // Another model's parameter, or the one that holds the input constant in a simulation
-    // (which the optimiser computes), would be silently dropped: refused, as `run` refuses them.
+    values = o.parameters->values(m);
+    return unowned(m);
+}
+
+void optimize(const optimize_options& o) {
+    if (o.model.empty())
+        throw usage_error("optimize needs --model NAME, --urdf FILE or --lagrangian EXPR");
+    std::vector<double> values;
+    const auto model = optimize_model(o, values);
+    const models::model& m = *model;
+    // Another model's parameter, or one only a simulation uses (the parameter that holds the
+    // input constant, which the optimiser computes; a controller's gains) would be silently
+    // dropped: refused, as `run` refuses them.
     for (const std::string& name : o.parameters->given_names()) {
         const bool own = std::any_of(m.parameters.begin(), m.parameters.end(),
                                      [&](const auto& p) { return p.option_name() == name; }) ||
                          std::any_of(m.lists.begin(), m.lists.end(),
                                      [&](const auto& l) { return l.option_name() == name; });
         if (!own)
-            throw usage_error("--" + name + " is not a parameter of --model " + m.name +
+            throw usage_error("--" + name + " is not a parameter of " + m.name +
                               " (see 'varsym models')");
-        if (!m.input_parameter.empty() &&
-            m.parameters[static_cast<std::size_t>(m.parameter_index(m.input_parameter))]
-                    .option_name() == name)
-            throw usage_error("--" + name + " holds " + m.name +
-                              "'s input constant in a simulation; optimize computes the input "
-                              "(bound it with --max-control)");
+        for (std::string only : m.simulation_only)
+            if (std::replace(only.begin(), only.end(), '_', '-'); only == name)
+                throw usage_error("--" + name + " is a simulation's parameter of " + m.name +
+                                  "; optimize computes the inputs (bound them with "
+                                  "--max-control)");
     }
-    const std::vector<double> values = o.parameters->values(m);
     const models::lists lists = o.parameters->lists(m);
-    const optimal::control_problem p = problem_of(o, m, values, lists);
+    optimal::control_problem p = problem_of(o, m, values, lists);
+    if (m.limits && !o.no_limits) m.limits(values, p); // a robot's URDF limits
     std::unique_ptr<optimal::transcription> tr;
     try {
         (void)m.prepare(values, {}, lists); // the parameters' ranges
@@ -282,10 +326,11 @@ void add_optimize_command(CLI::App& app, action& todo) {
         "the integral of u^2/2), by\n"
         "discrete mechanics and optimal control: the scheme's discrete Lagrange-d'Alembert\n"
         "equations are the constraints of a sparse nonlinear program solved by IPOPT (exact\n"
-        "first and second derivatives). Models with inputs: acrobot (elbow torque), cart-pole\n"
-        "(push on the cart), pendulum (torque at the pivot). Writes the nodes (t, q, v, p and the "
-        "costates lambda of the\n"
-        "momenta) to --output, and u at each step's quadrature points to --controls. The\n"
+        "first and second derivatives). Models with inputs: acrobot (elbow torque), arm (joint\n"
+        "torques), cart-pole (push on the cart), pendulum (torque at the pivot), a URDF robot\n"
+        "(--urdf: its actuated joints' torques within the URDF's limits) and a typed Lagrangian\n"
+        "(--lagrangian with --inputs). Writes the nodes (t, q, v, p and the costates lambda of\n"
+        "the momenta) to --output, and u at each step's quadrature points to --controls. The\n"
         "optimum found is local: another --scheme or --steps can reach another one.\n"
         "--free-end frees final coordinates; --terminal-weight pulls them towards --to.\n"
         "Exit codes: 0 solved; 2 bad input; 3 not solved (infeasible, iteration limit: the\n"
@@ -294,8 +339,26 @@ void add_optimize_command(CLI::App& app, action& todo) {
         "iterate kept).\n"
         "See docs/optimal_control.md.");
     cmd->add_option("--model", o->model,
-                    "A model with control inputs (acrobot, cart-pole, pendulum)")
-        ->required();
+                    "A model with control inputs: acrobot, arm, cart-pole, pendulum; urdf (implied "
+                    "by --urdf) or lagrangian (implied by --lagrangian)");
+    cmd->add_option("--urdf", o->urdf,
+                    "A robot's URDF file: the inputs are the torques (forces) of its actuated "
+                    "joints (URDF effort > 0), bounded by their efforts; the joints' position "
+                    "limits bound q (--no-limits drops both)");
+    cmd->add_flag("--no-limits", o->no_limits,
+                  "urdf: leave the URDF's joint position and effort limits out (--max-control "
+                  "still bounds the torques)");
+    cmd->add_option("--lagrangian", o->lagrangian,
+                    "A Lagrangian L typed as an expression (Python syntax) over --coordinates, "
+                    "their velocities NAME_dot, t and --parameters; its inputs: --inputs");
+    cmd->add_option("--coordinates", o->coordinates,
+                    "lagrangian: the coordinates' names, comma-separated")
+        ->capture_default_str();
+    cmd->add_option("--parameters", o->expression_parameters,
+                    "lagrangian: parameters of the expression, NAME=VALUE,...");
+    cmd->add_option("--inputs", o->inputs,
+                    "lagrangian: the coordinates the inputs act on, one input each (a generalized "
+                    "force in the units of dL/dq there), e.g. th1,th2");
     cmd->add_option("--time", o->time, "Horizon T [s]")->required()->transform(positive_number);
     cmd->add_option("--steps", o->steps, "Steps N of h = T/N")
         ->transform(positive_integer)
@@ -363,16 +426,38 @@ void add_optimize_command(CLI::App& app, action& todo) {
                     "\"acrobot\", to = [3.14159, 0], refine = 2); the command line wins");
     // Only the parameters of the models with inputs: the others' would be refused anyway.
     o->parameters->add(*cmd, [](const models::model& m) { return static_cast<bool>(m.optimal); });
-    // The parameters that hold an input constant in a simulation (--push, --torque) are what
-    // optimize computes: hidden from --help, and refused with a word when given (optimize()).
+    // The parameters only a simulation uses (--push, --torque, a controller's --kp) are hidden
+    // from --help where no model with inputs optimises with them, and refused with a word when
+    // given (optimize()).
+    std::vector<const models::model*> all;
     for (const auto& m : models::registry())
-        if (m.optimal && !m.input_parameter.empty())
-            if (auto* opt = cmd->get_option_no_throw(
-                    "--" + m.parameters[static_cast<std::size_t>(
-                                             m.parameter_index(m.input_parameter))]
-                               .option_name()))
-                opt->group("");
-    cmd->callback([o, &todo] { todo = [o] { optimize(*o); }; });
+        all.push_back(&m);
+    all.push_back(&models::robot_options());
+    std::map<std::string, bool> used; // option name → whether an optimisation uses it
+    for (const models::model* m : all) {
+        if (!m->optimal) continue;
+        const auto note = [&](const std::string& key) {
+            std::string name = key;
+            std::replace(name.begin(), name.end(), '_', '-');
+            const bool only = std::find(m->simulation_only.begin(), m->simulation_only.end(),
+                                        key) != m->simulation_only.end();
+            used[name] = used[name] || !only;
+        };
+        for (const auto& p : m->parameters)
+            note(p.name);
+        for (const auto& l : m->lists)
+            note(l.name);
+    }
+    for (const auto& [name, optimising] : used)
+        if (!optimising)
+            if (auto* opt = cmd->get_option_no_throw("--" + name)) opt->group("");
+    cmd->callback([o, cmd, &todo] {
+        if (cmd->count("--model") == 0) {
+            if (!o->urdf.empty()) o->model = "urdf";
+            if (!o->lagrangian.empty()) o->model = "lagrangian";
+        }
+        todo = [o] { optimize(*o); };
+    });
 }
 
 } // namespace varsym::cli

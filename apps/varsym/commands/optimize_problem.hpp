@@ -29,6 +29,9 @@ struct optimize_options {
     std::vector<std::string> plot;
     bool quiet = false;
     std::shared_ptr<parameter_options> parameters = std::make_shared<parameter_options>();
+    std::string urdf; ///< --urdf FILE: the model `urdf`
+    std::string lagrangian, coordinates = "q", expression_parameters, inputs; ///< `lagrangian`
+    bool no_limits = false; ///< --no-limits: a robot's URDF limits left out
 };
 
 /// --ipopt-options FILE, read before any file is made: an unreadable file or an option IPOPT

@@ -72,4 +72,14 @@ model expression_model(const std::string& text, const std::vector<std::string>& 
 model expression_model(const expression_lagrangian& l, const std::vector<std::string>& force = {},
                        const std::vector<std::string>& constraints = {});
 
+/// Gives the model `lagrangian` m (made by expression_model from `text`, `coordinates` and
+/// `parameters`, without force or constraints) control inputs: input j is a generalized force on
+/// the coordinate named inputs[j] (units of ∂L/∂q there). Sets m.controls and m.optimal (the
+/// transcription over L's symbolic derivatives at the parameters' values). Throws
+/// std::invalid_argument for a name that is not a coordinate, or one given twice.
+void add_expression_inputs(model& m, const std::string& text,
+                           const std::vector<std::string>& coordinates,
+                           const std::vector<expression_parameter>& parameters,
+                           const std::vector<std::string>& inputs);
+
 } // namespace varsym::models

@@ -144,16 +144,20 @@ struct model {
     std::function<problem(std::span<const double>, const start&, const models::lists&)> make;
     /// Where the model has control inputs (the acrobot's elbow torque): their names with units
     /// ("u [N m], torque at the elbow"; one line may stand for one input per coordinate, as the
-    /// arm's), and the transcription of an optimal control problem (varsym/optimal/dmoc.hpp) at
+    /// arm's), and the transcription of an optimal control problem (varsym/optimal/transcription.hpp) at
     /// the parameters' values and lists (empty: the defaults). Empty where it has none.
     std::vector<std::string> controls;
-    /// The parameter that holds the input constant in a simulation (the cart-pole's push, the
-    /// acrobot's torque): an optimisation computes the input instead, and refuses it. Empty:
-    /// none.
-    std::string input_parameter;
+    /// The parameters and lists (by name) that only a simulation uses: the one that holds the
+    /// input constant (the cart-pole's push, the acrobot's torque), which an optimisation
+    /// computes instead, and a controller's gains and target. An optimisation refuses them.
+    std::vector<std::string> simulation_only;
     std::function<std::unique_ptr<optimal::transcription>(
         std::span<const double>, const models::lists&, const optimal::control_problem&)>
         optimal;
+    /// The model's own bounds for an optimal control problem at the parameters' values (a URDF
+    /// robot's joint position limits and torque limits, its `effort`), put into the problem's
+    /// position and control bounds where those are unbounded. Empty: none.
+    std::function<void(std::span<const double>, optimal::control_problem&)> limits;
     /// Where the model is a linkage to draw (the pictures of `varsym optimize`): the polyline
     /// of its joints at q, as x0, y0, x1, y1, … [m], from the parameters' values. May be empty.
     std::function<std::vector<double>(std::span<const double>, std::span<const double>)> pose;

@@ -43,6 +43,11 @@ std::shared_ptr<const multibody::model> parse_urdf(std::string_view xml,
 model robot_model(std::shared_ptr<const multibody::model> r,
                   const std::vector<std::string>& torques = {});
 
+/// The actuated joints of a robot (their indices in q): those whose URDF effort is positive.
+/// robot_model's optimal control has one input per actuated joint, its torque (force),
+/// bounded by the effort; its `limits` are the joints' position limits and efforts.
+std::vector<int> actuated_joints(const multibody::model& r);
+
 /// The parameters and lists that robot_model gives every robot (a one-joint robot's model), for
 /// a front end that declares its options before it reads a URDF file.
 const model& robot_options();

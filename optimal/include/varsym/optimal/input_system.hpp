@@ -1,11 +1,11 @@
 // varsym/optimal/input_system.hpp: a Lagrangian L driven by inputs through a constant input
-// matrix, f = B u (joint torques, a push, the inputs on named coordinates of a typed
-// Lagrangian), as a controlled_system (system.hpp) for the one compiled transcription. L's first
-// and second derivatives are its own (by hand, as a URDF robot's recursive ones and a typed
-// Lagrangian's symbolic ones, or automatic for a C++ Lagrangian of fixed dimension, the ones its
-// simulation already uses); the third derivatives the exact Hessian needs are a central
-// difference of the exact second ones (controlled_system::third). Instantiating it costs a model
-// little more than its simulation does (docs/optimal_control.md: build times).
+// matrix, with optional linear damping: f = B u − C q̇ (joint torques, a push, the inputs on named
+// coordinates of a typed Lagrangian), as a controlled_system (system.hpp) for the one compiled
+// transcription. L's first and second derivatives are its own (by hand, as a URDF robot's recursive
+// ones and a typed Lagrangian's symbolic ones, or automatic for a C++ Lagrangian of fixed
+// dimension, the ones its simulation already uses); the third derivatives the exact Hessian needs
+// are a central difference of the exact second ones (controlled_system::third). Instantiating it
+// costs a model little more than its simulation does (docs/optimal_control.md: build times).
 #pragma once
 
 #include <memory>
@@ -22,12 +22,17 @@ class input_system final : public controlled_system {
   public:
     static constexpr int D = L::dim;
 
-    /// L and the input matrix B (d × m: column j is the generalized force of unit input j).
-    input_system(L l, matrix b) : l_(std::move(l)), b_(std::move(b)) {
-        if (b_.b().rows() != dimension())
-            throw std::invalid_argument("the input matrix has " +
-                                        std::to_string(b_.b().rows()) + " rows; the system has " +
-                                        std::to_string(dimension()) + " coordinates");
+    /// L, the input matrix B (d × m: column j is the generalized force of unit input j) and
+    /// the damping C (d × d, symmetric positive semi-definite [N m s/rad, N s/m]; empty: none).
+    input_system(L l, matrix b, matrix damping = {})
+        : l_(std::move(l)), b_(std::move(b)), c_(std::move(damping)) {
+        const int d = dimension();
+        if (b_.b().rows() != d)
+            throw std::invalid_argument("the input matrix has " + std::to_string(b_.b().rows()) +
+                                        " rows; the system has " + std::to_string(d) +
+                                        " coordinates");
+        if (c_.size() != 0 && (c_.rows() != d || c_.cols() != d || !c_.allFinite()))
+            throw std::invalid_argument("the damping matrix must be finite and d x d");
     }
 
     [[nodiscard]] const L& lagrangian() const { return l_; }
@@ -74,21 +79,26 @@ class input_system final : public controlled_system {
     }
     void force(const vector& q, const vector& v, double t, const vector& u, input_terms& out,
                bool jacobians) const override {
-        (void)q, (void)v, (void)t;
+        (void)q, (void)t;
         b_.evaluate(u, out, jacobians);
+        if (c_.size() == 0) return;
+        out.f.noalias() -= c_ * v;
+        if (jacobians) out.fv = -c_;
     }
 
   private:
     L l_;
     input_matrix b_;
+    matrix c_;
 };
 
-/// The transcription of `problem` for L driven by f = B u.
+/// The transcription of `problem` for L driven by f = B u − C q̇.
 template <lagrangian L>
-std::unique_ptr<dmoc_transcription> transcribe_inputs(L l, matrix b,
-                                                      const control_problem& problem) {
-    return transcribe(std::make_shared<const input_system<L>>(std::move(l), std::move(b)),
-                      problem);
+std::unique_ptr<dmoc_transcription> transcribe_inputs(L l, matrix b, const control_problem& problem,
+                                                      matrix damping = {}) {
+    return transcribe(
+        std::make_shared<const input_system<L>>(std::move(l), std::move(b), std::move(damping)),
+        problem);
 }
 
 } // namespace varsym::optimal

@@ -38,8 +38,8 @@ class controlled_system {
     controlled_system& operator=(controlled_system&&) = default;
     virtual ~controlled_system() = default;
 
-    [[nodiscard]] virtual int dimension() const = 0; ///< d
-    [[nodiscard]] virtual int inputs() const = 0;    ///< m
+    [[nodiscard]] virtual int dimension() const = 0;                 ///< d
+    [[nodiscard]] virtual int inputs() const = 0;                    ///< m
     [[nodiscard]] virtual int constraint_count() const { return 0; } ///< k
     /// Whether L depends on t explicitly (then a free final time is refused).
     [[nodiscard]] virtual bool time_dependent() const { return false; }
@@ -55,8 +55,8 @@ class controlled_system {
     /// along w (step 6e-6 max(1, |z|)/|w|, relative error about 1e-10 on smooth L: an exact
     /// Hessian of the NLP's Lagrangian to that accuracy); systems with exact third derivatives
     /// override it (system_of.hpp by automatic differentiation).
-    virtual void third(const vector& q, const vector& v, double t, const vector& a,
-                       const vector& b, matrix& out) const {
+    virtual void third(const vector& q, const vector& v, double t, const vector& a, const vector& b,
+                       matrix& out) const {
         const int d = dimension();
         out.setZero(2 * d, 2 * d);
         const double size = std::max(a.lpNorm<Eigen::Infinity>(), b.lpNorm<Eigen::Infinity>());

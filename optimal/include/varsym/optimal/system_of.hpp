@@ -69,8 +69,8 @@ class system_of final : public controlled_system {
         out.fv = ft.fv;
         out.fu = ft.fu;
     }
-    void force_hessian(const vector& q, const vector& v, double t, const vector& u,
-                       const vector& a, matrix& out) const override {
+    void force_hessian(const vector& q, const vector& v, double t, const vector& u, const vector& a,
+                       matrix& out) const override {
         out = contracted_force_hessian(f_, vec<D>(q), vec<D>(v), t, vec<M>(u), vec<D>(a));
     }
 
@@ -142,8 +142,8 @@ std::unique_ptr<dmoc_transcription> transcribe(L l, F force, const control_probl
 template <lagrangian L, holonomic_constraint C, control_force F>
 std::unique_ptr<dmoc_transcription> transcribe(L l, C constraints, F force,
                                                const control_problem& problem) {
-    return transcribe(std::make_shared<const system_of<L, F, C>>(
-                          std::move(l), std::move(force), std::move(constraints)),
+    return transcribe(std::make_shared<const system_of<L, F, C>>(std::move(l), std::move(force),
+                                                                 std::move(constraints)),
                       problem);
 }
 

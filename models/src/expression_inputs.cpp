@@ -1,0 +1,47 @@
+// models/src/expression_inputs.cpp: optimal control of a Lagrangian typed as an expression (the
+// model `lagrangian`): its inputs are generalized forces on named coordinates, transcribed by
+// varsym::optimal's one transcription over the typed L's symbolic derivatives.
+#include <algorithm>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include "varsym/models/expression.hpp"
+#include "varsym/optimal/input_system.hpp"
+
+namespace varsym::models {
+
+void add_expression_inputs(model& m, const std::string& text,
+                           const std::vector<std::string>& coordinates,
+                           const std::vector<expression_parameter>& parameters,
+                           const std::vector<std::string>& inputs) {
+    if (inputs.empty()) return;
+    const auto d = static_cast<Eigen::Index>(coordinates.size());
+    optimal::matrix b = optimal::matrix::Zero(d, static_cast<Eigen::Index>(inputs.size()));
+    std::set<std::string> seen;
+    m.controls.clear();
+    for (std::size_t j = 0; j < inputs.size(); ++j) {
+        const auto at = std::find(coordinates.begin(), coordinates.end(), inputs[j]);
+        if (at == coordinates.end()) {
+            std::string names;
+            for (const auto& c : coordinates)
+                names += (names.empty() ? "" : ", ") + c;
+            throw std::invalid_argument("the input '" + inputs[j] +
+                                        "' is not a coordinate; the coordinates: " + names);
+        }
+        if (!seen.insert(inputs[j]).second)
+            throw std::invalid_argument("the input '" + inputs[j] + "' is given twice");
+        b(at - coordinates.begin(), static_cast<Eigen::Index>(j)) = 1.0;
+        m.controls.push_back("u" + std::to_string(j + 1) + ": the generalized force on " +
+                             inputs[j] + " (units of dL/d" + inputs[j] + ")");
+    }
+    m.optimal = [=](std::span<const double> v, const lists&, const optimal::control_problem& p) {
+        std::vector<expression_parameter> given = parameters;
+        for (std::size_t i = 0; i < given.size(); ++i)
+            given[i].value = v[i];
+        return std::unique_ptr<optimal::transcription>(
+            optimal::transcribe_inputs(expression_lagrangian(text, coordinates, given), b, p));
+    };
+}
+
+} // namespace varsym::models
