@@ -76,7 +76,7 @@ double invariant(const controlled_system& s, double weight, const vector& q, con
 
 } // namespace
 
-double running_cost(const controlled_system& s, const cost_weights& w, const matrix& effort,
+double running_cost_at(const controlled_system& s, const cost_weights& w, const matrix& effort,
                     const vector& q, const vector& v, double t, const vector& u, vector* gradient,
                     matrix* hessian) {
     const int d = static_cast<int>(q.size()), m = static_cast<int>(u.size()), n = 2 * d + m;

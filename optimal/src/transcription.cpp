@@ -185,7 +185,7 @@ vector dmoc_transcription::end_momentum(cvector x) const {
 double dmoc_transcription::integrand(cvector x, int k, int j, vector* g, matrix* hz) const {
     vector q, v;
     point(x, k, j, q, v);
-    return running_cost(*sys_, p_.cost, p_.effort, q, v, point_time(k, j, h_of(x)),
+    return running_cost_at(*sys_, p_.cost, p_.effort, q, v, point_time(k, j, h_of(x)),
                         control(x, k, j), g, hz);
 }
 

@@ -159,7 +159,7 @@ void dmoc_transcription::hessian(cvector x, double sigma, cvector lambda,
             }
             const double t = point_time(k, j, h);
             const vector u = control(x, k, j);
-            (void)running_cost(*sys_, p_.cost, p_.effort, q, v, t, u, nullptr, &hc);
+            (void)running_cost_at(*sys_, p_.cost, p_.effort, q, v, t, u, nullptr, &hc);
             sys_->force_hessian(q, v, t, u, a, hz);
             hz += sigma * hc;
             sys_->third(q, v, t, a, b, third);

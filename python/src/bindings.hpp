@@ -21,6 +21,8 @@ void bind_ensemble(pybind11::module_& m);
 
 /// URDF robots: varsym._core._Robot (robot.cpp).
 void bind_robot(pybind11::module_& m);
+/// The model of a _Robot, or nullptr if `h` is not one (robot.cpp).
+const varsym::models::model* robot_model_of(pybind11::handle h);
 /// A model's data as the Python registry gives it: name, parameters, lists, dim, … (simulation.cpp).
 pybind11::dict model_info(const varsym::models::model& mod);
 /// The members of model `mod`, one row of `values` each (and of q0 and p0 where given), on

@@ -1,5 +1,6 @@
-// python/src/optimal.cpp: varsym._core.optimize, the optimal control of a model with inputs
-// (varsym/optimal/dmoc.hpp through the model's own transcription, solved by varsym::optimal).
+// python/src/optimal.cpp: varsym._core.optimize, the optimal control of a model with inputs, a
+// URDF robot or a typed Lagrangian with inputs on named coordinates (varsym::optimal's one
+// transcription, varsym/optimal/transcription.hpp, through the model's m.optimal).
 // The solver runs without the GIL; each iteration takes it back to report progress and to see
 // Ctrl-C (KeyboardInterrupt stops the solver, which keeps its last iterate).
 #include <pybind11/eigen.h>
@@ -11,6 +12,7 @@
 #include <optional>
 
 #include "bindings.hpp"
+#include "varsym/models/expression.hpp"
 #include "varsym/models/model.hpp"
 #include "varsym/optimal/problem.hpp"
 #include "varsym/optimal/solution_check.hpp"
@@ -21,7 +23,8 @@ using namespace varsym;
 
 namespace {
 
-py::dict optimize(const std::string& name, const std::vector<double>& values,
+py::dict optimize(const py::object& source, const std::vector<std::string>& inputs, bool limits,
+                  std::vector<double> values,
                   const models::lists& lists, double time, int steps, const std::string& scheme,
                   int degree, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
                   const Eigen::VectorXd& q1, const Eigen::VectorXd& v1, double max_control,
@@ -30,7 +33,23 @@ py::dict optimize(const std::string& name, const std::vector<double>& values,
                   const Eigen::VectorXd& terminal_q, const Eigen::VectorXd& terminal_v,
                   const std::string& hessian, int max_iterations, int refine,
                   const std::optional<py::function>& progress, const std::string& ipopt_options) {
-    const models::model& m = models::get(name);
+    // The model: a registry name, a _Robot's, or a _Lagrangian's with its inputs.
+    std::optional<models::model> typed;
+    const models::model* found = robot_model_of(source);
+    if (py::isinstance<py::str>(source)) {
+        found = &models::get(source.cast<std::string>());
+    } else if (py::isinstance<expression_lagrangian>(source)) {
+        const auto& l = source.cast<const expression_lagrangian&>();
+        if (inputs.empty())
+            throw std::invalid_argument("a Lagrangian needs inputs: the coordinates the controls "
+                                        "act on, e.g. inputs=[\"th1\", \"th2\"]");
+        typed = models::expression_model(l);
+        models::add_expression_inputs(*typed, l.text(), l.coordinates(), l.parameters(), inputs);
+        found = &*typed;
+        values = typed->defaults();
+    }
+    if (found == nullptr) throw std::invalid_argument("optimize: not a model");
+    const models::model& m = *found;
     if (!m.optimal)
         throw std::invalid_argument("model " + m.name + " has no control input to optimise");
     (void)m.prepare(values, {}, lists); // the parameters' ranges
@@ -50,6 +69,7 @@ py::dict optimize(const std::string& name, const std::vector<double>& values,
     p.cost.terminal_velocity = terminal_v;
     p.control_lower = Eigen::VectorXd::Constant(1, -max_control); // on every input
     p.control_upper = Eigen::VectorXd::Constant(1, max_control);
+    if (limits && m.limits) m.limits(values, p); // a URDF robot's joint and effort limits
     auto tr = m.optimal(values, lists, p);
     optimal::solver_options so;
     so.max_iterations = max_iterations;

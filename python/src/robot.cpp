@@ -38,6 +38,10 @@ struct robot {
 
 } // namespace
 
+const models::model* robot_model_of(py::handle h) {
+    return py::isinstance<robot>(h) ? &h.cast<const robot&>().model : nullptr;
+}
+
 void bind_robot(py::module_& m) {
     py::class_<robot>(m, "_Robot")
         .def(py::init([](const std::string& source, bool text,

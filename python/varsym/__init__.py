@@ -22,9 +22,9 @@ from ._trajectory import Trajectory
 from ._simulate import Model, Stepper, simulate
 from ._robot import Robot
 from ._run import Table, call, figure_data, models, run, table1
-from ._optimize import SolverError, optimize
+from ._optimize import OptimalControl, SolverError, optimize
 
 __all__ = ["simulate", "Model", "Robot", "Stepper", "Trajectory", "Lagrangian", "run", "table1",
            "figure_data", "models", "call", "Table", "Error", "UsageError", "ExpressionError",
-           "StepFailure", "EnergyError", "Interrupted", "SolverError", "optimize",
+           "StepFailure", "EnergyError", "Interrupted", "SolverError", "optimize", "OptimalControl",
            "__version__"]

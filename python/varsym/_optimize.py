@@ -1,4 +1,5 @@
-"""varsym.optimize: optimal control of a built-in model with inputs (docs/optimal_control.md)."""
+"""varsym.optimize: optimal control of a built-in model with inputs, a URDF robot (varsym.Robot) or
+a typed Lagrangian with inputs on named coordinates (docs/optimal_control.md)."""
 
 import math
 import os
@@ -6,6 +7,8 @@ import os
 import numpy as np
 
 from . import _core
+from ._lagrangian import Lagrangian
+from ._robot import Robot
 from ._simulate import Model
 from .errors import Error, Interrupted, UsageError
 
@@ -70,37 +73,121 @@ def _free_end(free_end, d):
     return free["q"], free["v"], weights["q"], weights["v"]
 
 
+class OptimalControl:
+    """The optimal motion optimize returns (or the last iterate, in SolverError.partial).
+
+    At the nodes t (N + 1): q, v, p and costate (λ_p, the discrete adjoint of the momenta), each
+    an array (N + 1) × d. At the steps' quadrature points control_t (N r): u, (N r) × m.
+    cost; status ("solved", "acceptable", "infeasible", "iteration_limit", "failed",
+    "interrupted"); message (IPOPT's); iterations; constraint_violation (varsym's own max |g|);
+    controls_at_bound (how many control values sit on their bound); closure (the general
+    engine's replay of the controls against q) and trusted (the closure within 1e-6).
+    ``coordinates`` and ``inputs`` name the columns of q and u. ``result["q"]`` also works."""
+
+    _FIELDS = ("t", "q", "v", "p", "costate", "control_t", "u", "cost", "status", "message",
+               "iterations", "constraint_violation", "closure", "trusted", "controls_at_bound")
+
+    def __init__(self, raw, name, coordinates, inputs):
+        for key in self._FIELDS:
+            setattr(self, key, raw[key])
+        self.model = name
+        self.coordinates = list(coordinates)
+        self.inputs = list(inputs)
+        self._advice = raw["closure_advice"]
+
+    def __getitem__(self, key):
+        if key not in self._FIELDS:
+            raise KeyError(key)
+        return getattr(self, key)
+
+    def keys(self):
+        return list(self._FIELDS)
+
+    def __repr__(self):
+        return (f"<OptimalControl {self.model}: {self.status}, cost {self.cost:.10g}, "
+                f"N = {len(self.t) - 1}, {self.iterations} iterations, closure {self.closure:.1e}>")
+
+    def plot(self, path=None):
+        """A figure of the coordinates over time and the controls at the quadrature points
+        (matplotlib); saved to ``path`` (.png, .svg, .pdf) if given. Returns the figure."""
+        import matplotlib  # noqa: PLC0415 (optional: only for pictures)
+        if path is not None:
+            matplotlib.use("Agg")
+        import matplotlib.pyplot as plt  # noqa: PLC0415
+
+        fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+        for i, name in enumerate(self.coordinates):
+            top.plot(self.t, self.q[:, i], label=name)
+        top.set_ylabel("q")
+        top.set_title(f"{self.model}: optimal motion, cost {self.cost:.6g}")
+        top.legend(loc="center left", bbox_to_anchor=(1.0, 0.5), fontsize="small")
+        for j, name in enumerate(self.inputs):
+            bottom.plot(self.control_t, self.u[:, j], ".-", ms=2, label=name)
+        bottom.set_ylabel("u")
+        bottom.set_xlabel("t [s]")
+        bottom.legend(loc="center left", bbox_to_anchor=(1.0, 0.5), fontsize="small")
+        fig.tight_layout()
+        if path is not None:
+            fig.savefig(os.fspath(path), dpi=120)
+            plt.close(fig)
+        return fig
+
+
 def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
              scheme="simpson", degree=None, max_control=None, cost="effort", free_end=None,
              hessian="automatic", max_iterations=3000, refine=0, progress=False,
-             ipopt_options=None, **parameters):
-    """The controls that take ``model`` (a name or a Model with inputs: "acrobot", "cart-pole",
-    "pendulum")
-    from (q_start, v_start) at t = 0 to (q_end, v_end) at t = ``time`` at the least cost, by
-    discrete mechanics and optimal control with ``steps`` steps of ``scheme`` (velocities
-    default to rest). ``cost``: "effort" (∫ u²/2), "invariant" (∫ τᵀM⁻¹τ/2), "power" (∫ Σ|τ_i
+             ipopt_options=None, inputs=None, limits=True, **parameters):
+    """The controls that take ``model`` from (q_start, v_start) at t = 0 to (q_end, v_end) at
+    t = ``time`` at the least cost, by discrete mechanics and optimal control with ``steps``
+    steps of ``scheme`` (velocities default to rest). ``model``: a name or Model with inputs
+    ("acrobot", "arm", "cart-pole", "pendulum"); a varsym.Robot (the inputs: the torques of its
+    actuated joints, those with URDF effort > 0, bounded by their efforts; the joints' position
+    limits bound q; ``limits=False`` drops both); or a varsym.Lagrangian with ``inputs``, the
+    names of the coordinates the controls act on (a generalized force each).
+    ``cost``: "effort" (∫ u²/2), "invariant" (∫ τᵀM⁻¹τ/2), "power" (∫ Σ|τ_i
     q̇_i|, smoothed), "time" (minimum time: ``time`` is then the first guess of a free horizon;
     needs ``max_control``), or a dict of weights such as {"power": 1, "effort": 0.01}.
-    ``max_control``: a bound |u| ≤ U on every input. ``free_end``: final coordinates left free,
-    "q1", "v2", … (from 1) in a list or string, or a dict of them to terminal weights w, each
-    adding w (x(T) − its q_end or v_end)²/2 to the cost. ``refine``: K levels of mesh refinement
-    (solve with steps/2^K first, then double up to ``steps``, each from the previous
-    solution). ``progress``: True for a bar, or a function progress(iteration, cost,
-    infeasibility). Returns a dict of arrays: t, q, v, p and costate
-    (λ_p) at the nodes; control_t and u at the quadrature points; cost, status, message,
-    iterations, constraint_violation (varsym's max |g|), controls_at_bound (how many control
-    values sit on max_control) and closure (the general engine's replay of the controls
-    against the nodes). Raises SolverError (``partial``: the last iterate) when it is not
-    solved, or when the replay misses the optimal motion by more than 1e-6 (steps too coarse
-    for the motion: the optimum rides on a spurious root of the step equations), and
-    varsym.Interrupted (``partial``) on Ctrl-C. ``ipopt_options``: an IPOPT options file (its
-    ipopt.opt format), read over varsym's options; IPOPT reads no other. Whatever it loosens,
-    the answer must pass varsym's own check (the equations re-evaluated, the bounds, every
-    boundary value and the replay), or SolverError."""
-    m = model if isinstance(model, Model) else Model(model, **parameters)
-    if isinstance(model, Model) and parameters:
-        m = Model(model, **parameters)
-    d = m.dim
+    ``max_control``: a bound |u| ≤ U on every input (over a robot's efforts). ``free_end``:
+    final coordinates left free, "q1", "v2", … (from 1) in a list or string, or a dict of them
+    to terminal weights w, each adding w (x(T) − its q_end or v_end)²/2 to the cost.
+    ``refine``: K levels of mesh refinement (solve with steps/2^K first, then double up to
+    ``steps``, each from the previous solution). ``progress``: True for a bar, or a function
+    progress(iteration, cost, infeasibility). Returns an OptimalControl. Raises SolverError
+    (``partial``: the last iterate) when it is not solved, or when the replay misses the
+    optimal motion by more than 1e-6 (steps too coarse for the motion: the optimum rides on a
+    spurious root of the step equations), and varsym.Interrupted (``partial``) on Ctrl-C.
+    ``ipopt_options``: an IPOPT options file (its ipopt.opt format), read over varsym's
+    options; IPOPT reads no other. Whatever it loosens, the answer must pass varsym's own check
+    (the equations re-evaluated, the bounds, every boundary value and the replay), or
+    SolverError."""
+    if isinstance(model, Lagrangian):
+        if parameters:
+            raise UsageError("optimize: a Lagrangian's parameters are given when it is made: "
+                             "Lagrangian(expression, coordinates, {name: value})")
+        if inputs is None:
+            raise UsageError("optimize: a Lagrangian needs inputs, the coordinates the controls "
+                             "act on, e.g. inputs=[\"th1\", \"th2\"]")
+        inputs = [inputs] if isinstance(inputs, str) else [str(x) for x in inputs]
+        source, values, lists = model._core, [], []
+        name, d, coordinates, names = "lagrangian", len(model.coordinates), model.coordinates, \
+            inputs
+    else:
+        if inputs is not None:
+            raise UsageError("optimize: inputs= names the inputs of a Lagrangian; a model's "
+                             "inputs are its own")
+        if isinstance(model, Robot):
+            m = Robot(model, **parameters) if parameters else model
+            source = m._core
+        else:
+            m = model if isinstance(model, Model) else Model(model, **parameters)
+            if isinstance(model, Model) and parameters:
+                m = Model(model, **parameters)
+            source = m.name
+        values, lists = m._values(), m._lists()
+        name, d = m.name, m.dim
+        coordinates = list(getattr(m, "coordinates", None) or
+                           [f"q{i + 1}" for i in range(d)])
+        names = None
     weights = _costs(cost)
     if weights["time"] > 0 and max_control is None:
         raise UsageError("optimize: a cost on the time needs max_control (with unbounded inputs "
@@ -108,13 +195,14 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
     bar, callback = None, progress if callable(progress) else None
     if progress is True:
         from tqdm import tqdm
-        bar = tqdm(desc=f"optimize {m.name}", unit=" it")
+        bar = tqdm(desc=f"optimize {name}", unit=" it")
 
         def callback(iteration, value, infeasibility):
             bar.update(1)
             bar.set_postfix(cost=f"{value:.6g}", infeasibility=f"{infeasibility:.1e}")
     try:
-        out = _core.optimize(m.name, m._values(), m._lists(), float(time), int(steps), scheme, degree or 0,
+        raw = _core.optimize(source, names or [], bool(limits), values, lists, float(time),
+                             int(steps), scheme, degree or 0,
                              _vector(q_start, d, "q_start"), _vector(v_start, d, "v_start", 0.0),
                              _vector(q_end, d, "q_end"), _vector(v_end, d, "v_end", 0.0),
                              math.inf if max_control is None else float(max_control),
@@ -124,13 +212,15 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
     finally:
         if bar is not None:
             bar.close()
-    if out["interrupted"]:
-        raise Interrupted(f"optimize interrupted after {out['iterations']} iterations; the last "
+    m_inputs = raw["u"].shape[1] if raw["u"].ndim == 2 else 1
+    out = OptimalControl(raw, name, coordinates,
+                         names or [f"u{j + 1}" for j in range(m_inputs)])
+    if raw["interrupted"]:
+        raise Interrupted(f"optimize interrupted after {out.iterations} iterations; the last "
                           "iterate is in .partial", partial=out)
-    if out["status"] not in ("solved", "acceptable"):
-        raise SolverError(f"optimize: {out['status']}: {out['message']}", partial=out)
-    if not out["trusted"]:
-        raise SolverError(f"optimize: not trusted: {out['closure_advice']}".replace("--steps",
-                                                                                    "steps"),
+    if out.status not in ("solved", "acceptable"):
+        raise SolverError(f"optimize: {out.status}: {out.message}", partial=out)
+    if not out.trusted:
+        raise SolverError(f"optimize: not trusted: {out._advice}".replace("--steps", "steps"),
                           partial=out)
     return out

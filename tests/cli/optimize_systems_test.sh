@@ -1,0 +1,111 @@
+#!/usr/bin/env bash
+# tests/cli/optimize_systems_test.sh VARSYM: `varsym optimize` on systems known at run time, all
+# through the one compiled transcription: a URDF robot (--urdf), a typed Lagrangian
+# (--lagrangian --inputs) and the arm (--model arm). The references are independent: one
+# pendulum written three ways (a one-joint URDF through the recursive multibody derivatives, a
+# typed L through symbolic ones, the built-in model through automatic ones) must reach the same
+# optimum; a 7-joint robot's optimum must agree between two schemes of different order, keep
+# its URDF torque and joint limits, and pass the replay through the simulator (closure). Bad
+# input: an input that is not a coordinate, a target outside the joint limits, a robot with no
+# actuated joint, and an infeasible bound (exit 3, last iterate kept).
+data=$(realpath "$(dirname "$0")/../data/urdf")
+source "$(dirname "$0")/lib.sh" "$@"
+pi=3.141592653589793
+cost_of() { sed -n 's/^varsym optimize: solved .*: cost \([^,]*\), T.*/\1/p' "$1"; }
+closure_of() { sed -n 's/.*closure (general engine replay) \([^ ]*\)$/\1/p' "$1"; }
+# rel A B TOL: |A - B| <= TOL |B|
+rel() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; if (d < 0) d = -d; m = b < 0 ? -b : b; exit !(a != "" && d <= t * m) }'; }
+
+# One pendulum three ways: L = 0.135 th'^2 + 4.905 cos th (tests/data/urdf/pendulum.urdf), a
+# swing-up in 3 s. The three derivative codes differ; the discrete problem is the same, so the
+# optima agree to IPOPT's tolerance (1e-10 measured to 12 digits).
+"$VARSYM" optimize --urdf "$data/pendulum.urdf" --time 3 --steps 40 --from 0 --to $pi \
+  --quiet -o urdf.csv 2> urdf.err && ok || bad "URDF pendulum: $(tail -1 urdf.err)"
+"$VARSYM" optimize --lagrangian "0.135*th_dot**2 + 4.905*cos(th)" --coordinates th --inputs th \
+  --time 3 --steps 40 --from 0 --to $pi --quiet -o typed.csv 2> typed.err && ok ||
+  bad "typed pendulum: $(tail -1 typed.err)"
+omega=$(awk 'BEGIN { printf "%.17g", sqrt(4.905 / 0.27) }')
+"$VARSYM" optimize --model pendulum --mass 0.27 --omega "$omega" --time 3 --steps 40 --from 0 \
+  --to $pi --quiet -o model.csv 2> model.err && ok || bad "built-in pendulum: $(tail -1 model.err)"
+c_urdf=$(cost_of urdf.err) c_typed=$(cost_of typed.err) c_model=$(cost_of model.err)
+rel "$c_urdf" "$c_model" 1e-9 && rel "$c_typed" "$c_model" 1e-9 && ok ||
+  bad "the three pendulums' optima differ: $c_urdf (URDF) $c_typed (typed) $c_model (model)"
+# Negative control: another Lagrangian (twice the gravity) has another optimum.
+"$VARSYM" optimize --lagrangian "0.135*th_dot**2 + 9.81*cos(th)" --coordinates th --inputs th \
+  --time 3 --steps 40 --from 0 --to $pi --quiet -o heavy.csv 2> heavy.err
+rel "$(cost_of heavy.err)" "$c_model" 1e-3 && bad "twice the gravity, the same optimum" || ok
+# The typed L's parameters are the model's: the same L with g given as a parameter.
+"$VARSYM" optimize --lagrangian "0.5*I*th_dot**2 + m*g*l*cos(th)" --parameters I=0.27,m=1,g=9.81,l=0.5 \
+  --coordinates th --inputs th --time 3 --steps 40 --from 0 --to $pi --quiet -o par.csv 2> par.err
+rel "$(cost_of par.err)" "$c_model" 1e-9 && ok || bad "typed L with parameters: $(tail -1 par.err)"
+
+# The arm with one link and no damping is the point-mass pendulum: L = m l^2 th'^2/2 + m g l cos th.
+"$VARSYM" optimize --model arm --masses 2 --lengths 1.5 --damping 0 --time 3 --steps 40 \
+  --from 0 --to $pi --quiet -o arm1.csv 2> arm1.err && ok || bad "one-link arm: $(tail -1 arm1.err)"
+"$VARSYM" optimize --lagrangian "0.5*2*1.5**2*th_dot**2 + 2*9.81*1.5*cos(th)" --coordinates th \
+  --inputs th --time 3 --steps 40 --from 0 --to $pi --quiet -o arm1t.csv 2> arm1t.err
+rel "$(cost_of arm1.err)" "$(cost_of arm1t.err)" 1e-9 && ok ||
+  bad "one-link arm $(cost_of arm1.err) against its typed L $(cost_of arm1t.err)"
+# The three-link arm with its joint damping (0.5 N m s/rad each) in the replay too.
+"$VARSYM" optimize --model arm --time 2 --steps 40 --from 0,0,0 --to 0.8,0.5,0.3 --quiet \
+  -o arm.csv --controls arm_u.csv 2> arm.err && ok || bad "arm: $(tail -1 arm.err)"
+rel "$(closure_of arm.err)" 0 0 || awk -v c="$(closure_of arm.err)" 'BEGIN { exit !(c <= 1e-8) }' &&
+  ok || bad "arm closure $(closure_of arm.err)"
+[ "$(head -1 arm_u.csv)" = "t,u1,u2,u3" ] && ok || bad "arm controls: $(head -1 arm_u.csv)"
+expect_error 2 "a controller gain in optimize" optimize --model arm --kp 1,1,1 --time 2 \
+  --steps 10 --from 0,0,0 --to 1,1,1 -o out.csv
+grep -q "kp is a simulation's parameter of arm" stderr.txt && ok || bad "$(cat stderr.txt)"
+
+# A 7-joint robot (KUKA iiwa 14) rest to rest in 2 s within its URDF limits. Against a finer
+# mesh and another scheme: Simpson and gauss-2 (both order 4, other quadratures and polynomials)
+# at N = 80 agree with gauss-2 at N = 160 to 1e-4 (measured 7e-5 and 2e-5; the optimum 221.773).
+# Negative control: Simpson at N = 40 is 1e-3 away. The torques stay within the efforts (320
+# 320 176 176 110 40 40 N m), q within the joint limits, and the replay closes.
+iiwa="$data/iiwa14_no_collision.urdf"
+to=0.4,0.3,0.2,-0.3,0.2,0.3,0.2
+"$VARSYM" optimize --urdf "$iiwa" --time 2 --steps 80 --from 0,0,0,0,0,0,0 --to $to --quiet \
+  -o iiwa.csv --controls iiwa_u.csv 2> iiwa.err && ok || bad "iiwa: $(tail -1 iiwa.err)"
+for n in 80 160; do
+  "$VARSYM" optimize --urdf "$iiwa" --time 2 --steps $n --scheme gauss --degree 2 \
+    --from 0,0,0,0,0,0,0 --to $to --quiet -o iiwa_g$n.csv 2> iiwa_g$n.err && ok ||
+    bad "iiwa gauss-2 N = $n: $(tail -1 iiwa_g$n.err)"
+done
+"$VARSYM" optimize --urdf "$iiwa" --time 2 --steps 40 --from 0,0,0,0,0,0,0 --to $to --quiet \
+  -o iiwa40.csv 2> iiwa40.err
+fine=$(cost_of iiwa_g160.err)
+rel "$(cost_of iiwa.err)" "$fine" 1e-4 && rel "$(cost_of iiwa_g80.err)" "$fine" 1e-4 && ok ||
+  bad "iiwa: Simpson $(cost_of iiwa.err), gauss-2 $(cost_of iiwa_g80.err) at N = 80, $fine at 160"
+rel "$(cost_of iiwa40.err)" "$fine" 1e-4 && bad "iiwa: N = 40 as close as N = 80" || ok
+awk -v c="$(closure_of iiwa.err)" 'BEGIN { exit !(c != "" && c <= 1e-8) }' && ok ||
+  bad "iiwa closure $(closure_of iiwa.err)"
+awk -F, 'BEGIN { split("320 320 176 176 110 40 40", e, " ") }
+  NR > 1 { for (i = 2; i <= 8; ++i) if ($i > e[i - 1] + 1e-6 || $i < -e[i - 1] - 1e-6) exit 1 }' \
+  iiwa_u.csv && ok || bad "iiwa: a torque beyond its URDF effort"
+awk -F, 'BEGIN { split("2.96705972839 2.09439510239 2.96705972839 2.09439510239 2.96705972839 2.09439510239 3.05432619099", l, " ") }
+  NR > 1 { for (i = 2; i <= 8; ++i) if ($i > l[i - 1] + 1e-9 || $i < -l[i - 1] - 1e-9) exit 1 }' \
+  iiwa.csv && ok || bad "iiwa: a joint beyond its URDF limits"
+[ "$(head -1 iiwa.csv | cut -d, -f1-3)" = "t,q1,q2" ] && ok || bad "iiwa header $(head -1 iiwa.csv)"
+
+# Bad input.
+expect_error 2 "an input that is not a coordinate" optimize --lagrangian "0.5*x_dot**2" \
+  --coordinates x --inputs y --time 1 --from 0 --to 1 -o out.csv
+grep -q "the input 'y' is not a coordinate; the coordinates: x" stderr.txt && ok || bad "$(cat stderr.txt)"
+expect_error 2 "a typed L without inputs" optimize --lagrangian "0.5*x_dot**2" --coordinates x \
+  --time 1 --from 0 --to 1 -o out.csv
+expect_error 2 "a target beyond the joint limits" optimize --urdf "$data/pendulum.urdf" --time 3 \
+  --from 0 --to 5 -o out.csv
+grep -q "outside the position bounds" stderr.txt && ok || bad "$(cat stderr.txt)"
+# Negative control: without the limits the same target is reached.
+"$VARSYM" optimize --urdf "$data/pendulum.urdf" --no-limits --time 3 --steps 40 --from 0 --to 5 \
+  --quiet -o free.csv 2> free.err && ok || bad "--no-limits: $(tail -1 free.err)"
+sed 's/effort="100"/effort="0"/' "$data/pendulum.urdf" > passive.urdf
+expect_error 2 "no actuated joint" optimize --urdf passive.urdf --time 3 --from 0 --to 1 -o out.csv
+grep -q "is actuated (its URDF effort is 0 for every joint)" stderr.txt && ok || bad "$(cat stderr.txt)"
+# A torque bound too small to swing the pendulum up in 3 s: IPOPT's infeasibility, exit 3, the
+# last iterate written.
+"$VARSYM" optimize --urdf "$data/pendulum.urdf" --time 3 --steps 40 --from 0 --to $pi \
+  --max-control 0.2 --quiet -o weak.csv 2> weak.err
+rc=$?
+[ $rc -eq 3 ] && ok || bad "infeasible bound: exit $rc ($(tail -1 weak.err))"
+[ "$(wc -l < weak.csv)" -eq 42 ] && ok || bad "infeasible bound: the last iterate was not kept"
+finish
