@@ -1,0 +1,131 @@
+// The one compiled transcription (varsym/optimal/transcription.hpp) over systems of run-time
+// size from the models layer: a URDF robot (recursive derivatives, third derivatives by a central
+// difference of the exact second ones) and its derivatives against finite differences, the KKT
+// conditions at a solution, and the exact (automatic) third derivatives against the difference.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "../optimal/fixtures.hpp"
+#include "varsym/models/model.hpp"
+#include "varsym/models/robot.hpp"
+#include "varsym/multibody/lagrangian.hpp"
+#include "varsym/optimal/input_system.hpp"
+#include "varsym/optimal/solve.hpp"
+#include "varsym/optimal/system_of.hpp"
+
+using namespace varsym;
+
+namespace {
+
+std::string urdf_path(const std::string& file) { return VARSYM_TEST_DATA "/urdf/" + file; }
+
+/// The iiwa's model `urdf` rest to rest: from 0 to `to` in 2 s.
+optimal::control_problem iiwa_problem(int steps, const scheme_spec& scheme) {
+    optimal::control_problem p;
+    p.time = 2.0;
+    p.steps = steps;
+    p.scheme = scheme;
+    p.q_start = p.v_start = p.v_end = Eigen::VectorXd::Zero(7);
+    p.q_end = (Eigen::VectorXd(7) << 0.4, 0.3, 0.2, -0.3, 0.2, 0.3, 0.2).finished();
+    return p;
+}
+
+} // namespace
+
+TEST(OptimalRobot, DerivativesMatchFiniteDifferences) {
+    // The iiwa's transcription at an arbitrary point: ∂g/∂x from the recursive second
+    // derivatives, and the Hessian of σJ + λᵀg from the difference of them (third derivatives),
+    // against central differences of g and of σ∇J + Jᵀλ (step 1e-6: error about 1e-9 relative
+    // to entries of size up to 1e3).
+    const auto robot = models::robot_model(models::load_urdf(urdf_path("iiwa14_no_collision.urdf")));
+    const auto tr = robot.optimal(robot.defaults(), {}, iiwa_problem(2, {scheme_kind::gauss, 2}));
+    EXPECT_EQ(tr->variables(), 5 * 7 + 4 * 7);
+    const Eigen::VectorXd x =
+        0.5 * Eigen::VectorXd::LinSpaced(tr->variables(), 0.3, 2.9).array().sin();
+    const auto e = optimal_test::check_derivatives(
+        *tr, x, 0.7, Eigen::VectorXd::LinSpaced(tr->constraints(), -1.0, 2.0));
+    EXPECT_LT(e.jacobian, 1e-6 * e.largest_jacobian);
+    EXPECT_LT(e.hessian, 1e-6 * e.largest_hessian);
+    EXPECT_GT(e.largest_hessian, 1.0); // not vacuous: L's third derivatives are there
+}
+
+TEST(OptimalRobot, KarushKuhnTuckerConditionsHoldAtTheSolution) {
+    // At IPOPT's solution: g(x) = 0 and ∇J + Jᵀλ = 0 on every unknown off its bounds (the
+    // fixed ends excepted), re-evaluated here from the transcription, not IPOPT's report.
+    const auto robot = models::robot_model(models::load_urdf(urdf_path("iiwa14_no_collision.urdf")));
+    const auto tr = robot.optimal(robot.defaults(), {}, iiwa_problem(20, scheme_kind::simpson));
+    const auto r = optimal::solve(*tr);
+    ASSERT_EQ(r.verdict, optimal::status::solved) << r.message;
+    Eigen::VectorXd g, grad, lower, upper;
+    tr->residual(r.x, g);
+    EXPECT_LT(g.lpNorm<Eigen::Infinity>(), 1e-10);
+    tr->cost_gradient(r.x, grad);
+    std::vector<double> values;
+    tr->jacobian(r.x, values);
+    const Eigen::MatrixXd jac =
+        tr->jacobian_pattern().dense(values, tr->constraints(), tr->variables());
+    const Eigen::VectorXd stationarity = grad + jac.transpose() * r.lambda;
+    tr->bounds(lower, upper);
+    double worst = 0.0, scale = grad.lpNorm<Eigen::Infinity>();
+    int free = 0;
+    for (int i = 0; i < tr->variables(); ++i)
+        if (lower(i) < r.x(i) - 1e-6 && r.x(i) < upper(i) - 1e-6) {
+            worst = std::max(worst, std::abs(stationarity(i)));
+            ++free;
+        }
+    EXPECT_GT(free, tr->variables() / 2);
+    EXPECT_LT(worst, 1e-8 * scale);
+    // Negative control: with λ = 0 the stationarity fails (the constraints' forces matter).
+    EXPECT_GT(grad.lpNorm<Eigen::Infinity>(), 1e-3 * scale);
+}
+
+namespace {
+
+/// A two-link arm as a C++ Lagrangian (automatic derivatives).
+struct ad_two_link {
+    static constexpr int dim = 2;
+    template <class T>
+    T operator()(const tvec<T, 2>& q, const tvec<T, 2>& v) const {
+        using std::cos;
+        const T c2 = cos(q(1));
+        const T m11 = 1.0 / 4.0 + (1.0 + 1.0 / 4.0 + c2) + 1.0 / 6.0;
+        const T m12 = 1.0 / 4.0 + 0.5 * c2 + 1.0 / 12.0;
+        const double m22 = 1.0 / 4.0 + 1.0 / 12.0;
+        return 0.5 * m11 * v(0) * v(0) + m12 * v(0) * v(1) + 0.5 * m22 * v(1) * v(1) +
+               1.5 * 9.81 * cos(q(0)) + 0.5 * 9.81 * cos(q(0) + q(1));
+    }
+};
+
+} // namespace
+
+TEST(OptimalRobot, DifferenceThirdDerivativesAgreeWithAutomaticOnes) {
+    // The same L and inputs through system_of (third derivatives by automatic differentiation)
+    // and input_system (a central difference of the exact second derivatives): their Hessians
+    // agree to 1e-8 relative, and the optima to IPOPT's tolerance.
+    optimal::control_problem p;
+    p.time = 2.0;
+    p.steps = 20;
+    p.q_start = p.v_start = p.v_end = Eigen::VectorXd::Zero(2);
+    p.q_end = Eigen::Vector2d(std::numbers::pi, 0.0);
+    const auto exact = optimal::transcribe(ad_two_link{}, optimal_test::direct_input<2>{}, p);
+    const auto diff = optimal::transcribe_inputs(ad_two_link{}, Eigen::MatrixXd::Identity(2, 2), p);
+    const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(exact->variables(), 0.3, 2.9).array().sin();
+    const Eigen::VectorXd lambda = Eigen::VectorXd::LinSpaced(exact->constraints(), -3.0, 2.0);
+    std::vector<double> a, b;
+    exact->hessian(x, 0.5, lambda, a);
+    diff->hessian(x, 0.5, lambda, b);
+    ASSERT_EQ(a.size(), b.size());
+    double worst = 0.0, largest = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        worst = std::max(worst, std::abs(a[i] - b[i]));
+        largest = std::max(largest, std::abs(a[i]));
+    }
+    EXPECT_LT(worst, 1e-8 * largest);
+    EXPECT_GT(worst, 0.0); // they are two computations, not one
+    const auto ra = optimal::solve(*exact), rb = optimal::solve(*diff);
+    ASSERT_TRUE(ra.converged() && rb.converged());
+    EXPECT_NEAR(ra.cost, rb.cost, 1e-9 * ra.cost);
+    EXPECT_EQ(ra.iterations, rb.iterations);
+}
