@@ -102,11 +102,14 @@ bench: configure
 	$(BUILD_DIR)/bench/varsym_bench_family --benchmark_min_time=0.2
 	bash bench/compilers.sh 5
 	@$(MAKE) --no-print-directory bench-robots
+	@$(MAKE) --no-print-directory bench-optimal
 
-# Optimal control: time, iterations and accuracy per second (bench/bench_optimal.cpp).
+# Optimal control: time, iterations and accuracy per second (bench/bench_optimal.cpp), and of
+# URDF robots (bench/bench_robot_optimal.cpp). Part of `make bench`.
 bench-optimal: configure
-	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_bench_optimal
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_bench_optimal varsym_bench_robot_optimal
 	$(BUILD_DIR)/bench/varsym_bench_optimal 3
+	$(BUILD_DIR)/bench/varsym_bench_robot_optimal 3
 
 # URDF robots against MuJoCo (bench/bench_robots.cpp; docs/robots.md): MuJoCo from Debian's
 # libmujoco-dev, installed here as a benchmark peer only. ROBOT_BENCH: the sections to run

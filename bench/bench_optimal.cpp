@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "varsym/optimal/dmoc.hpp"
+#include "varsym/optimal/system_of.hpp"
 #include "varsym/optimal/solve.hpp"
 #include "varsym/problems/linked_pendulum.hpp"
 

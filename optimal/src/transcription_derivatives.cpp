@@ -22,13 +22,14 @@ void dmoc_transcription::add_step_equations(cvector x, vector& e, bool end_only)
     const double h = h_of(x);
     lagrangian_terms<dynamic> lt;
     input_terms ft;
-    vector q, v, lq, lv;
+    vector q, v, lq, lv, u(m_);
     for (int k = 0; k < n_; ++k)
         for (int j = 0; j < r_; ++j) {
             point(x, k, j, q, v);
             const double t = point_time(k, j, h);
+            u = x.segment(control_index(k * r_ + j), m_);
             sys_->gradient(q, v, t, lt);
-            sys_->force(q, v, t, control(x, k, j), ft, false);
+            sys_->force(q, v, t, u, ft, false);
             lq = h * weight(j) * (lt.lq + ft.f);
             lv = weight(j) * lt.lv;
             for (int i = end_only ? s_ : 0; i <= s_; ++i)
@@ -75,7 +76,7 @@ void dmoc_transcription::jacobian(cvector x, std::vector<double>& values) const 
     }
     matrix bq(w, w), bu(w, r_ * m_), qq, qv, vq, vv;
     input_terms ft;
-    vector q, v;
+    vector q, v, u(m_);
     std::size_t at = 0;
     for (int k = 0; k < n_; ++k) {
         bq.setZero();
@@ -84,7 +85,8 @@ void dmoc_transcription::jacobian(cvector x, std::vector<double>& values) const 
             point(x, k, j, q, v);
             const double t = point_time(k, j, h);
             sys_->derivatives(q, v, t, lt);
-            sys_->force(q, v, t, control(x, k, j), ft, true);
+            u = x.segment(control_index(k * r_ + j), m_);
+            sys_->force(q, v, t, u, ft, true);
             const double hw = h * weight(j);
             qq = hw * (lt.lqq + ft.fq);
             qv = weight(j) * (lt.lqv + ft.fv);
@@ -145,7 +147,7 @@ void dmoc_transcription::hessian(cvector x, double sigma, cvector lambda,
     const int w = (s_ + 1) * d_ + r_ * m_, wq = (s_ + 1) * d_, nz = 2 * d_ + m_;
     values.assign(static_cast<std::size_t>(n_) * static_cast<std::size_t>(w * (w + 1) / 2), 0.0);
     matrix hk(w, w), g = matrix::Zero(nz, w), hz, hc, third, gh(w, nz);
-    vector q, v, a, b;
+    vector q, v, a, b, u(m_);
     std::size_t at = 0;
     for (int k = 0; k < n_; ++k) {
         hk.setZero();
@@ -158,7 +160,7 @@ void dmoc_transcription::hessian(cvector x, double sigma, cvector lambda,
                 b += tab_.dphi(i, j) / h * lambda.segment((k * s_ + i) * d_, d_);
             }
             const double t = point_time(k, j, h);
-            const vector u = control(x, k, j);
+            u = x.segment(control_index(k * r_ + j), m_);
             (void)running_cost_at(*sys_, p_.cost, p_.effort, q, v, t, u, nullptr, &hc);
             sys_->force_hessian(q, v, t, u, a, hz);
             hz += sigma * hc;

@@ -178,16 +178,19 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
         if isinstance(model, Robot):
             m = Robot(model, **parameters) if parameters else model
             source = m._core
+            effort = np.asarray(m.limits["effort"])
+            names = [j for j, e in zip(m.joints, effort) if e > 0]  # the actuated joints
         else:
             m = model if isinstance(model, Model) else Model(model, **parameters)
             if isinstance(model, Model) and parameters:
                 m = Model(model, **parameters)
             source = m.name
         values, lists = m._values(), m._lists()
-        name, d = m.name, m.dim
+        name, d = (m.robot_name if isinstance(m, Robot) else m.name), m.dim
         coordinates = list(getattr(m, "coordinates", None) or
                            [f"q{i + 1}" for i in range(d)])
-        names = None
+        if not isinstance(model, Robot):
+            names = None
     weights = _costs(cost)
     if weights["time"] > 0 and max_control is None:
         raise UsageError("optimize: a cost on the time needs max_control (with unbounded inputs "
@@ -201,7 +204,8 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
             bar.update(1)
             bar.set_postfix(cost=f"{value:.6g}", infeasibility=f"{infeasibility:.1e}")
     try:
-        raw = _core.optimize(source, names or [], bool(limits), values, lists, float(time),
+        raw = _core.optimize(source, names if isinstance(model, Lagrangian) else [], bool(limits),
+                             values, lists, float(time),
                              int(steps), scheme, degree or 0,
                              _vector(q_start, d, "q_start"), _vector(v_start, d, "v_start", 0.0),
                              _vector(q_end, d, "q_end"), _vector(v_end, d, "v_end", 0.0),

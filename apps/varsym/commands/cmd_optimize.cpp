@@ -1,5 +1,5 @@
 // apps/varsym/commands/cmd_optimize.cpp: `varsym optimize`: the optimal control of a model with
-// control inputs by discrete mechanics (varsym/optimal/dmoc.hpp), solved by IPOPT
+// control inputs by discrete mechanics (varsym/optimal/transcription.hpp), solved by IPOPT
 // (varsym::optimal). Writes the nodes' states and costates, and the controls; prints a progress
 // line per iteration; Ctrl-C stops the solver and keeps the last iterate.
 #include <algorithm>

@@ -1,6 +1,7 @@
 // varsym/optimal/nlp.hpp: a nonlinear program min f(x) subject to g(x) = c, bounds on x, with
-// sparse first derivatives, as the optimal control transcriptions (optimal/dmoc.hpp) state it and
-// a solver (the IPOPT adapter of varsym::optimal, optimal/solve.hpp) consumes it. Eigen only.
+// sparse first derivatives, as the optimal control transcription (optimal/transcription.hpp)
+// states it and a solver (the IPOPT adapter of varsym::optimal, optimal/solve.hpp) consumes it.
+// Eigen only.
 // See docs/optimal_control.md.
 #pragma once
 

@@ -64,9 +64,12 @@ class controlled_system {
         const double scale =
             std::max({1.0, q.lpNorm<Eigen::Infinity>(), v.lpNorm<Eigen::Infinity>()});
         const double eps = 6e-6 * scale / size;
-        lagrangian_terms<dynamic> lt;
+        thread_local lagrangian_terms<dynamic> lt; // no allocation once sized
+        thread_local vector qs, vs;
         for (const double sign : {1.0, -1.0}) {
-            derivatives(q + sign * eps * a, v + sign * eps * b, t, lt);
+            qs = q + sign * eps * a;
+            vs = v + sign * eps * b;
+            derivatives(qs, vs, t, lt);
             const double c = sign / (2.0 * eps);
             out.topLeftCorner(d, d) += c * lt.lqq;
             out.topRightCorner(d, d) += c * lt.lqv;

@@ -1,0 +1,150 @@
+// bench/bench_robot_optimal.cpp: optimal control of URDF robots through the one compiled
+// transcription (`make bench-optimal`, after bench_optimal): medians of interleaved rounds.
+//   1. the KUKA iiwa 14 (7 joints, tests/data/urdf) rest to rest in 2 s within its URDF torque
+//      and joint limits: N = 50 and 200, Simpson and gauss-2, exact and limited-memory Hessians:
+//      seconds, iterations, cost;
+//   2. a chain of n links written as a URDF (each 1 kg, 0.3 m, a revolute joint about y):
+//      milliseconds per iteration against N (n = 20) and against n (N = 50): the cost of an
+//      iteration is linear in N (banded KKT matrix) and the residuals' in n (recursive
+//      derivatives; the second derivatives are O(n²)).
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "varsym/models/model.hpp"
+#include "varsym/models/robot.hpp"
+#include "varsym/optimal/solve.hpp"
+
+namespace {
+
+using namespace varsym;
+
+struct outcome {
+    double seconds = 0.0, cost = 0.0;
+    int iterations = 0;
+    std::string status;
+};
+
+outcome solve(const models::model& robot, const optimal::control_problem& given,
+              optimal::hessian_kind hessian) {
+    optimal::control_problem p = given;
+    robot.limits(robot.defaults(), p);
+    const auto start = std::chrono::steady_clock::now();
+    const auto tr = robot.optimal(robot.defaults(), {}, p);
+    optimal::solver_options o;
+    o.hessian = hessian;
+    const auto r = optimal::solve(*tr, o);
+    const double s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return {s, r.cost, r.iterations, optimal::status_name(r.verdict)};
+}
+
+std::vector<outcome> interleaved(const std::vector<std::function<outcome()>>& cases, int rounds) {
+    std::vector<std::vector<outcome>> all(cases.size());
+    for (int r = 0; r < rounds; ++r)
+        for (std::size_t c = 0; c < cases.size(); ++c)
+            all[c].push_back(cases[c]());
+    std::vector<outcome> out;
+    for (auto& runs : all) {
+        std::sort(runs.begin(), runs.end(),
+                  [](const outcome& a, const outcome& b) { return a.seconds < b.seconds; });
+        out.push_back(runs[runs.size() / 2]);
+    }
+    return out;
+}
+
+/// A planar chain of n links as URDF text: link i of 1 kg with its centre 0.3 m below joint i.
+std::string chain_urdf(int n) {
+    std::string s = "<robot name=\"chain\"><link name=\"l0\"/>";
+    for (int i = 1; i <= n; ++i) {
+        const std::string l = "l" + std::to_string(i), p = "l" + std::to_string(i - 1);
+        s += "<link name=\"" + l +
+             "\"><inertial><origin xyz=\"0 0 -0.15\"/><mass value=\"1\"/><inertia ixx=\"0.01\" "
+             "iyy=\"0.01\" izz=\"0.001\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial></link>"
+             "<joint name=\"j" +
+             std::to_string(i) + "\" type=\"revolute\"><parent link=\"" + p +
+             "\"/><child link=\"" + l + "\"/><origin xyz=\"0 0 " + (i == 1 ? "0" : "-0.3") +
+             "\"/><axis xyz=\"0 1 0\"/><limit lower=\"-3\" upper=\"3\" effort=\"200\" "
+             "velocity=\"10\"/></joint>";
+    }
+    return s + "</robot>";
+}
+
+optimal::control_problem rest_to_rest(int d, int steps, const scheme_spec& scheme,
+                                      const Eigen::VectorXd& to) {
+    optimal::control_problem p;
+    p.time = 2.0;
+    p.steps = steps;
+    p.scheme = scheme;
+    p.q_start = p.v_start = p.v_end = Eigen::VectorXd::Zero(d);
+    p.q_end = to;
+    return p;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    const int rounds = argc > 1 ? std::atoi(argv[1]) : 3;
+    std::setvbuf(stdout, nullptr, _IOLBF, 0);
+    std::printf("# URDF robots: optimal control (medians of %d interleaved rounds)\n\n", rounds);
+    const auto iiwa = models::robot_model(
+        models::load_urdf(VARSYM_BENCH_DATA "/urdf/iiwa14_no_collision.urdf"));
+    const Eigen::VectorXd to =
+        (Eigen::VectorXd(7) << 0.4, 0.3, 0.2, -0.3, 0.2, 0.3, 0.2).finished();
+    std::printf("## KUKA iiwa 14, rest to rest in 2 s, effort, URDF torque and joint limits\n\n"
+                "| N | scheme | Hessian | time [s] | iterations | ms / iteration | cost | "
+                "status |\n|---|---|---|---|---|---|---|---|\n");
+    struct config {
+        int n;
+        scheme_spec scheme;
+        optimal::hessian_kind hessian;
+    };
+    std::vector<config> configs;
+    for (const int n : {50, 200})
+        for (const scheme_spec s : {scheme_spec(scheme_kind::simpson), scheme_spec(scheme_kind::gauss, 2)})
+            for (const auto h : {optimal::hessian_kind::exact, optimal::hessian_kind::limited_memory})
+                configs.push_back({n, s, h});
+    std::vector<std::function<outcome()>> cases;
+    for (const auto& c : configs)
+        cases.emplace_back([&, c] { return solve(iiwa, rest_to_rest(7, c.n, c.scheme, to), c.hessian); });
+    const auto results = interleaved(cases, rounds);
+    for (std::size_t i = 0; i < configs.size(); ++i) {
+        const auto& r = results[i];
+        std::printf("| %d | %s | %s | %.3f | %d | %.1f | %.6f | %s |\n", configs[i].n,
+                    configs[i].scheme.label().c_str(),
+                    configs[i].hessian == optimal::hessian_kind::exact ? "exact" : "limited-memory",
+                    r.seconds, r.iterations, 1e3 * r.seconds / r.iterations, r.cost,
+                    r.status.c_str());
+    }
+
+    std::printf("\n## A chain of n links (URDF), rest to rest in 2 s, Simpson, exact Hessian\n\n"
+                "| n | N | time [s] | iterations | ms / iteration | µs / iteration / step / "
+                "link | status |\n|---|---|---|---|---|---|---|\n");
+    std::vector<std::pair<int, int>> sizes{{20, 25}, {20, 50}, {20, 100}, {20, 200},
+                                           {5, 50},  {10, 50}, {40, 50}};
+    std::vector<models::model> chains;
+    for (const auto& [n, steps] : sizes) {
+        (void)steps;
+        chains.push_back(models::robot_model(models::parse_urdf(chain_urdf(n), "chain.urdf")));
+    }
+    std::vector<std::function<outcome()>> chain_cases;
+    for (std::size_t i = 0; i < sizes.size(); ++i)
+        chain_cases.emplace_back([&, i] {
+            const int n = sizes[i].first;
+            return solve(chains[i],
+                         rest_to_rest(n, sizes[i].second, scheme_kind::simpson,
+                                      Eigen::VectorXd::Constant(n, 0.3 / n)),
+                         optimal::hessian_kind::exact);
+        });
+    const auto chain_results = interleaved(chain_cases, rounds);
+    for (std::size_t i = 0; i < sizes.size(); ++i) {
+        const auto& r = chain_results[i];
+        const auto [n, steps] = sizes[i];
+        std::printf("| %d | %d | %.3f | %d | %.2f | %.2f | %s |\n", n, steps, r.seconds,
+                    r.iterations, 1e3 * r.seconds / r.iterations,
+                    1e6 * r.seconds / r.iterations / steps / n, r.status.c_str());
+    }
+}

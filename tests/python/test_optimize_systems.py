@@ -1,0 +1,88 @@
+"""varsym.optimize on systems known at run time, through the one compiled transcription: a
+URDF robot (varsym.Robot), a typed Lagrangian with inputs, and the arm. References: one pendulum
+written as a one-joint URDF (recursive derivatives), a typed L (symbolic) and the built-in model
+(automatic) reaches one optimum; a robot's torques stay within its URDF efforts and its joints
+within their limits, which bind (negative control: without them the optimum differs); the
+result is an OptimalControl. Run by CTest (test `python`)."""
+
+import math
+import os
+
+import numpy as np
+import pytest
+
+import varsym
+
+DATA = os.path.join(os.path.dirname(__file__), "..", "data", "urdf")
+
+
+def pendulum_problem(model, **kw):
+    return varsym.optimize(model, time=3.0, steps=40, q_start=[0], q_end=[math.pi], **kw)
+
+
+def test_one_pendulum_three_ways_reaches_one_optimum():
+    # L = 0.135 th'^2 + 4.905 cos th: the URDF's link (1 kg, 0.5 m, Iyy 0.02), the same typed,
+    # and the built-in pendulum with mass 0.27 and omega^2 = 4.905 / 0.27.
+    robot = pendulum_problem(varsym.Robot(os.path.join(DATA, "pendulum.urdf")))
+    typed = pendulum_problem(varsym.Lagrangian("0.135*th_dot**2 + 4.905*cos(th)", ["th"]),
+                             inputs=["th"])
+    model = pendulum_problem("pendulum", mass=0.27, omega=math.sqrt(4.905 / 0.27))
+    assert robot.cost == pytest.approx(model.cost, rel=1e-9)
+    assert typed.cost == pytest.approx(model.cost, rel=1e-9)
+    assert np.abs(robot.q - model.q).max() < 1e-8 and np.abs(typed.u - model.u).max() < 1e-6
+    assert robot.inputs == ["th"] and typed.inputs == ["th"] and robot.coordinates == ["th"]
+    # Negative control: twice the gravity is another optimum.
+    heavy = pendulum_problem(varsym.Lagrangian("0.135*th_dot**2 + 9.81*cos(th)", ["th"]),
+                             inputs="th")
+    assert abs(heavy.cost - model.cost) > 1e-3 * model.cost
+
+
+def test_the_result_is_an_optimal_control():
+    out = pendulum_problem(varsym.Lagrangian("0.5*th_dot**2 + 9.81*cos(th)", ["th"]),
+                           inputs=["th"])
+    assert isinstance(out, varsym.OptimalControl)
+    assert out.status == "solved" and out.trusted and out.closure < 1e-8
+    assert out.q.shape == (41, 1) and out.u.shape == (120, 1) and out["cost"] == out.cost
+    assert "OptimalControl lagrangian: solved" in repr(out)
+
+
+def test_a_robot_keeps_its_urdf_limits_and_they_bind():
+    iiwa = varsym.Robot(os.path.join(DATA, "iiwa14_no_collision.urdf"))
+    target = [0.4, 0.3, 0.2, -0.3, 0.2, 0.3, 0.2]
+    out = varsym.optimize(iiwa, time=2.0, steps=30, q_start=np.zeros(7), q_end=target)
+    lim = iiwa.limits
+    assert np.all(np.abs(out.u) <= lim["effort"] + 1e-6)
+    assert np.all(out.q >= lim["lower"] - 1e-9) and np.all(out.q <= lim["upper"] + 1e-9)
+    assert np.allclose(out.q[-1], target, atol=1e-12) and out.closure < 1e-8
+    assert out.inputs == iiwa.joints  # every iiwa joint is actuated
+    assert np.isclose(np.abs(out.q[:, 5]).max(), lim["upper"][5], atol=1e-6)  # joint 6 binds
+    free = varsym.optimize(iiwa, time=2.0, steps=30, q_start=np.zeros(7), q_end=target,
+                           limits=False)
+    assert np.abs(free.q[:, 5]).max() > lim["upper"][5]  # without the limits it goes further
+    assert free.cost < out.cost
+
+
+def test_refusals():
+    L = varsym.Lagrangian("0.5*x_dot**2", ["x"])
+    with pytest.raises(varsym.UsageError, match="the input 'y' is not a coordinate"):
+        varsym.optimize(L, inputs=["y"], time=1.0, q_start=[0], q_end=[1])
+    with pytest.raises(varsym.UsageError, match="needs inputs"):
+        varsym.optimize(L, time=1.0, q_start=[0], q_end=[1])
+    with pytest.raises(varsym.UsageError, match="inputs= names the inputs of a Lagrangian"):
+        varsym.optimize("pendulum", inputs=["q"], time=1.0, q_start=[0], q_end=[1])
+    robot = varsym.Robot(os.path.join(DATA, "pendulum.urdf"))
+    with pytest.raises(varsym.UsageError, match="outside the position bounds"):
+        varsym.optimize(robot, time=3.0, q_start=[0], q_end=[5.0])
+    text = open(os.path.join(DATA, "pendulum.urdf")).read().replace('effort="100"', 'effort="0"')
+    with pytest.raises(varsym.UsageError, match="is actuated"):
+        varsym.optimize(varsym.Robot(text=text), time=3.0, q_start=[0], q_end=[1.0])
+
+
+def test_the_arm_with_joint_torques():
+    out = varsym.optimize("arm", time=2.0, steps=30, q_start=[0, 0, 0], q_end=[0.8, 0.5, 0.3])
+    assert out.u.shape == (90, 3) and out.closure < 1e-8
+    one = varsym.optimize("arm", masses=[2.0], lengths=[1.5], damping=[0.0], time=3.0, steps=40,
+                          q_start=[0], q_end=[math.pi])
+    typed = pendulum_problem(varsym.Lagrangian("0.5*2*1.5**2*th_dot**2 + 2*9.81*1.5*cos(th)",
+                                               ["th"]), inputs=["th"])
+    assert one.cost == pytest.approx(typed.cost, rel=1e-9)
