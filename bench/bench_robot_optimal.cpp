@@ -4,9 +4,9 @@
 //      and joint limits: N = 50 and 200, Simpson and gauss-2, exact and limited-memory Hessians:
 //      seconds, iterations, cost;
 //   2. a chain of n links written as a URDF (each 1 kg, 0.3 m, a revolute joint about y):
-//      milliseconds per iteration against N (n = 20) and against n (N = 50): the cost of an
-//      iteration is linear in N (banded KKT matrix) and the residuals' in n (recursive
-//      derivatives; the second derivatives are O(n²)).
+//      milliseconds per iteration (the first 20 iterations) against N (n = 10) and against n
+//      (N = 25): linear in N (banded KKT matrix); in n, the derivatives are O(n²) and the
+//      KKT matrix's dense blocks per step grow as n, their factorisation as n³.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -29,13 +29,14 @@ struct outcome {
 };
 
 outcome solve(const models::model& robot, const optimal::control_problem& given,
-              optimal::hessian_kind hessian) {
+              optimal::hessian_kind hessian, int max_iterations = 3000) {
     optimal::control_problem p = given;
     robot.limits(robot.defaults(), p);
     const auto start = std::chrono::steady_clock::now();
     const auto tr = robot.optimal(robot.defaults(), {}, p);
     optimal::solver_options o;
     o.hessian = hessian;
+    o.max_iterations = max_iterations;
     const auto r = optimal::solve(*tr, o);
     const double s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -65,8 +66,8 @@ std::string chain_urdf(int n) {
              "\"><inertial><origin xyz=\"0 0 -0.15\"/><mass value=\"1\"/><inertia ixx=\"0.01\" "
              "iyy=\"0.01\" izz=\"0.001\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial></link>"
              "<joint name=\"j" +
-             std::to_string(i) + "\" type=\"revolute\"><parent link=\"" + p +
-             "\"/><child link=\"" + l + "\"/><origin xyz=\"0 0 " + (i == 1 ? "0" : "-0.3") +
+             std::to_string(i) + "\" type=\"revolute\"><parent link=\"" + p + "\"/><child link=\"" +
+             l + "\"/><origin xyz=\"0 0 " + (i == 1 ? "0" : "-0.3") +
              "\"/><axis xyz=\"0 1 0\"/><limit lower=\"-3\" upper=\"3\" effort=\"200\" "
              "velocity=\"10\"/></joint>";
     }
@@ -90,8 +91,8 @@ int main(int argc, char** argv) {
     const int rounds = argc > 1 ? std::atoi(argv[1]) : 3;
     std::setvbuf(stdout, nullptr, _IOLBF, 0);
     std::printf("# URDF robots: optimal control (medians of %d interleaved rounds)\n\n", rounds);
-    const auto iiwa = models::robot_model(
-        models::load_urdf(VARSYM_BENCH_DATA "/urdf/iiwa14_no_collision.urdf"));
+    const auto iiwa =
+        models::robot_model(models::load_urdf(VARSYM_BENCH_DATA "/urdf/iiwa14_no_collision.urdf"));
     const Eigen::VectorXd to =
         (Eigen::VectorXd(7) << 0.4, 0.3, 0.2, -0.3, 0.2, 0.3, 0.2).finished();
     std::printf("## KUKA iiwa 14, rest to rest in 2 s, effort, URDF torque and joint limits\n\n"
@@ -104,12 +105,15 @@ int main(int argc, char** argv) {
     };
     std::vector<config> configs;
     for (const int n : {50, 200})
-        for (const scheme_spec s : {scheme_spec(scheme_kind::simpson), scheme_spec(scheme_kind::gauss, 2)})
-            for (const auto h : {optimal::hessian_kind::exact, optimal::hessian_kind::limited_memory})
+        for (const scheme_spec s :
+             {scheme_spec(scheme_kind::simpson), scheme_spec(scheme_kind::gauss, 2)})
+            for (const auto h :
+                 {optimal::hessian_kind::exact, optimal::hessian_kind::limited_memory})
                 configs.push_back({n, s, h});
     std::vector<std::function<outcome()>> cases;
     for (const auto& c : configs)
-        cases.emplace_back([&, c] { return solve(iiwa, rest_to_rest(7, c.n, c.scheme, to), c.hessian); });
+        cases.emplace_back(
+            [&, c] { return solve(iiwa, rest_to_rest(7, c.n, c.scheme, to), c.hessian); });
     const auto results = interleaved(cases, rounds);
     for (std::size_t i = 0; i < configs.size(); ++i) {
         const auto& r = results[i];
@@ -120,11 +124,12 @@ int main(int argc, char** argv) {
                     r.status.c_str());
     }
 
-    std::printf("\n## A chain of n links (URDF), rest to rest in 2 s, Simpson, exact Hessian\n\n"
+    std::printf("\n## A chain of n links (URDF), rest to rest in 2 s, Simpson, exact Hessian, "
+                "the first 20 iterations\n\n"
                 "| n | N | time [s] | iterations | ms / iteration | µs / iteration / step / "
                 "link | status |\n|---|---|---|---|---|---|---|\n");
-    std::vector<std::pair<int, int>> sizes{{20, 25}, {20, 50}, {20, 100}, {20, 200},
-                                           {5, 50},  {10, 50}, {40, 50}};
+    std::vector<std::pair<int, int>> sizes{{10, 25},  {10, 50}, {10, 100},
+                                           {10, 200}, {5, 25},  {20, 25}};
     std::vector<models::model> chains;
     for (const auto& [n, steps] : sizes) {
         (void)steps;
@@ -137,7 +142,7 @@ int main(int argc, char** argv) {
             return solve(chains[i],
                          rest_to_rest(n, sizes[i].second, scheme_kind::simpson,
                                       Eigen::VectorXd::Constant(n, 0.3 / n)),
-                         optimal::hessian_kind::exact);
+                         optimal::hessian_kind::exact, 20);
         });
     const auto chain_results = interleaved(chain_cases, rounds);
     for (std::size_t i = 0; i < sizes.size(); ++i) {

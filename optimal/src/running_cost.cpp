@@ -77,8 +77,8 @@ double invariant(const controlled_system& s, double weight, const vector& q, con
 } // namespace
 
 double running_cost_at(const controlled_system& s, const cost_weights& w, const matrix& effort,
-                    const vector& q, const vector& v, double t, const vector& u, vector* gradient,
-                    matrix* hessian) {
+                       const vector& q, const vector& v, double t, const vector& u,
+                       vector* gradient, matrix* hessian) {
     const int d = static_cast<int>(q.size()), m = static_cast<int>(u.size()), n = 2 * d + m;
     double c = 0.0;
     if (gradient) gradient->setZero(n);

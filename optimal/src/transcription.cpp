@@ -186,7 +186,7 @@ double dmoc_transcription::integrand(cvector x, int k, int j, vector* g, matrix*
     vector q, v;
     point(x, k, j, q, v);
     return running_cost_at(*sys_, p_.cost, p_.effort, q, v, point_time(k, j, h_of(x)),
-                        control(x, k, j), g, hz);
+                           control(x, k, j), g, hz);
 }
 
 double dmoc_transcription::cost(cvector x) const {

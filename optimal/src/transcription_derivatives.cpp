@@ -144,9 +144,9 @@ sparsity dmoc_transcription::hessian_pattern() const {
 void dmoc_transcription::hessian(cvector x, double sigma, cvector lambda,
                                  std::vector<double>& values) const {
     const double h = h_of(x);
-    const int w = (s_ + 1) * d_ + r_ * m_, wq = (s_ + 1) * d_, nz = 2 * d_ + m_;
+    const int w = (s_ + 1) * d_ + r_ * m_, wq = (s_ + 1) * d_;
     values.assign(static_cast<std::size_t>(n_) * static_cast<std::size_t>(w * (w + 1) / 2), 0.0);
-    matrix hk(w, w), g = matrix::Zero(nz, w), hz, hc, third, gh(w, nz);
+    matrix hk(w, w), hz, hc, third;
     vector q, v, a, b, u(m_);
     std::size_t at = 0;
     for (int k = 0; k < n_; ++k) {
@@ -166,14 +166,23 @@ void dmoc_transcription::hessian(cvector x, double sigma, cvector lambda,
             hz += sigma * hc;
             sys_->third(q, v, t, a, b, third);
             hz.topLeftCorner(2 * d_, 2 * d_) += third;
-            g.setZero();
+            hz *= h * weight(j);
+            // Gᵀ hz G block by block: z = (q, v, u) = (Σ ℓ_l Q_l, Σ ℓ_l'/h Q_l, u_kj), so the
+            // (l, m) block over (Q_l, Q_m) is Σ of the four (q, v) blocks of hz weighted by
+            // ℓ_l or ℓ_l'/h and ℓ_m or ℓ_m'/h; (Q_l, u_kj) likewise; (u_kj, u_kj) is hz's.
+            const int wu = wq + j * m_;
             for (int l = 0; l <= s_; ++l) {
-                g.block(0, l * d_, d_, d_).diagonal().setConstant(tab_.phi(l, j));
-                g.block(d_, l * d_, d_, d_).diagonal().setConstant(tab_.dphi(l, j) / h);
+                const double pl = tab_.phi(l, j), dl = tab_.dphi(l, j) / h;
+                for (int mm = 0; mm <= l; ++mm) {
+                    const double pm = tab_.phi(mm, j), dm = tab_.dphi(mm, j) / h;
+                    hk.block(l * d_, mm * d_, d_, d_) +=
+                        pl * pm * hz.topLeftCorner(d_, d_) + pl * dm * hz.block(0, d_, d_, d_) +
+                        dl * pm * hz.block(d_, 0, d_, d_) + dl * dm * hz.block(d_, d_, d_, d_);
+                }
+                hk.block(wu, l * d_, m_, d_) +=
+                    pl * hz.block(2 * d_, 0, m_, d_) + dl * hz.block(2 * d_, d_, m_, d_);
             }
-            g.block(2 * d_, wq + j * m_, m_, m_).setIdentity();
-            gh.noalias() = g.transpose() * hz;
-            hk.noalias() += h * weight(j) * (gh * g);
+            hk.block(wu, wu, m_, m_) += hz.bottomRightCorner(m_, m_);
         }
         for (int row = 0; row < w; ++row)
             for (int col = 0; col <= row; ++col)

@@ -24,15 +24,15 @@ using namespace varsym;
 namespace {
 
 py::dict optimize(const py::object& source, const std::vector<std::string>& inputs, bool limits,
-                  std::vector<double> values,
-                  const models::lists& lists, double time, int steps, const std::string& scheme,
-                  int degree, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
-                  const Eigen::VectorXd& q1, const Eigen::VectorXd& v1, double max_control,
-                  double effort, double invariant, double power, double time_weight,
-                  const std::vector<bool>& free_q, const std::vector<bool>& free_v,
-                  const Eigen::VectorXd& terminal_q, const Eigen::VectorXd& terminal_v,
-                  const std::string& hessian, int max_iterations, int refine,
-                  const std::optional<py::function>& progress, const std::string& ipopt_options) {
+                  std::vector<double> values, const models::lists& lists, double time, int steps,
+                  const std::string& scheme, int degree, const Eigen::VectorXd& q0,
+                  const Eigen::VectorXd& v0, const Eigen::VectorXd& q1, const Eigen::VectorXd& v1,
+                  double max_control, double effort, double invariant, double power,
+                  double time_weight, const std::vector<bool>& free_q,
+                  const std::vector<bool>& free_v, const Eigen::VectorXd& terminal_q,
+                  const Eigen::VectorXd& terminal_v, const std::string& hessian, int max_iterations,
+                  int refine, const std::optional<py::function>& progress,
+                  const std::string& ipopt_options) {
     // The model: a registry name, a _Robot's, or a _Lagrangian's with its inputs.
     std::optional<models::model> typed;
     const models::model* found = robot_model_of(source);

@@ -19,7 +19,9 @@ using namespace varsym;
 
 namespace {
 
-std::string urdf_path(const std::string& file) { return VARSYM_TEST_DATA "/urdf/" + file; }
+std::string urdf_path(const std::string& file) {
+    return VARSYM_TEST_DATA "/urdf/" + file;
+}
 
 /// The iiwa's model `urdf` rest to rest: from 0 to `to` in 2 s.
 optimal::control_problem iiwa_problem(int steps, const scheme_spec& scheme) {
@@ -39,7 +41,8 @@ TEST(OptimalRobot, DerivativesMatchFiniteDifferences) {
     // derivatives, and the Hessian of σJ + λᵀg from the difference of them (third derivatives),
     // against central differences of g and of σ∇J + Jᵀλ (step 1e-6: error about 1e-9 relative
     // to entries of size up to 1e3).
-    const auto robot = models::robot_model(models::load_urdf(urdf_path("iiwa14_no_collision.urdf")));
+    const auto robot =
+        models::robot_model(models::load_urdf(urdf_path("iiwa14_no_collision.urdf")));
     const auto tr = robot.optimal(robot.defaults(), {}, iiwa_problem(2, {scheme_kind::gauss, 2}));
     EXPECT_EQ(tr->variables(), 5 * 7 + 4 * 7);
     const Eigen::VectorXd x =
@@ -54,7 +57,8 @@ TEST(OptimalRobot, DerivativesMatchFiniteDifferences) {
 TEST(OptimalRobot, KarushKuhnTuckerConditionsHoldAtTheSolution) {
     // At IPOPT's solution: g(x) = 0 and ∇J + Jᵀλ = 0 on every unknown off its bounds (the
     // fixed ends excepted), re-evaluated here from the transcription, not IPOPT's report.
-    const auto robot = models::robot_model(models::load_urdf(urdf_path("iiwa14_no_collision.urdf")));
+    const auto robot =
+        models::robot_model(models::load_urdf(urdf_path("iiwa14_no_collision.urdf")));
     const auto tr = robot.optimal(robot.defaults(), {}, iiwa_problem(20, scheme_kind::simpson));
     const auto r = optimal::solve(*tr);
     ASSERT_EQ(r.verdict, optimal::status::solved) << r.message;
@@ -111,7 +115,8 @@ TEST(OptimalRobot, DifferenceThirdDerivativesAgreeWithAutomaticOnes) {
     p.q_end = Eigen::Vector2d(std::numbers::pi, 0.0);
     const auto exact = optimal::transcribe(ad_two_link{}, optimal_test::direct_input<2>{}, p);
     const auto diff = optimal::transcribe_inputs(ad_two_link{}, Eigen::MatrixXd::Identity(2, 2), p);
-    const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(exact->variables(), 0.3, 2.9).array().sin();
+    const Eigen::VectorXd x =
+        Eigen::VectorXd::LinSpaced(exact->variables(), 0.3, 2.9).array().sin();
     const Eigen::VectorXd lambda = Eigen::VectorXd::LinSpaced(exact->constraints(), -3.0, 2.0);
     std::vector<double> a, b;
     exact->hessian(x, 0.5, lambda, a);
