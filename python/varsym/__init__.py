@@ -9,8 +9,9 @@
 own Lagrangian (``Lagrangian``) and returns a ``Trajectory``; ``Stepper`` steps one, with its
 tangent map and Poincaré sections; ``Model.ensemble`` runs many initial states on every core.
 ``Robot`` reads a robot from its URDF file (a Model with its joints, limits, mass matrix,
-gravity and frame poses). ``optimize`` finds the controls of a model with inputs (the acrobot, the cart-pole) that
-reach a target state at least cost. The paper's Table 1 and figures: ``table1``, ``figure_data``. Everything is computed by the
+gravity and frame poses). ``optimize`` finds the controls of a model with inputs, a URDF robot
+or a typed Lagrangian that reach a target state at least cost (an ``OptimalControl``). The
+paper's Table 1 and figures: ``table1``, ``figure_data``. Everything is computed by the
 compiled C++ library, in-process. Errors are varsym.Error subclasses carrying the tool's
 one-line messages; Ctrl-C raises varsym.Interrupted (a KeyboardInterrupt) with the rows so far.
 """
