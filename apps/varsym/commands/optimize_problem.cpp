@@ -3,9 +3,15 @@
 // weights, the bounds.
 #include "optimize_problem.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 
+#include "expression_options.hpp"
+#include "models.hpp"
+#include "varsym/models/expression.hpp"
+#include "varsym/models/robot.hpp"
 #include "varsym/optimal/solve.hpp"
 
 namespace varsym::cli {
@@ -122,6 +128,83 @@ optimal::control_problem problem_of(const optimize_options& o, const models::mod
     p.control_upper = Eigen::VectorXd::Constant(1, o.max_control);
     free_end_of(o.free_end, o.terminal_weight, d, p);
     return p;
+}
+
+std::shared_ptr<const models::model> optimize_model(const optimize_options& o,
+                                                    std::vector<double>& values) {
+    if (o.model == "urdf") {
+        auto robot = robot_model_of(urdf_spec{o.urdf, ""});
+        values = o.parameters->values(*robot);
+        return robot;
+    }
+    if (o.model == "lagrangian") {
+        if (o.lagrangian.empty())
+            throw usage_error("--model lagrangian needs --lagrangian EXPR and --inputs NAMES");
+        if (o.inputs.empty())
+            throw usage_error("--lagrangian needs --inputs: the coordinates the controls act on, "
+                              "comma-separated (e.g. --inputs th1,th2)");
+        const auto coordinates = split_list(o.coordinates, "--coordinates", "th1,th2");
+        const auto parameters = parse_parameters(o.expression_parameters);
+        const auto inputs = split_list(o.inputs, "--inputs", "th1,th2");
+        try {
+            auto m = models::expression_model(o.lagrangian, coordinates, parameters);
+            models::add_expression_inputs(m, o.lagrangian, coordinates, parameters, inputs);
+            values = m.defaults();
+            return std::make_shared<const models::model>(std::move(m));
+        } catch (const usage_error&) {
+            throw;
+        } catch (const std::exception& e) { // a parse error, a bad name, an input not a coordinate
+            throw usage_error(std::string("--lagrangian: ") + e.what());
+        }
+    }
+    if (!o.urdf.empty() || !o.lagrangian.empty())
+        throw usage_error(std::string(o.urdf.empty() ? "--lagrangian" : "--urdf") +
+                          " gives the model itself: leave --model " + o.model + " out");
+    const models::model& m = [&]() -> const models::model& {
+        try {
+            return models::get(o.model);
+        } catch (const std::invalid_argument& e) {
+            throw usage_error(e.what());
+        }
+    }();
+    if (!m.optimal) {
+        std::string with;
+        for (const auto& other : models::registry())
+            if (other.optimal) with += (with.empty() ? "" : ", ") + other.name;
+        throw usage_error("model " + m.name +
+                          " has no control input to optimise; models with inputs: " + with +
+                          ", and a URDF robot (--urdf) or a typed L (--lagrangian --inputs)");
+    }
+    values = o.parameters->values(m);
+    return unowned(m);
+}
+
+void hide_simulation_only(CLI::App& cmd) {
+    // The parameters only a simulation uses (--push, --torque, a controller's --kp) are hidden
+    // from --help where no model with inputs optimises with them, and refused with a word when
+    // given (optimize()).
+    std::vector<const models::model*> all;
+    for (const auto& m : models::registry())
+        all.push_back(&m);
+    all.push_back(&models::robot_options());
+    std::map<std::string, bool> used; // option name → whether an optimisation uses it
+    for (const models::model* m : all) {
+        if (!m->optimal) continue;
+        const auto note = [&](const std::string& key) {
+            std::string name = key;
+            std::replace(name.begin(), name.end(), '_', '-');
+            const bool only = std::find(m->simulation_only.begin(), m->simulation_only.end(),
+                                        key) != m->simulation_only.end();
+            used[name] = used[name] || !only;
+        };
+        for (const auto& p : m->parameters)
+            note(p.name);
+        for (const auto& l : m->lists)
+            note(l.name);
+    }
+    for (const auto& [name, optimising] : used)
+        if (!optimising)
+            if (auto* opt = cmd.get_option_no_throw("--" + name)) opt->group("");
 }
 
 void check_ipopt_options(const std::string& file, file_roles& roles) {

@@ -39,6 +39,16 @@ struct optimize_options {
 /// (IPOPT prints on standard error only.)
 void check_ipopt_options(const std::string& file, file_roles& roles);
 
+/// The model of --model, --urdf or --lagrangian (with --inputs), and its parameter values into
+/// `values`; usage_error for a model without inputs, an unreadable URDF, a bad expression or an
+/// input that is not a coordinate.
+std::shared_ptr<const models::model> optimize_model(const optimize_options& o,
+                                                    std::vector<double>& values);
+/// Hides from cmd's --help the parameters only a simulation uses (models::model::
+/// simulation_only: --push, --torque, a controller's --kp) where no model with inputs optimises
+/// with them; optimize refuses them with a word when given.
+void hide_simulation_only(CLI::App& cmd);
+
 /// The problem the options describe for model m at its parameters' values and lists;
 /// usage_error naming the option on bad input.
 optimal::control_problem problem_of(const optimize_options& o, const models::model& m,
