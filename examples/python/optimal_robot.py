@@ -26,5 +26,6 @@ assert np.all(np.abs(move.u) <= limits["effort"] + 1e-6)              # the URDF
 assert np.all((move.q >= limits["lower"] - 1e-9) & (move.q <= limits["upper"] + 1e-9))
 assert move.closure < 1e-8                    # the simulator's replay of the torques
 move.coordinates = [name.replace("iiwa_", "") for name in move.coordinates]  # shorter legend
+move.inputs = ["torque " + name for name in move.coordinates]
 move.plot(out)
 print("OK")
