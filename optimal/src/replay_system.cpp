@@ -81,25 +81,10 @@ struct system_controls {
 } // namespace
 
 matrix controlled_system::replay(const trajectory& path) const {
-    const int d = dimension();
-    const auto n = path.node_times.size() - 1;
-    system_controls force{this, &path, 0};
     general::stepper<system_lagrangian, system_controls> stepper(
-        lagrangian_system<system_lagrangian>(system_lagrangian{this}), force, path.h, path.scheme,
-        replay_newton);
-    phase_state<dynamic> x{vector(path.q.col(0)), vector(path.p.col(0))};
-    matrix out(2 * d, n + 1);
-    out.col(0) << x.q, x.p;
-    for (Eigen::Index k = 0; k < n; ++k) {
-        stepper.force().step = static_cast<int>(k);
-        const auto report = stepper.step(x);
-        if (!report.converged)
-            throw std::runtime_error("replay: step " + std::to_string(k) +
-                                     " did not converge (residual " +
-                                     std::to_string(report.residual) + ")");
-        out.col(k + 1) << x.q, x.p;
-    }
-    return out;
+        lagrangian_system<system_lagrangian>(system_lagrangian{this}),
+        system_controls{this, &path, 0}, path.h, path.scheme, replay_newton);
+    return replay_with(stepper, path);
 }
 
 } // namespace varsym::optimal

@@ -47,10 +47,10 @@ struct scheduled_controls {
 /// std::runtime_error naming the step if one fails.
 template <class Stepper>
 Eigen::MatrixXd replay_with(Stepper& stepper, const trajectory& path) {
-    constexpr int D = Stepper::dim;
+    constexpr int D = Stepper::dim; // or dynamic
     const auto n = path.node_times.size() - 1;
     phase_state<D> x{vec<D>(path.q.col(0)), vec<D>(path.p.col(0))};
-    Eigen::MatrixXd out(2 * D, n + 1);
+    Eigen::MatrixXd out(2 * x.q.size(), n + 1);
     out.col(0) << x.q, x.p;
     for (Eigen::Index k = 0; k < n; ++k) {
         stepper.force().step = static_cast<int>(k);

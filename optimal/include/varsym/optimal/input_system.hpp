@@ -52,30 +52,11 @@ class input_system final : public controlled_system {
 
     void gradient(const vector& q, const vector& v, double t,
                   lagrangian_terms<dynamic>& out) const override {
-        if constexpr (D == dynamic) {
-            evaluate_gradient(l_, q, v, t, out);
-        } else {
-            lagrangian_terms<D> lt;
-            evaluate_gradient(l_, vec<D>(q), vec<D>(v), t, lt);
-            out.value = lt.value;
-            out.lq = lt.lq;
-            out.lv = lt.lv;
-        }
+        lagrangian_terms_of(l_, q, v, t, out, false);
     }
     void derivatives(const vector& q, const vector& v, double t,
                      lagrangian_terms<dynamic>& out) const override {
-        if constexpr (D == dynamic) {
-            evaluate(l_, q, v, t, out);
-        } else {
-            lagrangian_terms<D> lt;
-            evaluate(l_, vec<D>(q), vec<D>(v), t, lt);
-            out.value = lt.value;
-            out.lq = lt.lq;
-            out.lv = lt.lv;
-            out.lqq = lt.lqq;
-            out.lqv = lt.lqv;
-            out.lvv = lt.lvv;
-        }
+        lagrangian_terms_of(l_, q, v, t, out, true);
     }
     void force(const vector& q, const vector& v, double t, const vector& u, input_terms& out,
                bool jacobians) const override {

@@ -119,6 +119,33 @@ class controlled_system {
     [[nodiscard]] virtual matrix replay(const trajectory& path) const;
 };
 
+/// L's derivatives at (q, q̇, t) by L's own means (by hand, or automatic at a fixed dimension)
+/// into terms of run-time size: the first, and the second if `second`.
+template <lagrangian L>
+void lagrangian_terms_of(const L& l, const vector& q, const vector& v, double t,
+                         lagrangian_terms<dynamic>& out, bool second) {
+    constexpr int D = L::dim;
+    if constexpr (D == dynamic) {
+        if (second)
+            evaluate(l, q, v, t, out);
+        else
+            evaluate_gradient(l, q, v, t, out);
+    } else {
+        lagrangian_terms<D> lt;
+        if (second)
+            evaluate(l, vec<D>(q), vec<D>(v), t, lt);
+        else
+            evaluate_gradient(l, vec<D>(q), vec<D>(v), t, lt);
+        out.value = lt.value;
+        out.lq = lt.lq;
+        out.lv = lt.lv;
+        if (!second) return;
+        out.lqq = lt.lqq;
+        out.lqv = lt.lqv;
+        out.lvv = lt.lvv;
+    }
+}
+
 /// f = B u with a constant input matrix B (d × m): joint torques, a push.
 class input_matrix {
   public:

@@ -119,8 +119,8 @@ class dmoc_transcription final : public transcription {
 /// The running cost c(q, q̇, t, u) (cost_weights: effort, invariant, power) of a system at one
 /// point, with its gradient and Hessian (effort and power only) in z = (q, q̇, u).
 double running_cost_at(const controlled_system& s, const cost_weights& w, const matrix& effort,
-                    const vector& q, const vector& v, double t, const vector& u, vector* gradient,
-                    matrix* hessian);
+                       const vector& q, const vector& v, double t, const vector& u,
+                       vector* gradient, matrix* hessian);
 
 /// The transcription of `problem` for `system`.
 inline std::unique_ptr<dmoc_transcription>
