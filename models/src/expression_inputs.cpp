@@ -1,6 +1,6 @@
 // models/src/expression_inputs.cpp: optimal control of a Lagrangian typed as an expression (the
 // model `lagrangian`): its inputs are generalized forces on named coordinates, transcribed by
-// varsym::optimal's one transcription over the typed L's symbolic derivatives.
+// the one compiled transcription (varsym::transcription) over the typed L's symbolic derivatives.
 #include <algorithm>
 #include <set>
 #include <stdexcept>

@@ -1,6 +1,6 @@
 // varsym/optimal/transcription.hpp: discrete mechanics and optimal control (DMOC; Ober-Blöbaum,
 // Junge & Marsden 2011) at every member of the variational family, for a system of run-time size
-// (system.hpp): one transcription compiled once in varsym::optimal for every system, whether a
+// (system.hpp): one transcription compiled once in varsym::transcription for every system: a
 // URDF robot, a typed Lagrangian or a C++ one (system_of.hpp). The unknowns are the control
 // values Q of every step's polynomial (nodes shared between steps) and the controls u at the
 // steps' quadrature points; the equations are the discrete Lagrange–d'Alembert equations of the
