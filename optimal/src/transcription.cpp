@@ -46,6 +46,7 @@ dmoc_transcription::dmoc_transcription(std::shared_ptr<const controlled_system> 
                                     "Lagrangian depends on t");
     points_ = n_ * s_ + 1;
     free_end_ = p_.free_end();
+    if (p_.end_target && p_.end_target_weight == 0.0) t_ = p_.end_target->rows();
     lagrangian_terms<dynamic> t;
     sys_->gradient(p_.q_start, p_.v_start, 0.0, t);
     p_start_ = t.lv;
@@ -84,9 +85,10 @@ void dmoc_transcription::bounds(vector& lower, vector& upper) const {
 vector dmoc_transcription::start() const {
     vector x = vector::Zero(variables());
     const double span = static_cast<double>(points_ - 1);
+    const vector q_end = end_guess();
     for (int g = 0; g < points_; ++g) {
         const double a = static_cast<double>(g) / span;
-        x.segment(g * d_, d_) = (1.0 - a) * p_.q_start + a * p_.q_end;
+        x.segment(g * d_, d_) = (1.0 - a) * p_.q_start + a * q_end;
     }
     const vector u0 = vector::Zero(m_).cwiseMax(p_.control_lower).cwiseMin(p_.control_upper);
     for (int c = 0; c < n_ * r_; ++c)
@@ -164,6 +166,7 @@ void dmoc_transcription::point(cvector x, int k, int j, vector& q, vector& v) co
 
 double dmoc_transcription::terminal_cost(cvector x, vector* gradient) const {
     if (!free_end_) return 0.0;
+    const double target = target_cost(x, gradient);
     const vector dq = x.segment((points_ - 1) * d_, d_) - p_.q_end,
                  dv = x.segment(end_velocity_index(), d_) - p_.v_end;
     const vector &a = p_.cost.terminal_position, &b = p_.cost.terminal_velocity;
@@ -171,7 +174,7 @@ double dmoc_transcription::terminal_cost(cvector x, vector* gradient) const {
         gradient->segment((points_ - 1) * d_, d_) += a.cwiseProduct(dq);
         gradient->segment(end_velocity_index(), d_) += b.cwiseProduct(dv);
     }
-    return 0.5 * (dq.dot(a.cwiseProduct(dq)) + dv.dot(b.cwiseProduct(dv)));
+    return target + 0.5 * (dq.dot(a.cwiseProduct(dq)) + dv.dot(b.cwiseProduct(dv)));
 }
 
 vector dmoc_transcription::end_momentum(cvector x) const {

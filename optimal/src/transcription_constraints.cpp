@@ -117,4 +117,82 @@ void dmoc_transcription::add_constraint_hessian(cvector x, cvector lambda, spars
     }
 }
 
+// The end target φ(Q_{Ns}) (control_problem::end_target): t_ rows φ = 0 after the constraints'
+// as a constraint, or the terminal cost ½ w |φ|² (terminal_cost). Nothing without one.
+
+double dmoc_transcription::target_cost(cvector x, vector* gradient) const {
+    if (!p_.end_target || t_ > 0) return 0.0;
+    vector phi;
+    matrix jac;
+    p_.end_target->evaluate(x.segment((points_ - 1) * d_, d_), phi, gradient ? &jac : nullptr);
+    const double w = p_.end_target_weight;
+    if (gradient) gradient->segment((points_ - 1) * d_, d_) += w * (jac.transpose() * phi);
+    return 0.5 * w * phi.squaredNorm();
+}
+
+vector dmoc_transcription::end_guess() const {
+    vector q = p_.q_end.cwiseMax(p_.position_lower).cwiseMin(p_.position_upper);
+    if (!p_.end_target) return q;
+    // Levenberg–Marquardt: (JᵀJ + μ diag) δ = −Jᵀφ, μ shrunk on success and grown on failure,
+    // the step clipped into the bounds. From a singular pose (an arm stretched straight) the
+    // damping still moves along Jᵀφ.
+    vector phi, trial_phi;
+    matrix jac;
+    p_.end_target->evaluate(q, phi, &jac);
+    double mu = 1e-3;
+    for (int it = 0; it < 200 && phi.norm() > 1e-12; ++it) {
+        const matrix a = jac.transpose() * jac;
+        matrix damped = a;
+        damped.diagonal().array() += mu * (1.0 + a.diagonal().maxCoeff());
+        const vector step = damped.ldlt().solve(-(jac.transpose() * phi));
+        const vector trial = (q + step).cwiseMax(p_.position_lower).cwiseMin(p_.position_upper);
+        p_.end_target->evaluate(trial, trial_phi, nullptr);
+        if (trial_phi.allFinite() && trial_phi.norm() < phi.norm()) {
+            q = trial;
+            p_.end_target->evaluate(q, phi, &jac);
+            mu = std::max(mu / 3.0, 1e-12);
+        } else if ((mu *= 4.0) > 1e8) {
+            break;
+        }
+    }
+    return q;
+}
+
+void dmoc_transcription::add_target_residual(cvector x, vector& e) const {
+    if (t_ == 0) return;
+    vector phi;
+    p_.end_target->evaluate(x.segment((points_ - 1) * d_, d_), phi, nullptr);
+    e.segment(target_row(), t_) = phi;
+}
+
+/// The rows of φ against Q_{Ns}: ∂φ/∂q, dense.
+void dmoc_transcription::add_target_jacobian(cvector x, sparsity* pattern,
+                                             std::vector<double>* values) const {
+    if (t_ == 0) return;
+    vector phi;
+    matrix jac;
+    if (values) p_.end_target->evaluate(x.segment((points_ - 1) * d_, d_), phi, &jac);
+    for (int row = 0; row < t_; ++row)
+        for (int col = 0; col < d_; ++col)
+            pattern ? pattern->add(target_row() + row, (points_ - 1) * d_ + col)
+                    : values->push_back(jac(row, col));
+}
+
+void dmoc_transcription::add_target_hessian(cvector x, double sigma, cvector lambda,
+                                            matrix& he) const {
+    if (!p_.end_target) return;
+    const vector q = x.segment((points_ - 1) * d_, d_);
+    matrix curvature;
+    if (t_ > 0) {
+        p_.end_target->curvature(q, lambda.segment(target_row(), t_), curvature);
+        he.topLeftCorner(d_, d_) += curvature;
+        return;
+    }
+    vector phi;
+    matrix jac;
+    p_.end_target->evaluate(q, phi, &jac);
+    p_.end_target->curvature(q, phi, curvature);
+    he.topLeftCorner(d_, d_) += sigma * p_.end_target_weight * (jac.transpose() * jac + curvature);
+}
+
 } // namespace varsym::optimal

@@ -13,6 +13,7 @@ void dmoc_transcription::residual(cvector x, vector& e) const {
     e.head(d_) += p_start_;                               // p_0 = −D₁L_d − f⁻
     e.segment((points_ - 1) * d_, d_) -= end_momentum(x); // p_N = D₂L_d + f⁺
     add_constraint_residual(x, e);
+    add_target_residual(x, e);
 }
 
 /// Adds each step's terms to the equations of its control values (the discrete forced
@@ -55,6 +56,7 @@ sparsity dmoc_transcription::jacobian_pattern() const {
         for (int col = 0; col < 2 * d_; ++col)
             s.add((points_ - 1) * d_ + row, end_index(col));
     add_constraint_jacobian(vector(), &s, nullptr);
+    add_target_jacobian(vector(), &s, nullptr);
     return s;
 }
 
@@ -120,6 +122,7 @@ void dmoc_transcription::jacobian(cvector x, std::vector<double>& values) const 
                 values[at++] = bu(row, col);
     }
     add_constraint_jacobian(x, nullptr, &values);
+    add_target_jacobian(x, nullptr, &values);
 }
 
 /// Lower triangle of each step's dense block over its control values and its controls; with a
@@ -197,6 +200,7 @@ void dmoc_transcription::hessian(cvector x, double sigma, cvector lambda,
         vector diag(2 * d_);
         diag << p_.cost.terminal_position, p_.cost.terminal_velocity;
         he.diagonal() += sigma * diag;
+        add_target_hessian(x, sigma, lambda, he);
         for (int row = 0; row < 2 * d_; ++row)
             for (int col = 0; col <= row; ++col)
                 values.push_back(he(row, col));

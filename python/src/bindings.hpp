@@ -5,11 +5,13 @@
 #include <pybind11/pybind11.h>
 
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <string>
 
 #include "varsym/integrate.hpp"
 #include "varsym/models/model.hpp"
+#include "varsym/multibody/model.hpp"
 #include "varsym/schemes/scheme_kind.hpp"
 
 /// The models layer's registry, problems and simulations (simulation.cpp).
@@ -23,7 +25,10 @@ void bind_ensemble(pybind11::module_& m);
 void bind_robot(pybind11::module_& m);
 /// The model of a _Robot, or nullptr if `h` is not one (robot.cpp).
 const varsym::models::model* robot_model_of(pybind11::handle h);
-/// A model's data as the Python registry gives it: name, parameters, lists, dim, … (simulation.cpp).
+/// The multibody tree of a _Robot, or nullptr if `h` is not one (robot.cpp).
+std::shared_ptr<const varsym::multibody::model> robot_tree_of(pybind11::handle h);
+/// A model's data as the Python registry gives it: name, parameters, lists, dim, …
+/// (simulation.cpp).
 pybind11::dict model_info(const varsym::models::model& mod);
 /// The members of model `mod`, one row of `values` each (and of q0 and p0 where given), on
 /// `threads` threads without the GIL: a dict of arrays, one entry per member (ensemble.cpp).
@@ -31,8 +36,8 @@ pybind11::dict run_ensemble(const varsym::models::model& mod,
                             pybind11::array_t<double, pybind11::array::c_style> values,
                             pybind11::array_t<double, pybind11::array::c_style> q0,
                             pybind11::array_t<double, pybind11::array::c_style> p0, double h,
-                            long long steps, const std::string& scheme, int degree,
-                            bool indicators, unsigned threads, const std::string& event,
+                            long long steps, const std::string& scheme, int degree, bool indicators,
+                            unsigned threads, const std::string& event,
                             const varsym::models::lists& lists);
 
 /// A vector or matrix as a NumPy array (a copy) (module.cpp).

@@ -14,6 +14,8 @@
 #include "bindings.hpp"
 #include "varsym/models/expression.hpp"
 #include "varsym/models/model.hpp"
+#include "varsym/models/robot.hpp"
+#include "varsym/multibody/spatial.hpp"
 #include "varsym/optimal/problem.hpp"
 #include "varsym/optimal/solution_check.hpp"
 #include "varsym/optimal/solve.hpp"
@@ -32,7 +34,9 @@ py::dict optimize(const py::object& source, const std::vector<std::string>& inpu
                   const std::vector<bool>& free_v, const Eigen::VectorXd& terminal_q,
                   const Eigen::VectorXd& terminal_v, const std::string& hessian, int max_iterations,
                   int refine, const std::optional<py::function>& progress,
-                  const std::string& ipopt_options) {
+                  const std::string& ipopt_options, const std::string& reach,
+                  const Eigen::Vector3d& reach_position,
+                  const std::optional<Eigen::Vector3d>& reach_rpy, double reach_weight) {
     // The model: a registry name, a _Robot's, or a _Lagrangian's with its inputs.
     std::optional<models::model> typed;
     const models::model* found = robot_model_of(source);
@@ -69,6 +73,15 @@ py::dict optimize(const py::object& source, const std::vector<std::string>& inpu
     p.cost.terminal_velocity = terminal_v;
     p.control_lower = Eigen::VectorXd::Constant(1, -max_control); // on every input
     p.control_upper = Eigen::VectorXd::Constant(1, max_control);
+    std::optional<Eigen::Matrix3d> reach_rotation;
+    if (reach_rpy) reach_rotation = multibody::roll_pitch_yaw(*reach_rpy);
+    if (!reach.empty()) { // a link's target pose (models/robot.hpp)
+        if (!robot_tree_of(source))
+            throw std::invalid_argument("reach names a link of a robot: give a varsym.Robot");
+        p.end_target =
+            models::frame_target(robot_tree_of(source), reach, reach_position, reach_rotation);
+        p.end_target_weight = reach_weight;
+    }
     if (limits && m.limits) m.limits(values, p); // a URDF robot's joint and effort limits
     auto tr = m.optimal(values, lists, p);
     optimal::solver_options so;
@@ -136,6 +149,14 @@ py::dict optimize(const py::object& source, const std::vector<std::string>& inpu
     out["closure_advice"] = check.ok() ? std::string() : check.advice();
     out["interrupted"] = interrupted;
     out["controls_at_bound"] = check.controls_at_bound; // active bounds (solution_check.hpp)
+    if (!reach.empty()) {
+        const auto miss =
+            models::frame_target_miss(*robot_tree_of(source), reach, path.q.col(path.q.cols() - 1),
+                                      reach_position, reach_rotation);
+        out["reach_miss"] = py::make_tuple(miss.distance, miss.angle);
+    } else {
+        out["reach_miss"] = py::none();
+    }
     return out;
 }
 

@@ -28,8 +28,8 @@ struct robot {
     [[nodiscard]] vec<dynamic> vector(const std::vector<double>& x, const char* what) const {
         if (static_cast<int>(x.size()) != tree->dof())
             throw std::invalid_argument(std::string(what) + " needs " +
-                                        std::to_string(tree->dof()) + " values (one per joint), got " +
-                                        std::to_string(x.size()));
+                                        std::to_string(tree->dof()) +
+                                        " values (one per joint), got " + std::to_string(x.size()));
         vec<dynamic> v = Eigen::Map<const vec<dynamic>>(x.data(), std::ssize(x));
         if (!v.allFinite()) throw std::invalid_argument(std::string(what) + " must be finite");
         return v;
@@ -42,13 +42,17 @@ const models::model* robot_model_of(py::handle h) {
     return py::isinstance<robot>(h) ? &h.cast<const robot&>().model : nullptr;
 }
 
+std::shared_ptr<const multibody::model> robot_tree_of(py::handle h) {
+    return py::isinstance<robot>(h) ? h.cast<const robot&>().tree : nullptr;
+}
+
 void bind_robot(py::module_& m) {
     py::class_<robot>(m, "_Robot")
-        .def(py::init([](const std::string& source, bool text,
-                         const std::vector<std::string>& torques) {
-                 auto tree = text ? models::parse_urdf(source) : models::load_urdf(source);
-                 return robot{tree, models::robot_model(tree, torques)};
-             }),
+        .def(py::init(
+                 [](const std::string& source, bool text, const std::vector<std::string>& torques) {
+                     auto tree = text ? models::parse_urdf(source) : models::load_urdf(source);
+                     return robot{tree, models::robot_model(tree, torques)};
+                 }),
              py::arg("source"), py::arg("text") = false,
              py::arg("torques") = std::vector<std::string>{})
         .def_property_readonly("name", [](const robot& r) { return r.tree->name; })
@@ -67,27 +71,27 @@ void bind_robot(py::module_& m) {
                                        out.push_back(f.name);
                                    return out;
                                })
-        .def_property_readonly(
-            "limits",
-            [](const robot& r) {
-                const auto n = r.tree->dof();
-                vec<dynamic> lo(n), hi(n), effort(n), velocity(n), damping(n);
-                for (int i = 0; i < n; ++i) {
-                    const auto& l = r.tree->bodies[static_cast<std::size_t>(i)].limits;
-                    lo(i) = l.lower;
-                    hi(i) = l.upper;
-                    effort(i) = l.effort;
-                    velocity(i) = l.velocity;
-                    damping(i) = l.damping;
-                }
-                py::dict out;
-                out["lower"] = to_array(lo);
-                out["upper"] = to_array(hi);
-                out["effort"] = to_array(effort);
-                out["velocity"] = to_array(velocity);
-                out["damping"] = to_array(damping);
-                return out;
-            })
+        .def_property_readonly("limits",
+                               [](const robot& r) {
+                                   const auto n = r.tree->dof();
+                                   vec<dynamic> lo(n), hi(n), effort(n), velocity(n), damping(n);
+                                   for (int i = 0; i < n; ++i) {
+                                       const auto& l =
+                                           r.tree->bodies[static_cast<std::size_t>(i)].limits;
+                                       lo(i) = l.lower;
+                                       hi(i) = l.upper;
+                                       effort(i) = l.effort;
+                                       velocity(i) = l.velocity;
+                                       damping(i) = l.damping;
+                                   }
+                                   py::dict out;
+                                   out["lower"] = to_array(lo);
+                                   out["upper"] = to_array(hi);
+                                   out["effort"] = to_array(effort);
+                                   out["velocity"] = to_array(velocity);
+                                   out["damping"] = to_array(damping);
+                                   return out;
+                               })
         .def(
             "mass_matrix",
             [](const robot& r, const std::vector<double>& q) {
@@ -143,7 +147,9 @@ void bind_robot(py::module_& m) {
             "prepare",
             [](const robot& r, const std::vector<double>& values, const std::vector<double>& q0,
                const std::vector<double>& p0, const std::vector<double>& v0,
-               const models::lists& lists) { return r.model.prepare(values, {q0, p0, v0}, lists); },
+               const models::lists& lists) {
+                return r.model.prepare(values, {q0, p0, v0}, lists);
+            },
             py::arg("values"), py::arg("q0"), py::arg("p0"), py::arg("v0"), py::arg("lists"))
         .def(
             "ensemble",

@@ -81,11 +81,14 @@ class OptimalControl:
     cost; status ("solved", "acceptable", "infeasible", "iteration_limit", "failed",
     "interrupted"); message (IPOPT's); iterations; constraint_violation (varsym's own max |g|);
     controls_at_bound (how many control values sit on their bound); closure (the general
-    engine's replay of the controls against q) and trusted (the closure within 1e-6).
+    engine's replay of the controls against q) and trusted (the closure within 1e-6);
+    reach_miss, with a reach target, (distance [m], angle [rad]) of the link from its target
+    at T (else None).
     ``coordinates`` and ``inputs`` name the columns of q and u. ``result["q"]`` also works."""
 
     _FIELDS = ("t", "q", "v", "p", "costate", "control_t", "u", "cost", "status", "message",
-               "iterations", "constraint_violation", "closure", "trusted", "controls_at_bound")
+               "iterations", "constraint_violation", "closure", "trusted", "controls_at_bound",
+               "reach_miss")
 
     def __init__(self, raw, name, coordinates, inputs):
         for key in self._FIELDS:
@@ -133,10 +136,11 @@ class OptimalControl:
         return fig
 
 
-def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
+def optimize(model, *, time, q_start, q_end=None, v_start=None, v_end=None, steps=50,
              scheme="simpson", degree=None, max_control=None, cost="effort", free_end=None,
              hessian="automatic", max_iterations=3000, refine=0, progress=False,
-             ipopt_options=None, inputs=None, limits=True, **parameters):
+             ipopt_options=None, inputs=None, limits=True, reach=None, reach_position=None,
+             reach_rpy=None, reach_weight=0.0, **parameters):
     """The controls that take ``model`` from (q_start, v_start) at t = 0 to (q_end, v_end) at
     t = ``time`` at the least cost, by discrete mechanics and optimal control with ``steps``
     steps of ``scheme`` (velocities default to rest). ``model``: a name or Model with inputs
@@ -150,6 +154,10 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
     ``max_control``: a bound |u| ≤ U on every input (over a robot's efforts). ``free_end``:
     final coordinates left free, "q1", "v2", … (from 1) in a list or string, or a dict of them
     to terminal weights w, each adding w (x(T) − its q_end or v_end)²/2 to the cost.
+    ``reach``: a varsym.Robot's link whose frame must be at ``reach_position`` (x, y, z [m],
+    world frame) and, if given, at the orientation ``reach_rpy`` (URDF roll, pitch, yaw [rad])
+    at T, instead of the joints at q_end (then optional, only the first guess of q(T)); with
+    ``reach_weight`` w > 0 a terminal cost w/2 (|miss|² + (2 sin(angle/2))²) instead of exactly.
     ``refine``: K levels of mesh refinement (solve with steps/2^K first, then double up to
     ``steps``, each from the previous solution). ``progress``: True for a bar, or a function
     progress(iteration, cost, infeasibility). Returns an OptimalControl. Raises SolverError
@@ -191,6 +199,20 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
                            [f"q{i + 1}" for i in range(d)])
         if not isinstance(model, Robot):
             names = None
+    if reach is None:
+        if reach_position is not None or reach_rpy is not None or reach_weight:
+            raise UsageError("optimize: reach_position, reach_rpy and reach_weight need reach, "
+                             "a robot's link")
+        if q_end is None:
+            raise UsageError(f"optimize: q_end is required ({d} values), or reach= a link")
+    else:
+        if not isinstance(model, Robot):
+            raise UsageError("optimize: reach names a link of a robot: give a varsym.Robot")
+        if reach_position is None:
+            raise UsageError("optimize: reach needs reach_position, the link origin's target "
+                             "(x, y, z) [m]")
+        if q_end is None:
+            q_end = q_start
     weights = _costs(cost)
     if weights["time"] > 0 and max_control is None:
         raise UsageError("optimize: a cost on the time needs max_control (with unbounded inputs "
@@ -212,7 +234,11 @@ def optimize(model, *, time, q_start, q_end, v_start=None, v_end=None, steps=50,
                              math.inf if max_control is None else float(max_control),
                              *weights.values(), *_free_end(free_end, d), hessian,
                              int(max_iterations), int(refine), callback,
-                             "" if ipopt_options is None else os.fspath(ipopt_options))
+                             "" if ipopt_options is None else os.fspath(ipopt_options),
+                             "" if reach is None else str(reach),
+                             _vector(reach_position, 3, "reach_position", 0.0),
+                             None if reach_rpy is None else _vector(reach_rpy, 3, "reach_rpy"),
+                             float(reach_weight))
     finally:
         if bar is not None:
             bar.close()

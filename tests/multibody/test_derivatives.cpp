@@ -21,8 +21,7 @@ using multibody::vec3;
 multibody::mat3 random_inertia(std::mt19937& g) {
     std::uniform_real_distribution<double> u(0.05, 1.0);
     const double a = u(g), b = u(g), c = u(g);
-    const multibody::mat3 r =
-        multibody::roll_pitch_yaw(vec3(3.0 * u(g), 3.0 * u(g), 3.0 * u(g)));
+    const multibody::mat3 r = multibody::roll_pitch_yaw(vec3(3.0 * u(g), 3.0 * u(g), 3.0 * u(g)));
     return r * vec3(b + c, a + c, a + b).asDiagonal() * r.transpose();
 }
 
@@ -38,8 +37,8 @@ multibody::model random_tree(unsigned seed) {
         b.name = "j" + std::to_string(i);
         b.link = "l" + std::to_string(i);
         b.parent = parents[i];
-        b.kind = (i == 2 || i == 5) ? multibody::joint_kind::prismatic
-                                    : multibody::joint_kind::revolute;
+        b.kind =
+            (i == 2 || i == 5) ? multibody::joint_kind::prismatic : multibody::joint_kind::revolute;
         b.placement.rotation = multibody::roll_pitch_yaw(vec3(3 * u(g), 3 * u(g), 3 * u(g)));
         b.placement.origin = vec3(u(g), u(g), u(g)) * 0.5;
         b.axis = vec3(u(g), u(g), u(g)).normalized();
@@ -62,7 +61,8 @@ double relative_gap(const A& a, const B& b) {
 // largest term, 1e-12 relative, is round-off; a wrong sign or term is O(1).
 constexpr double tolerance = 1e-12;
 
-TEST(MultibodyDerivatives, FirstAndSecondDerivativesEqualAutomaticDifferentiationOfASecondImplementation) {
+TEST(MultibodyDerivatives,
+     FirstAndSecondDerivativesEqualAutomaticDifferentiationOfASecondImplementation) {
     const multibody::model m = random_tree(7);
     const multibody::robot_lagrangian l(std::make_shared<const multibody::model>(m));
     const test::reference_lagrangian<7> ref{&m};
@@ -135,3 +135,37 @@ TEST(MultibodyDerivatives, NewtonEulerBiasAndCompositeMassMatrixSatisfyEulerLagr
 }
 
 } // namespace
+
+TEST(MultibodyFrames, FrameJacobianIsTheDerivativeOfTheFramePose) {
+    // ∂(origin)/∂q_j and the angular velocity per joint rate (ω̂_j = ∂R/∂q_j Rᵀ) by central
+    // differences of frame_pose (step 1e-6: truncation and round-off about 1e-10) on the
+    // branched tree: the frame on body 4 sees joints 4, 3, 1, 0 and not 2, 5, 6, whose columns
+    // must be exactly zero.
+    const multibody::model m = random_tree(11);
+    multibody::frame f{
+        "tool", 4, {multibody::roll_pitch_yaw(vec3(0.3, -0.2, 0.9)), vec3(0.1, 0.2, -0.3)}};
+    const Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(7, -0.8, 1.1);
+    multibody::workspace w;
+    multibody::kinematics(m, w, q);
+    Eigen::MatrixXd jac;
+    multibody::frame_jacobian(m, w, f, jac);
+    const multibody::mat3 r0 = multibody::frame_pose(w, f).rotation;
+    Eigen::MatrixXd fd(6, 7);
+    const double eps = 1e-6;
+    for (int j = 0; j < 7; ++j) {
+        multibody::pose x[2];
+        for (int k = 0; k < 2; ++k) {
+            Eigen::VectorXd qs = q;
+            qs(j) += k == 0 ? eps : -eps;
+            multibody::kinematics(m, w, qs);
+            x[k] = multibody::frame_pose(w, f);
+        }
+        const multibody::mat3 dr = (x[0].rotation - x[1].rotation) / (2 * eps);
+        const multibody::mat3 omega = dr * r0.transpose();
+        fd.col(j) << omega(2, 1), omega(0, 2), omega(1, 0), (x[0].origin - x[1].origin) / (2 * eps);
+    }
+    EXPECT_LT(relative_gap(jac, fd), 1e-8);
+    for (const int j : {2, 5, 6})
+        EXPECT_EQ(jac.col(j).norm(), 0.0);
+    EXPECT_GT(jac.col(0).norm(), 0.1); // not vacuous
+}

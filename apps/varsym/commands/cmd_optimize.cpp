@@ -235,6 +235,7 @@ void optimize(const optimize_options& o) {
                  optimal::status_name(r.verdict), r.message.c_str(), r.iterations, seconds,
                  path.cost, path.node_times(path.node_times.size() - 1),
                  r.converged() ? check.residual : r.constraint_violation, check.closure.error);
+    std::fputs(reach_report(o, path.q.col(path.q.cols() - 1)).c_str(), stderr);
     if (check.controls_at_bound > 0)
         std::fprintf(stderr,
                      "varsym optimize: bound active: |u| = --max-control at %d of %lld control "
@@ -278,6 +279,7 @@ void add_optimize_command(CLI::App& app, action& todo) {
         "the momenta) to --output, and u at each step's quadrature points to --controls. The\n"
         "optimum found is local: another --scheme or --steps can reach another one.\n"
         "--free-end frees final coordinates; --terminal-weight pulls them towards --to.\n"
+        "A robot's link can be sent to a target pose instead: --reach LINK --reach-position.\n"
         "Exit codes: 0 solved; 2 bad input; 3 not solved (infeasible, iteration limit: the\n"
         "files hold the last iterate) or not trusted (the simulator's replay of the controls\n"
         "misses the optimal motion: steps too coarse); 130/143 stopped by SIGINT/SIGTERM (last\n"
@@ -309,12 +311,12 @@ void add_optimize_command(CLI::App& app, action& todo) {
         ->transform(positive_integer)
         ->capture_default_str();
     add_scheme_options(*cmd, o->scheme);
+    add_reach_options(*cmd, *o);
     cmd->add_option("--from", o->from, "Start position q(0), one value per coordinate")
         ->required()
         ->transform(number_list)
         ->type_name(list_type_name);
-    cmd->add_option("--to", o->to, "Final position q(T)")
-        ->required()
+    cmd->add_option("--to", o->to, "Final position q(T) (with --reach: its first guess)")
         ->transform(number_list)
         ->type_name(list_type_name);
     cmd->add_option("--from-velocity", o->from_velocity, "Start velocity (default: rest)")

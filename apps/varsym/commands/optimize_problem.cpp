@@ -5,13 +5,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "expression_options.hpp"
 #include "models.hpp"
 #include "varsym/models/expression.hpp"
 #include "varsym/models/robot.hpp"
+#include "varsym/multibody/spatial.hpp"
 #include "varsym/optimal/solve.hpp"
 
 namespace varsym::cli {
@@ -101,7 +104,79 @@ void free_end_of(const std::string& list, const std::string& weights, int d,
                           std::to_string(count) + "), got " + std::to_string(w.size()));
 }
 
+/// The three numbers of --reach-position or --reach-rpy.
+Eigen::Vector3d three(const std::string& list, const char* option, const char* example) {
+    const std::vector<double> v = parse_number_list(list);
+    if (v.size() != 3)
+        throw usage_error(std::string(option) + " needs 3 values, e.g. " + option + " " + example +
+                          ", got " + std::to_string(v.size()));
+    return {v[0], v[1], v[2]};
+}
+
+std::optional<Eigen::Matrix3d> reach_rotation(const optimize_options& o) {
+    if (o.reach_rpy.empty()) return std::nullopt;
+    return multibody::roll_pitch_yaw(three(o.reach_rpy, "--reach-rpy", "0,3.14159,0"));
+}
+
+/// --reach LINK: the link's target pose as the problem's end target (the URDF read again: a
+/// few milliseconds).
+void reach_of(const optimize_options& o, optimal::control_problem& p) {
+    if (o.reach.empty()) {
+        if (!o.reach_position.empty() || !o.reach_rpy.empty() || o.reach_weight != 0.0)
+            throw usage_error("--reach-position, --reach-rpy and --reach-weight need --reach LINK");
+        return;
+    }
+    if (o.model != "urdf")
+        throw usage_error("--reach needs a robot (--urdf FILE): it names one of its links");
+    if (o.reach_position.empty())
+        throw usage_error("--reach needs --reach-position X,Y,Z: where the link's origin must be "
+                          "at T [m, world frame]");
+    try {
+        p.end_target = models::frame_target(
+            models::load_urdf(o.urdf), o.reach,
+            three(o.reach_position, "--reach-position", "0.5,0,0.6"), reach_rotation(o));
+    } catch (const std::invalid_argument& e) {
+        throw usage_error("--reach: " + std::string(e.what()));
+    }
+    p.end_target_weight = o.reach_weight;
+}
+
 } // namespace
+
+void add_reach_options(CLI::App& cmd, optimize_options& o) {
+    cmd.add_option("--reach", o.reach,
+                   "urdf: a link whose frame must reach --reach-position (and --reach-rpy) at T; "
+                   "the final joint positions are then free within their limits and --to, if "
+                   "given, is only their first guess");
+    cmd.add_option("--reach-position", o.reach_position,
+                   "The link origin's target at T [m, in the URDF's world frame]")
+        ->transform(number_list)
+        ->type_name(list_type_name);
+    cmd.add_option("--reach-rpy", o.reach_rpy,
+                   "The link's target orientation at T: URDF roll, pitch, yaw [rad] (fixed axes "
+                   "x, y, z); default: any orientation")
+        ->transform(number_list)
+        ->type_name(list_type_name);
+    cmd.add_option("--reach-weight", o.reach_weight,
+                   "0: reach the target exactly (a constraint; an unreachable one exits 3, "
+                   "infeasible); W > 0: a terminal cost W/2 (|miss|^2 [m^2] + (2 sin(angle/2))^2, "
+                   "about angle^2 [rad^2]) instead")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+}
+
+std::string reach_report(const optimize_options& o, const Eigen::VectorXd& q) {
+    if (o.reach.empty()) return {};
+    const auto tree = models::load_urdf(o.urdf);
+    const auto rotation = reach_rotation(o);
+    const auto miss = models::frame_target_miss(
+        *tree, o.reach, q, three(o.reach_position, "--reach-position", "0.5,0,0.6"), rotation);
+    char line[240], angle[64] = "";
+    if (rotation) std::snprintf(angle, sizeof angle, " and %.3g rad", miss.angle);
+    std::snprintf(line, sizeof line, "varsym optimize: %s ends %.3g m%s from its target\n",
+                  o.reach.c_str(), miss.distance, angle);
+    return line;
+}
 
 optimal::control_problem problem_of(const optimize_options& o, const models::model& m,
                                     std::span<const double> values, const models::lists& lists) {
@@ -114,7 +189,10 @@ optimal::control_problem problem_of(const optimize_options& o, const models::mod
         return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
     };
     p.q_start = as_vector(vector_of(o.from, "--from", d, m, false));
-    p.q_end = as_vector(vector_of(o.to, "--to", d, m, false));
+    if (o.to.empty() && o.reach.empty())
+        throw usage_error("optimize needs --to (the final joint positions) or --reach LINK (a "
+                          "link's target pose)");
+    p.q_end = o.to.empty() ? p.q_start : as_vector(vector_of(o.to, "--to", d, m, false));
     p.v_start = as_vector(vector_of(o.from_velocity, "--from-velocity", d, m, true));
     p.v_end = as_vector(vector_of(o.to_velocity, "--to-velocity", d, m, true));
     p.cost = cost_of(o.cost);
@@ -127,6 +205,7 @@ optimal::control_problem problem_of(const optimize_options& o, const models::mod
     p.control_lower = Eigen::VectorXd::Constant(1, -o.max_control); // on every input
     p.control_upper = Eigen::VectorXd::Constant(1, o.max_control);
     free_end_of(o.free_end, o.terminal_weight, d, p);
+    reach_of(o, p);
     return p;
 }
 

@@ -32,7 +32,17 @@ struct optimize_options {
     std::string urdf; ///< --urdf FILE: the model `urdf`
     std::string lagrangian, coordinates = "q", expression_parameters, inputs; ///< `lagrangian`
     bool no_limits = false; ///< --no-limits: a robot's URDF limits left out
+    /// --reach LINK with --reach-position X,Y,Z, --reach-rpy R,P,Y and --reach-weight W: a URDF
+    /// link's target pose at T (models::frame_target) instead of --to.
+    std::string reach, reach_position, reach_rpy;
+    double reach_weight = 0.0;
 };
+
+/// Adds --reach, --reach-position, --reach-rpy and --reach-weight to cmd.
+void add_reach_options(CLI::App& cmd, optimize_options& o);
+/// With --reach: one line saying how far the link ends from its target at the final position
+/// q (the miss in m, and in rad with --reach-rpy); else empty.
+std::string reach_report(const optimize_options& o, const Eigen::VectorXd& q);
 
 /// --ipopt-options FILE, read before any file is made: an unreadable file or an option IPOPT
 /// does not have is a usage_error naming FILE:LINE, and its output_file is a role (file_roles).

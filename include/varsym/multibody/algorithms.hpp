@@ -35,8 +35,8 @@ void kinematics(const model& m, workspace& w, const Eigen::MatrixBase<Q>& q) {
     for (int i = 0; i < n; ++i) {
         const auto k = static_cast<std::size_t>(i);
         const body& b = m.bodies[k];
-        const pose joint = b.parent < 0 ? b.placement
-                                        : w.x[static_cast<std::size_t>(b.parent)] * b.placement;
+        const pose joint =
+            b.parent < 0 ? b.placement : w.x[static_cast<std::size_t>(b.parent)] * b.placement;
         const vec3 a = joint.rotation * b.axis;
         if (b.kind == joint_kind::revolute) {
             w.s[k] << a, joint.origin.cross(a); // rotation about the axis through the joint
@@ -151,7 +151,8 @@ double lagrangian_derivatives(const model& m, workspace& w, const Eigen::MatrixB
             lvv(i, j) = lvv(j, i) = w.s_ic[jk].dot(w.s[ik]);
         }
         // j ≺ i, seen from i = j: its strict ancestors a take the (i = j, j = a) entries.
-        for (int a = m.bodies[jk].parent; a >= 0; a = m.bodies[static_cast<std::size_t>(a)].parent) {
+        for (int a = m.bodies[jk].parent; a >= 0;
+             a = m.bodies[static_cast<std::size_t>(a)].parent) {
             const auto ak = static_cast<std::size_t>(a);
             lqv(j, a) = w.s[ak].dot(w.dh[jk]);
             lqq(j, a) = w.s[ak].dot(w.df[jk]) - w.t[ak].dot(w.dh[jk]);
@@ -203,6 +204,19 @@ void bias_forces(const model& m, workspace& w, const Eigen::MatrixBase<Q>& q,
 /// A named frame's pose in the world at the last kinematics.
 inline pose frame_pose(const workspace& w, const frame& f) {
     return f.body < 0 ? f.offset : w.x[static_cast<std::size_t>(f.body)] * f.offset;
+}
+
+/// The frame's world Jacobian at the last kinematics (6 × n): its angular velocity (rows 0–2)
+/// and its origin's velocity (rows 3–5) per joint rate. Column j is (S_j^ω; S_j^v + S_j^ω × o),
+/// o the frame's origin, for joint j on the path from the frame's body to the root; else zero.
+inline void frame_jacobian(const model& m, const workspace& w, const frame& f,
+                           Eigen::MatrixXd& out) {
+    out.setZero(6, m.dof());
+    const vec3 o = frame_pose(w, f).origin;
+    for (int j = f.body; j >= 0; j = m.bodies[static_cast<std::size_t>(j)].parent) {
+        const vec6& s = w.s[static_cast<std::size_t>(j)];
+        out.col(j) << s.head<3>(), s.tail<3>() + s.head<3>().cross(o);
+    }
 }
 
 } // namespace varsym::multibody

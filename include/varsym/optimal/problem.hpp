@@ -9,6 +9,7 @@
 #include <concepts>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -16,6 +17,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include "varsym/optimal/end_function.hpp"
 #include "varsym/optimal/nlp.hpp"
 #include "varsym/schemes/scheme_kind.hpp"
 #include "varsym/systems/constraints.hpp"
@@ -57,6 +59,12 @@ struct control_problem {
     /// Free final state: entry i true leaves q_i(T) (q̇_i(T)) free instead of fixing it to
     /// q_end(i) (v_end(i)), which is then the terminal cost's target (d each; empty: all fixed).
     std::vector<bool> free_end_position, free_end_velocity;
+    /// A target at T for a function of the final position, φ(q(T)) = 0 (end_function.hpp: a
+    /// robot frame's pose error, models::frame_target); it frees every final position (within
+    /// the position bounds), and q_end is then only the first guess of q(T). Empty: none.
+    std::shared_ptr<const end_function> end_target;
+    /// 0: φ(q(T)) = 0 is a constraint; w > 0: the terminal cost ½ w |φ(q(T))|² instead.
+    double end_target_weight = 0.0;
     [[nodiscard]] bool free_end() const {
         return std::ranges::find(free_end_position, true) != free_end_position.end() ||
                std::ranges::find(free_end_velocity, true) != free_end_velocity.end();
@@ -233,6 +241,14 @@ inline control_problem checked(control_problem p, int d, int m) {
                     std::to_string(d) + " coordinates");
     };
     flags(p.free_end_position, "the free final positions");
+    if (p.end_target) {
+        require(p.end_target->dimension() == d && p.end_target->rows() >= 1,
+                "the end target takes " + std::to_string(p.end_target->dimension()) +
+                    " coordinates; the model has " + std::to_string(d));
+        require(std::isfinite(p.end_target_weight) && p.end_target_weight >= 0.0,
+                "the end target's weight must be finite and >= 0 (0: a constraint)");
+        p.free_end_position.assign(static_cast<std::size_t>(d), true);
+    }
     flags(p.free_end_velocity, "the free final velocities");
     cost_weights& w = p.cost;
     const auto terminal = [&](vector& a, const char* name) {
@@ -254,7 +270,7 @@ inline control_problem checked(control_problem p, int d, int m) {
     for (const double x : {w.effort, w.invariant, w.power, w.time})
         require(std::isfinite(x) && x >= 0.0, "the cost weights must be finite and >= 0");
     require(w.effort + w.invariant + w.power + w.time + w.terminal_position.sum() +
-                    w.terminal_velocity.sum() >
+                    w.terminal_velocity.sum() + (p.end_target ? p.end_target_weight : 0.0) >
                 0.0,
             "the cost is zero: give the effort, invariant, power, time or terminal term a "
             "positive weight");

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -12,6 +13,7 @@
 
 #include "varsym/models/model.hpp"
 #include "varsym/multibody/model.hpp"
+#include "varsym/optimal/end_function.hpp"
 
 namespace varsym::models {
 
@@ -47,6 +49,33 @@ model robot_model(std::shared_ptr<const multibody::model> r,
 /// robot_model's optimal control has one input per actuated joint, its torque (force),
 /// bounded by the effort; its `limits` are the joints' position limits and efforts.
 std::vector<int> actuated_joints(const multibody::model& r);
+
+/// The pose in the world of robot r's link (frame) `frame` at joint positions q; throws
+/// std::invalid_argument for an unknown link (the message lists the links) or a q of wrong size.
+multibody::pose frame_pose_at(const multibody::model& r, const std::string& frame,
+                              const Eigen::VectorXd& q);
+
+/// A target for link `frame` of robot r at the end of an optimal motion
+/// (optimal::control_problem::end_target): its origin at `position` [m, world frame] and, if
+/// given, its orientation `rotation` (world from link). φ(q) = (o(q) − position; 2 sin(θ/2) n),
+/// 3 or 6 rows: the origin's miss [m] and, for the rotation by θ about n between the target
+/// orientation and the link's, 2 sin(θ/2) n (≈ θ n [rad] near the target, zero at θ = 0 only;
+/// models/src/robot_target.cpp). Throws
+/// std::invalid_argument for an unknown link, one fixed to the ground, a
+/// non-finite position or a rotation that is not one.
+std::shared_ptr<const optimal::end_function>
+frame_target(std::shared_ptr<const multibody::model> r, const std::string& frame,
+             const Eigen::Vector3d& position,
+             const std::optional<Eigen::Matrix3d>& rotation = std::nullopt);
+
+/// How far link `frame` at q is from a target pose: the distance [m] between the origins and
+/// the rotation angle [rad] between the orientations (0 without a target orientation).
+struct frame_miss {
+    double distance = 0.0, angle = 0.0;
+};
+frame_miss frame_target_miss(const multibody::model& r, const std::string& frame,
+                             const Eigen::VectorXd& q, const Eigen::Vector3d& position,
+                             const std::optional<Eigen::Matrix3d>& rotation = std::nullopt);
 
 /// The parameters and lists that robot_model gives every robot (a one-joint robot's model), for
 /// a front end that declares its options before it reads a URDF file.

@@ -27,7 +27,9 @@ namespace varsym::optimal {
 /// Lagrange–d'Alembert equations (interior values, nodes between steps) and the discrete
 /// Legendre transforms at both ends; and g(Q_g) = 0 between the ends with constraints. With a
 /// free final state the final velocity v_N is d more unknowns, p_end = ∂L/∂q̇(Q_{Ns}, v_N), and
-/// the free entries of Q_{Ns} and v_N are unbounded; the terminal cost is added.
+/// the free entries of Q_{Ns} and v_N are unbounded; the terminal cost is added. An end target
+/// φ(Q_{Ns}) = 0 (control_problem::end_target) frees Q_{Ns} and adds its k rows after the
+/// constraints' (or, with a weight w > 0, the terminal cost ½ w |φ(Q_{Ns})|² instead).
 class dmoc_transcription final : public transcription {
   public:
     dmoc_transcription(std::shared_ptr<const controlled_system> system,
@@ -39,7 +41,9 @@ class dmoc_transcription final : public transcription {
     [[nodiscard]] int variables() const override {
         return multiplier_index(points_) + (p_.free_time ? 1 : 0);
     }
-    [[nodiscard]] int constraints() const override { return points_ * d_ + (points_ - 2) * k_; }
+    [[nodiscard]] int constraints() const override {
+        return points_ * d_ + (points_ - 2) * k_ + t_;
+    }
 
     void bounds(vector& lower, vector& upper) const override;
     /// The positions interpolated linearly between the ends (put on the constraints where
@@ -70,7 +74,7 @@ class dmoc_transcription final : public transcription {
     std::shared_ptr<const controlled_system> sys_;
     control_problem p_;
     galerkin::tableau tab_;
-    int d_ = 1, m_ = 1, k_ = 0;
+    int d_ = 1, m_ = 1, k_ = 0, t_ = 0; // t_: the end target's rows as constraints
     int s_ = 1, r_ = 1, n_ = 1, points_ = 2;
     bool free_end_ = false;
     double h_ = 1.0;
@@ -114,6 +118,18 @@ class dmoc_transcription final : public transcription {
     void add_constraint_jacobian(cvector x, sparsity* pattern, std::vector<double>* values) const;
     void add_constraint_hessian(cvector x, cvector lambda, sparsity* pattern,
                                 std::vector<double>* values) const;
+    // The end target's parts (transcription_constraints.cpp; nothing without one).
+    [[nodiscard]] int target_row() const { return points_ * d_ + (points_ - 2) * k_; }
+    /// ½ w |φ(Q_{Ns})|² with its gradient added to `gradient` (a terminal cost; else 0).
+    double target_cost(cvector x, vector* gradient) const;
+    void add_target_residual(cvector x, vector& e) const;
+    /// The first guess of Q_{Ns}: q_end, or with an end target the nearest zero of φ from q_end
+    /// within the position bounds (damped Gauss–Newton, converging where the target is reachable
+    /// and stopping at the least |φ| where it is not).
+    [[nodiscard]] vector end_guess() const;
+    void add_target_jacobian(cvector x, sparsity* pattern, std::vector<double>* values) const;
+    /// Adds to `he` (over Q_{Ns}) Σ λ_a ∇²φ_a, or σ w (JᵀJ + Σ φ_a ∇²φ_a) for the cost.
+    void add_target_hessian(cvector x, double sigma, cvector lambda, matrix& he) const;
 };
 
 /// The running cost c(q, q̇, t, u) (cost_weights: effort, invariant, power) of a system at one

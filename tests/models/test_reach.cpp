@@ -1,0 +1,174 @@
+// Task-space ends (optimal::control_problem::end_target with models::frame_target): a URDF
+// link's target pose at T, as a constraint or a terminal cost. Against independent references:
+// the transcription's derivatives against finite differences; a non-redundant arm (the UR5, six
+// joints, a full pose) reaching the pose of a joint-space problem's end must reproduce that
+// problem's optimum and end joints; on the redundant iiwa the optimum can only be lower than the
+// joint-space one (whose motion is feasible for it); the terminal cost's optima rise towards the
+// constraint's as the weight grows; an unreachable target is infeasible.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "../optimal/fixtures.hpp"
+#include "varsym/models/model.hpp"
+#include "varsym/models/robot.hpp"
+#include "varsym/multibody/spatial.hpp"
+#include "varsym/optimal/solve.hpp"
+
+using namespace varsym;
+
+namespace {
+
+std::shared_ptr<const multibody::model> reach_robot(const std::string& file) {
+    return models::load_urdf(VARSYM_TEST_DATA "/urdf/" + file);
+}
+
+optimal::control_problem reach_problem(const Eigen::VectorXd& from, const Eigen::VectorXd& to,
+                                       int steps) {
+    optimal::control_problem p;
+    p.time = 2.0;
+    p.steps = steps;
+    p.q_start = from;
+    p.q_end = to;
+    p.v_start = p.v_end = Eigen::VectorXd::Zero(from.size());
+    return p;
+}
+
+const Eigen::VectorXd iiwa_end =
+    (Eigen::VectorXd(7) << 0.4, 0.3, 0.2, -0.3, 0.2, 0.3, 0.2).finished();
+
+optimal::nlp_result solve_reach(const models::model& m, const optimal::control_problem& p,
+                                const Eigen::VectorXd* start = nullptr) {
+    optimal::control_problem q = p;
+    m.limits(m.defaults(), q);
+    return optimal::solve(*m.optimal(m.defaults(), {}, q), {}, start);
+}
+
+} // namespace
+
+TEST(Reach, FrameTargetJacobianMatchesFiniteDifferences) {
+    // φ = (origin miss; 2 sin(θ/2) n) of the iiwa's flange against central differences of φ
+    // itself (step 1e-6: error about 1e-10), at a pose 1.2 rad off the target orientation.
+    const auto r = reach_robot("iiwa14_no_collision.urdf");
+    const auto phi = models::frame_target(r, "iiwa_link_ee", {0.4, 0.1, 0.9},
+                                          multibody::roll_pitch_yaw({0.2, 1.0, -0.4}));
+    const Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(7, -0.6, 0.9);
+    Eigen::VectorXd value, plus, minus;
+    Eigen::MatrixXd jac, fd(6, 7);
+    phi->evaluate(q, value, &jac);
+    for (int j = 0; j < 7; ++j) {
+        Eigen::VectorXd qs = q;
+        qs(j) += 1e-6;
+        phi->evaluate(qs, plus, nullptr);
+        qs(j) -= 2e-6;
+        phi->evaluate(qs, minus, nullptr);
+        fd.col(j) = (plus - minus) / 2e-6;
+    }
+    EXPECT_LT((jac - fd).cwiseAbs().maxCoeff(), 1e-8);
+    EXPECT_GT(value.tail<3>().norm(), 0.5); // not vacuous: far from the target orientation
+    // The miss in words agrees with φ: |φ_rot| = 2 sin(θ/2).
+    const auto miss = models::frame_target_miss(*r, "iiwa_link_ee", q, {0.4, 0.1, 0.9},
+                                                multibody::roll_pitch_yaw({0.2, 1.0, -0.4}));
+    EXPECT_NEAR(value.tail<3>().norm(), 2.0 * std::sin(miss.angle / 2.0), 1e-12);
+    EXPECT_NEAR(value.head<3>().norm(), miss.distance, 1e-12);
+}
+
+TEST(Reach, TranscriptionDerivativesWithATargetMatchFiniteDifferences) {
+    // The target's rows (constraint) and its terminal cost (weight 50) in the transcription's
+    // Jacobian and Hessian, against central differences (fixtures.hpp).
+    const auto r = reach_robot("iiwa14_no_collision.urdf");
+    const auto m = models::robot_model(r);
+    for (const double weight : {0.0, 50.0}) {
+        auto p = reach_problem(Eigen::VectorXd::Zero(7), iiwa_end, 2);
+        p.end_target = models::frame_target(r, "iiwa_link_ee", {0.4, 0.2, 1.1},
+                                            multibody::roll_pitch_yaw({0.4, -0.7, 0.6}));
+        p.end_target_weight = weight;
+        const auto tr = m.optimal(m.defaults(), {}, p);
+        const Eigen::VectorXd x =
+            0.5 * Eigen::VectorXd::LinSpaced(tr->variables(), 0.3, 2.9).array().sin();
+        const auto e = optimal_test::check_derivatives(
+            *tr, x, 0.7, Eigen::VectorXd::LinSpaced(tr->constraints(), -1.0, 2.0));
+        EXPECT_LT(e.jacobian, 1e-6 * e.largest_jacobian) << "weight " << weight;
+        EXPECT_LT(e.hessian, 1e-6 * e.largest_hessian) << "weight " << weight;
+    }
+}
+
+TEST(Reach, SixJointArmReachingAJointProblemsEndPoseReproducesItsOptimum) {
+    // The UR5 has six joints: its tool pose fixes the joints up to a discrete choice of branch.
+    // Reaching the pose of q_end, started near q_end, must give the joint-space problem's
+    // optimum and end joints to IPOPT's tolerance.
+    const auto r = reach_robot("ur5_robot.urdf");
+    const auto m = models::robot_model(r);
+    const Eigen::VectorXd from = (Eigen::VectorXd(6) << 0, -1.57, 0, -1.57, 0, 0).finished(),
+                          to = (Eigen::VectorXd(6) << 0.5, -1.2, 0.6, -1.4, 0.4, 0.3).finished();
+    const auto joints = solve_reach(m, reach_problem(from, to, 20));
+    ASSERT_EQ(joints.verdict, optimal::status::solved) << joints.message;
+    auto p = reach_problem(from, to + Eigen::VectorXd::Constant(6, 0.05), 20); // the guess
+    const multibody::pose target = models::frame_pose_at(*r, "tool0", to);
+    p.end_target = models::frame_target(r, "tool0", target.origin, target.rotation);
+    const auto reach = solve_reach(m, p);
+    ASSERT_EQ(reach.verdict, optimal::status::solved) << reach.message;
+    EXPECT_NEAR(reach.cost, joints.cost, 1e-8 * joints.cost);
+    const auto end = reach.x.segment(20 * 2 * 6, 6); // Simpson: Q_{2N}
+    EXPECT_LT((end - to).cwiseAbs().maxCoeff(), 1e-7);
+}
+
+TEST(Reach, RedundantArmReachesAtNoMoreCostAndTheTerminalCostApproachesIt) {
+    // The iiwa's flange to the position of the joint problem's end (3 rows on 7 joints): the
+    // joint problem's motion meets the target, so the reach optimum is at most its cost (and
+    // lower: the redundancy is used). With the terminal cost w/2 |φ|² instead, started from the
+    // constrained optimum (to stay on its branch: the problem has other local optima), the
+    // optimum is below the constrained one and rises towards it as w grows, the miss falling
+    // like 1/w (the torques are O(100) N m: the weights that matter are large).
+    const auto r = reach_robot("iiwa14_no_collision.urdf");
+    const auto m = models::robot_model(r);
+    const Eigen::VectorXd from = Eigen::VectorXd::Zero(7);
+    const auto joints = solve_reach(m, reach_problem(from, iiwa_end, 20));
+    ASSERT_EQ(joints.verdict, optimal::status::solved) << joints.message;
+    auto p = reach_problem(from, from, 20); // the end guessed by the target's own search
+    const Eigen::Vector3d goal = models::frame_pose_at(*r, "iiwa_link_ee", iiwa_end).origin;
+    p.end_target = models::frame_target(r, "iiwa_link_ee", goal);
+    const auto exact = solve_reach(m, p);
+    ASSERT_EQ(exact.verdict, optimal::status::solved) << exact.message;
+    EXPECT_LT(exact.cost, joints.cost * (1.0 - 1e-3));
+    const auto tr = m.optimal(m.defaults(), {}, p);
+    const auto path = tr->unpack(exact);
+    EXPECT_LT(models::frame_target_miss(*r, "iiwa_link_ee", path.q.col(20), goal).distance, 1e-10);
+    double previous_cost = 0.0, previous_miss = 1.0;
+    for (const double w : {1e5, 1e6, 1e7}) {
+        p.end_target_weight = w;
+        const auto soft = solve_reach(m, p, &exact.x);
+        ASSERT_TRUE(soft.converged()) << soft.message;
+        const double miss =
+            models::frame_target_miss(*r, "iiwa_link_ee",
+                                      m.optimal(m.defaults(), {}, p)->unpack(soft).q.col(20), goal)
+                .distance;
+        EXPECT_GT(soft.cost, previous_cost) << w;
+        EXPECT_LT(soft.cost, exact.cost) << w;
+        EXPECT_LT(miss, previous_miss / 5.0) << w;
+        previous_cost = soft.cost;
+        previous_miss = miss;
+    }
+    EXPECT_NEAR(previous_cost, exact.cost, 1e-2 * exact.cost);
+}
+
+TEST(Reach, UnreachableTargetIsInfeasibleAndBadTargetsAreRefused) {
+    // 2 m in front of a robot whose flange reaches about 1.3 m from its base: infeasible, and
+    // the last iterate ends the flange well away from it.
+    const auto r = reach_robot("iiwa14_no_collision.urdf");
+    const auto m = models::robot_model(r);
+    auto p = reach_problem(Eigen::VectorXd::Zero(7), Eigen::VectorXd::Zero(7), 20);
+    p.end_target = models::frame_target(r, "iiwa_link_ee", {2.0, 0.0, 1.0});
+    const auto out = solve_reach(m, p);
+    EXPECT_EQ(out.verdict, optimal::status::infeasible) << out.message;
+    const auto path = m.optimal(m.defaults(), {}, p)->unpack(out);
+    EXPECT_GT(
+        models::frame_target_miss(*r, "iiwa_link_ee", path.q.col(20), {2.0, 0.0, 1.0}).distance,
+        0.5);
+    EXPECT_THROW((void)models::frame_target(r, "no_such_link", {0, 0, 1}), std::invalid_argument);
+    EXPECT_THROW((void)models::frame_target(r, "base", {0, 0, 1}), std::invalid_argument);
+    EXPECT_THROW(
+        (void)models::frame_target(r, "iiwa_link_ee", {0, 0, 1}, Eigen::Matrix3d::Constant(0.5)),
+        std::invalid_argument);
+}
