@@ -7,7 +7,9 @@
 # optimum; a 7-joint robot's optimum must agree between two schemes of different order, keep
 # its URDF torque and joint limits, and pass the replay through the simulator (closure). Bad
 # input: an input that is not a coordinate, a target outside the joint limits, a robot with no
-# actuated joint, and an infeasible bound (exit 3, last iterate kept).
+# actuated joint, and an infeasible bound (exit 3, last iterate kept). Task-space ends (--reach):
+# the UR5's tool sent to the pose its joint-space optimum ends at must reproduce that optimum
+# (six joints, a full pose: the end joints are fixed by it); a target out of reach exits 3.
 data=$(realpath "$(dirname "$0")/../data/urdf")
 source "$(dirname "$0")/lib.sh" "$@"
 pi=3.141592653589793
@@ -85,6 +87,38 @@ awk -F, 'BEGIN { split("2.96705972839 2.09439510239 2.96705972839 2.09439510239 
   NR > 1 { for (i = 2; i <= 8; ++i) if ($i > l[i - 1] + 1e-9 || $i < -l[i - 1] - 1e-9) exit 1 }' \
   iiwa.csv && ok || bad "iiwa: a joint beyond its URDF limits"
 [ "$(head -1 iiwa.csv | cut -d, -f1-3)" = "t,q1,q2" ] && ok || bad "iiwa header $(head -1 iiwa.csv)"
+
+# --reach: the UR5 tool's pose at the joint problem's end, reached from a guess near it: the
+# same optimum to IPOPT's tolerance, and the same end joints.
+ur5="$data/ur5_robot.urdf" from=0,-1.57,0,-1.57,0,0 to=0.5,-1.2,0.6,-1.4,0.4,0.3
+"$VARSYM" optimize --urdf "$ur5" --time 2 --steps 20 --from $from --to $to --quiet -o ur5.csv   2> ur5.err && ok || bad "UR5 joint problem: $(tail -1 ur5.err)"
+# The tool0 pose at $to, written out from varsym.Robot("ur5_robot.urdf").pose("tool0", to)
+# (origin; URDF rpy of the rotation).
+"$VARSYM" optimize --urdf "$ur5" --time 2 --steps 20 --from $from --to 0.55,-1.15,0.65,-1.35,0.45,0.35 \
+  --reach tool0 --reach-position 0.39440959558325767,0.42622012884336685,0.7752871108593365 \
+  --reach-rpy=-0.40083057488798507,1.1760435746093676,1.8145789926529627 --quiet -o ur5r.csv \
+  2> ur5r.err && ok || bad "UR5 reach: $(tail -1 ur5r.err)"
+rel "$(cost_of ur5r.err)" "$(cost_of ur5.err)" 1e-7 && ok ||
+  bad "UR5: reach optimum $(cost_of ur5r.err), joint optimum $(cost_of ur5.err)"
+grep -q "^varsym optimize: tool0 ends [0-9.e-]* m and [0-9.e-]* rad from its target" ur5r.err && ok ||
+  bad "UR5 reach: no miss line: $(cat ur5r.err)"
+awk -F, -v to="$to" 'BEGIN { split(to, q, ",") } END { for (i = 2; i <= 7; ++i) { d = $i - q[i - 1];
+  if (d > 1e-6 || d < -1e-6) exit 1 } }' ur5r.csv && ok || bad "UR5 reach: end joints $(tail -1 ur5r.csv | cut -d, -f2-7)"
+# Out of reach: 2 m in front of the iiwa (its flange reaches about 1.3 m): exit 3, files kept.
+"$VARSYM" optimize --urdf "$data/iiwa14_no_collision.urdf" --time 2 --steps 20 --from 0,0,0,0,0,0,0 \
+  --reach iiwa_link_ee --reach-position 2,0,1 --quiet -o far.csv 2> far.err
+rc=$?
+[ $rc -eq 3 ] && grep -q "infeasible" far.err && ok || bad "out of reach: exit $rc ($(tail -1 far.err))"
+[ "$(wc -l < far.csv)" -eq 22 ] && ok || bad "out of reach: the last iterate was not kept"
+expect_error 2 "--reach without a robot" optimize --model pendulum --time 1 --from 0 --reach x \
+  --reach-position 0,0,1 -o out.csv
+grep -q "needs a robot" stderr.txt && ok || bad "$(cat stderr.txt)"
+expect_error 2 "an unknown link" optimize --urdf "$ur5" --time 1 --from $from --reach hand \
+  --reach-position 0,0,1 -o out.csv
+grep -q "no link 'hand' in ur5 (its links: " stderr.txt && ok || bad "$(cat stderr.txt)"
+expect_error 2 "--reach without a position" optimize --urdf "$ur5" --time 1 --from $from \
+  --reach tool0 -o out.csv
+expect_error 2 "no --to and no --reach" optimize --urdf "$ur5" --time 1 --from $from -o out.csv
 
 # Bad input.
 expect_error 2 "an input that is not a coordinate" optimize --lagrangian "0.5*x_dot**2" \

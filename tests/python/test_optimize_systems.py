@@ -86,3 +86,31 @@ def test_the_arm_with_joint_torques():
     typed = pendulum_problem(varsym.Lagrangian("0.5*2*1.5**2*th_dot**2 + 2*9.81*1.5*cos(th)",
                                                ["th"]), inputs=["th"])
     assert one.cost == pytest.approx(typed.cost, rel=1e-9)
+
+
+def test_a_link_reaches_its_target_pose():
+    # The UR5 (six joints) sent to the tool pose of a joint-space problem's end, from a guess
+    # near that end: the same optimum and end joints (the pose fixes the joints up to a branch);
+    # reach_miss reports the tool on its target. Its pose is computed here by Robot.pose.
+    robot = varsym.Robot(os.path.join(DATA, "ur5_robot.urdf"))
+    start, end = [0, -1.57, 0, -1.57, 0, 0], np.array([0.5, -1.2, 0.6, -1.4, 0.4, 0.3])
+    joints = varsym.optimize(robot, time=2.0, steps=20, q_start=start, q_end=end)
+    pose = robot.pose("tool0", end)
+    r = pose[:3, :3]
+    rpy = [math.atan2(r[2, 1], r[2, 2]), -math.asin(r[2, 0]), math.atan2(r[1, 0], r[0, 0])]
+    reach = varsym.optimize(robot, time=2.0, steps=20, q_start=start, q_end=end + 0.05,
+                            reach="tool0", reach_position=pose[:3, 3], reach_rpy=rpy)
+    assert reach.cost == pytest.approx(joints.cost, rel=1e-8)
+    assert np.allclose(reach.q[-1], end, atol=1e-7)
+    assert reach.reach_miss[0] < 1e-10 and reach.reach_miss[1] < 1e-7
+    assert joints.reach_miss is None
+    # Out of reach: SolverError "infeasible", the last iterate kept with its miss.
+    iiwa = varsym.Robot(os.path.join(DATA, "iiwa14_no_collision.urdf"))
+    with pytest.raises(varsym.SolverError) as far:
+        varsym.optimize(iiwa, time=2.0, steps=20, q_start=np.zeros(7), reach="iiwa_link_ee",
+                        reach_position=[2.0, 0.0, 1.0])
+    assert far.value.status == "infeasible" and far.value.partial.reach_miss[0] > 0.5
+    with pytest.raises(varsym.UsageError, match="no link 'hand'"):
+        varsym.optimize(robot, time=1.0, q_start=start, reach="hand", reach_position=[0, 0, 1])
+    with pytest.raises(varsym.UsageError, match="reach names a link of a robot"):
+        varsym.optimize("pendulum", time=1.0, q_start=[0], reach="x", reach_position=[0, 0, 1])
