@@ -238,6 +238,15 @@ model robot_model(std::shared_ptr<const multibody::model> r,
                 p.position_upper(i) = l.upper;
             }
         }
+        if (unbounded(p.velocity_lower, p.velocity_upper)) { // a velocity of 0: no limit
+            p.velocity_lower.resize(d);
+            p.velocity_upper.resize(d);
+            for (int i = 0; i < d; ++i) {
+                const double v = r->bodies[static_cast<std::size_t>(i)].limits.velocity;
+                p.velocity_upper(i) = v > 0.0 ? v : optimal::unbounded;
+                p.velocity_lower(i) = -p.velocity_upper(i);
+            }
+        }
     };
     return m;
 }

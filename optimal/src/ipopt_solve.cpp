@@ -97,8 +97,11 @@ class adapter final : public Ipopt::TNLP {
             xl[i] = std::isinf(lo(i)) ? -ipopt_infinity : lo(i);
             xu[i] = std::isinf(hi(i)) ? ipopt_infinity : hi(i);
         }
-        for (Index i = 0; i < m; ++i)
-            gl[i] = gu[i] = 0.0;
+        p_.constraint_bounds(lo, hi);
+        for (Index i = 0; i < m; ++i) {
+            gl[i] = std::isinf(lo(i)) ? -ipopt_infinity : lo(i);
+            gu[i] = std::isinf(hi(i)) ? ipopt_infinity : hi(i);
+        }
         return true;
     }
     bool get_starting_point(Index n, bool, Number* x, bool, Number*, Number*, Index, bool,

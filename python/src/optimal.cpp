@@ -36,7 +36,8 @@ py::dict optimize(const py::object& source, const std::vector<std::string>& inpu
                   int refine, const std::optional<py::function>& progress,
                   const std::string& ipopt_options, const std::string& reach,
                   const Eigen::Vector3d& reach_position,
-                  const std::optional<Eigen::Vector3d>& reach_rpy, double reach_weight) {
+                  const std::optional<Eigen::Vector3d>& reach_rpy, double reach_weight,
+                  double max_velocity) {
     // The model: a registry name, a _Robot's, or a _Lagrangian's with its inputs.
     std::optional<models::model> typed;
     const models::model* found = robot_model_of(source);
@@ -73,6 +74,10 @@ py::dict optimize(const py::object& source, const std::vector<std::string>& inpu
     p.cost.terminal_velocity = terminal_v;
     p.control_lower = Eigen::VectorXd::Constant(1, -max_control); // on every input
     p.control_upper = Eigen::VectorXd::Constant(1, max_control);
+    if (std::isfinite(max_velocity)) { // else unbounded, or a robot's URDF velocity limits
+        p.velocity_lower = Eigen::VectorXd::Constant(1, -max_velocity);
+        p.velocity_upper = Eigen::VectorXd::Constant(1, max_velocity);
+    }
     std::optional<Eigen::Matrix3d> reach_rotation;
     if (reach_rpy) reach_rotation = multibody::roll_pitch_yaw(*reach_rpy);
     if (!reach.empty()) { // a link's target pose (models/robot.hpp)
@@ -149,6 +154,7 @@ py::dict optimize(const py::object& source, const std::vector<std::string>& inpu
     out["closure_advice"] = check.ok() ? std::string() : check.advice();
     out["interrupted"] = interrupted;
     out["controls_at_bound"] = check.controls_at_bound; // active bounds (solution_check.hpp)
+    out["velocity_excess"] = check.velocity_excess;
     if (!reach.empty()) {
         const auto miss =
             models::frame_target_miss(*robot_tree_of(source), reach, path.q.col(path.q.cols() - 1),

@@ -83,12 +83,14 @@ class OptimalControl:
     controls_at_bound (how many control values sit on their bound); closure (the general
     engine's replay of the controls against q) and trusted (the closure within 1e-6);
     reach_miss, with a reach target, (distance [m], angle [rad]) of the link from its target
-    at T (else None).
+    at T (else None); velocity_excess, how far the node velocities v exceed the velocity limits
+    relative to them (0: within; the limits hold on the steps' polynomials, and the nodes'
+    velocities approach them as the steps shrink).
     ``coordinates`` and ``inputs`` name the columns of q and u. ``result["q"]`` also works."""
 
     _FIELDS = ("t", "q", "v", "p", "costate", "control_t", "u", "cost", "status", "message",
                "iterations", "constraint_violation", "closure", "trusted", "controls_at_bound",
-               "reach_miss")
+               "reach_miss", "velocity_excess")
 
     def __init__(self, raw, name, coordinates, inputs):
         for key in self._FIELDS:
@@ -140,18 +142,21 @@ def optimize(model, *, time, q_start, q_end=None, v_start=None, v_end=None, step
              scheme="simpson", degree=None, max_control=None, cost="effort", free_end=None,
              hessian="automatic", max_iterations=3000, refine=0, progress=False,
              ipopt_options=None, inputs=None, limits=True, reach=None, reach_position=None,
-             reach_rpy=None, reach_weight=0.0, **parameters):
+             reach_rpy=None, reach_weight=0.0, max_velocity=None, **parameters):
     """The controls that take ``model`` from (q_start, v_start) at t = 0 to (q_end, v_end) at
     t = ``time`` at the least cost, by discrete mechanics and optimal control with ``steps``
     steps of ``scheme`` (velocities default to rest). ``model``: a name or Model with inputs
     ("acrobot", "arm", "cart-pole", "pendulum"); a varsym.Robot (the inputs: the torques of its
     actuated joints, those with URDF effort > 0, bounded by their efforts; the joints' position
-    limits bound q; ``limits=False`` drops both); or a varsym.Lagrangian with ``inputs``, the
-    names of the coordinates the controls act on (a generalized force each).
+    and velocity limits bound q and q̇; ``limits=False`` drops them); or a varsym.Lagrangian
+    with ``inputs``, the names of the coordinates the controls act on (a generalized force
+    each).
     ``cost``: "effort" (∫ u²/2), "invariant" (∫ τᵀM⁻¹τ/2), "power" (∫ Σ|τ_i
     q̇_i|, smoothed), "time" (minimum time: ``time`` is then the first guess of a free horizon;
     needs ``max_control``), or a dict of weights such as {"power": 1, "effort": 0.01}.
-    ``max_control``: a bound |u| ≤ U on every input (over a robot's efforts). ``free_end``:
+    ``max_control``: a bound |u| ≤ U on every input (over a robot's efforts); ``max_velocity``:
+    |q̇| ≤ V on every coordinate at each step's ends and quadrature points (over a robot's URDF
+    velocity limits). ``free_end``:
     final coordinates left free, "q1", "v2", … (from 1) in a list or string, or a dict of them
     to terminal weights w, each adding w (x(T) − its q_end or v_end)²/2 to the cost.
     ``reach``: a varsym.Robot's link whose frame must be at ``reach_position`` (x, y, z [m],
@@ -238,7 +243,8 @@ def optimize(model, *, time, q_start, q_end=None, v_start=None, v_end=None, step
                              "" if reach is None else str(reach),
                              _vector(reach_position, 3, "reach_position", 0.0),
                              None if reach_rpy is None else _vector(reach_rpy, 3, "reach_rpy"),
-                             float(reach_weight))
+                             float(reach_weight),
+                             math.inf if max_velocity is None else float(max_velocity))
     finally:
         if bar is not None:
             bar.close()

@@ -58,26 +58,30 @@ expect_error 2 "a controller gain in optimize" optimize --model arm --kp 1,1,1 -
   --steps 10 --from 0,0,0 --to 1,1,1 -o out.csv
 grep -q "kp is a simulation's parameter of arm" stderr.txt && ok || bad "$(cat stderr.txt)"
 
-# A 7-joint robot (KUKA iiwa 14) rest to rest in 2 s within its URDF limits. Against a finer
-# mesh and another scheme: Simpson and gauss-2 (both order 4, other quadratures and polynomials)
-# at N = 80 agree with gauss-2 at N = 160 to 1e-4 (measured 7e-5 and 2e-5; the optimum 221.773).
-# Negative control: Simpson at N = 40 is 1e-3 away. The torques stay within the efforts (320
-# 320 176 176 110 40 40 N m), q within the joint limits, and the replay closes.
+# A 7-joint robot (KUKA iiwa 14) rest to rest in 2 s. The transcription's accuracy, without the
+# limits (a smooth optimum): Simpson and gauss-2 (both order 4, other quadratures and
+# polynomials) at N = 80 agree with gauss-2 at N = 160 to 1e-4 (measured 8e-5 and 2e-5; the
+# optimum 220.098). Negative control: Simpson at N = 40 is 1e-3 away. That optimum spins the
+# wrist at up to 13 rad/s; within the URDF limits (the efforts 320 320 176 176 110 40 40 N m,
+# the joints' ranges and their velocity limits) the torques, q and the node velocities stay
+# inside, a velocity limit binds, and the replay closes.
 iiwa="$data/iiwa14_no_collision.urdf"
 to=0.4,0.3,0.2,-0.3,0.2,0.3,0.2
-"$VARSYM" optimize --urdf "$iiwa" --time 2 --steps 80 --from 0,0,0,0,0,0,0 --to $to --quiet \
-  -o iiwa.csv --controls iiwa_u.csv 2> iiwa.err && ok || bad "iiwa: $(tail -1 iiwa.err)"
+"$VARSYM" optimize --urdf "$iiwa" --no-limits --time 2 --steps 80 --from 0,0,0,0,0,0,0 --to $to \
+  --quiet -o free80.csv 2> free80.err && ok || bad "iiwa: $(tail -1 free80.err)"
 for n in 80 160; do
-  "$VARSYM" optimize --urdf "$iiwa" --time 2 --steps $n --scheme gauss --degree 2 \
+  "$VARSYM" optimize --urdf "$iiwa" --no-limits --time 2 --steps $n --scheme gauss --degree 2 \
     --from 0,0,0,0,0,0,0 --to $to --quiet -o iiwa_g$n.csv 2> iiwa_g$n.err && ok ||
     bad "iiwa gauss-2 N = $n: $(tail -1 iiwa_g$n.err)"
 done
-"$VARSYM" optimize --urdf "$iiwa" --time 2 --steps 40 --from 0,0,0,0,0,0,0 --to $to --quiet \
-  -o iiwa40.csv 2> iiwa40.err
+"$VARSYM" optimize --urdf "$iiwa" --no-limits --time 2 --steps 40 --from 0,0,0,0,0,0,0 --to $to \
+  --quiet -o iiwa40.csv 2> iiwa40.err
 fine=$(cost_of iiwa_g160.err)
-rel "$(cost_of iiwa.err)" "$fine" 1e-4 && rel "$(cost_of iiwa_g80.err)" "$fine" 1e-4 && ok ||
-  bad "iiwa: Simpson $(cost_of iiwa.err), gauss-2 $(cost_of iiwa_g80.err) at N = 80, $fine at 160"
+rel "$(cost_of free80.err)" "$fine" 1e-4 && rel "$(cost_of iiwa_g80.err)" "$fine" 1e-4 && ok ||
+  bad "iiwa: Simpson $(cost_of free80.err), gauss-2 $(cost_of iiwa_g80.err) at N = 80, $fine at 160"
 rel "$(cost_of iiwa40.err)" "$fine" 1e-4 && bad "iiwa: N = 40 as close as N = 80" || ok
+"$VARSYM" optimize --urdf "$iiwa" --time 2 --steps 80 --from 0,0,0,0,0,0,0 --to $to --quiet \
+  -o iiwa.csv --controls iiwa_u.csv 2> iiwa.err && ok || bad "iiwa: $(tail -1 iiwa.err)"
 awk -v c="$(closure_of iiwa.err)" 'BEGIN { exit !(c != "" && c <= 1e-8) }' && ok ||
   bad "iiwa closure $(closure_of iiwa.err)"
 awk -F, 'BEGIN { split("320 320 176 176 110 40 40", e, " ") }
@@ -86,7 +90,31 @@ awk -F, 'BEGIN { split("320 320 176 176 110 40 40", e, " ") }
 awk -F, 'BEGIN { split("2.96705972839 2.09439510239 2.96705972839 2.09439510239 2.96705972839 2.09439510239 3.05432619099", l, " ") }
   NR > 1 { for (i = 2; i <= 8; ++i) if ($i > l[i - 1] + 1e-9 || $i < -l[i - 1] - 1e-9) exit 1 }' \
   iiwa.csv && ok || bad "iiwa: a joint beyond its URDF limits"
+# The node velocities (columns v1..v7) against the velocity limits: the bounds hold on the steps'
+# polynomials; the nodes' velocities come from the momenta (the discrete Legendre transform) and
+# approach them as the steps shrink: at N = 80 the largest |v|/limit is 1.015, reported on a
+# line of its own. Without the limits it is above 5.
+vmax() { awk -F, 'BEGIN { split("1.4835298642 1.4835298642 1.7453292520 1.3089969390 2.2689280276 2.3561944902 2.3561944902", l, " ") }
+  NR > 1 { for (i = 9; i <= 15; ++i) { a = ($i < 0 ? -$i : $i) / l[i - 8]; if (a > m) m = a } } END { print m }' "$1"; }
+awk -v r="$(vmax iiwa.csv)" 'BEGIN { exit !(r > 0.999 && r < 1.02) }' && ok ||
+  bad "iiwa: largest |v|/limit $(vmax iiwa.csv), not 1 to 2 %"
+grep -q "node velocities exceed the velocity limits by up to 1.5 %" iiwa.err && ok ||
+  bad "iiwa: no velocity excess line: $(cat iiwa.err)"
+awk -v r="$(vmax free80.csv)" 'BEGIN { exit !(r > 5) }' && ok ||
+  bad "iiwa without limits: largest |v|/limit $(vmax free80.csv)"
 [ "$(head -1 iiwa.csv | cut -d, -f1-3)" = "t,q1,q2" ] && ok || bad "iiwa header $(head -1 iiwa.csv)"
+
+# --max-velocity against an exact optimum: the double integrator (L = x'^2/2, u the force) from
+# rest at 0 to rest at 1 in T = 2 with |x'| <= V = 0.6 and the effort cost. Unbounded, the
+# optimum peaks at 1.5/T = 0.75 (cost 6/T^3 = 0.75); bounded, it accelerates with u = a (t1 - t)
+# until x' = V at t1, coasts, and brakes symmetrically: a t1^2/2 = V and 1 = V (T - 2 t1/3), so
+# t1 = 1.5 (T - 1/V) = 0.5 and the cost is 4 V^2/(3 t1) = 0.96. Simpson N = 160: 0.9600008.
+"$VARSYM" optimize --lagrangian "0.5*x_dot**2" --coordinates x --inputs x --time 2 --steps 160 \
+  --from 0 --to 1 --max-velocity 0.6 --quiet -o di.csv 2> di.err && ok || bad "$(tail -1 di.err)"
+rel "$(cost_of di.err)" 0.96 1e-5 && ok || bad "bounded double integrator: $(cost_of di.err), not 0.96"
+"$VARSYM" optimize --lagrangian "0.5*x_dot**2" --coordinates x --inputs x --time 2 --steps 160 \
+  --from 0 --to 1 --quiet -o di.csv 2> di.err
+rel "$(cost_of di.err)" 0.75 1e-6 && ok || bad "free double integrator: $(cost_of di.err), not 0.75"
 
 # --reach: the UR5 tool's pose at the joint problem's end, reached from a guess near it: the
 # same optimum to IPOPT's tolerance, and the same end joints.

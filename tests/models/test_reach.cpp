@@ -172,3 +172,34 @@ TEST(Reach, UnreachableTargetIsInfeasibleAndBadTargetsAreRefused) {
         (void)models::frame_target(r, "iiwa_link_ee", {0, 0, 1}, Eigen::Matrix3d::Constant(0.5)),
         std::invalid_argument);
 }
+
+TEST(VelocityBounds, RowsAndTheirDerivativesMatchFiniteDifferences) {
+    // The iiwa with its URDF velocity limits (m.limits): the rows are q̇ of the steps'
+    // polynomials at their ends and quadrature points, within the bounds as constraint_bounds
+    // says; their Jacobian against central differences at a fixed horizon (with the Hessian,
+    // to which they add nothing) and at a free one (∂/∂T = −q̇/T; no exact Hessian there).
+    const auto m = models::robot_model(reach_robot("iiwa14_no_collision.urdf"));
+    for (const bool free_time : {false, true}) {
+        auto p = reach_problem(Eigen::VectorXd::Zero(7), iiwa_end, 3);
+        p.scheme = {scheme_kind::gauss, 2}; // ends 0, 1 and two interior points: 4 per step
+        m.limits(m.defaults(), p);
+        if (free_time) {
+            p.free_time = true;
+            p.cost.time = 1.0;
+        }
+        const auto tr = m.optimal(m.defaults(), {}, p);
+        const int rows = 3 * 4 * 7;
+        Eigen::VectorXd lower, upper;
+        tr->constraint_bounds(lower, upper);
+        ASSERT_EQ(lower.size(), tr->constraints());
+        EXPECT_EQ(upper.tail(rows)(0), 1.4835298641951802); // joint 1's URDF velocity
+        EXPECT_EQ(upper.head(tr->constraints() - rows).cwiseAbs().maxCoeff(), 0.0);
+        Eigen::VectorXd x =
+            0.5 * Eigen::VectorXd::LinSpaced(tr->variables(), 0.3, 2.9).array().sin();
+        if (free_time) x(x.size() - 1) = 1.5; // T
+        const auto e = optimal_test::check_derivatives(
+            *tr, x, 0.7, Eigen::VectorXd::LinSpaced(tr->constraints(), -1.0, 2.0));
+        EXPECT_LT(e.jacobian, 1e-6 * e.largest_jacobian) << "free time " << free_time;
+        if (!free_time) EXPECT_LT(e.hessian, 1e-6 * e.largest_hessian);
+    }
+}

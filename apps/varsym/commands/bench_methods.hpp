@@ -1,5 +1,6 @@
-// apps/varsym/commands/bench_methods.hpp: the methods `varsym bench` compares, each behind one interface:
-// run n steps of size h from the problem's initial state, optionally observing the energy.
+// apps/varsym/commands/bench_methods.hpp: the methods `varsym bench` compares, each behind one
+// interface: run n steps of size h from the problem's initial state, optionally observing the
+// energy.
 #pragma once
 
 #include <functional>

@@ -1,5 +1,5 @@
-// apps/varsym/commands/bench_reference.cpp: the reference solution of `varsym bench`'s outer solar system,
-// which has no closed form: Kahan & Li's order-8 composition of Störmer–Verlet (the
+// apps/varsym/commands/bench_reference.cpp: the reference solution of `varsym bench`'s outer solar
+// system, which has no closed form: Kahan & Li's order-8 composition of Störmer–Verlet (the
 // coefficients of schemes/composition.hpp) in long double, 1 day per step. Its truncation error
 // (Jupiter's period is 4333 days: (2π/4333)^8 ≈ 2e-23 per step) and its round-off (~1e-19 per
 // step, a random walk over 2·10⁵ steps) are far below the double-precision errors it judges.

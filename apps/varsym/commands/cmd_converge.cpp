@@ -1,10 +1,11 @@
-// apps/varsym/commands/cmd_converge.cpp: `varsym converge`, the error table of any scheme at several
-// step counts with observed orders (the generalisation of the paper's Table 1), and its plot.
+// apps/varsym/commands/cmd_converge.cpp: `varsym converge`, the error table of any scheme at
+// several step counts with observed orders (the generalisation of the paper's Table 1), and its
+// plot.
 #include <algorithm>
-#include <memory>
-#include <numeric>
 #include <cmath>
 #include <cstdio>
+#include <memory>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -48,7 +49,6 @@ std::shared_ptr<const models::model> model_of(const converge_options& o) {
         throw usage_error("--lagrangian is for --model lagrangian, not " + shown(o.model));
     return unowned(models::get(o.model));
 }
-
 
 /// The method measured: a scheme of the family, or a model's own integrator (the rigid bodies'
 /// lgvi of an order).
@@ -137,8 +137,7 @@ std::string csv_table(const method& spec, const std::vector<result>& rs) {
     char buf[160];
     for (int q = 0; q < 3; ++q)
         for (const auto& r : rs) {
-            std::snprintf(buf, sizeof buf, "%s,%d,%s,%d,%.6e\n",
-                          spec.scheme.c_str(), spec.degree,
+            std::snprintf(buf, sizeof buf, "%s,%d,%s,%d,%.6e\n", spec.scheme.c_str(), spec.degree,
                           std::string(paper::quantity_name(paper::all_quantities[q])).c_str(),
                           r.steps, r.err[q]);
             s += buf;
@@ -309,11 +308,11 @@ std::vector<result> model_errors(const converge_options& o, const models::model&
         const double e0 = r.energy.front(), scale = std::abs(e0) > 1e-12 ? std::abs(e0) : 1.0;
         for (std::size_t j = 0; j < r.energy.size(); ++j) {
             const double* x = r.state.data() + j * 2 * d;
-            const double* ref = r.has_exact
-                                    ? r.exact.data() + j * 2 * d
-                                    : reference.state.data() + static_cast<std::size_t>(
-                                                                   static_cast<long long>(j) *
-                                                                   stride) * 2 * d;
+            const double* ref =
+                r.has_exact
+                    ? r.exact.data() + j * 2 * d
+                    : reference.state.data() +
+                          static_cast<std::size_t>(static_cast<long long>(j) * stride) * 2 * d;
             for (int i = 0; i < d; ++i) {
                 e.err[1] = std::max(e.err[1], std::abs(x[i] - ref[i]));
                 e.err[0] = std::max(e.err[0], std::abs(x[d + i] - ref[d + i]));
@@ -335,8 +334,9 @@ void converge(const converge_options& o, const CLI::App& cmd) {
     std::shared_ptr<const models::model> model; // the other models'
     if (pendulum) {
         make_system(o.pendulum); // validates the parameters before any work
-        if (!o.set.empty()) throw usage_error("--set is for the other models; the pendulum's "
-                                              "parameters are --mass, --omega, --q0, --p0");
+        if (!o.set.empty())
+            throw usage_error("--set is for the other models; the pendulum's "
+                              "parameters are --mass, --omega, --q0, --p0");
         if (!o.expression.lagrangian.empty())
             throw usage_error("--lagrangian is for --model lagrangian, not " + shown(o.model));
     } else {
@@ -366,8 +366,7 @@ void converge(const converge_options& o, const CLI::App& cmd) {
     if (pendulum) {
         period = make_exact(o.pendulum).period();
         for (int n : steps) {
-            const error_norms e =
-                paper::pendulum_errors(spec, n, o.periods, o.pendulum, o.newton);
+            const error_norms e = paper::pendulum_errors(spec, n, o.periods, o.pendulum, o.newton);
             rs.push_back({n, {e.momentum, e.state, e.energy}});
         }
     } else {
@@ -413,7 +412,8 @@ void add_converge_command(CLI::App& app, action& todo) {
     cmd->add_option("--model", o->model,
                     "Model: " + list +
                         " (the models layer's; lagrangian: your L, from --lagrangian and its "
-                        "options; urdf: your robot, from --urdf FILE; errors against the exact solution where the "
+                        "options; urdf: your robot, from --urdf FILE; errors against the exact "
+                        "solution where the "
                         "model has one, else against gauss-8 at twice the steps' common "
                         "multiple; the rigid bodies run their Lie group integrator, its order "
                         "by --set order=2|4|6, against order 6; their q: Euler angles, p: Pi)")
@@ -451,7 +451,8 @@ void add_converge_command(CLI::App& app, action& todo) {
     cmd->callback([o, cmd, &todo] {
         todo = [o, cmd] {
             // --lagrangian and --urdf imply their models.
-            if (cmd->count("--model") == 0 && cmd->count("--lagrangian") > 0) o->model = "lagrangian";
+            if (cmd->count("--model") == 0 && cmd->count("--lagrangian") > 0)
+                o->model = "lagrangian";
             if (cmd->count("--model") == 0 && cmd->count("--urdf") > 0) o->model = "urdf";
             converge(*o, *cmd);
         };

@@ -236,6 +236,11 @@ void optimize(const optimize_options& o) {
                  path.cost, path.node_times(path.node_times.size() - 1),
                  r.converged() ? check.residual : r.constraint_violation, check.closure.error);
     std::fputs(reach_report(o, path.q.col(path.q.cols() - 1)).c_str(), stderr);
+    if (check.velocity_excess > 1e-6)
+        std::fprintf(stderr,
+                     "varsym optimize: the node velocities exceed the velocity limits by up to "
+                     "%.2g %% (the limits hold on the steps' polynomials): take more --steps\n",
+                     100.0 * check.velocity_excess);
     if (check.controls_at_bound > 0)
         std::fprintf(stderr,
                      "varsym optimize: bound active: |u| = --max-control at %d of %lld control "
@@ -291,10 +296,10 @@ void add_optimize_command(CLI::App& app, action& todo) {
     cmd->add_option("--urdf", o->urdf,
                     "A robot's URDF file: the inputs are the torques (forces) of its actuated "
                     "joints (URDF effort > 0), bounded by their efforts; the joints' position "
-                    "limits bound q (--no-limits drops both)");
+                    "and velocity limits bound q and q' (--no-limits drops them)");
     cmd->add_flag("--no-limits", o->no_limits,
-                  "urdf: leave the URDF's joint position and effort limits out (--max-control "
-                  "still bounds the torques)");
+                  "urdf: leave the URDF's joint position, velocity and effort limits out "
+                  "(--max-control, --max-velocity still apply)");
     cmd->add_option("--lagrangian", o->lagrangian,
                     "A Lagrangian L typed as an expression (Python syntax) over --coordinates, "
                     "their velocities NAME_dot, t and --parameters; its inputs: --inputs");
@@ -311,7 +316,7 @@ void add_optimize_command(CLI::App& app, action& todo) {
         ->transform(positive_integer)
         ->capture_default_str();
     add_scheme_options(*cmd, o->scheme);
-    add_reach_options(*cmd, *o);
+    add_velocity_and_reach_options(*cmd, *o);
     cmd->add_option("--from", o->from, "Start position q(0), one value per coordinate")
         ->required()
         ->transform(number_list)

@@ -1,5 +1,5 @@
-// apps/varsym/commands/cmd_section.cpp: `varsym section`, Poincaré sections: the crossings of a plane
-// q_i = c or p_i = c by orbits from a grid or a CSV file of initial states (the members of
+// apps/varsym/commands/cmd_section.cpp: `varsym section`, Poincaré sections: the crossings of a
+// plane q_i = c or p_i = c by orbits from a grid or a CSV file of initial states (the members of
 // `varsym ensemble`), located on each step's interpolating polynomial and refined on the
 // scheme's own map (varsym/run/section.hpp); CSV in member order and a scatter plot.
 #include <algorithm>
@@ -61,8 +61,8 @@ void run_section(const section_options& o) {
     ensemble_model model = find_ensemble_model(o.run);
     if (!model.section)
         throw usage_error("varsym section needs a stepper with dense output (not the rigid "
-                          "bodies' or the constrained mechanisms'); " + model.name +
-                          "'s has none (see 'varsym models')");
+                          "bodies' or the constrained mechanisms'); " +
+                          model.name + "'s has none (see 'varsym models')");
     const member_set set = make_member_set(o.run.members, model);
     const int d = model.dim;
     const section_plane plane = parse_plane(o.plane, o.direction, d);

@@ -1,6 +1,6 @@
-// apps/varsym/commands/cmd_stability.cpp: the linear stability limits of the schemes, computed by running
-// each stepper on the harmonic oscillator (diagnostics/stability.hpp), for the exit-3 advice and
-// for `varsym stability`.
+// apps/varsym/commands/cmd_stability.cpp: the linear stability limits of the schemes, computed by
+// running each stepper on the harmonic oscillator (diagnostics/stability.hpp), for the exit-3
+// advice and for `varsym stability`.
 #include <cmath>
 #include <cstdio>
 #include <iostream>

@@ -143,7 +143,11 @@ void reach_of(const optimize_options& o, optimal::control_problem& p) {
 
 } // namespace
 
-void add_reach_options(CLI::App& cmd, optimize_options& o) {
+void add_velocity_and_reach_options(CLI::App& cmd, optimize_options& o) {
+    cmd.add_option("--max-velocity", o.max_velocity,
+                   "Bound |q'| <= V on every coordinate, on each step's polynomial at its ends and "
+                   "quadrature points (default: none; a robot's URDF velocity limits)")
+        ->transform(positive_number);
     cmd.add_option("--reach", o.reach,
                    "urdf: a link whose frame must reach --reach-position (and --reach-rpy) at T; "
                    "the final joint positions are then free within their limits and --to, if "
@@ -204,6 +208,10 @@ optimal::control_problem problem_of(const optimize_options& o, const models::mod
     }
     p.control_lower = Eigen::VectorXd::Constant(1, -o.max_control); // on every input
     p.control_upper = Eigen::VectorXd::Constant(1, o.max_control);
+    if (std::isfinite(o.max_velocity)) { // else unbounded, or a robot's URDF velocity limits
+        p.velocity_lower = Eigen::VectorXd::Constant(1, -o.max_velocity);
+        p.velocity_upper = Eigen::VectorXd::Constant(1, o.max_velocity);
+    }
     free_end_of(o.free_end, o.terminal_weight, d, p);
     reach_of(o, p);
     return p;

@@ -23,6 +23,7 @@ struct optimize_options {
     std::string from, to, from_velocity, to_velocity;
     std::string free_end, terminal_weight; ///< "q1,v2"; one weight per freed entry
     double max_control = std::numeric_limits<double>::infinity();
+    double max_velocity = std::numeric_limits<double>::infinity();
     std::string cost = "effort", hessian = "automatic";
     int max_iterations = 3000, refine = 0;
     std::string output, controls, config, ipopt_options;
@@ -38,8 +39,8 @@ struct optimize_options {
     double reach_weight = 0.0;
 };
 
-/// Adds --reach, --reach-position, --reach-rpy and --reach-weight to cmd.
-void add_reach_options(CLI::App& cmd, optimize_options& o);
+/// Adds --max-velocity, --reach, --reach-position, --reach-rpy and --reach-weight to cmd.
+void add_velocity_and_reach_options(CLI::App& cmd, optimize_options& o);
 /// With --reach: one line saying how far the link ends from its target at the final position
 /// q (the miss in m, and in rad with --reach-rpy); else empty.
 std::string reach_report(const optimize_options& o, const Eigen::VectorXd& q);

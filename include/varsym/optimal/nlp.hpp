@@ -37,8 +37,9 @@ struct sparsity {
     }
 };
 
-/// min f(x) over x ∈ Rⁿ subject to g(x) = 0 (m equations; the transcriptions have equalities
-/// only) and x_lower ≤ x ≤ x_upper (± unbounded where there is no bound; equal bounds fix x_i).
+/// min f(x) over x ∈ Rⁿ subject to g_lower ≤ g(x) ≤ g_upper (m rows: equations g(x) = 0 by
+/// default, constraint_bounds()) and x_lower ≤ x ≤ x_upper (± unbounded where there is no
+/// bound; equal bounds fix x_i).
 class nlp {
   public:
     nlp() = default;
@@ -51,6 +52,17 @@ class nlp {
     [[nodiscard]] virtual int variables() const = 0;
     [[nodiscard]] virtual int constraints() const = 0;
     virtual void bounds(vector& lower, vector& upper) const = 0;
+    /// The bounds of g's rows: 0 and 0 (equations) unless overridden for inequality rows.
+    virtual void constraint_bounds(vector& lower, vector& upper) const {
+        lower = upper = vector::Zero(constraints());
+    }
+    /// How far g(x) lies outside its bounds, row by row (g itself for equations).
+    [[nodiscard]] vector constraint_violation(cvector x) const {
+        vector g, lower, upper;
+        residual(x, g);
+        constraint_bounds(lower, upper);
+        return (g - g.cwiseMax(lower).cwiseMin(upper)).eval();
+    }
     [[nodiscard]] virtual vector start() const = 0;
     [[nodiscard]] virtual double cost(cvector x) const = 0;
     virtual void cost_gradient(cvector x, vector& gradient) const = 0;

@@ -56,6 +56,10 @@ struct control_problem {
     Eigen::MatrixXd effort;                    ///< R (m × m, s.p.d.); empty: identity
     vector control_lower, control_upper;       ///< (m each, or 1 for all); empty: unbounded
     vector position_lower, position_upper;     ///< (d each, or 1 for all); empty: unbounded
+    /// Bounds on q̇: on the derivative of each step's polynomial at the step's ends and at its
+    /// quadrature points (d each, or 1 for all; empty: unbounded). Linear in the control values
+    /// at a fixed horizon. The boundary velocities must lie within them.
+    vector velocity_lower, velocity_upper;
     /// Free final state: entry i true leaves q_i(T) (q̇_i(T)) free instead of fixing it to
     /// q_end(i) (v_end(i)), which is then the terminal cost's target (d each; empty: all fixed).
     std::vector<bool> free_end_position, free_end_velocity;
@@ -304,6 +308,12 @@ inline control_problem checked(control_problem p, int d, int m) {
     };
     box(p.control_lower, p.control_upper, m, "control");
     box(p.position_lower, p.position_upper, d, "position");
+    box(p.velocity_lower, p.velocity_upper, d, "velocity");
+    for (Eigen::Index i = 0; i < d; ++i)
+        for (const vector* v : {&p.v_start, &p.v_end})
+            require((v == &p.v_end && p.free_end_velocity[static_cast<std::size_t>(i)]) ||
+                        ((*v)(i) >= p.velocity_lower(i) && (*v)(i) <= p.velocity_upper(i)),
+                    "a boundary velocity lies outside the velocity bounds");
     for (Eigen::Index i = 0; i < d; ++i)
         for (const vector* q : {&p.q_start, &p.q_end})
             require((q == &p.q_end && p.free_end_position[static_cast<std::size_t>(i)]) ||

@@ -155,8 +155,8 @@ struct model {
         std::span<const double>, const models::lists&, const optimal::control_problem&)>
         optimal;
     /// The model's own bounds for an optimal control problem at the parameters' values (a URDF
-    /// robot's joint position limits and torque limits, its `effort`), put into the problem's
-    /// position and control bounds where those are unbounded. Empty: none.
+    /// robot's joint position, velocity and torque limits), put into the problem's position,
+    /// velocity and control bounds where those are unbounded. Empty: none.
     std::function<void(std::span<const double>, optimal::control_problem&)> limits;
     /// Where the model is a linkage to draw (the pictures of `varsym optimize`): the polyline
     /// of its joints at q, as x0, y0, x1, y1, … [m], from the parameters' values. May be empty.

@@ -47,7 +47,8 @@ model robot_model(std::shared_ptr<const multibody::model> r,
 
 /// The actuated joints of a robot (their indices in q): those whose URDF effort is positive.
 /// robot_model's optimal control has one input per actuated joint, its torque (force),
-/// bounded by the effort; its `limits` are the joints' position limits and efforts.
+/// bounded by the effort; its `limits` are the joints' position limits, velocity limits (a
+/// URDF velocity of 0: none) and efforts.
 std::vector<int> actuated_joints(const multibody::model& r);
 
 /// The pose in the world of robot r's link (frame) `frame` at joint positions q; throws

@@ -41,9 +41,9 @@ class dmoc_transcription final : public transcription {
     [[nodiscard]] int variables() const override {
         return multiplier_index(points_) + (p_.free_time ? 1 : 0);
     }
-    [[nodiscard]] int constraints() const override {
-        return points_ * d_ + (points_ - 2) * k_ + t_;
-    }
+    [[nodiscard]] int constraints() const override { return velocity_row() + velocity_rows(); }
+    /// The equations' bounds (0), and the velocity bounds' rows'.
+    void constraint_bounds(vector& lower, vector& upper) const override;
 
     void bounds(vector& lower, vector& upper) const override;
     /// The positions interpolated linearly between the ends (put on the constraints where
@@ -75,6 +75,10 @@ class dmoc_transcription final : public transcription {
     control_problem p_;
     galerkin::tableau tab_;
     int d_ = 1, m_ = 1, k_ = 0, t_ = 0; // t_: the end target's rows as constraints
+    /// The velocity bounds: the bounded coordinates, and ℓ_l'(τ_e) at the evaluation points τ_e
+    /// of every step (its ends and quadrature points), (s + 1) × points.
+    std::vector<int> limited_;
+    matrix velocity_weights_;
     int s_ = 1, r_ = 1, n_ = 1, points_ = 2;
     bool free_end_ = false;
     double h_ = 1.0;
@@ -120,6 +124,15 @@ class dmoc_transcription final : public transcription {
                                 std::vector<double>* values) const;
     // The end target's parts (transcription_constraints.cpp; nothing without one).
     [[nodiscard]] int target_row() const { return points_ * d_ + (points_ - 2) * k_; }
+    // The velocity bounds' rows after the target's (transcription_velocity.cpp): per step, per
+    // evaluation point, per bounded coordinate, q̇ = Σ_l ℓ_l'(τ) Q_{ks+l} / h.
+    [[nodiscard]] int velocity_row() const { return target_row() + t_; }
+    [[nodiscard]] int velocity_rows() const {
+        return n_ * static_cast<int>(velocity_weights_.cols() * std::ssize(limited_));
+    }
+    void setup_velocity_bounds();
+    void add_velocity_residual(cvector x, vector& e) const;
+    void add_velocity_jacobian(cvector x, sparsity* pattern, std::vector<double>* values) const;
     /// ½ w |φ(Q_{Ns})|² with its gradient added to `gradient` (a terminal cost; else 0).
     double target_cost(cvector x, vector* gradient) const;
     void add_target_residual(cvector x, vector& e) const;
