@@ -47,7 +47,7 @@ dmoc_transcription::dmoc_transcription(std::shared_ptr<const controlled_system> 
     points_ = n_ * s_ + 1;
     free_end_ = p_.free_end();
     if (p_.end_target && p_.end_target_weight == 0.0) t_ = p_.end_target->rows();
-    setup_velocity_bounds();
+    setup_path_bounds();
     lagrangian_terms<dynamic> t;
     sys_->gradient(p_.q_start, p_.v_start, 0.0, t);
     p_start_ = t.lv;

@@ -14,7 +14,7 @@ void dmoc_transcription::residual(cvector x, vector& e) const {
     e.segment((points_ - 1) * d_, d_) -= end_momentum(x); // p_N = D₂L_d + f⁺
     add_constraint_residual(x, e);
     add_target_residual(x, e);
-    add_velocity_residual(x, e);
+    add_path_residual(x, e);
 }
 
 /// Adds each step's terms to the equations of its control values (the discrete forced
@@ -58,7 +58,7 @@ sparsity dmoc_transcription::jacobian_pattern() const {
             s.add((points_ - 1) * d_ + row, end_index(col));
     add_constraint_jacobian(vector(), &s, nullptr);
     add_target_jacobian(vector(), &s, nullptr);
-    add_velocity_jacobian(vector(), &s, nullptr);
+    add_path_jacobian(vector(), &s, nullptr);
     return s;
 }
 
@@ -125,7 +125,7 @@ void dmoc_transcription::jacobian(cvector x, std::vector<double>& values) const 
     }
     add_constraint_jacobian(x, nullptr, &values);
     add_target_jacobian(x, nullptr, &values);
-    add_velocity_jacobian(x, nullptr, &values);
+    add_path_jacobian(x, nullptr, &values);
 }
 
 /// Lower triangle of each step's dense block over its control values and its controls; with a

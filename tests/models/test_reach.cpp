@@ -174,10 +174,11 @@ TEST(Reach, UnreachableTargetIsInfeasibleAndBadTargetsAreRefused) {
 }
 
 TEST(VelocityBounds, RowsAndTheirDerivativesMatchFiniteDifferences) {
-    // The iiwa with its URDF velocity limits (m.limits): the rows are q̇ of the steps'
-    // polynomials at their ends and quadrature points, within the bounds as constraint_bounds
-    // says; their Jacobian against central differences at a fixed horizon (with the Hessian,
-    // to which they add nothing) and at a free one (∂/∂T = −q̇/T; no exact Hessian there).
+    // The iiwa with its URDF limits (m.limits) at gauss-2: the rows are q at the steps' Gauss
+    // points (not control values) and q̇ at their ends and Gauss points, within the bounds as
+    // constraint_bounds says; their Jacobian against central differences at a fixed horizon (with
+    // the Hessian, to which they add nothing) and at a free one (∂/∂T = −q̇/T; no exact Hessian
+    // there).
     const auto m = models::robot_model(reach_robot("iiwa14_no_collision.urdf"));
     for (const bool free_time : {false, true}) {
         auto p = reach_problem(Eigen::VectorXd::Zero(7), iiwa_end, 3);
@@ -188,12 +189,15 @@ TEST(VelocityBounds, RowsAndTheirDerivativesMatchFiniteDifferences) {
             p.cost.time = 1.0;
         }
         const auto tr = m.optimal(m.defaults(), {}, p);
-        const int rows = 3 * 4 * 7;
+        // q at the two Gauss points of each step, then q̇ at 0, the Gauss points and 1.
+        const int positions = 3 * 2 * 7, velocities = 3 * 4 * 7;
         Eigen::VectorXd lower, upper;
         tr->constraint_bounds(lower, upper);
         ASSERT_EQ(lower.size(), tr->constraints());
-        EXPECT_EQ(upper.tail(rows)(0), 1.4835298641951802); // joint 1's URDF velocity
-        EXPECT_EQ(upper.head(tr->constraints() - rows).cwiseAbs().maxCoeff(), 0.0);
+        EXPECT_EQ(upper.tail(velocities)(0), 1.4835298641951802);         // joint 1's URDF velocity
+        EXPECT_EQ(lower.tail(velocities + positions)(1), -2.09439510239); // joint 2's range
+        EXPECT_EQ(upper.head(tr->constraints() - velocities - positions).cwiseAbs().maxCoeff(),
+                  0.0);
         Eigen::VectorXd x =
             0.5 * Eigen::VectorXd::LinSpaced(tr->variables(), 0.3, 2.9).array().sin();
         if (free_time) x(x.size() - 1) = 1.5; // T
@@ -202,4 +206,30 @@ TEST(VelocityBounds, RowsAndTheirDerivativesMatchFiniteDifferences) {
         EXPECT_LT(e.jacobian, 1e-6 * e.largest_jacobian) << "free time " << free_time;
         if (!free_time) EXPECT_LT(e.hessian, 1e-6 * e.largest_hessian);
     }
+}
+
+TEST(PositionBounds, HoldAtGaussPointsBetweenControlValues) {
+    // gauss-2's quadrature points are not control values: its polynomials could pass a joint
+    // limit between them. With the iiwa's joint ranges (velocity limits lifted, so that joint 6
+    // rides its range), q at every quadrature point stays within the range, and one touches it.
+    const auto m = models::robot_model(reach_robot("iiwa14_no_collision.urdf"));
+    auto p = reach_problem(Eigen::VectorXd::Zero(7), iiwa_end, 20);
+    p.scheme = {scheme_kind::gauss, 2};
+    m.limits(m.defaults(), p);
+    p.velocity_lower = Eigen::VectorXd::Constant(7, -100.0);
+    p.velocity_upper = Eigen::VectorXd::Constant(7, 100.0);
+    const auto tr = m.optimal(m.defaults(), {}, p);
+    const auto r = optimal::solve(*tr);
+    ASSERT_TRUE(r.converged()) << r.message;
+    const auto path = tr->unpack(r);
+    double closest = 1.0;
+    for (Eigen::Index c = 0; c < path.control_times.size(); ++c) {
+        const Eigen::VectorXd q = path.position(path.control_times(c));
+        for (int i = 0; i < 7; ++i) {
+            EXPECT_GE(q(i), p.position_lower(i) - 1e-9) << "joint " << i + 1;
+            EXPECT_LE(q(i), p.position_upper(i) + 1e-9) << "joint " << i + 1;
+            closest = std::min({closest, q(i) - p.position_lower(i), p.position_upper(i) - q(i)});
+        }
+    }
+    EXPECT_LT(closest, 1e-6); // a range binds at a Gauss point
 }

@@ -144,8 +144,9 @@ struct model {
     std::function<problem(std::span<const double>, const start&, const models::lists&)> make;
     /// Where the model has control inputs (the acrobot's elbow torque): their names with units
     /// ("u [N m], torque at the elbow"; one line may stand for one input per coordinate, as the
-    /// arm's), and the transcription of an optimal control problem (varsym/optimal/transcription.hpp) at
-    /// the parameters' values and lists (empty: the defaults). Empty where it has none.
+    /// arm's), and the transcription of an optimal control problem
+    /// (varsym/optimal/transcription.hpp) at the parameters' values and lists (empty: the
+    /// defaults). Empty where it has none.
     std::vector<std::string> controls;
     /// The parameters and lists (by name) that only a simulation uses: the one that holds the
     /// input constant (the cart-pole's push, the acrobot's torque), which an optimisation

@@ -8,6 +8,7 @@
 // quadrature. Exact sparse derivatives from the system's own. See docs/optimal_control.md.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <memory>
 
@@ -41,8 +42,8 @@ class dmoc_transcription final : public transcription {
     [[nodiscard]] int variables() const override {
         return multiplier_index(points_) + (p_.free_time ? 1 : 0);
     }
-    [[nodiscard]] int constraints() const override { return velocity_row() + velocity_rows(); }
-    /// The equations' bounds (0), and the velocity bounds' rows'.
+    [[nodiscard]] int constraints() const override { return path_row() + path_rows(); }
+    /// The equations' bounds (0), and the polynomials' bounds' rows'.
     void constraint_bounds(vector& lower, vector& upper) const override;
 
     void bounds(vector& lower, vector& upper) const override;
@@ -75,10 +76,18 @@ class dmoc_transcription final : public transcription {
     control_problem p_;
     galerkin::tableau tab_;
     int d_ = 1, m_ = 1, k_ = 0, t_ = 0; // t_: the end target's rows as constraints
-    /// The velocity bounds: the bounded coordinates, and ℓ_l'(τ_e) at the evaluation points τ_e
-    /// of every step (its ends and quadrature points), (s + 1) × points.
-    std::vector<int> limited_;
-    matrix velocity_weights_;
+    /// Bounds on the steps' polynomials (transcription_bounds.cpp): q at the quadrature points
+    /// that are not control values ([0]), q̇ at the steps' ends and quadrature points ([1]), on
+    /// the bounded coordinates; weights ℓ_l(τ_e) or ℓ_l'(τ_e), (s + 1) × points.
+    struct path_bound {
+        bool velocity = false;
+        std::vector<int> coordinates;
+        matrix weights;
+        [[nodiscard]] int rows_per_step() const {
+            return static_cast<int>(weights.cols() * std::ssize(coordinates));
+        }
+    };
+    std::array<path_bound, 2> path_bounds_;
     int s_ = 1, r_ = 1, n_ = 1, points_ = 2;
     bool free_end_ = false;
     double h_ = 1.0;
@@ -124,15 +133,15 @@ class dmoc_transcription final : public transcription {
                                 std::vector<double>* values) const;
     // The end target's parts (transcription_constraints.cpp; nothing without one).
     [[nodiscard]] int target_row() const { return points_ * d_ + (points_ - 2) * k_; }
-    // The velocity bounds' rows after the target's (transcription_velocity.cpp): per step, per
-    // evaluation point, per bounded coordinate, q̇ = Σ_l ℓ_l'(τ) Q_{ks+l} / h.
-    [[nodiscard]] int velocity_row() const { return target_row() + t_; }
-    [[nodiscard]] int velocity_rows() const {
-        return n_ * static_cast<int>(velocity_weights_.cols() * std::ssize(limited_));
+    // The polynomials' bounds' rows after the target's (transcription_bounds.cpp): per kind,
+    // per step, per evaluation point, per bounded coordinate.
+    [[nodiscard]] int path_row() const { return target_row() + t_; }
+    [[nodiscard]] int path_rows() const {
+        return n_ * (path_bounds_[0].rows_per_step() + path_bounds_[1].rows_per_step());
     }
-    void setup_velocity_bounds();
-    void add_velocity_residual(cvector x, vector& e) const;
-    void add_velocity_jacobian(cvector x, sparsity* pattern, std::vector<double>* values) const;
+    void setup_path_bounds();
+    void add_path_residual(cvector x, vector& e) const;
+    void add_path_jacobian(cvector x, sparsity* pattern, std::vector<double>* values) const;
     /// ½ w |φ(Q_{Ns})|² with its gradient added to `gradient` (a terminal cost; else 0).
     double target_cost(cvector x, vector* gradient) const;
     void add_target_residual(cvector x, vector& e) const;
