@@ -17,8 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "varsym/optimal/system_of.hpp"
+#include "interleaved.hpp"
 #include "varsym/optimal/solve.hpp"
+#include "varsym/optimal/system_of.hpp"
 #include "varsym/problems/linked_pendulum.hpp"
 
 namespace {
@@ -103,21 +104,6 @@ outcome run(const L& l, const F& f, const optimal::control_problem& p,
     return {s, r.result.cost, closure.error, iterations, optimal::status_name(r.result.verdict)};
 }
 
-/// Runs every case `rounds` times in turn; returns each case's run with the median time.
-std::vector<outcome> interleaved(const std::vector<std::function<outcome()>>& cases, int rounds) {
-    std::vector<std::vector<outcome>> all(cases.size());
-    for (int r = 0; r < rounds; ++r)
-        for (std::size_t c = 0; c < cases.size(); ++c)
-            all[c].push_back(cases[c]());
-    std::vector<outcome> out;
-    for (auto& runs : all) {
-        std::sort(runs.begin(), runs.end(),
-                  [](const outcome& a, const outcome& b) { return a.seconds < b.seconds; });
-        out.push_back(runs[runs.size() / 2]);
-    }
-    return out;
-}
-
 optimal::control_problem arm_problem(int steps) {
     optimal::control_problem p;
     p.time = 2.0;
@@ -165,7 +151,7 @@ int main(int argc, char** argv) {
                                                  std::vector<double>(6, 0.5), 9.81);
         return run(arm, joint_torques<6>{}, p, optimal::hessian_kind::automatic, 3);
     });
-    const auto results = interleaved(cases, rounds);
+    const auto results = bench::interleaved<outcome>(cases, rounds);
     for (std::size_t i = 0; i < 2 * sizes.size(); ++i) {
         const auto& r = results[i];
         const int n = sizes[i % sizes.size()];
@@ -212,7 +198,7 @@ int main(int argc, char** argv) {
     std::vector<std::function<outcome()>> swings;
     for (const auto& [spec, n] : runs)
         swings.emplace_back([spec = spec, n = n, &swing] { return swing(spec, n); });
-    const auto sw = interleaved(swings, rounds);
+    const auto sw = bench::interleaved<outcome>(swings, rounds);
     for (std::size_t i = 0; i < runs.size(); ++i)
         std::printf("| %s | %d | %.4f | %.2e | %.1e |\n", runs[i].first.label().c_str(),
                     runs[i].second, sw[i].seconds, std::abs(sw[i].cost - reference), sw[i].closure);

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "interleaved.hpp"
 #include "varsym/models/model.hpp"
 #include "varsym/models/robot.hpp"
 #include "varsym/optimal/solve.hpp"
@@ -41,20 +42,6 @@ outcome solve(const models::model& robot, const optimal::control_problem& given,
     const double s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return {s, r.cost, r.iterations, optimal::status_name(r.verdict)};
-}
-
-std::vector<outcome> interleaved(const std::vector<std::function<outcome()>>& cases, int rounds) {
-    std::vector<std::vector<outcome>> all(cases.size());
-    for (int r = 0; r < rounds; ++r)
-        for (std::size_t c = 0; c < cases.size(); ++c)
-            all[c].push_back(cases[c]());
-    std::vector<outcome> out;
-    for (auto& runs : all) {
-        std::sort(runs.begin(), runs.end(),
-                  [](const outcome& a, const outcome& b) { return a.seconds < b.seconds; });
-        out.push_back(runs[runs.size() / 2]);
-    }
-    return out;
 }
 
 /// A planar chain of n links as URDF text: link i of 1 kg with its centre 0.3 m below joint i.
@@ -114,7 +101,7 @@ int main(int argc, char** argv) {
     for (const auto& c : configs)
         cases.emplace_back(
             [&, c] { return solve(iiwa, rest_to_rest(7, c.n, c.scheme, to), c.hessian); });
-    const auto results = interleaved(cases, rounds);
+    const auto results = bench::interleaved<outcome>(cases, rounds);
     for (std::size_t i = 0; i < configs.size(); ++i) {
         const auto& r = results[i];
         std::printf("| %d | %s | %s | %.3f | %d | %.1f | %.6f | %s |\n", configs[i].n,
@@ -144,7 +131,7 @@ int main(int argc, char** argv) {
                                       Eigen::VectorXd::Constant(n, 0.3 / n)),
                          optimal::hessian_kind::exact, 20);
         });
-    const auto chain_results = interleaved(chain_cases, rounds);
+    const auto chain_results = bench::interleaved<outcome>(chain_cases, rounds);
     for (std::size_t i = 0; i < sizes.size(); ++i) {
         const auto& r = chain_results[i];
         const auto [n, steps] = sizes[i];

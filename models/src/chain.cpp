@@ -1,13 +1,13 @@
 // models/src/chain.cpp: n coupled nonlinear oscillators with fixed ends (the FPU-beta chain,
 // problems/chain.hpp). Simpson's and Newmark's Newton systems are tridiagonal, so a step costs
 // O(n); the other members of the family solve a dense (s n) x (s n) system.
-#include <unistd.h>
 
 #include <cmath>
 #include <string>
 
 #include "simulation_of.hpp"
 #include "varsym/problems/chain.hpp"
+#include "varsym/run/memory.hpp"
 
 namespace varsym::models::defs {
 
@@ -21,9 +21,8 @@ void check_size(int n, const scheme_spec& spec) {
     // Jacobian and its LU factors, 3 (s n)^2 doubles.
     const double sn = static_cast<double>(spec.degree) * n;
     const double need = 300.0 * n + (dense ? 24.0 * sn * sn : 0.0);
-    const double have = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
-                        static_cast<double>(::sysconf(_SC_PAGE_SIZE));
-    if (have > 0.0 && need > 0.8 * have)
+    const double have = physical_memory();
+    if (beyond_memory(need, have))
         throw std::invalid_argument("n = " + std::to_string(n) + " with " + spec.label() +
                                     " needs about " +
                                     std::to_string(static_cast<long long>(need / 1e9)) +

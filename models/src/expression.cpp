@@ -12,9 +12,8 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
 #include "simulation_of.hpp"
+#include "varsym/run/memory.hpp"
 #include "varsym/schemes/constrained.hpp"
 #include "varsym/schemes/constrained_sensitivity.hpp"
 #include "varsym/systems/expression_separable.hpp"
@@ -164,9 +163,8 @@ void check_expression_size(int d, std::size_t length) {
     const double d2 = static_cast<double>(d) * d;
     const double seconds = 6.6e-10 * d2 * static_cast<double>(length);
     const double bytes = 1000.0 * d2;
-    const double have = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
-                        static_cast<double>(::sysconf(_SC_PAGE_SIZE));
-    if (seconds <= 60.0 && !(have > 0.0 && bytes > 0.8 * have)) return;
+    const double have = physical_memory();
+    if (seconds <= 60.0 && !beyond_memory(bytes, have)) return;
     char buf[256];
     std::snprintf(buf, sizeof buf,
                   "a Lagrangian of %d coordinates typed in %zu characters would take about %.0f s "

@@ -7,12 +7,11 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <unistd.h>
-
 #include <IpIpoptApplication.hpp>
 #include <IpTNLP.hpp>
 
 #include "varsym/optimal/solve.hpp"
+#include "varsym/run/memory.hpp"
 
 namespace varsym::optimal {
 
@@ -213,10 +212,9 @@ void check_finite_start(const nlp& p, const vector& x0) {
 
 /// Refuses a transcription that would not fit in memory: how many steps would.
 void check_memory(const transcription& t) {
-    const double have = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
-                        static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+    const double have = physical_memory();
     const auto need = static_cast<double>(memory_estimate(t));
-    if (!(have > 0.0) || need <= 0.8 * have) return;
+    if (!beyond_memory(need, have)) return;
     const double steps = t.problem().steps;
     const double per_step = (need - 32e6) / steps;
     char buf[320];

@@ -18,14 +18,14 @@
 namespace varsym::optimal {
 
 template <lagrangian L>
-class input_system final : public controlled_system {
+class input_system final : public lagrangian_part<L> {
   public:
-    static constexpr int D = L::dim;
+    using lagrangian_part<L>::dimension;
 
     /// L, the input matrix B (d × m: column j is the generalized force of unit input j) and
     /// the damping C (d × d, symmetric positive semi-definite [N m s/rad, N s/m]; empty: none).
     input_system(L l, matrix b, matrix damping = {})
-        : l_(std::move(l)), b_(std::move(b)), c_(std::move(damping)) {
+        : lagrangian_part<L>(std::move(l)), b_(std::move(b)), c_(std::move(damping)) {
         const int d = dimension();
         if (b_.b().rows() != d)
             throw std::invalid_argument("the input matrix has " + std::to_string(b_.b().rows()) +
@@ -35,29 +35,8 @@ class input_system final : public controlled_system {
             throw std::invalid_argument("the damping matrix must be finite and d x d");
     }
 
-    [[nodiscard]] const L& lagrangian() const { return l_; }
-    [[nodiscard]] int dimension() const override {
-        if constexpr (D == dynamic)
-            return l_.dimension();
-        else
-            return D;
-    }
     [[nodiscard]] int inputs() const override { return static_cast<int>(b_.b().cols()); }
-    [[nodiscard]] bool time_dependent() const override {
-        if constexpr (lagrangian_time_known<L>)
-            return depends_on_time(l_);
-        else
-            return time_dependent_lagrangian<L>;
-    }
 
-    void gradient(const vector& q, const vector& v, double t,
-                  lagrangian_terms<dynamic>& out) const override {
-        lagrangian_terms_of(l_, q, v, t, out, false);
-    }
-    void derivatives(const vector& q, const vector& v, double t,
-                     lagrangian_terms<dynamic>& out) const override {
-        lagrangian_terms_of(l_, q, v, t, out, true);
-    }
     void force(const vector& q, const vector& v, double t, const vector& u, input_terms& out,
                bool jacobians) const override {
         (void)q, (void)t;
@@ -68,7 +47,6 @@ class input_system final : public controlled_system {
     }
 
   private:
-    L l_;
     input_matrix b_;
     matrix c_;
 };

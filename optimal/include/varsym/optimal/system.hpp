@@ -10,11 +10,13 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <Eigen/Core>
 
 #include "varsym/optimal/problem.hpp"
 #include "varsym/systems/lagrangian.hpp"
+#include "varsym/systems/lagrangian_time.hpp"
 
 namespace varsym::optimal {
 
@@ -145,6 +147,42 @@ void lagrangian_terms_of(const L& l, const vector& q, const vector& v, double t,
         out.lvv = lt.lvv;
     }
 }
+
+/// What a controlled system built on a Lagrangian L (held by value) takes from L alone: its
+/// dimension, its dependence on t, and its first and second derivatives by L's own means
+/// (lagrangian_terms_of). input_system.hpp and system_of.hpp build on it.
+template <lagrangian L>
+class lagrangian_part : public controlled_system {
+  public:
+    static constexpr int D = L::dim;
+
+    explicit lagrangian_part(L l) : l_(std::move(l)) {}
+
+    [[nodiscard]] const L& lagrangian() const { return l_; }
+    [[nodiscard]] int dimension() const override {
+        if constexpr (D == dynamic)
+            return l_.dimension();
+        else
+            return D;
+    }
+    [[nodiscard]] bool time_dependent() const override {
+        if constexpr (lagrangian_time_known<L>)
+            return depends_on_time(l_);
+        else
+            return time_dependent_lagrangian<L>;
+    }
+    void gradient(const vector& q, const vector& v, double t,
+                  lagrangian_terms<dynamic>& out) const override {
+        lagrangian_terms_of(l_, q, v, t, out, false);
+    }
+    void derivatives(const vector& q, const vector& v, double t,
+                     lagrangian_terms<dynamic>& out) const override {
+        lagrangian_terms_of(l_, q, v, t, out, true);
+    }
+
+  protected:
+    L l_; // NOLINT(misc-non-private-member-variables-in-classes): the systems' own L
+};
 
 /// f = B u with a constant input matrix B (d × m): joint torques, a push.
 class input_matrix {

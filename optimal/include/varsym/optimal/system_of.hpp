@@ -17,28 +17,18 @@
 namespace varsym::optimal {
 
 template <lagrangian L, control_force F, class C = unconstrained>
-class system_of final : public controlled_system {
+class system_of final : public lagrangian_part<L> {
   public:
     static constexpr int D = L::dim, M = F::controls, K = constraint_rows<C>;
     static_assert(F::dim == L::dim, "the control force must have the Lagrangian's dimension");
     static_assert(constraints_on<C, D>, "C: holonomic constraints on the Lagrangian's coordinates");
 
     system_of(L l, F force, C constraints = {})
-        : l_(std::move(l)), f_(std::move(force)), c_(std::move(constraints)) {}
+        : lagrangian_part<L>(std::move(l)), f_(std::move(force)), c_(std::move(constraints)) {}
 
-    [[nodiscard]] int dimension() const override { return D; }
     [[nodiscard]] int inputs() const override { return M; }
     [[nodiscard]] int constraint_count() const override { return K; }
-    [[nodiscard]] bool time_dependent() const override { return time_dependent_lagrangian<L>; }
 
-    void gradient(const vector& q, const vector& v, double t,
-                  lagrangian_terms<dynamic>& out) const override {
-        lagrangian_terms_of(l_, q, v, t, out, false);
-    }
-    void derivatives(const vector& q, const vector& v, double t,
-                     lagrangian_terms<dynamic>& out) const override {
-        lagrangian_terms_of(l_, q, v, t, out, true);
-    }
     void third(const vector& q, const vector& v, double t, const vector& a, const vector& b,
                matrix& out) const override {
         out = contracted_third(l_, vec<D>(q), vec<D>(v), t, vec<D>(a), vec<D>(b));
@@ -115,7 +105,7 @@ class system_of final : public controlled_system {
     }
 
   private:
-    L l_;
+    using lagrangian_part<L>::l_;
     F f_;
     C c_;
 };
