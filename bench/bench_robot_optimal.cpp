@@ -1,9 +1,10 @@
 // bench/bench_robot_optimal.cpp: optimal control of URDF robots through the one compiled
 // transcription (`make bench-optimal`, after bench_optimal): medians of interleaved rounds.
-//   1. the KUKA iiwa 14 (7 joints, tests/data/urdf) rest to rest in 2 s within its URDF torque
-//      and joint limits: N = 50 and 200, Simpson and gauss-2, exact and limited-memory Hessians:
-//      seconds, iterations, cost;
-//   2. a chain of n links written as a URDF (each 1 kg, 0.3 m, a revolute joint about y):
+//   1. the KUKA iiwa 14 (7 joints, tests/data/urdf) rest to rest in 2 s within its URDF torque,
+//      joint and velocity limits: N = 50 and 200, Simpson and gauss-2, exact and limited-memory
+//      Hessians: seconds, iterations, cost;
+//   2. its flange sent to a pose (models::frame_target): N = 50 and 200, Simpson and gauss-2;
+//   3. a chain of n links written as a URDF (each 1 kg, 0.3 m, a revolute joint about y):
 //      milliseconds per iteration (the first 20 iterations) against N (n = 10) and against n
 //      (N = 25): linear in N (banded KKT matrix); in n, the derivatives are O(n²) and the
 //      KKT matrix's dense blocks per step grow as n, their factorisation as n³.
@@ -11,12 +12,14 @@
 #include <chrono>
 #include <cstdio>
 #include <functional>
+#include <numbers>
 #include <string>
 #include <vector>
 
 #include "interleaved.hpp"
 #include "varsym/models/model.hpp"
 #include "varsym/models/robot.hpp"
+#include "varsym/multibody/spatial.hpp"
 #include "varsym/optimal/solve.hpp"
 
 namespace {
@@ -82,9 +85,10 @@ int main(int argc, char** argv) {
         models::robot_model(models::load_urdf(VARSYM_BENCH_DATA "/urdf/iiwa14_no_collision.urdf"));
     const Eigen::VectorXd to =
         (Eigen::VectorXd(7) << 0.4, 0.3, 0.2, -0.3, 0.2, 0.3, 0.2).finished();
-    std::printf("## KUKA iiwa 14, rest to rest in 2 s, effort, URDF torque and joint limits\n\n"
-                "| N | scheme | Hessian | time [s] | iterations | ms / iteration | cost | "
-                "status |\n|---|---|---|---|---|---|---|---|\n");
+    std::printf(
+        "## KUKA iiwa 14, rest to rest in 2 s, effort, URDF torque, joint and velocity limits\n\n"
+        "| N | scheme | Hessian | time [s] | iterations | ms / iteration | cost | "
+        "status |\n|---|---|---|---|---|---|---|---|\n");
     struct config {
         int n;
         scheme_spec scheme;
@@ -109,6 +113,33 @@ int main(int argc, char** argv) {
                     configs[i].hessian == optimal::hessian_kind::exact ? "exact" : "limited-memory",
                     r.seconds, r.iterations, 1e3 * r.seconds / r.iterations, r.cost,
                     r.status.c_str());
+    }
+
+    std::printf("\n## KUKA iiwa 14, its flange to a pose in 2 s (--reach iiwa_link_ee "
+                "--reach-position 0.5,0,0.5 --reach-rpy 0,pi/2,0), exact Hessian, URDF limits\n\n"
+                "| N | scheme | time [s] | iterations | ms / iteration | cost | status |\n"
+                "|---|---|---|---|---|---|---|\n");
+    const auto tree = models::load_urdf(VARSYM_BENCH_DATA "/urdf/iiwa14_no_collision.urdf");
+    const auto pose =
+        models::frame_target(tree, "iiwa_link_ee", {0.5, 0.0, 0.5},
+                             multibody::roll_pitch_yaw({0.0, std::numbers::pi / 2, 0.0}));
+    std::vector<std::pair<int, scheme_spec>> reaches{{50, scheme_kind::simpson},
+                                                     {50, {scheme_kind::gauss, 2}},
+                                                     {200, scheme_kind::simpson},
+                                                     {200, {scheme_kind::gauss, 2}}};
+    std::vector<std::function<outcome()>> reach_cases;
+    for (const auto& reach : reaches)
+        reach_cases.emplace_back([&, reach] {
+            auto p = rest_to_rest(7, reach.first, reach.second, Eigen::VectorXd::Zero(7));
+            p.end_target = pose;
+            return solve(iiwa, p, optimal::hessian_kind::exact);
+        });
+    const auto reach_results = bench::interleaved<outcome>(reach_cases, rounds);
+    for (std::size_t i = 0; i < reaches.size(); ++i) {
+        const auto& r = reach_results[i];
+        std::printf("| %d | %s | %.3f | %d | %.1f | %.6f | %s |\n", reaches[i].first,
+                    reaches[i].second.label().c_str(), r.seconds, r.iterations,
+                    1e3 * r.seconds / r.iterations, r.cost, r.status.c_str());
     }
 
     std::printf("\n## A chain of n links (URDF), rest to rest in 2 s, Simpson, exact Hessian, "
