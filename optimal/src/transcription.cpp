@@ -47,6 +47,9 @@ dmoc_transcription::dmoc_transcription(std::shared_ptr<const controlled_system> 
     points_ = n_ * s_ + 1;
     free_end_ = p_.free_end();
     if (p_.end_target && p_.end_target_weight == 0.0) t_ = p_.end_target->rows();
+    nodes_ = k_ == 0 && n_ > 1 &&
+             ((p_.velocity_lower.array() > -unbounded).any() ||
+              (p_.velocity_upper.array() < unbounded).any());
     setup_path_bounds();
     lagrangian_terms<dynamic> t;
     sys_->gradient(p_.q_start, p_.v_start, 0.0, t);
@@ -72,10 +75,14 @@ void dmoc_transcription::bounds(vector& lower, vector& upper) const {
         lower.segment(control_index(c), m_) = p_.control_lower;
         upper.segment(control_index(c), m_) = p_.control_upper;
     }
-    for (int i = 0; free_end_ && i < d_; ++i) {
+    for (int i = 0; free_end_ && i < d_; ++i) { // a free one within the velocity bounds
         const bool free = p_.free_end_velocity[static_cast<std::size_t>(i)];
-        lower(end_velocity_index() + i) = free ? -unbounded : p_.v_end(i);
-        upper(end_velocity_index() + i) = free ? unbounded : p_.v_end(i);
+        lower(end_velocity_index() + i) = free ? p_.velocity_lower(i) : p_.v_end(i);
+        upper(end_velocity_index() + i) = free ? p_.velocity_upper(i) : p_.v_end(i);
+    }
+    for (int n = 1; nodes_ && n < n_; ++n) {
+        lower.segment(node_velocity_index(n), d_) = p_.velocity_lower;
+        upper.segment(node_velocity_index(n), d_) = p_.velocity_upper;
     }
     if (p_.free_time) {
         lower(time_index()) = p_.time_lower;
@@ -95,6 +102,10 @@ vector dmoc_transcription::start() const {
     for (int c = 0; c < n_ * r_; ++c)
         x.segment(control_index(c), m_) = u0;
     if (free_end_) x.segment(end_velocity_index(), d_) = p_.v_end;
+    for (int n = 1; nodes_ && n < n_; ++n) // the straight line's velocity, within the bounds
+        x.segment(node_velocity_index(n), d_) = ((q_end - p_.q_start) / p_.time)
+                                                    .cwiseMax(p_.velocity_lower)
+                                                    .cwiseMin(p_.velocity_upper);
     if (p_.free_time) x(time_index()) = p_.time;
     // The interpolated positions put on the constraints by Gauss–Newton, where it converges.
     vector g;
@@ -150,6 +161,17 @@ vector dmoc_transcription::start_from(const trajectory& guess) const {
             x.segment(control_index(k * r_ + j), m_) =
                 u.cwiseMax(p_.control_lower).cwiseMin(p_.control_upper);
         }
+    for (int n = 1; nodes_ && n < n_; ++n) { // the guess's node velocities, interpolated
+        const double t = static_cast<double>(n) / n_ * horizon;
+        const auto& nt = guess.node_times;
+        const auto at = std::lower_bound(nt.data(), nt.data() + nt.size(), t) - nt.data();
+        const Eigen::Index hi = std::clamp<Eigen::Index>(at, 1, nt.size() - 1), lo = hi - 1;
+        const double span = nt(hi) - nt(lo),
+                     a = span > 0 ? std::clamp((t - nt(lo)) / span, 0.0, 1.0) : 0.0;
+        x.segment(node_velocity_index(n), d_) = ((1.0 - a) * guess.v.col(lo) + a * guess.v.col(hi))
+                                                    .cwiseMax(p_.velocity_lower)
+                                                    .cwiseMin(p_.velocity_upper);
+    }
     if (p_.free_time) x(time_index()) = std::clamp(horizon, p_.time_lower, p_.time_upper);
     return x;
 }

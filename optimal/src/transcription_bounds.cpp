@@ -1,7 +1,8 @@
 // optimal/src/transcription_bounds.cpp: bounds on the steps' polynomials in the DMOC
 // transcription (transcription.hpp), rows g_lower ≤ g ≤ g_upper after the end target's:
 // - q̇(τ) = Σ_l ℓ_l'(τ) Q_{ks+l} / h within control_problem::velocity_lower, velocity_upper at
-//   each step's ends (τ = 0, 1) and quadrature points (a URDF's <limit velocity>);
+//   each step's interior quadrature points, and at its ends (τ = 0, 1) where the node velocities
+//   are not unknowns of their own (with constraints; transcription_nodes.cpp);
 // - q(τ) = Σ_l ℓ_l(τ) Q_{ks+l} within the position bounds at the quadrature points that are not
 //   control values (gauss-s; at the control values the bounds are the unknowns' own).
 // Linear in the control values at a fixed horizon (no Hessian); with a free horizon the
@@ -53,12 +54,15 @@ void dmoc_transcription::setup_path_bounds() {
     }
     path_bounds_[0] = {false, bounded(p_.position_lower, p_.position_upper),
                        lagrange_at(tab_.control, inner, false)};
-    std::vector<double> ends{0.0}; // 0, the quadrature nodes, 1 (a Lobatto rule's ends once)
+    // q̇ at 0, the quadrature nodes and 1 (a Lobatto rule's ends once); with node velocities
+    // (transcription_nodes.cpp), which bound q̇ at the nodes exactly, at the interior ones only.
+    std::vector<double> at;
+    if (!nodes_) at.push_back(0.0);
     for (const double c : tab_.quad.nodes)
-        if (!near(c, 0.0) && !near(c, 1.0)) ends.push_back(c);
-    ends.push_back(1.0);
+        if (!near(c, 0.0) && !near(c, 1.0)) at.push_back(c);
+    if (!nodes_) at.push_back(1.0);
     path_bounds_[1] = {true, bounded(p_.velocity_lower, p_.velocity_upper),
-                       lagrange_at(tab_.control, ends, true)};
+                       lagrange_at(tab_.control, at, true)};
 }
 
 void dmoc_transcription::constraint_bounds(vector& lower, vector& upper) const {

@@ -15,6 +15,7 @@ void dmoc_transcription::residual(cvector x, vector& e) const {
     add_constraint_residual(x, e);
     add_target_residual(x, e);
     add_path_residual(x, e);
+    add_node_residual(x, e);
 }
 
 /// Adds each step's terms to the equations of its control values (the discrete forced
@@ -35,7 +36,7 @@ void dmoc_transcription::add_step_equations(cvector x, vector& e, bool end_only)
             lq = h * weight(j) * (lt.lq + ft.f);
             lv = weight(j) * lt.lv;
             for (int i = end_only ? s_ : 0; i <= s_; ++i)
-                e.segment((k * s_ + i) * d_, d_) += tab_.phi(i, j) * lq + tab_.dphi(i, j) * lv;
+                e.segment(row_of(k, i), d_) += tab_.phi(i, j) * lq + tab_.dphi(i, j) * lv;
         }
 }
 
@@ -45,10 +46,10 @@ sparsity dmoc_transcription::jacobian_pattern() const {
     for (int k = 0; k < n_; ++k) {
         for (int row = 0; row < w; ++row)
             for (int col = 0; col < w; ++col)
-                s.add(k * s_ * d_ + row, k * s_ * d_ + col);
+                s.add(row_of(k, row / d_) + row % d_, k * s_ * d_ + col);
         for (int row = 0; row < w; ++row)
             for (int col = 0; col < r_ * m_; ++col)
-                s.add(k * s_ * d_ + row, control_index(k * r_) + col);
+                s.add(row_of(k, row / d_) + row % d_, control_index(k * r_) + col);
     }
     if (p_.free_time) // ∂E/∂T: every equation depends on h = T/N
         for (int row = 0; row < constraints(); ++row)
@@ -59,6 +60,7 @@ sparsity dmoc_transcription::jacobian_pattern() const {
     add_constraint_jacobian(vector(), &s, nullptr);
     add_target_jacobian(vector(), &s, nullptr);
     add_path_jacobian(vector(), &s, nullptr);
+    add_node_jacobian(vector(), &s, nullptr);
     return s;
 }
 
@@ -103,7 +105,7 @@ void dmoc_transcription::jacobian(cvector x, std::vector<double>& values) const 
                              across = -weight(j) / h * (lt.lvv * v);
                 for (int i = 0; i <= s_; ++i)
                     for (int a = 0; a < d_; ++a)
-                        values[blocks + static_cast<std::size_t>((k * s_ + i) * d_ + a)] +=
+                        values[blocks + static_cast<std::size_t>(row_of(k, i) + a)] +=
                             (tab_.phi(i, j) * along(a) + tab_.dphi(i, j) * across(a)) / n_;
             }
             for (int i = 0; i <= s_; ++i) {
@@ -126,6 +128,7 @@ void dmoc_transcription::jacobian(cvector x, std::vector<double>& values) const 
     add_constraint_jacobian(x, nullptr, &values);
     add_target_jacobian(x, nullptr, &values);
     add_path_jacobian(x, nullptr, &values);
+    add_node_jacobian(x, nullptr, &values);
 }
 
 /// Lower triangle of each step's dense block over its control values and its controls; with a
@@ -141,6 +144,7 @@ sparsity dmoc_transcription::hessian_pattern() const {
         for (int col = 0; col <= row; ++col)
             s.add(end_index(row), end_index(col));
     add_constraint_hessian(vector(), vector(), &s, nullptr);
+    add_node_hessian(vector(), vector(), &s, nullptr);
     return s;
 }
 
@@ -162,8 +166,8 @@ void dmoc_transcription::hessian(cvector x, double sigma, cvector lambda,
             a.setZero(d_);
             b.setZero(d_);
             for (int i = 0; i <= s_; ++i) {
-                a += tab_.phi(i, j) * lambda.segment((k * s_ + i) * d_, d_);
-                b += tab_.dphi(i, j) / h * lambda.segment((k * s_ + i) * d_, d_);
+                a += tab_.phi(i, j) * lambda.segment(row_of(k, i), d_);
+                b += tab_.dphi(i, j) / h * lambda.segment(row_of(k, i), d_);
             }
             const double t = point_time(k, j, h);
             u = x.segment(control_index(k * r_ + j), m_);
@@ -209,6 +213,7 @@ void dmoc_transcription::hessian(cvector x, double sigma, cvector lambda,
                 values.push_back(he(row, col));
     }
     add_constraint_hessian(x, lambda, nullptr, &values);
+    add_node_hessian(x, lambda, nullptr, &values);
 }
 
 namespace {

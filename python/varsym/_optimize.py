@@ -84,8 +84,7 @@ class OptimalControl:
     engine's replay of the controls against q) and trusted (the closure within 1e-6);
     reach_miss, with a reach target, (distance [m], angle [rad]) of the link from its target
     at T (else None); velocity_excess, how far the node velocities v exceed the velocity limits
-    relative to them (0: within; the limits hold on the steps' polynomials, and the nodes'
-    velocities approach them as the steps shrink).
+    relative to them (0: within, as they always are without holonomic constraints).
     ``coordinates`` and ``inputs`` name the columns of q and u. ``result["q"]`` also works."""
 
     _FIELDS = ("t", "q", "v", "p", "costate", "control_t", "u", "cost", "status", "message",
@@ -155,7 +154,7 @@ def optimize(model, *, time, q_start, q_end=None, v_start=None, v_end=None, step
     q̇_i|, smoothed), "time" (minimum time: ``time`` is then the first guess of a free horizon;
     needs ``max_control``), or a dict of weights such as {"power": 1, "effort": 0.01}.
     ``max_control``: a bound |u| ≤ U on every input (over a robot's efforts); ``max_velocity``:
-    |q̇| ≤ V on every coordinate at each step's ends and quadrature points (over a robot's URDF
+    |q̇| ≤ V on every coordinate at the nodes and the steps' quadrature points (over a robot's URDF
     velocity limits). ``free_end``:
     final coordinates left free, "q1", "v2", … (from 1) in a list or string, or a dict of them
     to terminal weights w, each adding w (x(T) − its q_end or v_end)²/2 to the cost.

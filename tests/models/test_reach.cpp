@@ -38,11 +38,17 @@ optimal::control_problem reach_problem(const Eigen::VectorXd& from, const Eigen:
 const Eigen::VectorXd iiwa_end =
     (Eigen::VectorXd(7) << 0.4, 0.3, 0.2, -0.3, 0.2, 0.3, 0.2).finished();
 
-optimal::nlp_result solve_reach(const models::model& m, const optimal::control_problem& p,
-                                const Eigen::VectorXd* start = nullptr) {
+/// The robot's transcription of p within its URDF limits.
+std::unique_ptr<optimal::transcription> limited(const models::model& m,
+                                                const optimal::control_problem& p) {
     optimal::control_problem q = p;
     m.limits(m.defaults(), q);
-    return optimal::solve(*m.optimal(m.defaults(), {}, q), {}, start);
+    return m.optimal(m.defaults(), {}, q);
+}
+
+optimal::nlp_result solve_reach(const models::model& m, const optimal::control_problem& p,
+                                const Eigen::VectorXd* start = nullptr) {
+    return optimal::solve(*limited(m, p), {}, start);
 }
 
 } // namespace
@@ -132,18 +138,16 @@ TEST(Reach, RedundantArmReachesAtNoMoreCostAndTheTerminalCostApproachesIt) {
     const auto exact = solve_reach(m, p);
     ASSERT_EQ(exact.verdict, optimal::status::solved) << exact.message;
     EXPECT_LT(exact.cost, joints.cost * (1.0 - 1e-3));
-    const auto tr = m.optimal(m.defaults(), {}, p);
-    const auto path = tr->unpack(exact);
+    const auto path = limited(m, p)->unpack(exact);
     EXPECT_LT(models::frame_target_miss(*r, "iiwa_link_ee", path.q.col(20), goal).distance, 1e-10);
     double previous_cost = 0.0, previous_miss = 1.0;
     for (const double w : {1e5, 1e6, 1e7}) {
         p.end_target_weight = w;
         const auto soft = solve_reach(m, p, &exact.x);
         ASSERT_TRUE(soft.converged()) << soft.message;
-        const double miss =
-            models::frame_target_miss(*r, "iiwa_link_ee",
-                                      m.optimal(m.defaults(), {}, p)->unpack(soft).q.col(20), goal)
-                .distance;
+        const double miss = models::frame_target_miss(*r, "iiwa_link_ee",
+                                                      limited(m, p)->unpack(soft).q.col(20), goal)
+                                .distance;
         EXPECT_GT(soft.cost, previous_cost) << w;
         EXPECT_LT(soft.cost, exact.cost) << w;
         EXPECT_LT(miss, previous_miss / 5.0) << w;
@@ -162,7 +166,7 @@ TEST(Reach, UnreachableTargetIsInfeasibleAndBadTargetsAreRefused) {
     p.end_target = models::frame_target(r, "iiwa_link_ee", {2.0, 0.0, 1.0});
     const auto out = solve_reach(m, p);
     EXPECT_EQ(out.verdict, optimal::status::infeasible) << out.message;
-    const auto path = m.optimal(m.defaults(), {}, p)->unpack(out);
+    const auto path = limited(m, p)->unpack(out);
     EXPECT_GT(
         models::frame_target_miss(*r, "iiwa_link_ee", path.q.col(20), {2.0, 0.0, 1.0}).distance,
         0.5);
@@ -173,31 +177,35 @@ TEST(Reach, UnreachableTargetIsInfeasibleAndBadTargetsAreRefused) {
         std::invalid_argument);
 }
 
-TEST(VelocityBounds, RowsAndTheirDerivativesMatchFiniteDifferences) {
-    // The iiwa with its URDF limits (m.limits) at gauss-2: the rows are q at the steps' Gauss
-    // points (not control values) and q̇ at their ends and Gauss points, within the bounds as
-    // constraint_bounds says; their Jacobian against central differences at a fixed horizon (with
-    // the Hessian, to which they add nothing) and at a free one (∂/∂T = −q̇/T; no exact Hessian
-    // there).
+TEST(VelocityBounds, NodeVelocitiesAndTheirDerivativesMatchFiniteDifferences) {
+    // The iiwa with its URDF limits (m.limits) at gauss-2, N = 3: q and q̇ at the steps' Gauss
+    // points (not control values) are rows within the joint ranges and velocity limits; the
+    // velocities at the two nodes between steps are unknowns within the velocity limits, each
+    // such node's equation split in two (rows of bounds 0). The Jacobian against central
+    // differences at a fixed horizon (with the Hessian: the split's ∂L/∂q̇(Q, V) brings L's third
+    // derivatives) and at a free one.
     const auto m = models::robot_model(reach_robot("iiwa14_no_collision.urdf"));
     for (const bool free_time : {false, true}) {
         auto p = reach_problem(Eigen::VectorXd::Zero(7), iiwa_end, 3);
-        p.scheme = {scheme_kind::gauss, 2}; // ends 0, 1 and two interior points: 4 per step
-        m.limits(m.defaults(), p);
+        p.scheme = {scheme_kind::gauss, 2};
         if (free_time) {
             p.free_time = true;
             p.cost.time = 1.0;
         }
-        const auto tr = m.optimal(m.defaults(), {}, p);
-        // q at the two Gauss points of each step, then q̇ at 0, the Gauss points and 1.
-        const int positions = 3 * 2 * 7, velocities = 3 * 4 * 7;
+        const auto tr = limited(m, p);
+        const auto plain = m.optimal(m.defaults(), {}, p); // no limits: no rows, no unknowns
+        const int positions = 3 * 2 * 7, velocities = 3 * 2 * 7, splits = 2 * 7;
+        ASSERT_EQ(tr->constraints(), plain->constraints() + positions + velocities + splits);
+        ASSERT_EQ(tr->variables(), plain->variables() + splits);
         Eigen::VectorXd lower, upper;
         tr->constraint_bounds(lower, upper);
-        ASSERT_EQ(lower.size(), tr->constraints());
-        EXPECT_EQ(upper.tail(velocities)(0), 1.4835298641951802);         // joint 1's URDF velocity
-        EXPECT_EQ(lower.tail(velocities + positions)(1), -2.09439510239); // joint 2's range
-        EXPECT_EQ(upper.head(tr->constraints() - velocities - positions).cwiseAbs().maxCoeff(),
-                  0.0);
+        EXPECT_EQ(lower.tail(splits + velocities + positions)(1), -2.09439510239); // joint 2
+        EXPECT_EQ(upper.tail(splits + velocities)(0), 1.4835298641951802);         // joint 1's q̇
+        EXPECT_EQ(upper.tail(splits).cwiseAbs().maxCoeff(), 0.0);                  // equations
+        tr->bounds(lower, upper);
+        const int v1 = plain->variables() - (free_time ? 1 : 0); // V_1 after the unknowns
+        EXPECT_EQ(upper(v1), 1.4835298641951802);                // joint 1's URDF velocity
+        EXPECT_EQ(lower(v1 + 3), -1.3089969389957472);           // joint 4's
         Eigen::VectorXd x =
             0.5 * Eigen::VectorXd::LinSpaced(tr->variables(), 0.3, 2.9).array().sin();
         if (free_time) x(x.size() - 1) = 1.5; // T

@@ -145,8 +145,8 @@ void reach_of(const optimize_options& o, optimal::control_problem& p) {
 
 void add_velocity_and_reach_options(CLI::App& cmd, optimize_options& o) {
     cmd.add_option("--max-velocity", o.max_velocity,
-                   "Bound |q'| <= V on every coordinate, on each step's polynomial at its ends and "
-                   "quadrature points (default: none; a robot's URDF velocity limits)")
+                   "Bound |q'| <= V on every coordinate, at the nodes and the steps' quadrature "
+                   "points (default: none; a robot's URDF velocity limits)")
         ->transform(positive_number);
     cmd.add_option("--reach", o.reach,
                    "urdf: a link whose frame must reach --reach-position (and --reach-rpy) at T; "

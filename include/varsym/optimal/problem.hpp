@@ -56,9 +56,10 @@ struct control_problem {
     Eigen::MatrixXd effort;                    ///< R (m × m, s.p.d.); empty: identity
     vector control_lower, control_upper;       ///< (m each, or 1 for all); empty: unbounded
     vector position_lower, position_upper;     ///< (d each, or 1 for all); empty: unbounded
-    /// Bounds on q̇: on the derivative of each step's polynomial at the step's ends and at its
-    /// quadrature points (d each, or 1 for all; empty: unbounded). Linear in the control values
-    /// at a fixed horizon. The boundary velocities must lie within them.
+    /// Bounds on q̇ (d each, or 1 for all; empty: unbounded): on the velocities at the nodes
+    /// (unknowns of the transcription) and on each step's polynomial at its interior quadrature
+    /// points; with holonomic constraints on the polynomials at the steps' ends instead of the
+    /// nodes. The boundary velocities must lie within them.
     vector velocity_lower, velocity_upper;
     /// Free final state: entry i true leaves q_i(T) (q̇_i(T)) free instead of fixing it to
     /// q_end(i) (v_end(i)), which is then the terminal cost's target (d each; empty: all fixed).

@@ -32,8 +32,9 @@ struct solution_check {
     /// the user should know the answer is the bound's.
     int controls_at_bound = 0, positions_at_bound = 0;
     /// How far the node velocities (from the momenta: trajectory::v) exceed the velocity bounds,
-    /// relative to the bound (0: within). The bounds hold on the steps' polynomials (problem.hpp);
-    /// the nodes' velocities approach them as the steps shrink. Reported, not refused.
+    /// relative to the bound (0: within, to round-off, where they are unknowns of their own;
+    /// with holonomic constraints the bounds hold on the steps' polynomials and the nodes'
+    /// velocities approach them as the steps shrink). Reported, not refused.
     double velocity_excess = 0.0;
     closure_check closure;
 

@@ -39,10 +39,10 @@ class dmoc_transcription final : public transcription {
     [[nodiscard]] const control_problem& problem() const override { return p_; }
     [[nodiscard]] const controlled_system& system() const { return *sys_; }
     [[nodiscard]] const galerkin::tableau& table() const { return tab_; }
-    [[nodiscard]] int variables() const override {
-        return multiplier_index(points_) + (p_.free_time ? 1 : 0);
+    [[nodiscard]] int variables() const override { return time_index() + (p_.free_time ? 1 : 0); }
+    [[nodiscard]] int constraints() const override {
+        return split_row(1) + (nodes_ ? (n_ - 1) * d_ : 0);
     }
-    [[nodiscard]] int constraints() const override { return path_row() + path_rows(); }
     /// The equations' bounds (0), and the polynomials' bounds' rows'.
     void constraint_bounds(vector& lower, vector& upper) const override;
 
@@ -102,7 +102,26 @@ class dmoc_transcription final : public transcription {
     [[nodiscard]] int multiplier_index(int g) const {
         return end_velocity_index() + (free_end_ ? d_ : 0) + g * k_;
     }
-    [[nodiscard]] int time_index() const { return multiplier_index(points_); }
+    [[nodiscard]] int time_index() const {
+        return multiplier_index(points_) + (nodes_ ? (n_ - 1) * d_ : 0);
+    }
+    // Node velocities (transcription_nodes.cpp), with velocity bounds and no constraints: the
+    // velocities V_n at the nodes between steps (n = 1 … N−1) are unknowns, bounded, and each
+    // such node's equation is split in two, step n−1's end −∂L/∂q̇(Q_{ns}, V_n) = 0 (its row)
+    // and step n's start +∂L/∂q̇(Q_{ns}, V_n) = 0 (a row of its own after the bounds' rows).
+    bool nodes_ = false;
+    [[nodiscard]] int node_velocity_index(int n) const {
+        return multiplier_index(points_) + (n - 1) * d_;
+    }
+    [[nodiscard]] int split_row(int n) const { return path_row() + path_rows() + (n - 1) * d_; }
+    /// The first row of step k's equation for its control value i.
+    [[nodiscard]] int row_of(int k, int i) const {
+        return nodes_ && i == 0 && k > 0 ? split_row(k) : (k * s_ + i) * d_;
+    }
+    void add_node_residual(cvector x, vector& e) const;
+    void add_node_jacobian(cvector x, sparsity* pattern, std::vector<double>* values) const;
+    void add_node_hessian(cvector x, cvector lambda, sparsity* pattern,
+                          std::vector<double>* values) const;
     [[nodiscard]] double h_of(cvector x) const { return p_.free_time ? x(time_index()) / n_ : h_; }
     /// The unknown of step k's local index: its control values, then its controls.
     [[nodiscard]] int step_index(int k, int local) const {
