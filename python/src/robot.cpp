@@ -129,14 +129,7 @@ void bind_robot(py::module_& m) {
         .def(
             "pose",
             [](const robot& r, const std::string& frame, const std::vector<double>& q) {
-                const auto& frames = r.tree->frames;
-                const auto f = std::find_if(frames.begin(), frames.end(),
-                                            [&](const auto& x) { return x.name == frame; });
-                if (f == frames.end())
-                    throw std::invalid_argument("no link '" + frame + "' in " + r.tree->name);
-                multibody::workspace w;
-                multibody::kinematics(*r.tree, w, r.vector(q, "q"));
-                const multibody::pose x = multibody::frame_pose(w, *f);
+                const multibody::pose x = models::frame_pose_at(*r.tree, frame, r.vector(q, "q"));
                 mat<dynamic> out = mat<dynamic>::Identity(4, 4);
                 out.topLeftCorner(3, 3) = x.rotation;
                 out.topRightCorner(3, 1) = x.origin;
