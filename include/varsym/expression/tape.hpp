@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "varsym/expression/graph.hpp"
@@ -135,11 +136,81 @@ class tape {
         return registers_[static_cast<std::size_t>(outputs_[k])];
     }
 
+    /// run_prefix with each register's derivative along a direction of the inputs: input k
+    /// moves at rate din[k] (k < n; the inputs past n at rate 0), and tangent(k) reads the k-th
+    /// output's rate, exact (forward-mode differentiation of the straight-line code, one
+    /// direction: ∂/∂ε of the outputs at in + ε din). output(k) reads the values as after run.
+    void run_tangent(const double* in, const double* din, int n) const {
+        run_prefix(in, n);
+        tangents_.assign(registers_.size(), 0.0);
+        double* t = tangents_.data();
+        const double* r = registers_.data();
+        for (int k = 0; k < n; ++k)
+            t[k] = din[k];
+        for (const instruction& i : code_)
+            t[i.dst] = rate(i, r, t);
+    }
+    [[nodiscard]] double tangent(std::size_t k) const {
+        return tangents_[static_cast<std::size_t>(outputs_[k])];
+    }
+
   private:
     struct instruction {
         op kind;
         int dst, a, b; ///< registers (b: the exponent of powi)
     };
+
+    /// The rate of instruction i's result from its operands' values r and rates t (the chain
+    /// rule of each operation; r[i.dst] holds the result).
+    static double rate(const instruction& i, const double* r, const double* t) {
+        const double a = r[i.a], da = t[i.a], y = r[i.dst];
+        switch (i.kind) {
+        case op::add:
+            return da + t[i.b];
+        case op::sub:
+            return da - t[i.b];
+        case op::mul:
+            return da * r[i.b] + a * t[i.b];
+        case op::div:
+            return (da - y * t[i.b]) / r[i.b];
+        case op::neg:
+            return -da;
+        case op::square:
+            return 2.0 * a * da;
+        case op::powi:
+            return i.b == 0 ? 0.0 : i.b * integer_power(a, i.b - 1) * da;
+        case op::pow: { // a^b: b a^(b−1) da + a^b log(a) db (the second only where b moves)
+            const double b = r[i.b], db = t[i.b];
+            return b * std::pow(a, b - 1.0) * da + (db == 0.0 ? 0.0 : y * std::log(a) * db);
+        }
+        case op::sin:
+            return std::cos(a) * da;
+        case op::cos:
+            return -std::sin(a) * da;
+        case op::tan:
+            return (1.0 + y * y) * da;
+        case op::exp:
+            return y * da;
+        case op::log:
+            return da / a;
+        case op::sqrt:
+            return da / (2.0 * y);
+        case op::sinh:
+            return std::cosh(a) * da;
+        case op::cosh:
+            return std::sinh(a) * da;
+        case op::tanh:
+            return (1.0 - y * y) * da;
+        case op::asin:
+            return da / std::sqrt(1.0 - a * a);
+        case op::acos:
+            return -da / std::sqrt(1.0 - a * a);
+        case op::atan:
+            return da / (1.0 + a * a);
+        default:
+            throw std::logic_error("varsym::expr::tape: no rate for this operation");
+        }
+    }
 
     /// Sets first … first + sets − 1 (sets ≤ width) through the code side by side (an unused
     /// lane repeats the last set), their outputs into out; returns sets.
@@ -212,7 +283,8 @@ class tape {
 
     std::vector<instruction> code_;
     std::vector<int> outputs_;
-    mutable std::vector<double> registers_, lanes_; ///< lanes_: register k of set j at k·lanes + j
+    mutable std::vector<double> registers_, lanes_,
+        tangents_; ///< lanes_: register k of set j at k·lanes + j
     int inputs_ = 0;
 };
 

@@ -183,6 +183,33 @@ class expression_lagrangian {
                 terms.lvv(i, j) = terms.lvv(j, i) = all_.output(k++);
     }
 
+    /// The Hessian in z = (q, q̇) (2d square) of aᵀ ∂L/∂q + bᵀ ∂L/∂q̇ at (q, q̇, t): L's third
+    /// derivatives contracted with (a, b), which an optimal control transcription's exact
+    /// Hessian needs. Exact: the rates of the symbolic second derivatives' code along (a, b)
+    /// (forward-mode differentiation of that code, tape::run_tangent), one pass over it.
+    void third(const vec<dynamic>& q, const vec<dynamic>& v, double t, const vec<dynamic>& a,
+               const vec<dynamic>& b, mat<dynamic>& out) const {
+        const int d = dimension();
+        const std::span<const double> in = load(q, v, t);
+        direction_.assign(in.size(), 0.0);
+        for (int i = 0; i < d; ++i) {
+            direction_[static_cast<std::size_t>(i)] = a(i);
+            direction_[static_cast<std::size_t>(d + i)] = b(i);
+        }
+        all_.run_tangent(in.data(), direction_.data(), static_cast<int>(in.size()));
+        out.resize(2 * d, 2 * d);
+        std::size_t k = static_cast<std::size_t>(1 + 2 * d); // past L, L_q, L_q̇
+        for (int i = 0; i < d; ++i)
+            for (int j = i; j < d; ++j)
+                out(i, j) = out(j, i) = all_.tangent(k++);
+        for (int i = 0; i < d; ++i)
+            for (int j = 0; j < d; ++j)
+                out(i, d + j) = out(d + j, i) = all_.tangent(k++);
+        for (int i = 0; i < d; ++i)
+            for (int j = i; j < d; ++j)
+                out(d + i, d + j) = out(d + j, d + i) = all_.tangent(k++);
+    }
+
   private:
     /// Sets separable_, mass_ and potential_ from the graph: `out` holds L, L_q, L_v, then
     /// L_qq (i ≤ j), L_qv (all), L_vv (i ≤ j), as the constructor laid them out.
@@ -246,7 +273,7 @@ class expression_lagrangian {
     expr::variables vars_;
     expr::tape value_, gradient_, all_, time_rate_, potential_gradient_, potential_hessian_,
         potential_derivatives_;
-    mutable std::vector<double> input_, position_input_;
+    mutable std::vector<double> input_, position_input_, direction_;
     bool time_dependent_ = false, separable_ = false;
     mat<dynamic> mass_;
 };

@@ -148,6 +148,18 @@ void lagrangian_terms_of(const L& l, const vector& q, const vector& v, double t,
     }
 }
 
+/// A Lagrangian that gives its own exact contracted third derivatives (the Hessian in (q, q̇)
+/// of aᵀ ∂L/∂q + bᵀ ∂L/∂q̇): l.third(q, v, t, a, b, out), or l.third(q, v, a, b, out) for one
+/// that does not depend on t. The typed Lagrangian (symbolic code run forward along (a, b)) and
+/// the URDF robot (dual numbers through the recursive algorithms) have them.
+template <class L>
+concept lagrangian_with_third = requires(const L& l, const vector& x, double t, matrix& out) {
+    l.third(x, x, t, x, x, out);
+}
+|| requires(const L& l, const vector& x, matrix& out) {
+    l.third(x, x, x, x, out);
+};
+
 /// What a controlled system built on a Lagrangian L (held by value) takes from L alone: its
 /// dimension, its dependence on t, and its first and second derivatives by L's own means
 /// (lagrangian_terms_of). input_system.hpp and system_of.hpp build on it.
@@ -179,6 +191,18 @@ class lagrangian_part : public controlled_system {
                      lagrangian_terms<dynamic>& out) const override {
         lagrangian_terms_of(l_, q, v, t, out, true);
     }
+    /// L's own exact third derivatives where it has them (lagrangian_with_third), else the
+    /// difference of its exact second ones (controlled_system::third).
+    void third(const vector& q, const vector& v, double t, const vector& a, const vector& b,
+               matrix& out) const override {
+        if constexpr (requires { l_.third(q, v, t, a, b, out); })
+            l_.third(q, v, t, a, b, out);
+        else if constexpr (requires { l_.third(q, v, a, b, out); })
+            l_.third(q, v, a, b, out);
+        else
+            controlled_system::third(q, v, t, a, b, out);
+    }
+    [[nodiscard]] bool exact_third() const override { return lagrangian_with_third<L>; }
 
   protected:
     L l_; // NOLINT(misc-non-private-member-variables-in-classes): the systems' own L
