@@ -1,4 +1,5 @@
-// The recursive derivatives of a multibody Lagrangian (varsym/multibody/algorithms.hpp) against
+// The recursive derivatives of a multibody Lagrangian (varsym/multibody/algorithms.hpp), its
+// contracted third ones (lagrangian.hpp) among them, against
 // forward-mode AD of a second implementation that shares no code with them
 // (reference_lagrangian.hpp: classical vectors, no spatial algebra), on a branched tree of
 // revolute and prismatic joints with random placements, axes and full inertia tensors; and the
@@ -10,6 +11,7 @@
 
 #include "multibody/reference_lagrangian.hpp"
 #include "varsym/multibody/lagrangian.hpp"
+#include "varsym/optimal/third_order.hpp"
 
 namespace {
 
@@ -109,6 +111,36 @@ TEST(MultibodyDerivatives, ADifferentInertiaInTheReferenceIsSeen) {
     l.derivatives(q, v, got);
     EXPECT_GT(relative_gap(got.lvv, expected.lvv), 100 * tolerance);
     EXPECT_GT(relative_gap(got.lqq, expected.lqq), 100 * tolerance);
+}
+
+TEST(MultibodyDerivatives, ThirdDerivativesEqualAutomaticDifferentiationOfASecondImplementation) {
+    // The Hessian of aᵀ ∂L/∂q + bᵀ ∂L/∂q̇ (robot_lagrangian::third: dual numbers through the
+    // recursive algorithms) against the reference's by nested forward-mode AD
+    // (optimal::contracted_third), on the branched tree with its prismatic joints. Third
+    // derivatives sum more products than second ones: 1e-11 relative is still round-off.
+    const multibody::model m = random_tree(5);
+    const multibody::robot_lagrangian l(std::make_shared<const multibody::model>(m));
+    const test::reference_lagrangian<7> ref{&m};
+    std::mt19937 g(13);
+    std::uniform_real_distribution<double> u(-2.0, 2.0);
+    for (int k = 0; k < 3; ++k) {
+        vec<7> q, v, a, b;
+        for (int i = 0; i < 7; ++i) {
+            q(i) = u(g);
+            v(i) = u(g);
+            a(i) = u(g);
+            b(i) = u(g);
+        }
+        const mat<14> expected = optimal::contracted_third(ref, q, v, 0.0, a, b);
+        mat<dynamic> got;
+        l.third(q, v, a, b, got);
+        EXPECT_LT(relative_gap(got, expected), 1e-11) << "state " << k;
+        EXPECT_GT(expected.cwiseAbs().maxCoeff(), 1.0); // not vacuous
+        // Negative control: another direction gives another Hessian.
+        mat<dynamic> other;
+        l.third(q, v, b, a, other);
+        EXPECT_GT(relative_gap(other, expected), 1e-3);
+    }
 }
 
 TEST(MultibodyDerivatives, NewtonEulerBiasAndCompositeMassMatrixSatisfyEulerLagrange) {

@@ -27,38 +27,43 @@
 namespace varsym::multibody {
 
 /// Body poses, joint motion subspaces S_i, world spatial inertias I_i and gravity wrenches
-/// f_i = I_i (0; g) at q.
-template <class Q>
-void kinematics(const model& m, workspace& w, const Eigen::MatrixBase<Q>& q) {
+/// f_i = I_i (0; g) at q. Over the workspace's scalar S (the algorithms down to
+/// lagrangian_derivatives take any; the model's data are double and enter as S).
+template <class S, class Q>
+void kinematics(const model& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>& q) {
     const int n = m.dof();
     w.resize(n);
+    const vec3_of<S> g = m.gravity.template cast<S>();
     for (int i = 0; i < n; ++i) {
         const auto k = static_cast<std::size_t>(i);
         const body& b = m.bodies[k];
-        const pose joint =
-            b.parent < 0 ? b.placement : w.x[static_cast<std::size_t>(b.parent)] * b.placement;
-        const vec3 a = joint.rotation * b.axis;
+        const basic_pose<S> placement = b.placement.template cast<S>();
+        const basic_pose<S> joint =
+            b.parent < 0 ? placement : w.x[static_cast<std::size_t>(b.parent)] * placement;
+        const vec3_of<S> a = joint.rotation * b.axis.template cast<S>();
+        const S qi = q(i);
         if (b.kind == joint_kind::revolute) {
             w.s[k] << a, joint.origin.cross(a); // rotation about the axis through the joint
-            w.x[k] = {joint.rotation * axis_angle(b.axis, q(i)), joint.origin};
+            w.x[k] = {joint.rotation * axis_angle(b.axis, qi), joint.origin};
         } else {
-            w.s[k] << vec3::Zero(), a;
-            w.x[k] = {joint.rotation, joint.origin + a * q(i)};
+            w.s[k] << vec3_of<S>::Zero(), a;
+            w.x[k] = {joint.rotation, joint.origin + a * qi};
         }
-        const mat3& r = w.x[k].rotation;
-        const vec3 c = w.x[k].point(b.com);
-        w.inertia[k] = spatial_inertia(b.mass, c, r * b.inertia * r.transpose());
-        w.f[k] << b.mass * c.cross(m.gravity), b.mass * m.gravity;
+        const mat3_of<S>& r = w.x[k].rotation;
+        const vec3_of<S> c = w.x[k].point(b.com);
+        w.inertia[k] = spatial_inertia(b.mass, c, r * b.inertia.template cast<S>() * r.transpose());
+        const S mass(b.mass);
+        w.f[k] << mass * c.cross(g), mass * g;
     }
 }
 
 /// Body velocities v_i = v_λ(i) + S_i q̇_i and momenta h_i = I_i v_i (after kinematics).
-template <class V>
-void velocities(const model& m, workspace& w, const Eigen::MatrixBase<V>& qd) {
+template <class S, class V>
+void velocities(const model& m, basic_workspace<S>& w, const Eigen::MatrixBase<V>& qd) {
     for (int i = 0; i < m.dof(); ++i) {
         const auto k = static_cast<std::size_t>(i);
         const int p = m.bodies[k].parent;
-        w.v[k] = w.s[k] * qd(i);
+        w.v[k] = w.s[k] * S(qd(i));
         if (p >= 0) w.v[k] += w.v[static_cast<std::size_t>(p)];
         w.h[k].noalias() = w.inertia[k] * w.v[k];
     }
@@ -66,19 +71,22 @@ void velocities(const model& m, workspace& w, const Eigen::MatrixBase<V>& qd) {
 
 /// L = T − V from the bodies' velocities, momenta and wrenches (after velocities, before
 /// the subtree sums): T = ½ Σ v_iᵀ h_i, V = −Σ m_i g·c_i (the wrench's moment is m c × g).
-inline double lagrangian_value(const model& m, const workspace& w) {
-    double t = 0.0, minus_v = 0.0;
+template <class S>
+S lagrangian_value(const model& m, const basic_workspace<S>& w) {
+    S t(0.0), minus_v(0.0);
+    const vec3_of<S> g = m.gravity.template cast<S>();
     for (std::size_t k = 0; k < m.bodies.size(); ++k) {
         t += w.v[k].dot(w.h[k]);
         // m g·c from the wrench (m c × g; m g): c = x.point(com) again is cheaper to keep.
-        minus_v += m.bodies[k].mass * m.gravity.dot(w.x[k].point(m.bodies[k].com));
+        minus_v += S(m.bodies[k].mass) * g.dot(w.x[k].point(m.bodies[k].com));
     }
-    return 0.5 * t + minus_v;
+    return S(0.5) * t + minus_v;
 }
 
 /// Sums momenta and gravity wrenches (and, with inertias, spatial inertias) over each subtree,
 /// leaves first: h^c_i, F^c_i (I^c_i).
-inline void subtree_sums(const model& m, workspace& w, bool inertias) {
+template <class S>
+void subtree_sums(const model& m, basic_workspace<S>& w, bool inertias) {
     for (int i = m.dof() - 1; i >= 0; --i) {
         const int p = m.bodies[static_cast<std::size_t>(i)].parent;
         if (p < 0) continue;
@@ -90,13 +98,13 @@ inline void subtree_sums(const model& m, workspace& w, bool inertias) {
 }
 
 /// L(q, q̇), ∂L/∂q and ∂L/∂q̇ in O(n): value, lq, lv (sized n).
-template <class Q, class V, class Out>
-double lagrangian_gradient(const model& m, workspace& w, const Eigen::MatrixBase<Q>& q,
-                           const Eigen::MatrixBase<V>& qd, Eigen::MatrixBase<Out>& lq,
-                           Eigen::MatrixBase<Out>& lv, bool keep_inertias = false) {
+template <class S, class Q, class V, class Out>
+S lagrangian_gradient(const model& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>& q,
+                      const Eigen::MatrixBase<V>& qd, Eigen::MatrixBase<Out>& lq,
+                      Eigen::MatrixBase<Out>& lv, bool keep_inertias = false) {
     kinematics(m, w, q);
     velocities(m, w, qd);
-    const double value = lagrangian_value(m, w);
+    const S value = lagrangian_value(m, w);
     subtree_sums(m, w, keep_inertias);
     for (int j = 0; j < m.dof(); ++j) {
         const auto k = static_cast<std::size_t>(j);
@@ -108,14 +116,15 @@ double lagrangian_gradient(const model& m, workspace& w, const Eigen::MatrixBase
 
 /// The first and second derivatives of L in O(n²) (the formulas at the top of this file):
 /// lq, lv, and lqq, lqv (lqv(i, j) = ∂²L/∂q_i∂q̇_j), lvv = M(q). Returns L.
-template <class Q, class V, class Vec, class Mat>
-double lagrangian_derivatives(const model& m, workspace& w, const Eigen::MatrixBase<Q>& q,
-                              const Eigen::MatrixBase<V>& qd, Eigen::MatrixBase<Vec>& lq,
-                              Eigen::MatrixBase<Vec>& lv, Eigen::MatrixBase<Mat>& lqq,
-                              Eigen::MatrixBase<Mat>& lqv, Eigen::MatrixBase<Mat>& lvv) {
-    const double value = lagrangian_gradient(m, w, q, qd, lq, lv, true);
+template <class S, class Q, class V, class Vec, class Mat>
+S lagrangian_derivatives(const model& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>& q,
+                         const Eigen::MatrixBase<V>& qd, Eigen::MatrixBase<Vec>& lq,
+                         Eigen::MatrixBase<Vec>& lv, Eigen::MatrixBase<Mat>& lqq,
+                         Eigen::MatrixBase<Mat>& lqv, Eigen::MatrixBase<Mat>& lvv) {
+    const S value = lagrangian_gradient(m, w, q, qd, lq, lv, true);
     const int n = m.dof();
-    const vec6 ag = (vec6() << vec3::Zero(), m.gravity).finished();
+    const vec6_of<S> ag =
+        (vec6_of<S>() << vec3_of<S>::Zero(), m.gravity.template cast<S>()).finished();
     lqq.setZero();
     lqv.setZero();
     lvv.setZero();
@@ -132,14 +141,14 @@ double lagrangian_derivatives(const model& m, workspace& w, const Eigen::MatrixB
         w.s_ic[k].noalias() = w.s[k].transpose() * w.inertia[k];
         // t = Sᵀ (v ×*), and r with r u = Sᵀ (u ×* h + v ×* I u): for u = (a; b), h = (n; f),
         // S = (s₁; s₂), Sᵀ (u ×* h) = a·(n × s₁ + f × s₂) + b·(f × s₁).
-        const vec3 s1 = w.s[k].head<3>(), s2 = w.s[k].tail<3>();
-        const vec3 om = w.v[k].head<3>(), vo = w.v[k].tail<3>();
-        const vec3 hn = w.h[k].head<3>(), fh = w.h[k].tail<3>();
-        w.t[k].head<3>() = s1.cross(om).transpose(); // Sᵀ (v ×* g) = t g
-        w.t[k].tail<3>() = (s1.cross(vo) + s2.cross(om)).transpose();
+        const vec3_of<S> s1 = w.s[k].template head<3>(), s2 = w.s[k].template tail<3>();
+        const vec3_of<S> om = w.v[k].template head<3>(), vo = w.v[k].template tail<3>();
+        const vec3_of<S> hn = w.h[k].template head<3>(), fh = w.h[k].template tail<3>();
+        w.t[k].template head<3>() = s1.cross(om).transpose(); // Sᵀ (v ×* g) = t g
+        w.t[k].template tail<3>() = (s1.cross(vo) + s2.cross(om)).transpose();
         w.r[k].noalias() = w.t[k] * w.inertia[k];
-        w.r[k].head<3>() += (hn.cross(s1) + fh.cross(s2)).transpose();
-        w.r[k].tail<3>() += fh.cross(s1).transpose();
+        w.r[k].template head<3>() += (hn.cross(s1) + fh.cross(s2)).transpose();
+        w.r[k].template tail<3>() += fh.cross(s1).transpose();
     }
     for (int j = 0; j < n; ++j) {
         const auto jk = static_cast<std::size_t>(j);

@@ -8,6 +8,7 @@
 #include <memory>
 #include <utility>
 
+#include "varsym/autodiff/second_order.hpp"
 #include "varsym/multibody/algorithms.hpp"
 #include "varsym/systems/lagrangian.hpp"
 
@@ -47,6 +48,41 @@ class robot_lagrangian {
                      lagrangian_terms<dynamic>& t) const {
         size(t, true);
         t.value = lagrangian_derivatives(*m_, work(), q, v, t.lq, t.lv, t.lqq, t.lqv, t.lvv);
+    }
+
+    /// The Hessian in z = (q, q̇) (2n square) of aᵀ ∂L/∂q + bᵀ ∂L/∂q̇: L's third derivatives
+    /// contracted with (a, b), which an optimal control transcription's exact Hessian needs.
+    /// Exact: the rates along (a, b) of the second derivatives, by the same O(n²) algorithm
+    /// run over dual numbers (a value and one directional derivative: ad::first_order<1>).
+    void third(const vec<dynamic>& q, const vec<dynamic>& v, const vec<dynamic>& a,
+               const vec<dynamic>& b, mat<dynamic>& out) const {
+        using E = ad::first_order<1>;
+        using dvec = Eigen::Matrix<E, Eigen::Dynamic, 1>;
+        using dmat = Eigen::Matrix<E, Eigen::Dynamic, Eigen::Dynamic>;
+        thread_local basic_workspace<E> w; // no allocation once sized
+        thread_local dvec qe, ve, lq, lv;
+        thread_local dmat lqq, lqv, lvv;
+        const int n = m_->dof();
+        qe.resize(n);
+        ve.resize(n);
+        lq.resize(n);
+        lv.resize(n);
+        lqq.resize(n, n);
+        lqv.resize(n, n);
+        lvv.resize(n, n);
+        for (int i = 0; i < n; ++i) {
+            qe(i) = E(q(i), Eigen::Matrix<double, 1, 1>(a(i)));
+            ve(i) = E(v(i), Eigen::Matrix<double, 1, 1>(b(i)));
+        }
+        lagrangian_derivatives(*m_, w, qe, ve, lq, lv, lqq, lqv, lvv);
+        const auto rate = [](const E& x) { return x.derivatives()(0); };
+        out.resize(2 * n, 2 * n);
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                out(i, j) = rate(lqq(i, j));
+                out(i, n + j) = out(n + j, i) = rate(lqv(i, j));
+                out(n + i, n + j) = rate(lvv(i, j));
+            }
     }
 
     /// The calling thread's workspace (sized on first use by the algorithms).

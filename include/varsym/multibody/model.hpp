@@ -34,11 +34,11 @@ struct joint_limits {
 
 /// One moving body and the joint that moves it.
 struct body {
-    std::string name;  ///< the joint's name (the coordinate's name)
-    std::string link;  ///< the body's name (its URDF link)
-    int parent = -1;   ///< its parent body, or −1 for the ground
+    std::string name; ///< the joint's name (the coordinate's name)
+    std::string link; ///< the body's name (its URDF link)
+    int parent = -1;  ///< its parent body, or −1 for the ground
     joint_kind kind = joint_kind::revolute;
-    pose placement;    ///< the joint frame in the parent's frame at q = 0
+    pose placement;            ///< the joint frame in the parent's frame at q = 0
     vec3 axis = vec3::UnitZ(); ///< unit axis in the joint frame
     double mass = 0.0;
     vec3 com = vec3::Zero();
@@ -82,18 +82,20 @@ struct model {
 };
 
 /// One thread's scratch for the algorithms, sized for a model once (resize) and then reused
-/// without allocating. World-frame quantities per body i.
-struct workspace {
-    std::vector<pose> x;          ///< body frames in the world
-    std::vector<vec6> s;          ///< joint motion subspaces S_i
-    std::vector<mat6> inertia;    ///< body spatial inertias I_i; composite ones I^c_i after a pass
-    std::vector<vec6> v;          ///< body velocities v_i
-    std::vector<vec6> a;          ///< body accelerations (the recursive Newton–Euler pass)
-    std::vector<vec6> h;          ///< momenta I_i v_i; composite h^c_i after a pass
-    std::vector<vec6> f;          ///< gravity wrenches I_i a_g; composite F^c_i after a pass
-    std::vector<vec6> u, alpha;   ///< S_i × v_parent(i) and S_i × a_g
-    std::vector<vec6> dh, df;     ///< ∂h^c_i/∂q_i and ∂F^c_i/∂q_i
-    std::vector<row6> r, s_ic, t; ///< per-body rows of the second derivatives
+/// without allocating. World-frame quantities per body i, over the scalar S (double; a dual
+/// number for robot_lagrangian::third).
+template <class S>
+struct basic_workspace {
+    std::vector<basic_pose<S>> x;       ///< body frames in the world
+    std::vector<vec6_of<S>> s;          ///< joint motion subspaces S_i
+    std::vector<mat6_of<S>> inertia;    ///< body spatial inertias I_i; composite I^c_i after a pass
+    std::vector<vec6_of<S>> v;          ///< body velocities v_i
+    std::vector<vec6_of<S>> a;          ///< body accelerations (the recursive Newton–Euler pass)
+    std::vector<vec6_of<S>> h;          ///< momenta I_i v_i; composite h^c_i after a pass
+    std::vector<vec6_of<S>> f;          ///< gravity wrenches I_i a_g; composite F^c_i after a pass
+    std::vector<vec6_of<S>> u, alpha;   ///< S_i × v_parent(i) and S_i × a_g
+    std::vector<vec6_of<S>> dh, df;     ///< ∂h^c_i/∂q_i and ∂F^c_i/∂q_i
+    std::vector<row6_of<S>> r, s_ic, t; ///< per-body rows of the second derivatives
 
     void resize(int n) {
         const auto k = static_cast<std::size_t>(n);
@@ -114,5 +116,6 @@ struct workspace {
         t.resize(k);
     }
 };
+using workspace = basic_workspace<double>;
 
 } // namespace varsym::multibody

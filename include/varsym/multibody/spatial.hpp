@@ -6,55 +6,82 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include <Eigen/Core>
 
 namespace varsym::multibody {
 
-using vec3 = Eigen::Vector3d;
-using mat3 = Eigen::Matrix3d;
-using vec6 = Eigen::Matrix<double, 6, 1>;
-using mat6 = Eigen::Matrix<double, 6, 6>;
-using row6 = Eigen::Matrix<double, 1, 6>;
+/// The algebra over any scalar S: double, or a dual number for the exact derivatives of the
+/// second derivatives (robot_lagrangian::third); the model's data stay double.
+template <class S>
+using vec3_of = Eigen::Matrix<S, 3, 1>;
+template <class S>
+using mat3_of = Eigen::Matrix<S, 3, 3>;
+template <class S>
+using vec6_of = Eigen::Matrix<S, 6, 1>;
+template <class S>
+using mat6_of = Eigen::Matrix<S, 6, 6>;
+template <class S>
+using row6_of = Eigen::Matrix<S, 1, 6>;
+using vec3 = vec3_of<double>;
+using mat3 = mat3_of<double>;
+using vec6 = vec6_of<double>;
+using mat6 = mat6_of<double>;
+using row6 = row6_of<double>;
 
 /// The cross-product matrix: skew(a) b = a × b.
-inline mat3 skew(const vec3& a) {
-    mat3 s;
-    s << 0.0, -a(2), a(1), a(2), 0.0, -a(0), -a(1), a(0), 0.0;
+template <class S>
+mat3_of<S> skew(const vec3_of<S>& a) {
+    mat3_of<S> s;
+    s << S(0.0), -a(2), a(1), a(2), S(0.0), -a(0), -a(1), a(0), S(0.0);
     return s;
 }
 
 /// Motion cross product m × n (Featherstone eq. 2.31): the rate of change of the motion n
 /// moving with velocity m.
-inline vec6 cross_motion(const vec6& m, const vec6& n) {
-    vec6 r;
-    const vec3 w = m.head<3>(), v = m.tail<3>();
-    r.head<3>() = w.cross(n.head<3>());
-    r.tail<3>() = w.cross(n.tail<3>()) + v.cross(n.head<3>());
+template <class S>
+vec6_of<S> cross_motion(const vec6_of<S>& m, const vec6_of<S>& n) {
+    vec6_of<S> r;
+    const vec3_of<S> w = m.template head<3>(), v = m.template tail<3>();
+    r.template head<3>() = w.cross(n.template head<3>());
+    r.template tail<3>() = w.cross(n.template tail<3>()) + v.cross(n.template head<3>());
     return r;
 }
 
 /// Force cross product m ×* f (eq. 2.32): the rate of change of the force f moving with m;
 /// m ×* = −(m ×)ᵀ.
-inline vec6 cross_force(const vec6& m, const vec6& f) {
-    vec6 r;
-    const vec3 w = m.head<3>(), v = m.tail<3>();
-    r.head<3>() = w.cross(f.head<3>()) + v.cross(f.tail<3>());
-    r.tail<3>() = w.cross(f.tail<3>());
+template <class S>
+vec6_of<S> cross_force(const vec6_of<S>& m, const vec6_of<S>& f) {
+    vec6_of<S> r;
+    const vec3_of<S> w = m.template head<3>(), v = m.template tail<3>();
+    r.template head<3>() = w.cross(f.template head<3>()) + v.cross(f.template tail<3>());
+    r.template tail<3>() = w.cross(f.template tail<3>());
     return r;
 }
 
 /// A rigid pose: a point x of the frame is at rotation · x + origin in the frame it is given in.
-struct pose {
-    mat3 rotation = mat3::Identity();
-    vec3 origin = vec3::Zero();
+template <class S>
+struct basic_pose {
+    mat3_of<S> rotation = mat3_of<S>::Identity();
+    vec3_of<S> origin = vec3_of<S>::Zero();
 
     /// This pose followed by `local` (local given in this pose's frame).
-    [[nodiscard]] pose operator*(const pose& local) const {
+    [[nodiscard]] basic_pose operator*(const basic_pose& local) const {
         return {rotation * local.rotation, rotation * local.origin + origin};
     }
-    [[nodiscard]] vec3 point(const vec3& x) const { return rotation * x + origin; }
+    /// The point x of the frame (x in any scalar that converts to S).
+    template <class X>
+    [[nodiscard]] vec3_of<S> point(const Eigen::MatrixBase<X>& x) const {
+        return rotation * x.template cast<S>() + origin;
+    }
+    /// The same pose over the scalar T.
+    template <class T>
+    [[nodiscard]] basic_pose<T> cast() const {
+        return {rotation.template cast<T>(), origin.template cast<T>()};
+    }
 };
+using pose = basic_pose<double>;
 
 /// URDF's rpy: fixed-axis rotations about x (roll), then y (pitch), then z (yaw):
 /// R = R_z(yaw) R_y(pitch) R_x(roll).
@@ -70,21 +97,26 @@ inline mat3 roll_pitch_yaw(const vec3& rpy) {
 }
 
 /// The rotation by angle θ about the unit axis a (Rodrigues).
-inline mat3 axis_angle(const vec3& a, double theta) {
-    const double c = std::cos(theta), s = std::sin(theta);
-    const mat3 k = skew(a);
-    return mat3::Identity() + s * k + (1.0 - c) * k * k;
+template <class S = double>
+mat3_of<S> axis_angle(const vec3& a, const S& theta) {
+    using std::cos, std::sin;
+    const S c = cos(theta), s = sin(theta);
+    const mat3_of<S> k = skew(a).template cast<S>();
+    return mat3_of<S>::Identity() + s * k + (S(1.0) - c) * k * k;
 }
 
 /// The spatial inertia (eq. 2.63) of mass m with centre of mass c and rotational inertia ic
 /// about c, all in one frame: [[ic + m c×c×ᵀ, m c×], [m c×ᵀ, m 1]].
-inline mat6 spatial_inertia(double m, const vec3& c, const mat3& ic) {
-    const mat3 cx = skew(c);
-    mat6 i;
-    i.topLeftCorner<3, 3>() = ic + m * cx * cx.transpose();
-    i.topRightCorner<3, 3>() = m * cx;
-    i.bottomLeftCorner<3, 3>() = m * cx.transpose();
-    i.bottomRightCorner<3, 3>() = m * mat3::Identity();
+template <class S>
+mat6_of<S> spatial_inertia(double m, const vec3_of<S>& c,
+                           const std::type_identity_t<mat3_of<S>>& ic) {
+    const mat3_of<S> cx = skew(c);
+    const S ms(m);
+    mat6_of<S> i;
+    i.template topLeftCorner<3, 3>() = ic + ms * cx * cx.transpose();
+    i.template topRightCorner<3, 3>() = ms * cx;
+    i.template bottomLeftCorner<3, 3>() = ms * cx.transpose();
+    i.template bottomRightCorner<3, 3>() = ms * mat3_of<S>::Identity();
     return i;
 }
 
