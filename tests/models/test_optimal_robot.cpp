@@ -1,7 +1,7 @@
 // The one compiled transcription (varsym/optimal/transcription.hpp) over systems of run-time
-// size from the models layer: a URDF robot (recursive derivatives, third derivatives by a central
-// difference of the exact second ones) and its derivatives against finite differences, the KKT
-// conditions at a solution, and the exact (automatic) third derivatives against the difference.
+// size from the models layer: a URDF robot (recursive derivatives, exact third derivatives by dual
+// numbers) and its derivatives against finite differences, the KKT conditions at a solution, and
+// each system's exact third derivatives against the difference of its second ones.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,6 +14,7 @@
 #include "varsym/optimal/input_system.hpp"
 #include "varsym/optimal/solve.hpp"
 #include "varsym/optimal/system_of.hpp"
+#include "varsym/systems/expression_lagrangian.hpp"
 
 using namespace varsym;
 
@@ -38,7 +39,7 @@ optimal::control_problem iiwa_problem(int steps, const scheme_spec& scheme) {
 
 TEST(OptimalRobot, DerivativesMatchFiniteDifferences) {
     // The iiwa's transcription at an arbitrary point: ∂g/∂x from the recursive second
-    // derivatives, and the Hessian of σJ + λᵀg from the difference of them (third derivatives),
+    // derivatives, and the Hessian of σJ + λᵀg from their dual-number rates (third derivatives),
     // against central differences of g and of σ∇J + Jᵀλ (step 1e-6: error about 1e-9 relative
     // to entries of size up to 1e3).
     const auto robot =
@@ -104,10 +105,51 @@ struct ad_two_link {
 
 } // namespace
 
-TEST(OptimalRobot, DifferenceThirdDerivativesAgreeWithAutomaticOnes) {
-    // The same L and inputs through system_of (third derivatives by automatic differentiation)
-    // and input_system (a central difference of the exact second derivatives): their Hessians
-    // agree to 1e-8 relative, and the optima to IPOPT's tolerance.
+/// Largest |x − y| over the largest |y|.
+double third_gap(const Eigen::MatrixXd& x, const Eigen::MatrixXd& y) {
+    return (x - y).cwiseAbs().maxCoeff() / y.cwiseAbs().maxCoeff();
+}
+
+TEST(OptimalRobot, ExactThirdDerivativesAgreeWithTheDifferenceOfSecondOnes) {
+    // Each system's exact third derivatives (lagrangian_part::third: nested AD for a C++ L,
+    // dual numbers for a URDF robot, the typed L's code run along the direction) against the
+    // fallback every system has, a central difference of its exact second derivatives
+    // (controlled_system::third, relative error about 1e-10 on smooth L): 1e-7 relative.
+    const Eigen::VectorXd q7 = Eigen::VectorXd::LinSpaced(7, -0.9, 1.2),
+                          v7 = Eigen::VectorXd::LinSpaced(7, 1.5, -0.7),
+                          a7 = Eigen::VectorXd::LinSpaced(7, 0.3, -2.0),
+                          b7 = Eigen::VectorXd::LinSpaced(7, -1.0, 0.8);
+    const multibody::robot_lagrangian iiwa(
+        models::load_urdf(urdf_path("iiwa14_no_collision.urdf")));
+    const optimal::input_system robot(iiwa, Eigen::MatrixXd::Identity(7, 7));
+    const optimal::input_system cpp(ad_two_link{}, Eigen::MatrixXd::Identity(2, 2));
+    const optimal::input_system typed(
+        expression_lagrangian("0.5*(2 + cos(b))*a_dot**2 + 0.5*b_dot**2 + a_dot*b_dot*sin(b)"
+                              " + 9.81*cos(a) + t*sin(a)*b_dot",
+                              {"a", "b"}),
+        Eigen::MatrixXd::Identity(2, 2));
+    const Eigen::VectorXd q2 = q7.head(2), v2 = v7.head(2), a2 = a7.head(2), b2 = b7.head(2);
+    for (const auto* sys :
+         std::initializer_list<const optimal::controlled_system*>{&robot, &cpp, &typed}) {
+        const bool seven = sys->dimension() == 7;
+        const Eigen::VectorXd &q = seven ? q7 : q2, &v = seven ? v7 : v2, &a = seven ? a7 : a2,
+                              &b = seven ? b7 : b2;
+        EXPECT_TRUE(sys->exact_third());
+        Eigen::MatrixXd exact, difference;
+        sys->third(q, v, 0.4, a, b, exact);
+        sys->controlled_system::third(q, v, 0.4, a, b, difference);
+        EXPECT_LT(third_gap(difference, exact), 1e-7) << "dimension " << sys->dimension();
+        EXPECT_GT(third_gap(difference, exact), 0.0); // two computations, not one
+        EXPECT_LT(third_gap(exact.transpose(), exact), 1e-13); // symmetric to round-off
+        sys->third(q, v, 0.4, b, a, difference); // negative control: the direction matters
+        EXPECT_GT(third_gap(difference, exact), 1e-3);
+    }
+}
+
+TEST(OptimalRobot, InputSystemAndSystemOfGiveOneTranscription) {
+    // The same L and inputs through system_of (every derivative by automatic differentiation)
+    // and input_system (L's second derivatives by AD, the input force's by hand, third ones by
+    // nested AD): their Hessians agree to round-off, and the optima to IPOPT's tolerance.
     optimal::control_problem p;
     p.time = 2.0;
     p.steps = 20;
@@ -127,8 +169,8 @@ TEST(OptimalRobot, DifferenceThirdDerivativesAgreeWithAutomaticOnes) {
         worst = std::max(worst, std::abs(a[i] - b[i]));
         largest = std::max(largest, std::abs(a[i]));
     }
-    EXPECT_LT(worst, 1e-8 * largest);
-    EXPECT_GT(worst, 0.0); // they are two computations, not one
+    EXPECT_LT(worst, 1e-13 * largest);
+    EXPECT_GT(largest, 1.0);
     const auto ra = optimal::solve(*exact), rb = optimal::solve(*diff);
     ASSERT_TRUE(ra.converged() && rb.converged());
     EXPECT_NEAR(ra.cost, rb.cost, 1e-9 * ra.cost);

@@ -131,13 +131,17 @@ struct ScalarBinaryOpTraits<double, varsym::optimal::directional<S>, BinaryOp> {
 
 namespace varsym::optimal {
 
+/// The scalar contracted_third evaluates a Lagrangian of fixed dimension in.
+template <class L>
+using third_scalar = directional<ad::second_order<2 * L::dim>>;
+
 /// The Hessian in z = (q, v) (2D × 2D) of aᵀ ∂L/∂q(q, v, t) + bᵀ ∂L/∂v(q, v, t).
 template <lagrangian L>
 mat<2 * L::dim> contracted_third(const L& l, const vec<L::dim>& q, const vec<L::dim>& v, double t,
                                  const vec<L::dim>& a, const vec<L::dim>& b) {
     constexpr int D = L::dim, N = 2 * D;
     using S = ad::second_order<N>;
-    using E = directional<S>; // d/dε along (a, b)
+    using E = third_scalar<L>; // d/dε along (a, b)
     tvec<E, D> qe, ve;
     for (int i = 0; i < D; ++i) {
         qe(i) = E(ad::variable<N>(q(i), i), S(a(i)));

@@ -3,9 +3,10 @@
 // coordinates of a typed Lagrangian), as a controlled_system (system.hpp) for the one compiled
 // transcription. L's first and second derivatives are its own (by hand, as a URDF robot's recursive
 // ones and a typed Lagrangian's symbolic ones, or automatic for a C++ Lagrangian of fixed
-// dimension, the ones its simulation already uses); the third derivatives the exact Hessian needs
-// are a central difference of the exact second ones (controlled_system::third). Instantiating it
-// costs a model little more than its simulation does (docs/optimal_control.md: build times).
+// dimension, the ones its simulation already uses). The third derivatives the exact Hessian needs
+// are exact too (lagrangian_part::third): the robot's dual numbers, the typed L's code run along
+// a direction, nested AD for a C++ L of fixed dimension; only a C++ L of run-time dimension (the
+// arm) takes a central difference of its exact second ones (controlled_system::third).
 #pragma once
 
 #include <memory>

@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "varsym/optimal/problem.hpp"
+#include "varsym/optimal/third_order.hpp"
 #include "varsym/systems/lagrangian.hpp"
 #include "varsym/systems/lagrangian_time.hpp"
 
@@ -55,8 +56,8 @@ class controlled_system {
     /// The Hessian in z = (q, q̇) (2d × 2d) of ψ = aᵀ ∂L/∂q + bᵀ ∂L/∂q̇: the directional
     /// derivative of ∇²L along w = (a, b). By default a central difference of derivatives()
     /// along w (step 6e-6 max(1, |z|)/|w|, relative error about 1e-10 on smooth L: an exact
-    /// Hessian of the NLP's Lagrangian to that accuracy); systems with exact third derivatives
-    /// override it (system_of.hpp by automatic differentiation).
+    /// Hessian of the NLP's Lagrangian to that accuracy); systems built on a Lagrangian with
+    /// exact third derivatives override it (lagrangian_part below: L's own, or nested AD).
     virtual void third(const vector& q, const vector& v, double t, const vector& a, const vector& b,
                        matrix& out) const {
         const int d = dimension();
@@ -160,6 +161,18 @@ concept lagrangian_with_third = requires(const L& l, const vector& x, double t, 
     l.third(x, x, x, x, out);
 };
 
+/// A C++ Lagrangian of fixed dimension written for any scalar: its third derivatives by
+/// nested forward-mode AD (third_order.hpp's contracted_third).
+template <class L>
+concept nested_ad = L::dim != dynamic&& requires(const L& l, const tvec<third_scalar<L>, L::dim>& x,
+                                                 double t) {
+    requires requires {
+        l(x, x);
+    } || requires {
+        l(x, x, t);
+    };
+};
+
 /// What a controlled system built on a Lagrangian L (held by value) takes from L alone: its
 /// dimension, its dependence on t, and its first and second derivatives by L's own means
 /// (lagrangian_terms_of). input_system.hpp and system_of.hpp build on it.
@@ -199,10 +212,14 @@ class lagrangian_part : public controlled_system {
             l_.third(q, v, t, a, b, out);
         else if constexpr (requires { l_.third(q, v, a, b, out); })
             l_.third(q, v, a, b, out);
+        else if constexpr (nested_ad<L>)
+            out = contracted_third(l_, vec<D>(q), vec<D>(v), t, vec<D>(a), vec<D>(b));
         else
             controlled_system::third(q, v, t, a, b, out);
     }
-    [[nodiscard]] bool exact_third() const override { return lagrangian_with_third<L>; }
+    [[nodiscard]] bool exact_third() const override {
+        return lagrangian_with_third<L> || nested_ad<L>;
+    }
 
   protected:
     L l_; // NOLINT(misc-non-private-member-variables-in-classes): the systems' own L

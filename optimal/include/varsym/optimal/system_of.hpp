@@ -22,18 +22,13 @@ class system_of final : public lagrangian_part<L> {
     static constexpr int D = L::dim, M = F::controls, K = constraint_rows<C>;
     static_assert(F::dim == L::dim, "the control force must have the Lagrangian's dimension");
     static_assert(constraints_on<C, D>, "C: holonomic constraints on the Lagrangian's coordinates");
+    static_assert(nested_ad<L>, "L: written for any scalar (its third derivatives by AD)");
 
     system_of(L l, F force, C constraints = {})
         : lagrangian_part<L>(std::move(l)), f_(std::move(force)), c_(std::move(constraints)) {}
 
     [[nodiscard]] int inputs() const override { return M; }
     [[nodiscard]] int constraint_count() const override { return K; }
-
-    void third(const vector& q, const vector& v, double t, const vector& a, const vector& b,
-               matrix& out) const override {
-        out = contracted_third(l_, vec<D>(q), vec<D>(v), t, vec<D>(a), vec<D>(b));
-    }
-    [[nodiscard]] bool exact_third() const override { return true; }
 
     void force(const vector& q, const vector& v, double t, const vector& u, input_terms& out,
                bool jacobians) const override {
