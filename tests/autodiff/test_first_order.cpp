@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "varsym/autodiff/reverse.hpp"
+#include "varsym/optimal/third_order.hpp"
 #include "varsym/problems/double_pendulum.hpp"
 #include "varsym/problems/heavy_top.hpp"
 #include "varsym/problems/kepler.hpp"
@@ -220,6 +221,28 @@ TEST(FirstOrder, LinkedPendulumHandDerivatives) {
     EXPECT_NEAR(a.value, b.value, 1e-14);
     EXPECT_LE((a.lq - b.lq).norm() + (a.lv - b.lv).norm(), 1e-13);
     EXPECT_LE((a.lqq - b.lqq).norm() + (a.lqv - b.lqv).norm() + (a.lvv - b.lvv).norm(), 1e-13);
+}
+
+TEST(FirstOrder, LinkedPendulumHandThirdDerivatives) {
+    // third() by hand (the rates of the second derivatives along a direction, which the arm's
+    // optimal control Hessian uses) against nested forward-mode AD of the same L
+    // (optimal::contracted_third), at a fixed and at a run-time dimension: round-off, 1e-13.
+    const std::vector<double> masses{1.0, 2.0, 0.5, 1.5}, lengths{1.0, 0.5, 0.8, 0.3};
+    const linked_pendulum::lagrangian<4> arm(masses, lengths, 9.81);
+    const linked_pendulum::lagrangian<dynamic> same(masses, lengths, 9.81);
+    const vec<4> q{0.3, -1.1, 2.0, 0.4}, v{0.5, -0.2, 0.9, 1.3}, a{0.7, 0.2, -0.4, 1.1},
+        b{-0.3, 0.8, 0.5, -1.2};
+    const mat<8> expected =
+        optimal::contracted_third(linked_pendulum::automatic<4>{arm}, q, v, 0.0, a, b);
+    mat<dynamic> fixed, run_time;
+    arm.third(q, v, a, b, fixed);
+    same.third(q, v, a, b, run_time);
+    const double scale = expected.cwiseAbs().maxCoeff();
+    EXPECT_GT(scale, 1.0);
+    EXPECT_LE((fixed - expected).cwiseAbs().maxCoeff(), 1e-13 * scale);
+    EXPECT_LE((run_time - expected).cwiseAbs().maxCoeff(), 1e-13 * scale);
+    arm.third(q, v, b, a, fixed); // negative control: the direction matters
+    EXPECT_GT((fixed - expected).cwiseAbs().maxCoeff(), 1e-2 * scale);
 }
 
 TEST(FirstOrder, ReverseTapeGrowsAndIsPerThread) {

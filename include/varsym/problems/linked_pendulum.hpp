@@ -106,6 +106,40 @@ struct lagrangian {
             t.lqq(k, k) = -v(k) * (t.lv(k) - w.ac(k, k) * v(k)) - b(k) * std::cos(q(k));
     }
 
+    /// The Hessian in (q, q̇) (2n square) of dqᵀ ∂L/∂q + dvᵀ ∂L/∂q̇: the rates of the second
+    /// derivatives above along (dq, dv), by hand (an optimal control transcription's exact
+    /// Hessian needs them). With δ_kj = dq_k − dq_j, d c_kj = −s_kj δ_kj, d s_kj = c_kj δ_kj:
+    ///   d L_q̇q̇(k, j) = −a_kj s_kj δ_kj,
+    ///   d L_qq̇(k, m) = −δ_km Σ_j a_kj (c_kj δ_kj ω_j + s_kj dv_j) − dv_k a_km s_km
+    ///                  − ω_k a_km c_km δ_km,
+    ///   d L_qq(k, m) = a_km (c_km (dv_k ω_m + ω_k dv_m) − s_km δ_km ω_k ω_m)  (m ≠ k),
+    ///   d L_qq(k, k) = −Σ_{j≠k} a_kj (c_kj (dv_k ω_j + ω_k dv_j) − s_kj δ_kj ω_k ω_j)
+    ///                  + b_k sin θ_k dq_k.
+    void third(const vec<N>& q, const vec<N>& v, const vec<N>& dq, const vec<N>& dv,
+               mat<dynamic>& out) const {
+        const int n = dimension();
+        scratch local; // unused at N = dynamic
+        scratch& w = N == dynamic ? work() : local;
+        trig(q, w);
+        out.setZero(2 * n, 2 * n);
+        for (int k = 0; k < n; ++k) {
+            double diagonal = b(k) * std::sin(q(k)) * dq(k), sum = 0.0;
+            for (int j = 0; j < n; ++j) {
+                if (j == k) continue;
+                const double akj = a(k, j), c = w.c(k, j), sn = w.s(k, j), d = dq(k) - dq(j);
+                out(n + k, n + j) = -akj * sn * d;
+                out(k, n + j) = -dv(k) * akj * sn - v(k) * akj * c * d;
+                sum += akj * (c * d * v(j) + sn * dv(j));
+                const double qq = akj * (c * (dv(k) * v(j) + v(k) * dv(j)) - sn * d * v(k) * v(j));
+                out(k, j) = qq;
+                diagonal -= qq;
+            }
+            out(k, n + k) = -sum;
+            out(k, k) = diagonal;
+        }
+        out.bottomLeftCorner(n, n) = out.topRightCorner(n, n).transpose();
+    }
+
   private:
     /// The matrices and vectors of one evaluation. At N = dynamic one set per thread (the
     /// Lagrangian stays const and shareable), so that an evaluation allocates nothing once they
