@@ -7,11 +7,13 @@
 //   3. a chain of n links written as a URDF (each 1 kg, 0.3 m, a revolute joint about y):
 //      milliseconds per iteration (the first 20 iterations) against N (n = 10) and against n
 //      (N = 25): linear in N (banded KKT matrix); in n, the derivatives are O(n²) and the
-//      KKT matrix's dense blocks per step grow as n, their factorisation as n³.
+//      KKT matrix's dense blocks per step grow as n, their factorisation as n³; and one
+//      evaluation of its residual, Jacobian and Hessian against n (n = 5 … 40, N = 25).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -73,6 +75,61 @@ optimal::control_problem rest_to_rest(int d, int steps, const scheme_spec& schem
     p.q_start = p.v_start = p.v_end = Eigen::VectorXd::Zero(d);
     p.q_end = to;
     return p;
+}
+
+/// One evaluation each of the chain's transcription's residual, Jacobian and Hessian (what
+/// varsym computes per IPOPT iteration; the rest is IPOPT's factorisation) against n, N = 25,
+/// Simpson, at the first guess: µs per evaluation and per evaluation, step and link.
+void evaluation_costs(int rounds) {
+    struct timing {
+        double seconds = 0.0, residual = 0.0, jacobian = 0.0, hessian = 0.0;
+    };
+    const std::vector<int> links{5, 10, 20, 40};
+    const int steps = 25;
+    std::vector<std::unique_ptr<optimal::transcription>> problems;
+    std::vector<models::model> chains;
+    for (const int n : links) {
+        chains.push_back(models::robot_model(models::parse_urdf(chain_urdf(n), "chain.urdf")));
+        optimal::control_problem p =
+            rest_to_rest(n, steps, scheme_kind::simpson, Eigen::VectorXd::Constant(n, 0.3 / n));
+        chains.back().limits(chains.back().defaults(), p);
+        problems.push_back(chains.back().optimal(chains.back().defaults(), {}, p));
+    }
+    std::vector<std::function<timing()>> cases;
+    for (std::size_t i = 0; i < links.size(); ++i)
+        cases.emplace_back([&, i] {
+            const auto& tr = *problems[i];
+            const Eigen::VectorXd x = tr.start();
+            const Eigen::VectorXd lambda = Eigen::VectorXd::Constant(tr.constraints(), 0.1);
+            Eigen::VectorXd e;
+            std::vector<double> values;
+            const int reps = std::max(4, 400 / links[i]);
+            const auto time = [&](auto&& f) {
+                const auto start = std::chrono::steady_clock::now();
+                for (int k = 0; k < reps; ++k)
+                    f();
+                return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+                           .count() /
+                       reps;
+            };
+            timing t;
+            t.residual = time([&] { tr.residual(x, e); });
+            t.jacobian = time([&] { tr.jacobian(x, values); });
+            t.hessian = time([&] { tr.hessian(x, 1.0, lambda, values); });
+            t.seconds = t.residual + t.jacobian + t.hessian;
+            return t;
+        });
+    const auto results = bench::interleaved<timing>(cases, rounds);
+    std::printf("\n## The chain's transcription, one evaluation at N = %d, Simpson: µs (µs per "
+                "step and link)\n\n| n | residual | Jacobian | Hessian |\n|---|---|---|---|\n",
+                steps);
+    for (std::size_t i = 0; i < links.size(); ++i) {
+        const auto& t = results[i];
+        const double per = 1e6 / (steps * links[i]);
+        std::printf("| %d | %.0f (%.2f) | %.0f (%.2f) | %.0f (%.2f) |\n", links[i],
+                    1e6 * t.residual, per * t.residual, 1e6 * t.jacobian, per * t.jacobian,
+                    1e6 * t.hessian, per * t.hessian);
+    }
 }
 
 } // namespace
@@ -170,4 +227,5 @@ int main(int argc, char** argv) {
                     r.iterations, 1e3 * r.seconds / r.iterations,
                     1e6 * r.seconds / r.iterations / steps / n, r.status.c_str());
     }
+    evaluation_costs(rounds);
 }

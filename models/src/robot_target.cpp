@@ -52,12 +52,10 @@ class frame_target_function final : public optimal::end_function {
         const multibody::pose x = multibody::frame_pose(w, f_);
         value.resize(rows());
         value.head<3>() = x.origin - position_;
+        Eigen::MatrixXd j6; // the frame's world Jacobian: angular rows 0–2, origin rows 3–5
+        if (jacobian) multibody::frame_jacobian(*r_, w, f_, j6);
         if (!rotation_) {
-            if (jacobian) {
-                Eigen::MatrixXd j6;
-                multibody::frame_jacobian(*r_, w, f_, j6);
-                *jacobian = j6.bottomRows(3);
-            }
+            if (jacobian) *jacobian = j6.bottomRows(3);
             return;
         }
         const mat3 a = rotation_->transpose() * x.rotation;
@@ -66,8 +64,6 @@ class frame_target_function final : public optimal::end_function {
         const double c = std::max(std::sqrt(std::max(1.0 + a.trace(), 0.0)), 1e-8);
         value.tail<3>() = 2.0 * v / c;
         if (!jacobian) return;
-        Eigen::MatrixXd j6;
-        multibody::frame_jacobian(*r_, w, f_, j6);
         jacobian->resize(6, r_->dof());
         jacobian->topRows(3) = j6.bottomRows(3);
         for (int j = 0; j < r_->dof(); ++j) {
