@@ -1,6 +1,7 @@
 // models/src/expression_inputs.cpp: optimal control of a Lagrangian typed as an expression (the
-// model `lagrangian`): its inputs are generalized forces on named coordinates, transcribed by
-// the one compiled transcription (varsym::transcription) over the typed L's symbolic derivatives.
+// model `lagrangian`): its inputs are generalized forces on named coordinates, under typed
+// holonomic constraints if any, transcribed by the one compiled transcription
+// (varsym::transcription) over the typed L's and constraints' symbolic derivatives.
 #include <algorithm>
 #include <set>
 #include <stdexcept>
@@ -8,14 +9,18 @@
 
 #include "varsym/models/expression.hpp"
 #include "varsym/optimal/input_system.hpp"
+#include "varsym/systems/expression_constraint.hpp"
 
 namespace varsym::models {
 
 void add_expression_inputs(model& m, const std::string& text,
                            const std::vector<std::string>& coordinates,
                            const std::vector<expression_parameter>& parameters,
-                           const std::vector<std::string>& inputs) {
+                           const std::vector<std::string>& inputs,
+                           const std::vector<std::string>& constraints) {
     if (inputs.empty()) return;
+    if (!constraints.empty()) // parsed once here, so that a bad one is refused at once
+        (void)expression_constraint(constraints, coordinates, parameters);
     const auto d = static_cast<Eigen::Index>(coordinates.size());
     optimal::matrix b = optimal::matrix::Zero(d, static_cast<Eigen::Index>(inputs.size()));
     std::set<std::string> seen;
@@ -39,8 +44,12 @@ void add_expression_inputs(model& m, const std::string& text,
         std::vector<expression_parameter> given = parameters;
         for (std::size_t i = 0; i < given.size(); ++i)
             given[i].value = v[i];
-        return std::unique_ptr<optimal::transcription>(
-            optimal::transcribe_inputs(expression_lagrangian(text, coordinates, given), b, p));
+        expression_lagrangian l(text, coordinates, given);
+        if (constraints.empty())
+            return std::unique_ptr<optimal::transcription>(
+                optimal::transcribe_inputs(std::move(l), b, p));
+        return std::unique_ptr<optimal::transcription>(optimal::transcribe_inputs(
+            std::move(l), b, p, {}, expression_constraint(constraints, coordinates, given)));
     };
 }
 

@@ -2,13 +2,15 @@
 // the general engine (schemes/variational.hpp) steps the system's own derivatives under the
 // trajectory's controls, step by step from the start state: the same discrete equations, solved
 // by another code (Newton on one step's equations instead of IPOPT on the whole trajectory's),
-// must give the same nodes to round-off. Compiled once here for every system of run-time size.
+// must give the same nodes to round-off; with constraints the constrained engine
+// (schemes/constrained.hpp). Compiled once here for every system of run-time size.
 #include <cmath>
 #include <limits>
 #include <string>
 
 #include "varsym/optimal/replay.hpp"
 #include "varsym/optimal/system.hpp"
+#include "varsym/schemes/constrained.hpp"
 #include "varsym/schemes/variational.hpp"
 
 namespace varsym::optimal {
@@ -78,12 +80,41 @@ struct system_controls {
     }
 };
 
+/// The system's holonomic constraints as the constrained engine takes them (run-time size,
+/// derivatives by the system's own means).
+struct system_constraint {
+    static constexpr int dim = dynamic, count = dynamic;
+    const controlled_system* s;
+
+    [[nodiscard]] int dimension() const { return s->dimension(); }
+    [[nodiscard]] int size() const { return s->constraint_count(); }
+    vec<dynamic> operator()(const vec<dynamic>& q) const {
+        vector g;
+        matrix jac;
+        s->constraint(q, g, jac);
+        return g;
+    }
+    void jacobian(const vec<dynamic>& q, Eigen::MatrixXd& jac) const {
+        vector g;
+        s->constraint(q, g, jac);
+    }
+    void curvature(const vec<dynamic>& q, const vec<dynamic>& lambda, mat<dynamic>& h) const {
+        s->constraint_curvature(q, lambda, h);
+    }
+};
+
 } // namespace
 
 matrix controlled_system::replay(const trajectory& path) const {
+    const lagrangian_system<system_lagrangian> l(system_lagrangian{this});
+    if (constraint_count() > 0) { // the constrained engine: impulses at the control values
+        general::constrained_stepper<system_lagrangian, system_constraint, system_controls> stepper(
+            l, system_constraint{this}, system_controls{this, &path, 0}, path.h, path.scheme,
+            replay_newton);
+        return replay_with(stepper, path);
+    }
     general::stepper<system_lagrangian, system_controls> stepper(
-        lagrangian_system<system_lagrangian>(system_lagrangian{this}),
-        system_controls{this, &path, 0}, path.h, path.scheme, replay_newton);
+        l, system_controls{this, &path, 0}, path.h, path.scheme, replay_newton);
     return replay_with(stepper, path);
 }
 

@@ -25,7 +25,8 @@ using namespace varsym;
 
 namespace {
 
-py::dict optimize(const py::object& source, const std::vector<std::string>& inputs, bool limits,
+py::dict optimize(const py::object& source, const std::vector<std::string>& inputs,
+                  const std::vector<std::string>& constraints, bool limits,
                   std::vector<double> values, const models::lists& lists, double time, int steps,
                   const std::string& scheme, int degree, const Eigen::VectorXd& q0,
                   const Eigen::VectorXd& v0, const Eigen::VectorXd& q1, const Eigen::VectorXd& v1,
@@ -49,7 +50,8 @@ py::dict optimize(const py::object& source, const std::vector<std::string>& inpu
             throw std::invalid_argument("a Lagrangian needs inputs: the coordinates the controls "
                                         "act on, e.g. inputs=[\"th1\", \"th2\"]");
         typed = models::expression_model(l);
-        models::add_expression_inputs(*typed, l.text(), l.coordinates(), l.parameters(), inputs);
+        models::add_expression_inputs(*typed, l.text(), l.coordinates(), l.parameters(), inputs,
+                                      constraints);
         found = &*typed;
         values = typed->defaults();
     }

@@ -140,8 +140,9 @@ class OptimalControl:
 def optimize(model, *, time, q_start, q_end=None, v_start=None, v_end=None, steps=50,
              scheme="simpson", degree=None, max_control=None, cost="effort", free_end=None,
              hessian="automatic", max_iterations=3000, refine=0, progress=False,
-             ipopt_options=None, inputs=None, limits=True, reach=None, reach_position=None,
-             reach_rpy=None, reach_weight=0.0, max_velocity=None, **parameters):
+             ipopt_options=None, inputs=None, constraints=None, limits=True, reach=None,
+             reach_position=None, reach_rpy=None, reach_weight=0.0, max_velocity=None,
+             **parameters):
     """The controls that take ``model`` from (q_start, v_start) at t = 0 to (q_end, v_end) at
     t = ``time`` at the least cost, by discrete mechanics and optimal control with ``steps``
     steps of ``scheme`` (velocities default to rest). ``model``: a name or Model with inputs
@@ -149,7 +150,8 @@ def optimize(model, *, time, q_start, q_end=None, v_start=None, v_end=None, step
     actuated joints, those with URDF effort > 0, bounded by their efforts; the joints' position
     and velocity limits bound q and q̇; ``limits=False`` drops them); or a varsym.Lagrangian
     with ``inputs``, the names of the coordinates the controls act on (a generalized force
-    each).
+    each), and optionally ``constraints``, holonomic constraints g(q) = 0 as expressions over its
+    coordinates and parameters (e.g. ["x**2 + y**2 - l**2"]; q_start and q_end must meet them).
     ``cost``: "effort" (∫ u²/2), "invariant" (∫ τᵀM⁻¹τ/2), "power" (∫ Σ|τ_i
     q̇_i|, smoothed), "time" (minimum time: ``time`` is then the first guess of a free horizon;
     needs ``max_control``), or a dict of weights such as {"power": 1, "effort": 0.01}.
@@ -180,13 +182,15 @@ def optimize(model, *, time, q_start, q_end=None, v_start=None, v_end=None, step
             raise UsageError("optimize: a Lagrangian needs inputs, the coordinates the controls "
                              "act on, e.g. inputs=[\"th1\", \"th2\"]")
         inputs = [inputs] if isinstance(inputs, str) else [str(x) for x in inputs]
+        constraints = [] if constraints is None else (
+            [constraints] if isinstance(constraints, str) else [str(x) for x in constraints])
         source, values, lists = model._core, [], []
         name, d, coordinates, names = "lagrangian", len(model.coordinates), model.coordinates, \
             inputs
     else:
-        if inputs is not None:
-            raise UsageError("optimize: inputs= names the inputs of a Lagrangian; a model's "
-                             "inputs are its own")
+        if inputs is not None or constraints is not None:
+            raise UsageError("optimize: inputs= and constraints= are a Lagrangian's; a model's "
+                             "inputs and constraints are its own")
         if isinstance(model, Robot):
             m = Robot(model, **parameters) if parameters else model
             source = m._core
@@ -230,7 +234,8 @@ def optimize(model, *, time, q_start, q_end=None, v_start=None, v_end=None, step
             bar.update(1)
             bar.set_postfix(cost=f"{value:.6g}", infeasibility=f"{infeasibility:.1e}")
     try:
-        raw = _core.optimize(source, names if isinstance(model, Lagrangian) else [], bool(limits),
+        raw = _core.optimize(source, names if isinstance(model, Lagrangian) else [],
+                             constraints if isinstance(model, Lagrangian) else [], bool(limits),
                              values, lists, float(time),
                              int(steps), scheme, degree or 0,
                              _vector(q_start, d, "q_start"), _vector(v_start, d, "v_start", 0.0),

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # tests/cli/optimize_systems_test.sh VARSYM: `varsym optimize` on systems known at run time, all
 # through the one compiled transcription: a URDF robot (--urdf), a typed Lagrangian
-# (--lagrangian --inputs) and the arm (--model arm). The references are independent: one
+# (--lagrangian --inputs, and --constraints) and the arm (--model arm). The references are independent: one
 # pendulum written three ways (a one-joint URDF through the recursive multibody derivatives, a
 # typed L through symbolic ones, the built-in model through automatic ones) must reach the same
 # optimum; a 7-joint robot's optimum must agree between two schemes of different order, keep
@@ -114,6 +114,30 @@ rel "$(cost_of di.err)" 0.96 1e-8 && ok || bad "bounded double integrator: $(cos
 "$VARSYM" optimize --lagrangian "0.5*x_dot**2" --coordinates x --inputs x --time 2 --steps 160 \
   --from 0 --to 1 --quiet -o di.csv 2> di.err
 rel "$(cost_of di.err)" 0.75 1e-6 && ok || bad "free double integrator: $(cost_of di.err), not 0.75"
+
+# --constraints on a typed L: a unit mass on the unit circle (Cartesian x, y; g(q) = x^2 + y^2 - 1)
+# pushed horizontally, from hanging to horizontal at rest in 2 s. Every node must be on the
+# circle, and the constrained engine's replay must retrace the motion (the closure). The same
+# optimum against the same system written in C++ (automatic derivatives) is in
+# tests/models/test_optimal_typed.cpp. Negative control: without the constraint nothing holds
+# the mass up (no input on y), and no motion reaches the target: infeasible, exit 3.
+circle=(--lagrangian "0.5*(x_dot**2 + y_dot**2) - g*y" --coordinates x,y --parameters g=9.81
+  --inputs x --time 2 --steps 40 --from 0,-1 --to 1,0)
+"$VARSYM" optimize "${circle[@]}" --constraints "x**2 + y**2 - 1" --quiet -o circle.csv \
+  2> circle.err && ok || bad "typed constraints: $(tail -1 circle.err)"
+awk -F, 'NR > 1 { r = $2 * $2 + $3 * $3 - 1; if (r > 1e-10 || r < -1e-10) bad = 1 }
+  END { exit bad || NR != 42 }' circle.csv && ok || bad "typed constraints: a node off the circle"
+awk -v c="$(closure_of circle.err)" 'BEGIN { exit !(c != "" && c < 1e-9) }' && ok ||
+  bad "typed constraints: closure $(closure_of circle.err)"
+"$VARSYM" optimize "${circle[@]}" --quiet -o free.csv 2> free.err
+rc=$?
+[ $rc -eq 3 ] && ok || bad "without the constraint: exit $rc, not 3 ($(tail -1 free.err))"
+expect_error 2 "a constraint on a velocity" optimize "${circle[@]}" --constraints "x**2 + y_dot - 1" \
+  -o out.csv
+grep -q "^varsym: error: --constraints: " stderr.txt && ok || bad "$(cat stderr.txt)"
+expect_error 2 "--constraints without --lagrangian" optimize --model pendulum --time 1 --from 0 \
+  --to 1 --constraints "q - 1" -o out.csv
+grep -q "need --lagrangian" stderr.txt && ok || bad "$(cat stderr.txt)"
 
 # --reach: the UR5 tool's pose at the joint problem's end, reached from a guess near it: the
 # same optimum to IPOPT's tolerance, and the same end joints.

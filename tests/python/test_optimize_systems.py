@@ -73,7 +73,7 @@ def test_refusals():
         varsym.optimize(L, inputs=["y"], time=1.0, q_start=[0], q_end=[1])
     with pytest.raises(varsym.UsageError, match="needs inputs"):
         varsym.optimize(L, time=1.0, q_start=[0], q_end=[1])
-    with pytest.raises(varsym.UsageError, match="inputs= names the inputs of a Lagrangian"):
+    with pytest.raises(varsym.UsageError, match="inputs= and constraints= are a Lagrangian"):
         varsym.optimize("pendulum", inputs=["q"], time=1.0, q_start=[0], q_end=[1])
     robot = varsym.Robot(os.path.join(DATA, "pendulum.urdf"))
     with pytest.raises(varsym.UsageError, match="outside the position bounds"):
@@ -119,3 +119,23 @@ def test_a_link_reaches_its_target_pose():
         varsym.optimize(robot, time=1.0, q_start=start, reach="hand", reach_position=[0, 0, 1])
     with pytest.raises(varsym.UsageError, match="reach names a link of a robot"):
         varsym.optimize("pendulum", time=1.0, q_start=[0], reach="x", reach_position=[0, 0, 1])
+
+
+def test_a_typed_lagrangian_under_typed_constraints():
+    # A unit mass on the unit circle (Cartesian x, y) pushed horizontally, from hanging to
+    # horizontal at rest in 2 s: every node on the circle, and the same optimum as the tool's
+    # (tests/cli/optimize_systems_test.sh; against the same system in C++:
+    # tests/models/test_optimal_typed.cpp). Negative control: another gravity, another optimum.
+    def quarter_turn(g):
+        L = varsym.Lagrangian("0.5*(x_dot**2 + y_dot**2) - g*y", ["x", "y"], {"g": g})
+        return varsym.optimize(L, inputs=["x"], constraints="x**2 + y**2 - 1", time=2.0,
+                               steps=40, q_start=[0, -1], q_end=[1, 0])
+    out = quarter_turn(9.81)
+    assert out.status == "solved"
+    assert out.q.shape == (41, 2)
+    assert np.max(np.abs(out.q[:, 0] ** 2 + out.q[:, 1] ** 2 - 1)) < 1e-10
+    assert out.closure < 1e-9
+    assert out.cost == pytest.approx(11.910305053, rel=1e-9)  # the tool's, printed to 11 digits
+    assert abs(quarter_turn(9.0).cost - out.cost) > 1e-3 * out.cost
+    with pytest.raises(varsym.UsageError, match="inputs= and constraints= are a Lagrangian"):
+        varsym.optimize("pendulum", constraints=["q - 1"], time=1.0, q_start=[0], q_end=[1])

@@ -311,6 +311,9 @@ void add_optimize_command(CLI::App& app, action& todo) {
     cmd->add_option("--inputs", o->inputs,
                     "lagrangian: the coordinates the inputs act on, one input each (a generalized "
                     "force in the units of dL/dq there), e.g. th1,th2");
+    cmd->add_option(
+        "--constraints", o->constraints,
+        "lagrangian: holonomic constraints g(q) = 0, comma-separated, e.g. x**2+y**2-1");
     cmd->add_option("--time", o->time, "Horizon T [s]")->required()->transform(positive_number);
     cmd->add_option("--steps", o->steps, "Steps N of h = T/N")
         ->transform(positive_integer)

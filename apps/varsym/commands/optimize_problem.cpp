@@ -233,9 +233,11 @@ std::shared_ptr<const models::model> optimize_model(const optimize_options& o,
         const auto coordinates = split_list(o.coordinates, "--coordinates", "th1,th2");
         const auto parameters = parse_parameters(o.expression_parameters);
         const auto inputs = split_list(o.inputs, "--inputs", "th1,th2");
+        const auto constraints = constraints_of(o.constraints, coordinates, parameters);
         try {
             auto m = models::expression_model(o.lagrangian, coordinates, parameters);
-            models::add_expression_inputs(m, o.lagrangian, coordinates, parameters, inputs);
+            models::add_expression_inputs(m, o.lagrangian, coordinates, parameters, inputs,
+                                          constraints);
             values = m.defaults();
             return std::make_shared<const models::model>(std::move(m));
         } catch (const usage_error&) {
@@ -244,6 +246,8 @@ std::shared_ptr<const models::model> optimize_model(const optimize_options& o,
             throw usage_error(std::string("--lagrangian: ") + e.what());
         }
     }
+    if (!o.constraints.empty())
+        throw usage_error("--constraints are a typed Lagrangian's: they need --lagrangian EXPR");
     if (!o.urdf.empty() || !o.lagrangian.empty())
         throw usage_error(std::string(o.urdf.empty() ? "--lagrangian" : "--urdf") +
                           " gives the model itself: leave --model " + o.model + " out");

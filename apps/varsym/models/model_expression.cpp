@@ -38,7 +38,8 @@ std::vector<std::string> force_of(const std::string& text,
     return parts;
 }
 
-/// The equations of --constraints, checked over the coordinates and parameters (none: none).
+} // namespace
+
 std::vector<std::string> constraints_of(const std::string& text,
                                         const std::vector<std::string>& coordinates,
                                         const std::vector<expression_parameter>& parameters) {
@@ -51,8 +52,6 @@ std::vector<std::string> constraints_of(const std::string& text,
     }
     return parts;
 }
-
-} // namespace
 
 std::vector<std::string> split_list(const std::string& list, const char* option,
                                     const char* example) {

@@ -21,6 +21,11 @@ std::vector<expression_parameter> parse_parameters(const std::string& list);
 /// empty entry, with `example` of a good list.
 std::vector<std::string> split_list(const std::string& list, const char* option,
                                     const char* example);
+/// The equations of --constraints (`text`), each checked over the coordinates and parameters;
+/// none for an empty text. Throws usage_error naming --constraints.
+std::vector<std::string> constraints_of(const std::string& text,
+                                        const std::vector<std::string>& coordinates,
+                                        const std::vector<expression_parameter>& parameters);
 
 /// --lagrangian, --coordinates, --parameters, --force and --constraints as given.
 struct expression_spec {

@@ -114,6 +114,28 @@ class expression_constraint {
                 }
     }
 
+    /// Σ_a λ_a times the rate of ∇²g_a(q) along dq (d × d): g's third derivatives contracted
+    /// with dq and λ, exact (the code of ∇²g run forward along dq, expr::tape::run_tangent). An
+    /// optimal control transcription's exact Hessian needs them for the impulses −G(q)ᵀΛ.
+    void curvature_rate(const vec<dynamic>& q, const vec<dynamic>& dq, const vec<dynamic>& lambda,
+                        mat<dynamic>& h) const {
+        const int d = dimension(), m = size();
+        const std::span<const double> in = load(q);
+        direction_.assign(in.size(), 0.0);
+        for (int i = 0; i < d; ++i)
+            direction_[static_cast<std::size_t>(i)] = dq(i);
+        second_.run_tangent(in.data(), direction_.data(), static_cast<int>(in.size()));
+        h.setZero(d, d);
+        std::size_t k = 0;
+        for (int a = 0; a < m; ++a)
+            for (int i = 0; i < d; ++i)
+                for (int j = i; j < d; ++j) {
+                    const double v = lambda(a) * second_.tangent(k++);
+                    h(i, j) += v;
+                    if (j != i) h(j, i) += v;
+                }
+    }
+
   private:
     // q into the inputs; the velocities and t stay 0 (nothing here depends on them).
     std::span<const double> load(const vec<dynamic>& q) const {
@@ -128,7 +150,7 @@ class expression_constraint {
     std::vector<std::string> texts_;
     expr::variables vars_;
     expr::tape value_, first_, second_;
-    mutable std::vector<double> input_;
+    mutable std::vector<double> input_, direction_;
 };
 
 } // namespace varsym

@@ -18,9 +18,10 @@ namespace varsym::models {
 /// A simulation of L with force f from x0 at time t0: by the scheme's separable stepper (the
 /// paper's Newmark and Simpson, the family's) where L is ½ q̇ᵀ M q̇ − V(q) with M constant and
 /// there is no force (expression_lagrangian::separable()), else by the general engine (a zero
-/// force takes its unforced form, about 20 % faster). Its columns: energy E(t) = q̇ᵀp − L, and with a force work (W since the
-/// start) and energy_balance (E − E0 − W). Throws std::invalid_argument for a force of another
-/// dimension, a state of another size, or a step size that is not positive and finite.
+/// force takes its unforced form, about 20 % faster). Its columns: energy E(t) = q̇ᵀp − L, and with
+/// a force work (W since the start) and energy_balance (E − E0 − W). Throws std::invalid_argument
+/// for a force of another dimension, a state of another size, or a step size that is not positive
+/// and finite.
 std::unique_ptr<simulation> simulate_expression(const expression_lagrangian& l,
                                                 const expression_force& f,
                                                 const phase_state<dynamic>& x0,
@@ -34,12 +35,10 @@ std::unique_ptr<simulation> simulate_expression(const expression_lagrangian& l,
 /// constraint_residual (max |g(q)|), hidden_residual (max |G(q) q̇|), lambda_1..m (the
 /// multipliers averaged over the last step). Throws std::invalid_argument as simulate_expression
 /// does, and for constraints on other coordinates or an iteration other than Newton.
-std::unique_ptr<simulation> simulate_constrained_expression(const expression_lagrangian& l,
-                                                            const expression_constraint& c,
-                                                            const expression_force& f,
-                                                            const phase_state<dynamic>& x0,
-                                                            const step_options& o,
-                                                            double t0 = 0.0, bool project = false);
+std::unique_ptr<simulation>
+simulate_constrained_expression(const expression_lagrangian& l, const expression_constraint& c,
+                                const expression_force& f, const phase_state<dynamic>& x0,
+                                const step_options& o, double t0 = 0.0, bool project = false);
 
 /// The initial momenta p = ∂L/∂q̇ at (q, v, t), refusing a singular mass matrix ∂²L/∂q̇² there
 /// (std::invalid_argument).
@@ -75,11 +74,14 @@ model expression_model(const expression_lagrangian& l, const std::vector<std::st
 /// Gives the model `lagrangian` m (made by expression_model from `text`, `coordinates` and
 /// `parameters`, without force or constraints) control inputs: input j is a generalized force on
 /// the coordinate named inputs[j] (units of ∂L/∂q there). Sets m.controls and m.optimal (the
-/// transcription over L's symbolic derivatives at the parameters' values). Throws
-/// std::invalid_argument for a name that is not a coordinate, or one given twice.
+/// transcription over L's symbolic derivatives at the parameters' values), under the holonomic
+/// constraints g(q) = 0 typed in `constraints` if any (one expression per equation, over the
+/// coordinates and parameters). Throws std::invalid_argument for a name that is not a
+/// coordinate, or one given twice, and expr::parse_error for a constraint that does not parse.
 void add_expression_inputs(model& m, const std::string& text,
                            const std::vector<std::string>& coordinates,
                            const std::vector<expression_parameter>& parameters,
-                           const std::vector<std::string>& inputs);
+                           const std::vector<std::string>& inputs,
+                           const std::vector<std::string>& constraints = {});
 
 } // namespace varsym::models
