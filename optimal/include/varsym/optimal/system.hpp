@@ -151,8 +151,8 @@ void lagrangian_terms_of(const L& l, const vector& q, const vector& v, double t,
 
 /// A Lagrangian that gives its own exact contracted third derivatives (the Hessian in (q, q̇)
 /// of aᵀ ∂L/∂q + bᵀ ∂L/∂q̇): l.third(q, v, t, a, b, out), or l.third(q, v, a, b, out) for one
-/// that does not depend on t. The typed Lagrangian (symbolic code run forward along (a, b)) and
-/// the URDF robot (dual numbers through the recursive algorithms) have them.
+/// that does not depend on t. The typed Lagrangian (symbolic code run forward along (a, b)), the
+/// URDF robot (dual numbers through the recursive algorithms) and the arm (by hand) have them.
 template <class L>
 concept lagrangian_with_third = requires(const L& l, const vector& x, double t, matrix& out) {
     l.third(x, x, t, x, x, out);
@@ -164,14 +164,12 @@ concept lagrangian_with_third = requires(const L& l, const vector& x, double t, 
 /// A C++ Lagrangian of fixed dimension written for any scalar: its third derivatives by
 /// nested forward-mode AD (third_order.hpp's contracted_third).
 template <class L>
-concept nested_ad = L::dim != dynamic&& requires(const L& l, const tvec<third_scalar<L>, L::dim>& x,
-                                                 double t) {
-    requires requires {
-        l(x, x);
-    } || requires {
-        l(x, x, t);
-    };
-};
+concept nested_ad = (L::dim != dynamic) &&
+                    (
+                        requires(const L& l, const tvec<third_scalar<L>, L::dim>& x) { l(x, x); } ||
+                        requires(const L& l, const tvec<third_scalar<L>, L::dim>& x, double t) {
+                            l(x, x, t);
+                        });
 
 /// What a controlled system built on a Lagrangian L (held by value) takes from L alone: its
 /// dimension, its dependence on t, and its first and second derivatives by L's own means
@@ -204,8 +202,9 @@ class lagrangian_part : public controlled_system {
                      lagrangian_terms<dynamic>& out) const override {
         lagrangian_terms_of(l_, q, v, t, out, true);
     }
-    /// L's own exact third derivatives where it has them (lagrangian_with_third), else the
-    /// difference of its exact second ones (controlled_system::third).
+    /// L's own exact third derivatives where it has them (lagrangian_with_third), else nested
+    /// AD for a C++ L of fixed dimension (nested_ad), else the difference of its exact second
+    /// ones (controlled_system::third).
     void third(const vector& q, const vector& v, double t, const vector& a, const vector& b,
                matrix& out) const override {
         if constexpr (requires { l_.third(q, v, t, a, b, out); })
