@@ -139,7 +139,7 @@ TEST(OptimalRobot, ExactThirdDerivativesAgreeWithTheDifferenceOfSecondOnes) {
         sys->third(q, v, 0.4, a, b, exact);
         sys->controlled_system::third(q, v, 0.4, a, b, difference);
         EXPECT_LT(third_gap(difference, exact), 1e-7) << "dimension " << sys->dimension();
-        EXPECT_GT(third_gap(difference, exact), 0.0); // two computations, not one
+        EXPECT_GT(third_gap(difference, exact), 0.0);          // two computations, not one
         EXPECT_LT(third_gap(exact.transpose(), exact), 1e-13); // symmetric to round-off
         sys->third(q, v, 0.4, b, a, difference); // negative control: the direction matters
         EXPECT_GT(third_gap(difference, exact), 1e-3);
@@ -164,13 +164,9 @@ TEST(OptimalRobot, InputSystemAndSystemOfGiveOneTranscription) {
     exact->hessian(x, 0.5, lambda, a);
     diff->hessian(x, 0.5, lambda, b);
     ASSERT_EQ(a.size(), b.size());
-    double worst = 0.0, largest = 0.0;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        worst = std::max(worst, std::abs(a[i] - b[i]));
-        largest = std::max(largest, std::abs(a[i]));
-    }
-    EXPECT_LT(worst, 1e-13 * largest);
-    EXPECT_GT(largest, 1.0);
+    const auto gap = optimal_test::gap_between(a, b);
+    EXPECT_LT(gap.worst, 1e-13 * gap.largest);
+    EXPECT_GT(gap.largest, 1.0);
     const auto ra = optimal::solve(*exact), rb = optimal::solve(*diff);
     ASSERT_TRUE(ra.converged() && rb.converged());
     EXPECT_NEAR(ra.cost, rb.cost, 1e-9 * ra.cost);

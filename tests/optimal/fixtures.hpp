@@ -71,6 +71,20 @@ struct derivative_errors {
     double largest_hessian = 0.0, largest_jacobian = 0.0; ///< for the errors' scale
 };
 
+/// The largest |a_i − b_i| and the largest |a_i| over two Hessians' values in one pattern (two
+/// transcriptions of one problem).
+struct value_gap {
+    double worst = 0.0, largest = 0.0;
+};
+inline value_gap gap_between(const std::vector<double>& a, const std::vector<double>& b) {
+    value_gap g;
+    for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
+        g.worst = std::max(g.worst, std::abs(a[i] - b[i]));
+        g.largest = std::max(g.largest, std::abs(a[i]));
+    }
+    return g;
+}
+
 inline derivative_errors check_derivatives(const optimal::nlp& t, const Eigen::VectorXd& x,
                                            double sigma, const Eigen::VectorXd& lambda) {
     const int n = t.variables(), m = t.constraints();

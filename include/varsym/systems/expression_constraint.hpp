@@ -101,17 +101,9 @@ class expression_constraint {
     }
     /// H = Σ_a λ_a ∇²g_a(q) (d × d).
     void curvature(const vec<dynamic>& q, const vec<dynamic>& lambda, mat<dynamic>& h) const {
-        const int d = dimension(), m = size();
         second_.run(load(q));
-        h.setZero(d, d);
-        std::size_t k = 0;
-        for (int a = 0; a < m; ++a)
-            for (int i = 0; i < d; ++i)
-                for (int j = i; j < d; ++j) {
-                    const double v = lambda(a) * second_.output(k++);
-                    h(i, j) += v;
-                    if (j != i) h(j, i) += v;
-                }
+        sum_hessians(
+            lambda, [this](std::size_t k) { return second_.output(k); }, h);
     }
 
     /// Σ_a λ_a times the rate of ∇²g_a(q) along dq (d × d): g's third derivatives contracted
@@ -119,24 +111,33 @@ class expression_constraint {
     /// optimal control transcription's exact Hessian needs them for the impulses −G(q)ᵀΛ.
     void curvature_rate(const vec<dynamic>& q, const vec<dynamic>& dq, const vec<dynamic>& lambda,
                         mat<dynamic>& h) const {
-        const int d = dimension(), m = size();
+        const int d = dimension();
         const std::span<const double> in = load(q);
         direction_.assign(in.size(), 0.0);
         for (int i = 0; i < d; ++i)
             direction_[static_cast<std::size_t>(i)] = dq(i);
         second_.run_tangent(in.data(), direction_.data(), static_cast<int>(in.size()));
+        sum_hessians(
+            lambda, [this](std::size_t k) { return second_.tangent(k); }, h);
+    }
+
+  private:
+    /// Σ_a λ_a H_a into h (d × d), H_a's upper triangle (i ≤ j, row by row) from read(k), the
+    /// k-th output of the code of ∇²g (its values or its rates).
+    template <class Read>
+    void sum_hessians(const vec<dynamic>& lambda, Read read, mat<dynamic>& h) const {
+        const int d = dimension(), m = size();
         h.setZero(d, d);
         std::size_t k = 0;
         for (int a = 0; a < m; ++a)
             for (int i = 0; i < d; ++i)
                 for (int j = i; j < d; ++j) {
-                    const double v = lambda(a) * second_.tangent(k++);
+                    const double v = lambda(a) * read(k++);
                     h(i, j) += v;
                     if (j != i) h(j, i) += v;
                 }
     }
 
-  private:
     // q into the inputs; the velocities and t stay 0 (nothing here depends on them).
     std::span<const double> load(const vec<dynamic>& q) const {
         if (q.size() != dimension())
