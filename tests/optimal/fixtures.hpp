@@ -71,14 +71,21 @@ struct derivative_errors {
     double largest_hessian = 0.0, largest_jacobian = 0.0; ///< for the errors' scale
 };
 
-/// The largest |a_i − b_i| and the largest |a_i| over two Hessians' values in one pattern (two
-/// transcriptions of one problem).
+/// Two transcriptions of one problem compared: the largest |a_i − b_i| and |a_i| over the values
+/// of their Hessians of σJ + λᵀg at x, and whether the two have one pattern (as many values).
 struct value_gap {
     double worst = 0.0, largest = 0.0;
+    bool same_pattern = false;
 };
-inline value_gap gap_between(const std::vector<double>& a, const std::vector<double>& b) {
+inline value_gap hessian_gap(const optimal::nlp& first, const optimal::nlp& second,
+                             const Eigen::VectorXd& x, double sigma,
+                             const Eigen::VectorXd& lambda) {
+    std::vector<double> a, b;
+    first.hessian(x, sigma, lambda, a);
+    second.hessian(x, sigma, lambda, b);
     value_gap g;
-    for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
+    g.same_pattern = a.size() == b.size();
+    for (std::size_t i = 0; g.same_pattern && i < a.size(); ++i) {
         g.worst = std::max(g.worst, std::abs(a[i] - b[i]));
         g.largest = std::max(g.largest, std::abs(a[i]));
     }
