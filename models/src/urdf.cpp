@@ -4,162 +4,44 @@
 // builds a model varsym would then have to walk again). Only <robot>'s direct <link> and <joint>
 // children are read: <transmission> (whose <joint> elements are not joints), <gazebo>, <material>,
 // visuals, collisions and unknown tags are ignored. What is refused: docs/robots.md.
-#include <algorithm>
-#include <charconv>
-#include <cmath>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <map>
 #include <vector>
 
-#include <Eigen/Eigenvalues>
-#include <tinyxml2.h>
-
-#include "varsym/models/robot.hpp"
+#include "urdf_reader.hpp"
+#include "varsym/multibody/algorithms.hpp"
 
 namespace varsym::models {
 
 namespace {
 
-using multibody::mat3;
-using multibody::mat6;
-using multibody::vec3;
-using tinyxml2::XMLElement;
+using namespace urdf_detail;
 
-struct link_data {
-    const XMLElement* element = nullptr;
-    bool has_inertial = false;
-    mat6 inertia = mat6::Zero(); ///< spatial inertia in the link frame (merged children added)
-};
-
-struct joint_data {
-    const XMLElement* element = nullptr;
-    std::string name, type, parent, child;
-};
-
-class reader {
-  public:
-    explicit reader(std::string source) : source_(std::move(source)) {}
-
-    [[noreturn]] void fail(const XMLElement* e, const std::string& what) const {
-        std::string where = source_;
-        if (e) where += ":" + std::to_string(e->GetLineNum()) + ": <" + e->Name() + ">";
-        throw urdf_error(where + ": " + what);
-    }
-
-    std::string attribute(const XMLElement* e, const char* name, bool required = true) const {
-        const char* v = e->Attribute(name);
-        if (!v && required) fail(e, std::string("missing attribute '") + name + "'");
-        return v ? v : "";
-    }
-
-    /// `count` numbers of attribute `name` (absent: `fallback`).
-    Eigen::VectorXd numbers(const XMLElement* e, const char* name, int count,
-                            const Eigen::VectorXd& fallback) const {
-        const char* v = e ? e->Attribute(name) : nullptr;
-        if (!v) return fallback;
-        Eigen::VectorXd out(count);
-        const std::string text(v);
-        const char* p = text.data();
-        const char* end = p + text.size();
-        for (int i = 0; i < count; ++i) {
-            while (p < end && std::isspace(static_cast<unsigned char>(*p))) ++p;
-            const auto r = std::from_chars(p + (p < end && *p == '+' ? 1 : 0), end, out(i));
-            if (r.ec != std::errc() || !std::isfinite(out(i)))
-                fail(e, std::string("attribute ") + name + "=\"" + text + "\" needs " +
-                            std::to_string(count) + " finite number" + (count > 1 ? "s" : ""));
-            p = r.ptr;
-        }
-        while (p < end && std::isspace(static_cast<unsigned char>(*p))) ++p;
-        if (p != end)
-            fail(e, std::string("attribute ") + name + "=\"" + text + "\" has more than " +
-                        std::to_string(count) + " number" + (count > 1 ? "s" : ""));
-        return out;
-    }
-    double number(const XMLElement* e, const char* name, double fallback) const {
-        return numbers(e, name, 1, Eigen::VectorXd::Constant(1, fallback))(0);
-    }
-
-    /// <origin xyz rpy> of element e (absent: the identity).
-    multibody::pose origin(const XMLElement* e) const {
-        const XMLElement* o = e->FirstChildElement("origin");
-        const Eigen::VectorXd zero = Eigen::VectorXd::Zero(3);
-        return {multibody::roll_pitch_yaw(numbers(o, "rpy", 3, zero)), numbers(o, "xyz", 3, zero)};
-    }
-
-    /// A link's <inertial> as a spatial inertia in the link frame, checked: mass ≥ 0, the
-    /// inertia tensor symmetric positive definite (or all zero with zero mass), its principal
-    /// moments meeting the triangle inequality.
-    void inertial(link_data& l, const std::string& name) const {
-        const XMLElement* in = l.element->FirstChildElement("inertial");
-        if (!in) return;
-        l.has_inertial = true;
-        const XMLElement* mass = in->FirstChildElement("mass");
-        if (!mass) fail(in, "link " + name + ": <inertial> without <mass>");
-        const double m = number(mass, "value", std::nan(""));
-        if (std::isnan(m)) fail(mass, "link " + name + ": <mass> without value");
-        if (m < 0.0) fail(mass, "link " + name + ": negative mass " + std::to_string(m));
-        const XMLElement* t = in->FirstChildElement("inertia");
-        mat3 ic = mat3::Zero();
-        if (t) {
-            auto at = [&](const char* k) { return number(t, k, 0.0); };
-            ic << at("ixx"), at("ixy"), at("ixz"), at("ixy"), at("iyy"), at("iyz"), at("ixz"),
-                at("iyz"), at("izz");
-        }
-        const multibody::pose o = origin(in);
-        if (m > 0.0 || !ic.isZero(0.0)) check_inertia(t ? t : in, name, m, ic);
-        // In the link frame: I_c rotated from the inertial frame, the centre at the origin.
-        l.inertia = multibody::spatial_inertia(m, o.origin, o.rotation * ic * o.rotation.transpose());
-    }
-
-    void check_inertia(const XMLElement* e, const std::string& name, double m,
-                       const mat3& ic) const {
-        const Eigen::SelfAdjointEigenSolver<mat3> es(ic);
-        const vec3 k = es.eigenvalues(); // ascending
-        char buf[256];
-        if (!(m > 0.0)) fail(e, "link " + name + ": an inertia tensor without mass");
-        if (!(k(0) > 0.0)) {
-            std::snprintf(buf, sizeof buf,
-                          "link %s: the inertia tensor is not positive definite (principal "
-                          "moments %.6g, %.6g, %.6g kg m^2)",
-                          name.c_str(), k(0), k(1), k(2));
-            fail(e, buf);
-        }
-        // A rigid body's moments satisfy I_3 <= I_1 + I_2 (equality: a flat body); printed
-        // digits may round a flat body's over it by a few parts in a million.
-        const double excess = k(2) - (k(0) + k(1));
-        if (excess > 1e-6 * k(2)) {
-            std::snprintf(buf, sizeof buf,
-                          "link %s: principal moments %.6g, %.6g, %.6g kg m^2 break the triangle "
-                          "inequality (the largest exceeds the sum of the others by %.3g, %.2g %%)",
-                          name.c_str(), k(0), k(1), k(2), excess, 100.0 * excess / k(2));
-            fail(e, buf);
-        }
-    }
-
-  private:
-    std::string source_;
-};
-
-/// The mass, centre and rotational inertia about the centre of a spatial inertia.
-void unpack(const mat6& i, multibody::body& b) {
-    b.mass = i(5, 5);
-    if (b.mass <= 0.0) return;
-    const mat3 mcx = i.topRightCorner<3, 3>(); // m c×
-    b.com = vec3(mcx(2, 1), mcx(0, 2), mcx(1, 0)) / b.mass;
-    const mat3 cx = multibody::skew(b.com);
-    b.inertia = i.topLeftCorner<3, 3>() - b.mass * cx * cx.transpose();
-}
-
-/// The spatial inertia `i` given in a frame at pose `x` of another frame, in that other frame.
-mat6 moved(const mat6& i, const multibody::pose& x) {
-    const double m = i(5, 5);
-    if (m <= 0.0) return mat6::Zero();
-    multibody::body b;
-    unpack(i, b);
-    return multibody::spatial_inertia(m, x.point(b.com),
-                                      x.rotation * b.inertia * x.rotation.transpose());
+/// Refuses a model whose poses or mass properties overflow a double at q = 0 (each number is
+/// finite, but lengths of 1e200 m or masses of 1e308 kg make m c c or the subtree sums
+/// infinite), naming the joint of the smallest subtree that overflows. `joint[i]` is body i's
+/// joint element.
+void check_finite(const reader& rd, const multibody::model& m,
+                  const std::vector<const XMLElement*>& joint) {
+    multibody::workspace w;
+    multibody::kinematics(m, w, Eigen::VectorXd::Zero(m.dof()));
+    auto finite = [&](std::size_t k) {
+        return w.x[k].origin.allFinite() && w.x[k].rotation.allFinite() && w.s[k].allFinite() &&
+               w.inertia[k].allFinite() && w.f[k].allFinite();
+    };
+    for (std::size_t k = 0; k < m.bodies.size(); ++k)
+        if (!finite(k))
+            rd.fail(joint[k], "joint " + m.bodies[k].name +
+                                  ": the pose or the mass properties of its link overflow a "
+                                  "double at q = 0 (lengths or masses too large)");
+    multibody::subtree_sums(m, w, true);
+    for (std::size_t k = m.bodies.size(); k-- > 0;) // leaves first: the smallest subtree
+        if (!finite(k) || !std::isfinite(w.s[k].dot(w.inertia[k] * w.s[k])))
+            rd.fail(joint[k], "joint " + m.bodies[k].name +
+                                  ": the mass properties of the links it moves overflow a double "
+                                  "at q = 0 (lengths or masses too large)");
 }
 
 } // namespace
@@ -173,13 +55,17 @@ std::shared_ptr<const multibody::model> parse_urdf(std::string_view xml, const s
     const XMLElement* robot = doc.RootElement();
     if (!robot || std::string(robot->Name()) != "robot")
         rd.fail(robot, "the root element must be <robot>");
+    if (const XMLElement* second = robot->NextSiblingElement())
+        rd.fail(second, "a second root element after <robot>: a URDF file holds one robot");
 
     std::map<std::string, link_data> links;
     std::vector<std::string> link_order;
     for (const XMLElement* e = robot->FirstChildElement("link"); e;
          e = e->NextSiblingElement("link")) {
-        const std::string name = rd.attribute(e, "name");
-        if (links.contains(name)) rd.fail(e, "link " + name + " is defined twice");
+        const std::string name = rd.name(e, "link");
+        if (links.contains(name))
+            rd.fail(e, "link " + name + " is defined twice (first at line " +
+                           std::to_string(links[name].element->GetLineNum()) + ")");
         link_data& l = links[name];
         l.element = e;
         rd.inertial(l, name);
@@ -189,10 +75,15 @@ std::shared_ptr<const multibody::model> parse_urdf(std::string_view xml, const s
 
     std::vector<joint_data> joints;
     std::map<std::string, std::size_t> parent_joint; // child link -> its joint
+    std::map<std::string, std::size_t> joint_named;
     std::map<std::string, std::vector<std::size_t>> children;
     for (const XMLElement* e = robot->FirstChildElement("joint"); e;
          e = e->NextSiblingElement("joint")) {
-        joint_data j{e, rd.attribute(e, "name"), rd.attribute(e, "type"), "", ""};
+        joint_data j{e, rd.name(e, "joint"), rd.attribute(e, "type"), "", ""};
+        if (joint_named.contains(j.name))
+            rd.fail(e, "joint " + j.name + " is defined twice (first at line " +
+                           std::to_string(joints[joint_named[j.name]].element->GetLineNum()) +
+                           "; joint names name the coordinates)");
         const XMLElement* p = e->FirstChildElement("parent");
         const XMLElement* c = e->FirstChildElement("child");
         if (!p || !c) rd.fail(e, "joint " + j.name + " needs <parent link> and <child link>");
@@ -205,10 +96,11 @@ std::shared_ptr<const multibody::model> parse_urdf(std::string_view xml, const s
         if (j.type != "revolute" && j.type != "continuous" && j.type != "prismatic" &&
             j.type != "fixed")
             rd.fail(e, "joint " + j.name + ": unknown type '" + j.type + "'");
-        if (const XMLElement* mimic = e->FirstChildElement("mimic"))
+        // A fixed joint has no position to mimic: its <mimic> changes nothing and is ignored.
+        if (const XMLElement* mimic = e->FirstChildElement("mimic"); mimic && j.type != "fixed")
             rd.fail(mimic, "joint " + j.name +
-                               ": <mimic> joints are not supported (remove the <mimic> element "
-                               "to make the joint independent)");
+                               ": <mimic> on a moving joint is not supported (remove the "
+                               "<mimic> element to make the joint independent)");
         for (const std::string& l : {j.parent, j.child})
             if (!links.contains(l))
                 rd.fail(e, "joint " + j.name + " names link " + l + ", which is not defined");
@@ -216,6 +108,7 @@ std::shared_ptr<const multibody::model> parse_urdf(std::string_view xml, const s
             rd.fail(e, "joint " + j.name + ": link " + j.child + " is already the child of joint " +
                            joints[parent_joint[j.child]].name +
                            " (a closed loop; URDF describes trees)");
+        joint_named[j.name] = joints.size();
         parent_joint[j.child] = joints.size();
         children[j.parent].push_back(joints.size());
         joints.push_back(j);
@@ -232,57 +125,94 @@ std::shared_ptr<const multibody::model> parse_urdf(std::string_view xml, const s
 
     auto m = std::make_shared<multibody::model>();
     m->name = rd.attribute(robot, "name", false);
-    std::vector<mat6> inertia; // per body, in its frame: its link's and those fixed to it
+    std::vector<mat6> inertia;                  // per body, in its frame: its link's and merged
+    std::vector<const XMLElement*> body_joint; // per body, its joint's element
     std::size_t visited = 0;
-    // Depth first from the root; `body` is the body the link is fixed to (−1: the ground) and
-    // `offset` the link's frame in that body's frame.
-    auto visit = [&](auto& self, const std::string& link, int body,
-                     const multibody::pose& offset) -> void {
+    // Link `link` fixed to body `body` (−1: the ground) at `offset` in that body's frame: a
+    // frame, its mass merged into the body (moved into the body's frame).
+    auto visit = [&](const std::string& link, int body, const multibody::pose& offset) {
         ++visited;
         m->frames.push_back({link, body, offset});
-        if (body >= 0) inertia[static_cast<std::size_t>(body)] += moved(links[link].inertia, offset);
-        for (const std::size_t k : children[link]) {
-            const joint_data& j = joints[k];
-            const multibody::pose placement = offset * rd.origin(j.element);
-            if (j.type == "fixed") {
-                self(self, j.child, body, placement);
-                continue;
-            }
-            if (!links[j.child].has_inertial)
-                rd.fail(links[j.child].element, "link " + j.child + " moves (joint " + j.name +
-                                                    ") but has no <inertial>");
-            multibody::body b;
-            b.name = j.name;
-            b.link = j.child;
-            b.parent = body;
-            b.kind = j.type == "prismatic" ? multibody::joint_kind::prismatic
-                                           : multibody::joint_kind::revolute;
-            b.placement = placement;
-            const XMLElement* axis = j.element->FirstChildElement("axis");
-            const vec3 a = rd.numbers(axis, "xyz", 3, vec3::UnitX());
-            if (!(a.norm() > 1e-12)) rd.fail(axis, "joint " + j.name + ": zero axis");
-            b.axis = a.normalized();
-            if (const XMLElement* lim = j.element->FirstChildElement("limit")) {
-                if (j.type != "continuous") {
-                    b.limits.lower = rd.number(lim, "lower", b.limits.lower);
-                    b.limits.upper = rd.number(lim, "upper", b.limits.upper);
-                    if (b.limits.lower > b.limits.upper)
-                        rd.fail(lim, "joint " + j.name + ": lower limit above the upper");
-                }
-                b.limits.effort = rd.number(lim, "effort", b.limits.effort);
-                b.limits.velocity = rd.number(lim, "velocity", b.limits.velocity);
-            }
-            if (const XMLElement* dyn = j.element->FirstChildElement("dynamics")) {
-                b.limits.damping = rd.number(dyn, "damping", 0.0);
-                if (b.limits.damping < 0.0)
-                    rd.fail(dyn, "joint " + j.name + ": negative damping");
-            }
-            m->bodies.push_back(b);
-            inertia.push_back(mat6::Zero());
-            self(self, j.child, static_cast<int>(m->bodies.size()) - 1, multibody::pose{});
-        }
+        if (body < 0) return;
+        mat6& sum = inertia[static_cast<std::size_t>(body)];
+        sum += moved(links[link].inertia, offset);
+        if (!sum.allFinite())
+            rd.fail(links[link].element,
+                    "link " + link + ": merged into link " + m->bodies[static_cast<std::size_t>(body)].link +
+                        " by fixed joints, the mass properties overflow a double");
     };
-    visit(visit, roots[0], -1, multibody::pose{});
+    // Depth first from the root, children in file order, by an explicit stack (a recursion
+    // would overflow the call stack on a chain of some thousand links): each entry is a joint
+    // still to walk, with the body its parent link is fixed to and that link's frame there.
+    struct pending {
+        std::size_t joint;
+        int body;
+        multibody::pose offset;
+    };
+    std::vector<pending> stack;
+    auto push_children = [&](const std::string& link, int body, const multibody::pose& offset) {
+        const std::vector<std::size_t>& c = children[link];
+        for (auto k = c.rbegin(); k != c.rend(); ++k) // the first child on top
+            stack.push_back({*k, body, offset});
+    };
+    visit(roots[0], -1, multibody::pose{});
+    push_children(roots[0], -1, multibody::pose{});
+    while (!stack.empty()) {
+        const pending next = stack.back();
+        stack.pop_back();
+        const joint_data& j = joints[next.joint];
+        const multibody::pose placement = next.offset * rd.origin(j.element);
+        if (!placement.origin.allFinite())
+            rd.fail(j.element, "joint " + j.name +
+                                   ": its <origin> (after the fixed joints above it) overflows "
+                                   "a double");
+        if (j.type == "fixed") {
+            visit(j.child, next.body, placement);
+            push_children(j.child, next.body, placement);
+            continue;
+        }
+        if (!links[j.child].has_inertial)
+            rd.fail(links[j.child].element,
+                    "link " + j.child + " moves (joint " + j.name + ") but has no <inertial>");
+        multibody::body b;
+        b.name = j.name;
+        b.link = j.child;
+        b.parent = next.body;
+        b.kind = j.type == "prismatic" ? multibody::joint_kind::prismatic
+                                       : multibody::joint_kind::revolute;
+        b.placement = placement;
+        b.axis = rd.axis(j.element, j.name);
+        if (const XMLElement* lim = j.element->FirstChildElement("limit")) {
+            if (j.type != "continuous") {
+                b.limits.lower = rd.number(lim, "lower", b.limits.lower);
+                b.limits.upper = rd.number(lim, "upper", b.limits.upper);
+                if (b.limits.lower > b.limits.upper)
+                    rd.fail(lim, "joint " + j.name + ": lower limit above the upper");
+            }
+            // URDF's effort and velocity are magnitudes (effort 0: unactuated, velocity 0: no
+            // limit); a negative one is a sign error, not either of those.
+            b.limits.effort = rd.number(lim, "effort", b.limits.effort);
+            if (b.limits.effort < 0.0)
+                rd.fail(lim, "joint " + j.name + ": negative effort " +
+                                 std::to_string(b.limits.effort) +
+                                 " (the largest torque or force, a magnitude; 0: unactuated)");
+            b.limits.velocity = rd.number(lim, "velocity", b.limits.velocity);
+            if (b.limits.velocity < 0.0)
+                rd.fail(lim, "joint " + j.name + ": negative velocity limit " +
+                                 std::to_string(b.limits.velocity) +
+                                 " (a magnitude; 0: no limit)");
+        }
+        if (const XMLElement* dyn = j.element->FirstChildElement("dynamics")) {
+            b.limits.damping = rd.number(dyn, "damping", 0.0);
+            if (b.limits.damping < 0.0) rd.fail(dyn, "joint " + j.name + ": negative damping");
+        }
+        m->bodies.push_back(b);
+        inertia.push_back(mat6::Zero());
+        body_joint.push_back(j.element);
+        const int child = static_cast<int>(m->bodies.size()) - 1;
+        visit(j.child, child, multibody::pose{});
+        push_children(j.child, child, multibody::pose{});
+    }
     if (visited != links.size())
         rd.fail(robot, std::to_string(links.size() - visited) +
                            " links are not reachable from the root link " + roots[0] +
@@ -296,7 +226,12 @@ std::shared_ptr<const multibody::model> parse_urdf(std::string_view xml, const s
             rd.fail(links[b.link].element,
                     "link " + b.link + " moves (joint " + b.name + ") but carries no mass");
     }
-    m->check();
+    check_finite(rd, *m, body_joint);
+    try {
+        m->check();
+    } catch (const std::invalid_argument& e) { // not expected after the checks above
+        rd.fail(robot, e.what());
+    }
     return m;
 }
 

@@ -335,7 +335,9 @@ ensemble_model make_registry_ensemble(std::shared_ptr<const models::model> model
     m.dim = rm.dim;
     m.fixed_start = !rm.fixed_start.empty();
     // Names for the keys q0_NAME: the coordinates "x, theta" where each is a plain identifier
-    // and there are d of them ("th_1 ... th_n" is not a list of names).
+    // and there are d of them ("th_1 ... th_n" is not a list of names). A robot's joint names
+    // may also hold spaces and non-ASCII (UTF-8) letters: its reader refuses the commas, quotes,
+    // control characters and outer spaces that would make a name ambiguous here.
     std::vector<std::string> names;
     for (std::size_t at = 0; at <= rm.coordinates.size();) {
         const std::size_t comma = std::min(rm.coordinates.find(',', at), rm.coordinates.size());
@@ -348,7 +350,8 @@ ensemble_model make_registry_ensemble(std::shared_ptr<const models::model> model
     const bool plain = std::all_of(names.begin(), names.end(), [](const std::string& c) {
         return !c.empty() && !std::isdigit(static_cast<unsigned char>(c[0])) &&
                std::all_of(c.begin(), c.end(), [](char ch) {
-                   return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-';
+                   const auto u = static_cast<unsigned char>(ch);
+                   return std::isalnum(u) || ch == '_' || ch == '-' || ch == ' ' || u >= 0x80;
                });
     });
     if (plain && std::ssize(names) == rm.dim) m.coordinates = names;

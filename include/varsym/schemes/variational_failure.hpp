@@ -1,8 +1,8 @@
 // varsym/schemes/variational_failure.hpp: why a step of the general engine failed. After a step
 // that did not converge, diagnose() looks at the step's start, at the predicted motion over the
 // step and at Newton's last iterate, and names what it finds: a Lagrangian or force that returned
-// NaN or infinity, or a mass matrix ∂²L/∂q̇² that is singular or not positive definite. The
-// drivers of integrate.hpp put it in their step_failure's message.
+// NaN or infinity, or a mass matrix ∂²L/∂q̇² that is singular, not positive definite or
+// ill-conditioned. The drivers of integrate.hpp put it in their step_failure's message.
 #pragma once
 
 #include <cmath>
@@ -29,17 +29,25 @@ bool finite_force(const force_terms<D>& f) {
 }
 
 /// Empty if ∂²L/∂q̇² is positive definite (its smallest eigenvalue above 1e-12 of the largest),
-/// else what it is.
+/// else what it is: singular or not positive definite (the smallest eigenvalue ≤ 0), or
+/// ill-conditioned (all positive, but the condition number hi/lo above 1e12, where Newton's
+/// solves keep fewer than four of a double's 16 digits).
 template <int D>
 std::string mass_matrix_problem(const mat<D>& m) {
     const Eigen::VectorXd lambda = symmetric_eigenvalues<D>(m);
     const double lo = lambda.minCoeff(), hi = lambda.maxCoeff();
     if (lo > 1e-12 * std::abs(hi)) return {};
-    char buf[160];
-    std::snprintf(buf, sizeof buf,
-                  "the mass matrix d2L/dqdot2 is singular or not positive definite (eigenvalues "
-                  "from %.3g to %.3g)",
-                  lo, hi);
+    char buf[200];
+    if (lo > 0.0)
+        std::snprintf(buf, sizeof buf,
+                      "the mass matrix d2L/dqdot2 is ill-conditioned: condition number %.3g "
+                      "(eigenvalues from %.3g to %.3g)",
+                      hi / lo, lo, hi);
+    else
+        std::snprintf(buf, sizeof buf,
+                      "the mass matrix d2L/dqdot2 is singular or not positive definite "
+                      "(eigenvalues from %.3g to %.3g)",
+                      lo, hi);
     return buf;
 }
 
