@@ -40,9 +40,9 @@ model robot_model(std::shared_ptr<const multibody::model> r,
                   const std::vector<std::string>& torques) {
     if (!r) throw std::invalid_argument("robot_model: no robot");
     const int n = r->dof();
-    std::vector<std::string> joints;
-    for (const auto& b : r->bodies)
-        joints.push_back(b.name);
+    std::vector<std::string> joints; // the coordinates' (mimic joints come after them)
+    for (int i = 0; i < n; ++i)
+        joints.push_back(r->bodies[static_cast<std::size_t>(i)].name);
     if (!torques.empty() && static_cast<int>(torques.size()) != n)
         throw std::invalid_argument("the joint torques need " + std::to_string(n) +
                                     " expressions (one per joint), got " +
@@ -66,8 +66,8 @@ model robot_model(std::shared_ptr<const multibody::model> r,
         "  energy_balance (energy - E0 - work: the scheme's error), limit_violations (joints\n"
         "  outside their URDF position limits). Conserved without forces: energy. No period.";
     m.dim = n;
-    for (const auto& b : r->bodies)
-        m.coordinates += (m.coordinates.empty() ? "" : ", ") + b.name;
+    for (const std::string& name : joints)
+        m.coordinates += (m.coordinates.empty() ? "" : ", ") + name;
     m.parameters = {{.name = "gravity",
                      .value = 9.81,
                      .unit = "m/s^2",

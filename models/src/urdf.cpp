@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "urdf_reader.hpp"
+#include "varsym/models/input_file.hpp"
 #include "varsym/multibody/algorithms.hpp"
 
 namespace varsym::models {
@@ -236,15 +237,12 @@ std::shared_ptr<const multibody::model> parse_urdf(std::string_view xml, const s
 }
 
 std::shared_ptr<const multibody::model> load_urdf(const std::string& path) {
-    std::FILE* f = std::fopen(path.c_str(), "rb");
-    if (!f) throw urdf_error(path + ": cannot open the URDF file (" + std::strerror(errno) + ")");
     std::string text;
-    char buf[65536];
-    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;)
-        text.append(buf, n);
-    const bool failed = std::ferror(f) != 0;
-    std::fclose(f);
-    if (failed) throw urdf_error(path + ": cannot read the URDF file");
+    try {
+        text = read_input_file(path, max_urdf_bytes, "URDF file");
+    } catch (const input_error& e) {
+        throw urdf_error(e.what());
+    }
     return parse_urdf(text, path);
 }
 

@@ -59,9 +59,10 @@ void bind_robot(py::module_& m) {
         .def_property_readonly("info", [](const robot& r) { return model_info(r.model); })
         .def_property_readonly("joints",
                                [](const robot& r) {
-                                   std::vector<std::string> out;
-                                   for (const auto& b : r.tree->bodies)
-                                       out.push_back(b.name);
+                                   std::vector<std::string> out; // the coordinates'
+                                   for (int i = 0; i < r.tree->dof(); ++i) // (not mimic joints)
+                                       out.push_back(
+                                           r.tree->bodies[static_cast<std::size_t>(i)].name);
                                    return out;
                                })
         .def_property_readonly("frames",

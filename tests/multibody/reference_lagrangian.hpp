@@ -30,10 +30,13 @@ struct reference_lagrangian {
             return v3(a(1) * b(2) - a(2) * b(1), a(2) * b(0) - a(0) * b(2),
                       a(0) * b(1) - a(1) * b(0));
         };
-        std::vector<m3> rot(D);
-        std::vector<v3> origin(D), omega(D), vel(D); // body origin, ω, origin's velocity
+        const std::size_t n = m->bodies.size(); // D coordinates, and any mimic joints
+        std::vector<m3> rot(n);
+        std::vector<v3> origin(n), omega(n), vel(n); // body origin, ω, origin's velocity
         T l(0.0);
-        for (int i = 0; i < D; ++i) {
+        for (int i = 0; i < static_cast<int>(n); ++i) {
+            // θ_i and θ̇_i: q_i, or multiplier · q_master + offset (model.hpp).
+            const T th = m->joint_position(q, i), thd = m->joint_rate(qd, i);
             const auto& b = m->bodies[static_cast<std::size_t>(i)];
             m3 rp = m3::Identity();
             v3 pp = v3::Zero(), wp = v3::Zero(), vp = v3::Zero();
@@ -55,15 +58,15 @@ struct reference_lagrangian {
                 k << T(0.0), T(-a0(2)), T(a0(1)), T(a0(2)), T(0.0), T(-a0(0)), T(-a0(1)),
                     T(a0(0)), T(0.0);
                 const m3 aa = (a0 * a0.transpose()).cast<T>();
-                const m3 r = m3::Identity() * cos(q(i)) + k * sin(q(i)) + aa * (1.0 - cos(q(i)));
+                const m3 r = m3::Identity() * cos(th) + k * sin(th) + aa * (1.0 - cos(th));
                 rot[static_cast<std::size_t>(i)] = rj * r;
-                omega[static_cast<std::size_t>(i)] = wp + a * qd(i);
+                omega[static_cast<std::size_t>(i)] = wp + a * thd;
                 vel[static_cast<std::size_t>(i)] = vp + cross(wp, pj - pp);
             } else {
                 rot[static_cast<std::size_t>(i)] = rj;
-                pi = pj + a * q(i);
+                pi = pj + a * th;
                 omega[static_cast<std::size_t>(i)] = wp;
-                vel[static_cast<std::size_t>(i)] = vp + cross(wp, pi - pp) + a * qd(i);
+                vel[static_cast<std::size_t>(i)] = vp + cross(wp, pi - pp) + a * thd;
             }
             origin[static_cast<std::size_t>(i)] = pi;
             const m3& r = rot[static_cast<std::size_t>(i)];

@@ -4,7 +4,7 @@
 // (reference_lagrangian.hpp: classical vectors, no spatial algebra), on a branched tree of
 // revolute and prismatic joints with random placements, axes and full inertia tensors; and the
 // recursive Newton–Euler bias forces and the composite-rigid-body M(q) against the Euler–Lagrange
-// equations they must satisfy.
+// equations they must satisfy; mimic joints against the same tree with the coupling substituted.
 #include <random>
 
 #include <gtest/gtest.h>
@@ -164,6 +164,98 @@ TEST(MultibodyDerivatives, NewtonEulerBiasAndCompositeMassMatrixSatisfyEulerLagr
     multibody::mass_matrix(m, w, q, mass);
     EXPECT_LT(relative_gap(mass, t.lvv), tolerance);
     EXPECT_EQ(mass, mass.transpose());
+}
+
+/// random_tree with three mimic joints (model.hpp) after its seven coordinates: body 7, a
+/// revolute joint on body 4 following the prismatic q_2 (θ = −0.7 q_2 + 0.2); body 8, a
+/// prismatic joint on body 7 following q_0 (1.3 q_0 − 0.1); body 9, a revolute joint on body 6
+/// following q_6 (0.5 q_6). `coupled` false: the same ten bodies, all coordinates.
+multibody::model mimic_tree(bool coupled) {
+    multibody::model m = random_tree(9);
+    std::mt19937 g(21);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const int parents[] = {4, 7, 6};
+    for (int k = 0; k < 3; ++k) {
+        multibody::body b = m.bodies[static_cast<std::size_t>(k + 1)]; // its mass properties
+        b.name = "mimic" + std::to_string(k);
+        b.parent = parents[k];
+        b.kind = k == 1 ? multibody::joint_kind::prismatic : multibody::joint_kind::revolute;
+        b.placement.origin = vec3(u(g), u(g), u(g)) * 0.5;
+        b.axis = vec3(u(g), u(g), u(g)).normalized();
+        m.bodies.push_back(b);
+    }
+    if (coupled) m.mimics = {{2, -0.7, 0.2}, {0, 1.3, -0.1}, {6, 0.5, 0.0}};
+    return m;
+}
+
+TEST(MultibodyMimic, MimicJointsAreTheirCouplingSubstitutedIntoTheFullTree) {
+    // Reference: the ten-coordinate tree at θ = A q + b, θ̇ = A q̇ (no mimic: the algorithms'
+    // uncoupled path), where L(q, q̇) = L10(θ, θ̇), ∂L/∂q = Aᵀ ∂L10/∂θ, ∂²L = Aᵀ ∂²L10 A, and
+    // the AD of the second implementation on the coupled tree.
+    const multibody::model m = mimic_tree(true), full = mimic_tree(false);
+    ASSERT_EQ(m.dof(), 7);
+    const multibody::robot_lagrangian l(std::make_shared<const multibody::model>(m));
+    const multibody::robot_lagrangian l10(std::make_shared<const multibody::model>(full));
+    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(10, 7);
+    a.topRows(7).setIdentity();
+    a(7, 2) = -0.7;
+    a(8, 0) = 1.3;
+    a(9, 6) = 0.5;
+    Eigen::VectorXd offset = Eigen::VectorXd::Zero(10);
+    offset(7) = 0.2;
+    offset(8) = -0.1;
+    const test::reference_lagrangian<7> ref{&m};
+    std::mt19937 g(17);
+    std::uniform_real_distribution<double> u(-2.0, 2.0);
+    for (int k = 0; k < 3; ++k) {
+        vec<7> q, v, da, db;
+        for (int i = 0; i < 7; ++i) {
+            q(i) = u(g);
+            v(i) = u(g);
+            da(i) = u(g);
+            db(i) = u(g);
+        }
+        lagrangian_terms<dynamic> t, t10;
+        l.derivatives(q, v, t);
+        l10.derivatives(a * q + offset, a * v, t10);
+        EXPECT_NEAR(t.value, t10.value, tolerance * std::abs(t10.value));
+        EXPECT_LT(relative_gap(t.lq, vec<dynamic>(a.transpose() * t10.lq)), tolerance);
+        EXPECT_LT(relative_gap(t.lv, vec<dynamic>(a.transpose() * t10.lv)), tolerance);
+        EXPECT_LT(relative_gap(t.lqq, mat<dynamic>(a.transpose() * t10.lqq * a)), tolerance);
+        EXPECT_LT(relative_gap(t.lqv, mat<dynamic>(a.transpose() * t10.lqv * a)), tolerance);
+        EXPECT_LT(relative_gap(t.lvv, mat<dynamic>(a.transpose() * t10.lvv * a)), tolerance);
+        lagrangian_terms<7> e; // AD of the second implementation
+        evaluate(ref, q, v, e);
+        EXPECT_LT(relative_gap(t.lqq, e.lqq), tolerance);
+        EXPECT_LT(relative_gap(t.lqv, e.lqv), tolerance);
+        // Third derivatives (dual numbers through the coupled algorithms) and the classical ones.
+        const mat<14> expected = optimal::contracted_third(ref, q, v, 0.0, da, db);
+        mat<dynamic> got;
+        l.third(q, v, da, db, got);
+        EXPECT_LT(relative_gap(got, expected), 1e-11);
+        multibody::workspace w;
+        vec<dynamic> bias(7);
+        mat<dynamic> mass(7, 7);
+        multibody::bias_forces(m, w, vec<dynamic>(q), vec<dynamic>(v), bias);
+        multibody::mass_matrix(m, w, vec<dynamic>(q), mass);
+        EXPECT_LT(relative_gap(bias, vec<dynamic>(t.lqv.transpose() * v - t.lq)), tolerance);
+        EXPECT_LT(relative_gap(mass, t.lvv), tolerance);
+        // The frame on the last mimic body chain (body 8): its Jacobian is ∂(pose)/∂q.
+        const multibody::frame f{"tip", 8, {}};
+        Eigen::MatrixXd jac, jac10;
+        multibody::kinematics(m, w, q);
+        multibody::frame_jacobian(m, w, f, jac);
+        multibody::workspace w10;
+        multibody::kinematics(full, w10, Eigen::VectorXd(a * q + offset));
+        multibody::frame_jacobian(full, w10, f, jac10);
+        EXPECT_LT(relative_gap(jac, Eigen::MatrixXd(jac10 * a)), tolerance);
+    }
+    // Negative control: the coupling's offset matters.
+    multibody::model shifted = m;
+    shifted.mimics[0].offset = 0.0;
+    const multibody::robot_lagrangian ls(std::make_shared<const multibody::model>(shifted));
+    const vec<dynamic> q = vec<dynamic>::LinSpaced(7, -0.5, 0.9), v = vec<dynamic>::Ones(7);
+    EXPECT_GT(std::abs(ls(q, v) - l(q, v)), 1e-3);
 }
 
 } // namespace

@@ -190,8 +190,14 @@ def test_damping_and_control_parameters():
 
 
 def test_refusals_and_ensemble():
-    with pytest.raises(varsym.UsageError, match=r"panda.urdf:348: <mimic>"):
-        varsym.Robot(os.path.join(DATA, "panda.urdf"))
+    # The real Panda's second finger mimics the first: 8 coordinates, the mimic joint not one.
+    panda = varsym.Robot(os.path.join(DATA, "panda.urdf"))
+    assert len(panda.joints) == 8 and "panda_finger_joint2" not in panda.joints
+    assert panda.mass_matrix([0.1] * 8).shape == (8, 8)
+    with open(os.path.join(DATA, "panda.urdf")) as f:
+        text = f.read().replace('mimic joint="panda_finger_joint1"', 'mimic joint="nothing"')
+    with pytest.raises(varsym.UsageError, match=r":348: <mimic>: joint panda_finger_joint2 mimics"):
+        varsym.Robot(text, text=True)
     with pytest.raises(varsym.UsageError, match="cannot open the URDF file"):
         varsym.Robot(os.path.join(DATA, "missing.urdf"))
     robot = varsym.Robot(os.path.join(DATA, "ur5_robot.urdf"))

@@ -18,6 +18,9 @@
 // zero where neither joint is above the other. The world-frame quantities moving rigidly with
 // joint i change by S_i × (motions) and S_i ×* (forces) and those changes cancel in each S_jᵀ(·)
 // product; what is left are the terms in u_i and α_i (docs/robots.md derives them).
+// These are derivatives in the joint positions θ of all bodies; with mimic joints (model.hpp)
+// each entry (i, j) is added, times a_i a_j (a = ∂θ/∂q: 1 or the multiplier), to the entry of
+// the coordinates (c_i, c_j) that move them: Aᵀ (·) A, and Aᵀ (·) for the first derivatives.
 #pragma once
 
 #include <Eigen/Core>
@@ -31,7 +34,7 @@ namespace varsym::multibody {
 /// lagrangian_derivatives take any; the model's data are double and enter as S).
 template <class S, class Q>
 void kinematics(const model& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>& q) {
-    const int n = m.dof();
+    const int n = m.body_count();
     w.resize(n);
     const vec3_of<S> g = m.gravity.template cast<S>();
     for (int i = 0; i < n; ++i) {
@@ -41,7 +44,7 @@ void kinematics(const model& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q
         const basic_pose<S> joint =
             b.parent < 0 ? placement : w.x[static_cast<std::size_t>(b.parent)] * placement;
         const vec3_of<S> a = joint.rotation * b.axis.template cast<S>();
-        const S qi = q(i);
+        const S qi = m.joint_position(q, i);
         if (b.kind == joint_kind::revolute) {
             w.s[k] << a, joint.origin.cross(a); // rotation about the axis through the joint
             w.x[k] = {joint.rotation * axis_angle(b.axis, qi), joint.origin};
@@ -60,10 +63,10 @@ void kinematics(const model& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q
 /// Body velocities v_i = v_λ(i) + S_i q̇_i and momenta h_i = I_i v_i (after kinematics).
 template <class S, class V>
 void velocities(const model& m, basic_workspace<S>& w, const Eigen::MatrixBase<V>& qd) {
-    for (int i = 0; i < m.dof(); ++i) {
+    for (int i = 0; i < m.body_count(); ++i) {
         const auto k = static_cast<std::size_t>(i);
         const int p = m.bodies[k].parent;
-        w.v[k] = w.s[k] * S(qd(i));
+        w.v[k] = w.s[k] * S(m.joint_rate(qd, i));
         if (p >= 0) w.v[k] += w.v[static_cast<std::size_t>(p)];
         w.h[k].noalias() = w.inertia[k] * w.v[k];
     }
@@ -87,7 +90,7 @@ S lagrangian_value(const model& m, const basic_workspace<S>& w) {
 /// leaves first: h^c_i, F^c_i (I^c_i).
 template <class S>
 void subtree_sums(const model& m, basic_workspace<S>& w, bool inertias) {
-    for (int i = m.dof() - 1; i >= 0; --i) {
+    for (int i = m.body_count() - 1; i >= 0; --i) {
         const int p = m.bodies[static_cast<std::size_t>(i)].parent;
         if (p < 0) continue;
         const auto k = static_cast<std::size_t>(i), pk = static_cast<std::size_t>(p);
@@ -111,6 +114,13 @@ S lagrangian_gradient(const model& m, basic_workspace<S>& w, const Eigen::Matrix
         lv(j) = w.s[k].dot(w.h[k]);
         lq(j) = w.s[k].dot(w.f[k] - cross_force(w.v[k], w.h[k]));
     }
+    for (int j = m.dof(); j < m.body_count(); ++j) { // mimic joints: Aᵀ (·)
+        const auto k = static_cast<std::size_t>(j);
+        const int c = m.coordinate(j);
+        const S a(m.weight(j));
+        lv(c) += a * w.s[k].dot(w.h[k]);
+        lq(c) += a * w.s[k].dot(w.f[k] - cross_force(w.v[k], w.h[k]));
+    }
     return value;
 }
 
@@ -122,7 +132,7 @@ S lagrangian_derivatives(const model& m, basic_workspace<S>& w, const Eigen::Mat
                          Eigen::MatrixBase<Vec>& lv, Eigen::MatrixBase<Mat>& lqq,
                          Eigen::MatrixBase<Mat>& lqv, Eigen::MatrixBase<Mat>& lvv) {
     const S value = lagrangian_gradient(m, w, q, qd, lq, lv, true);
-    const int n = m.dof();
+    const int n = m.body_count();
     const vec6_of<S> ag =
         (vec6_of<S>() << vec3_of<S>::Zero(), m.gravity.template cast<S>()).finished();
     lqq.setZero();
@@ -150,21 +160,48 @@ S lagrangian_derivatives(const model& m, basic_workspace<S>& w, const Eigen::Mat
         w.r[k].template head<3>() += (hn.cross(s1) + fh.cross(s2)).transpose();
         w.r[k].template tail<3>() += fh.cross(s1).transpose();
     }
+    if (m.mimics.empty()) {
+        for (int j = 0; j < n; ++j) {
+            const auto jk = static_cast<std::size_t>(j);
+            // i ≼ j: j itself and its ancestors.
+            for (int i = j; i >= 0; i = m.bodies[static_cast<std::size_t>(i)].parent) {
+                const auto ik = static_cast<std::size_t>(i);
+                lqv(i, j) = -w.s_ic[jk].dot(w.u[ik]);
+                lqq(i, j) = w.r[jk].dot(w.u[ik]) - w.s_ic[jk].dot(w.alpha[ik]);
+                lvv(i, j) = lvv(j, i) = w.s_ic[jk].dot(w.s[ik]);
+            }
+            // j ≺ i, seen from i = j: its strict ancestors a take the (i = j, j = a) entries.
+            for (int a = m.bodies[jk].parent; a >= 0;
+                 a = m.bodies[static_cast<std::size_t>(a)].parent) {
+                const auto ak = static_cast<std::size_t>(a);
+                lqv(j, a) = w.s[ak].dot(w.dh[jk]);
+                lqq(j, a) = w.s[ak].dot(w.df[jk]) - w.t[ak].dot(w.dh[jk]);
+            }
+        }
+        return value;
+    }
+    // With mimic joints the same entries, each added to its coordinates' times a_i a_j.
     for (int j = 0; j < n; ++j) {
         const auto jk = static_cast<std::size_t>(j);
-        // i ≼ j: j itself and its ancestors.
+        const int cj = m.coordinate(j);
+        const S aj(m.weight(j));
         for (int i = j; i >= 0; i = m.bodies[static_cast<std::size_t>(i)].parent) {
             const auto ik = static_cast<std::size_t>(i);
-            lqv(i, j) = -w.s_ic[jk].dot(w.u[ik]);
-            lqq(i, j) = w.r[jk].dot(w.u[ik]) - w.s_ic[jk].dot(w.alpha[ik]);
-            lvv(i, j) = lvv(j, i) = w.s_ic[jk].dot(w.s[ik]);
+            const int ci = m.coordinate(i);
+            const S aij = S(m.weight(i)) * aj;
+            lqv(ci, cj) -= aij * w.s_ic[jk].dot(w.u[ik]);
+            lqq(ci, cj) += aij * (w.r[jk].dot(w.u[ik]) - w.s_ic[jk].dot(w.alpha[ik]));
+            const S mij = aij * w.s_ic[jk].dot(w.s[ik]);
+            lvv(ci, cj) += mij;
+            if (i != j) lvv(cj, ci) += mij;
         }
-        // j ≺ i, seen from i = j: its strict ancestors a take the (i = j, j = a) entries.
         for (int a = m.bodies[jk].parent; a >= 0;
              a = m.bodies[static_cast<std::size_t>(a)].parent) {
             const auto ak = static_cast<std::size_t>(a);
-            lqv(j, a) = w.s[ak].dot(w.dh[jk]);
-            lqq(j, a) = w.s[ak].dot(w.df[jk]) - w.t[ak].dot(w.dh[jk]);
+            const int ca = m.coordinate(a);
+            const S aja = S(m.weight(a)) * aj;
+            lqv(cj, ca) += aja * w.s[ak].dot(w.dh[jk]);
+            lqq(cj, ca) += aja * (w.s[ak].dot(w.df[jk]) - w.t[ak].dot(w.dh[jk]));
         }
     }
     return value;
@@ -177,11 +214,16 @@ void mass_matrix(const model& m, workspace& w, const Eigen::MatrixBase<Q>& q,
     kinematics(m, w, q);
     subtree_sums(m, w, true);
     out.setZero();
-    for (int j = 0; j < m.dof(); ++j) {
+    for (int j = 0; j < m.body_count(); ++j) { // M_θ, and Aᵀ M_θ A with mimic joints
         const auto jk = static_cast<std::size_t>(j);
-        const vec6 ics = w.inertia[jk] * w.s[jk];
-        for (int i = j; i >= 0; i = m.bodies[static_cast<std::size_t>(i)].parent)
-            out(i, j) = out(j, i) = w.s[static_cast<std::size_t>(i)].dot(ics);
+        const vec6 ics = m.weight(j) * (w.inertia[jk] * w.s[jk]);
+        const int cj = m.coordinate(j);
+        for (int i = j; i >= 0; i = m.bodies[static_cast<std::size_t>(i)].parent) {
+            const int ci = m.coordinate(i);
+            const double mij = m.weight(i) * w.s[static_cast<std::size_t>(i)].dot(ics);
+            out(ci, cj) += mij;
+            if (i != j) out(cj, ci) += mij;
+        }
     }
 }
 
@@ -194,17 +236,18 @@ void bias_forces(const model& m, workspace& w, const Eigen::MatrixBase<Q>& q,
     kinematics(m, w, q);
     velocities(m, w, qd);
     const vec6 base = (vec6() << vec3::Zero(), -m.gravity).finished();
-    for (int i = 0; i < m.dof(); ++i) {
+    for (int i = 0; i < m.body_count(); ++i) {
         const auto k = static_cast<std::size_t>(i);
         const int p = m.bodies[k].parent;
-        // a_i = a_λ(i) + Ṡ_i q̇_i, Ṡ_i = v_i × S_i; f_i = I_i a_i + v_i ×* I_i v_i.
+        // a_i = a_λ(i) + Ṡ_i θ̇_i, Ṡ_i = v_i × S_i; f_i = I_i a_i + v_i ×* I_i v_i (θ̈ = A q̈ = 0).
         w.a[k] = (p < 0 ? base : w.a[static_cast<std::size_t>(p)]) +
-                 cross_motion(w.v[k], w.s[k]) * qd(i);
+                 cross_motion(w.v[k], w.s[k]) * m.joint_rate(qd, i);
         w.f[k] = w.inertia[k] * w.a[k] + cross_force(w.v[k], w.h[k]);
     }
-    for (int i = m.dof() - 1; i >= 0; --i) {
+    out.setZero();
+    for (int i = m.body_count() - 1; i >= 0; --i) { // Aᵀ τ_θ
         const auto k = static_cast<std::size_t>(i);
-        out(i) = w.s[k].dot(w.f[k]);
+        out(m.coordinate(i)) += m.weight(i) * w.s[k].dot(w.f[k]);
         const int p = m.bodies[k].parent;
         if (p >= 0) w.f[static_cast<std::size_t>(p)] += w.f[k];
     }
@@ -217,14 +260,16 @@ inline pose frame_pose(const workspace& w, const frame& f) {
 
 /// The frame's world Jacobian at the last kinematics (6 × n): its angular velocity (rows 0–2)
 /// and its origin's velocity (rows 3–5) per joint rate. Column j is (S_j^ω; S_j^v + S_j^ω × o),
-/// o the frame's origin, for joint j on the path from the frame's body to the root; else zero.
+/// o the frame's origin, for joint j on the path from the frame's body to the root; else zero
+/// (a mimic joint's column, times its multiplier, added to its master's).
 inline void frame_jacobian(const model& m, const workspace& w, const frame& f,
                            Eigen::MatrixXd& out) {
     out.setZero(6, m.dof());
     const vec3 o = frame_pose(w, f).origin;
     for (int j = f.body; j >= 0; j = m.bodies[static_cast<std::size_t>(j)].parent) {
         const vec6& s = w.s[static_cast<std::size_t>(j)];
-        out.col(j) << s.head<3>(), s.tail<3>() + s.head<3>().cross(o);
+        const vec6 column = (vec6() << s.head<3>(), s.tail<3>() + s.head<3>().cross(o)).finished();
+        out.col(m.coordinate(j)) += m.weight(j) * column;
     }
 }
 

@@ -5,12 +5,16 @@
 // MuJoCo's mjModel/mjData: one model serves every thread, each with its own workspace.
 //
 // Conventions: body i moves by joint i, whose coordinate is q_i (rad or m); body i's parent is
-// parent[i] < i, or −1 for the ground. Joint i's frame is at `placement` in its parent body's
+// parent[i] < i, or −1 for the ground. Mimic joints (URDF <mimic>) come last: body dof() + k
+// moves by a joint whose position is θ = multiplier · q_master + offset (mimics[k]), not a
+// coordinate; so L(q, q̇) = L_θ(θ(q), A q̇) with A = ∂θ/∂q, and every derivative is contracted by
+// the chain rule (∂L/∂q = Aᵀ ∂L_θ/∂θ, M = Aᵀ M_θ A), as Pinocchio's and MuJoCo's mimic joints. Joint i's frame is at `placement` in its parent body's
 // frame (the ground's: the world) at q_i = 0; the joint turns about, or slides along, the unit
 // `axis` of that frame, and the body's frame is the joint frame so moved. Mass properties are
 // in the body's frame: mass [kg], centre of mass [m], rotational inertia about it [kg m²].
 #pragma once
 
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -54,19 +58,63 @@ struct frame {
     pose offset; ///< in the body's frame
 };
 
-/// The constant model: bodies in tree order (parents first), frames, gravity [m/s²].
+/// A mimic joint's coupling: its position is multiplier · q_master + offset [rad or m].
+struct mimic {
+    int master = 0; ///< the coordinate it follows (a body below dof())
+    double multiplier = 1.0;
+    double offset = 0.0;
+};
+
+/// The constant model: bodies in tree order (parents first), frames, gravity [m/s²]; the last
+/// mimics.size() bodies move by mimic joints.
 struct model {
     std::string name;
     std::vector<body> bodies;
     std::vector<frame> frames;
     vec3 gravity{0.0, 0.0, -9.81};
+    std::vector<mimic> mimics; ///< of bodies dof(), dof() + 1, …
 
-    [[nodiscard]] int dof() const { return static_cast<int>(bodies.size()); }
+    /// The number of coordinates: the bodies but the mimic ones.
+    [[nodiscard]] int dof() const { return static_cast<int>(bodies.size() - mimics.size()); }
+    [[nodiscard]] int body_count() const { return static_cast<int>(bodies.size()); }
+    /// The coordinate that moves body i's joint and ∂θ_i/∂q of it: (i, 1) or (master, multiplier).
+    [[nodiscard]] int coordinate(int i) const {
+        return i < dof() ? i : mimics[static_cast<std::size_t>(i - dof())].master;
+    }
+    [[nodiscard]] double weight(int i) const {
+        return i < dof() ? 1.0 : mimics[static_cast<std::size_t>(i - dof())].multiplier;
+    }
+    /// Body i's joint position θ_i from the coordinates q (any scalar).
+    template <class Q>
+    [[nodiscard]] typename Q::Scalar joint_position(const Q& q, int i) const {
+        using S = typename Q::Scalar;
+        if (i < dof()) return q(i);
+        const mimic& c = mimics[static_cast<std::size_t>(i - dof())];
+        return S(c.multiplier) * q(c.master) + S(c.offset);
+    }
+    /// Body i's joint rate θ̇_i from the coordinates' rates q̇.
+    template <class V>
+    [[nodiscard]] typename V::Scalar joint_rate(const V& qd, int i) const {
+        using S = typename V::Scalar;
+        if (i < dof()) return qd(i);
+        return S(weight(i)) * qd(coordinate(i));
+    }
 
     /// Checks the tree's order and each body's data; throws std::invalid_argument naming the
     /// body.
     void check() const {
-        for (int i = 0; i < dof(); ++i) {
+        if (mimics.size() >= bodies.size() && !bodies.empty())
+            throw std::invalid_argument("a robot needs a coordinate that no joint mimics");
+        for (std::size_t k = 0; k < mimics.size(); ++k) {
+            const mimic& c = mimics[k];
+            const std::string& who = bodies[static_cast<std::size_t>(dof()) + k].name;
+            if (c.master < 0 || c.master >= dof())
+                throw std::invalid_argument("joint " + who + ": it mimics no coordinate");
+            if (!std::isfinite(c.multiplier) || !std::isfinite(c.offset))
+                throw std::invalid_argument("joint " + who +
+                                            ": the mimic multiplier and offset must be finite");
+        }
+        for (int i = 0; i < body_count(); ++i) {
             const body& b = bodies[static_cast<std::size_t>(i)];
             if (b.parent < -1 || b.parent >= i)
                 throw std::invalid_argument("body " + b.link +

@@ -4,6 +4,7 @@
 // a built-in model. What is read and what is refused: docs/robots.md.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -27,8 +28,11 @@ class urdf_error : public std::invalid_argument {
 /// Reads a URDF robot: revolute, continuous and prismatic joints become the coordinates, in
 /// depth-first order from the root link (children in file order); fixed joints merge their
 /// child's mass properties into the parent exactly; gravity (0, 0, −9.81) m/s². Throws
-/// urdf_error for a missing or malformed file and for what docs/robots.md lists as refused.
+/// urdf_error for a missing or malformed file and for what docs/robots.md lists as refused,
+/// and for anything but a regular file of at most max_urdf_bytes (a directory, a FIFO, a device).
 std::shared_ptr<const multibody::model> load_urdf(const std::string& path);
+/// The longest URDF file load_urdf reads: 256 MiB (a 100 000-link chain takes about 50 MB).
+inline constexpr std::uint64_t max_urdf_bytes = std::uint64_t{256} << 20;
 /// The same from the XML text; `source` names it in messages.
 std::shared_ptr<const multibody::model> parse_urdf(std::string_view xml,
                                                    const std::string& source = "<urdf>");
