@@ -76,11 +76,14 @@ class fields {
             const std::string value = space == std::string::npos ? "" : line.substr(space + 1);
             if (key == "arg")
                 args.push_back(unescape(value));
+            else if (key == "input")
+                inputs.push_back(value);
             else
                 map_[key] = value;
         }
     }
     std::vector<std::string> args;
+    std::vector<std::string> inputs; ///< "DIGEST PATH" lines
 
     [[nodiscard]] bool has(const std::string& key) const { return map_.count(key) != 0; }
     [[nodiscard]] const std::string& text(const std::string& key) const {
@@ -156,6 +159,8 @@ std::string checkpoint_text(const checkpoint& ck) {
     std::string body = std::string(magic) + "\nversion " + ck.version + "\n";
     for (const std::string& a : ck.args)
         body += "arg " + escape(a) + '\n';
+    for (const checkpoint::input_file& in : ck.inputs)
+        body += "input " + in.digest + ' ' + escape(in.path) + '\n';
     body += "output " + escape(ck.output) + '\n';
     body += "scheme " + ck.scheme + '\n';
     body += "steps " + std::to_string(ck.steps) + '\n';
@@ -205,6 +210,12 @@ checkpoint parse_checkpoint(const std::string& text, const std::string& name) {
     checkpoint ck;
     ck.version = version;
     ck.args = f.args;
+    for (const std::string& line : f.inputs) {
+        const auto space = line.find(' ');
+        if (space == std::string::npos || space == 0 || space + 1 == line.size())
+            f.damaged("bad 'input' line");
+        ck.inputs.push_back({unescape(line.substr(space + 1)), line.substr(0, space)});
+    }
     ck.output = unescape(f.text("output"));
     ck.scheme = f.text("scheme");
     ck.steps = f.integer<std::uint64_t>("steps");

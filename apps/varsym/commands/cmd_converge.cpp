@@ -2,6 +2,7 @@
 // several step counts with observed orders (the generalisation of the paper's Table 1), and its
 // plot.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -147,11 +148,23 @@ std::string csv_table(const method& spec, const std::vector<result>& rs) {
 
 figure convergence_plot(const method& spec, const std::vector<result>& rs,
                         const std::string& model) {
+    // Log axes show positive errors only: a quantity with no positive error (a motion the
+    // scheme reproduces exactly, a system at rest) is left out, and with none left there is
+    // nothing to draw.
+    std::array<bool, 3> drawn{};
+    for (int q = 0; q < 3; ++q)
+        drawn[static_cast<std::size_t>(q)] = std::any_of(
+            rs.begin(), rs.end(), [&](const result& r) { return r.err[q] > 0.0; });
+    if (std::none_of(drawn.begin(), drawn.end(), [](bool b) { return b; }))
+        throw std::runtime_error("cannot draw --plot: every error is 0 (the scheme reproduces "
+                                 "this motion exactly), nothing to show on log axes; the table "
+                                 "was written");
     // Reference slope N^(−2s), a decade below the first state error so that it stays visible.
     std::string data = "steps,momentum,state,energy,reference\n";
     for (const auto& r : rs) {
         std::string line = std::to_string(r.steps);
-        const double ref = 0.1 * rs.front().err[1] *
+        const double first = rs.front().err[drawn[1] ? 1 : drawn[0] ? 0 : 2];
+        const double ref = 0.1 * first *
                            std::pow(static_cast<double>(r.steps) / rs.front().steps, -spec.order);
         for (double v : {r.err[0], r.err[1], r.err[2], ref}) {
             line += ',';
@@ -178,10 +191,13 @@ set ylabel 'error (max norm over all steps)'
         script += std::to_string(rs[i].steps);
     }
     script += ")\n";
-    script += "plot stem.'.csv' using 1:2 with linespoints lw 2 pt 7 title 'momentum', \\\n"
-              "     stem.'.csv' using 1:3 with linespoints lw 2 pt 5 title 'state', \\\n"
-              "     stem.'.csv' using 1:4 with linespoints lw 2 pt 9 title 'relative energy', \\\n"
-              "     stem.'.csv' using 1:5 with lines dt 2 lw 2 lc rgb '#666666' title 'slope −" +
+    script += "plot ";
+    const char* series[] = {"using 1:2 with linespoints lw 2 pt 7 title 'momentum'",
+                            "using 1:3 with linespoints lw 2 pt 5 title 'state'",
+                            "using 1:4 with linespoints lw 2 pt 9 title 'relative energy'"};
+    for (std::size_t q = 0; q < 3; ++q)
+        if (drawn[q]) script += std::string("stem.'.csv' ") + series[q] + ", \\\n     ";
+    script += "stem.'.csv' using 1:5 with lines dt 2 lw 2 lc rgb '#666666' title 'slope −" +
               std::to_string(spec.order) + "'\n";
     return {{{".csv", data}}, script};
 }
@@ -339,6 +355,9 @@ void converge(const converge_options& o, const CLI::App& cmd) {
                               "parameters are --mass, --omega, --q0, --p0");
         if (!o.expression.lagrangian.empty())
             throw usage_error("--lagrangian is for --model lagrangian, not " + shown(o.model));
+        if (!o.urdf.path.empty() || !o.urdf.torques.empty())
+            throw usage_error(std::string(o.urdf.path.empty() ? "--torques" : "--urdf") +
+                              " is for --model urdf, not " + shown(o.model));
     } else {
         for (const char* opt : {"--mass", "--omega", "--q0", "--p0"})
             if (cmd.count(opt) > 0)
@@ -350,6 +369,7 @@ void converge(const converge_options& o, const CLI::App& cmd) {
     }
     file_roles roles;
     roles.add_output("--output", o.output);
+    roles.add("--urdf", o.urdf.path);
     if (!o.plot.empty()) {
         check_pictures(o.plot);
         add_figure_files(roles, {".csv"}, o.plot);
@@ -374,10 +394,10 @@ void converge(const converge_options& o, const CLI::App& cmd) {
     }
     out.write(o.format == "csv" ? csv_table(measured, rs)
                                 : text_table(o, measured, period, rs, against));
+    out.commit(); // the table is kept whatever becomes of the figure
     file_roles others;
     others.add_output("--output", o.output);
     if (!o.plot.empty()) render_figure(convergence_plot(measured, rs, o.model), o.plot, others);
-    out.commit();
 }
 
 } // namespace

@@ -99,6 +99,7 @@ void run_ensemble(const ensemble_options& o) {
     file_roles roles;
     roles.add("--output", o.output);
     roles.add("journal", o.output + ".journal");
+    add_member_inputs(roles, o.run);
     if (!o.plot.empty()) {
         check_pictures(o.plot);
         check_heat_map(set, o.plot_value);

@@ -37,8 +37,9 @@ struct run_options {
 
 /// The files a run touches, checked against each other before anything is written: the output
 /// and its partial file, the checkpoint and its temporary file (or OUTPUT.ckpt, where a failed
-/// or interrupted run without --checkpoint saves its state), and the config file.
-void check_files(const run_setup& s, const std::string& config) {
+/// or interrupted run without --checkpoint saves its state), and the files it reads (the config
+/// file, the robot's URDF).
+void check_files(const run_setup& s, const std::string& config, const std::string& urdf) {
     const bool to_file = !s.output.empty() && s.output != "-";
     const file_kind out_kind = to_file ? kind_of(s.output) : file_kind::special;
     if (out_kind == file_kind::directory)
@@ -54,6 +55,7 @@ void check_files(const run_setup& s, const std::string& config) {
         roles.add(ck_role + "'s temporary file", ck + ".tmp");
     }
     if (!config.empty()) roles.add("--config", config);
+    roles.add("--urdf", urdf);
     roles.check();
     if (s.checkpoint.empty() || s.resume) return;
     // A new run with --checkpoint CK.
@@ -79,7 +81,7 @@ void check_files(const run_setup& s, const std::string& config) {
 
 /// `varsym run --resume FILE`: the run's options came from the checkpoint; its output and
 /// checkpoint are the files it named and FILE. Returns false if the run had already completed.
-bool prepare_resume(run_setup& s, const run_context& ctx) {
+bool prepare_resume(run_setup& s, const run_context& ctx, const std::string& urdf) {
     s.resume = ctx.resume;
     s.output = ctx.resume->output;
     s.checkpoint = ctx.resume_path;
@@ -90,7 +92,7 @@ bool prepare_resume(run_setup& s, const run_context& ctx) {
                   << ctx.resume->steps << " steps); its rows are in " << s.output << '\n';
         return false;
     }
-    check_files(s, "");
+    check_files(s, "", urdf);
     return true;
 }
 
@@ -123,13 +125,14 @@ void run(run_options& o, const CLI::App& cmd, const run_context& ctx) {
     o.setup.q0 = parse_number_list(o.q0);
     o.setup.p0 = parse_number_list(o.p0);
     o.setup.v0 = parse_number_list(o.v0);
+    const std::string urdf = cmd.count("--urdf") > 0 ? cmd.get_option("--urdf")->as<std::string>() : "";
     if (ctx.resume) {
-        if (!prepare_resume(o.setup, ctx)) return;
+        if (!prepare_resume(o.setup, ctx, urdf)) return;
     } else {
         if (!o.resume.empty())
             throw usage_error(
                 "--resume must be given on the command line, as 'varsym run --resume FILE'");
-        check_files(o.setup, o.config);
+        check_files(o.setup, o.config, urdf);
     }
     // Neither --checkpoint-every nor --checkpoint-seconds (a new or a resumed run): every 60 s.
     if (!o.setup.checkpoint.empty() && o.setup.checkpoint_every == 0 &&

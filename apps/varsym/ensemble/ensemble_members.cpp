@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
 #include <string_view>
 
@@ -51,25 +52,31 @@ void add_identity(std::string& id, const char* name, const std::vector<double>& 
 } // namespace
 
 /// Where key `k` goes for `model`: q0_i, p0_i (1 ≤ i ≤ d), q0_NAME, p0_NAME (NAME a
-/// coordinate's name) or a parameter's name.
+/// coordinate's name) or a parameter's name. A key that is both (a joint named "2" that is not
+/// the second coordinate) is refused: the column q_2 of `run` names the joint.
 std::pair<int, std::size_t> target_of(const std::string& k, const ensemble_model& model) {
     for (int kind = 0; kind < 2 && !model.fixed_start; ++kind) {
         const std::string prefix = kind == 0 ? "q0_" : "p0_";
-        if (k.starts_with(prefix)) {
-            std::size_t i = 0;
-            const char* b = k.data() + prefix.size();
-            const auto [p, ec] = std::from_chars(b, k.data() + k.size(), i);
-            if (ec == std::errc() && p == k.data() + k.size() && i >= 1 &&
-                i <= static_cast<std::size_t>(model.dim)) {
-                if (k != prefix + std::to_string(i)) // q0_01: one spelling per key
-                    throw usage_error("'" + k + "' is not a key of " + model.name +
-                                      "; did you mean " + prefix + std::to_string(i) + "?");
-                return {kind, i - 1};
-            }
-            for (std::size_t j = 0; j < model.coordinates.size(); ++j) // q0_NAME
-                if (k.compare(prefix.size(), std::string::npos, model.coordinates[j]) == 0)
-                    return {kind, j};
+        if (!k.starts_with(prefix)) continue;
+        const std::string rest = k.substr(prefix.size());
+        const auto named = std::find(model.coordinates.begin(), model.coordinates.end(), rest);
+        const bool by_name = named != model.coordinates.end();
+        const auto j = static_cast<std::size_t>(named - model.coordinates.begin());
+        std::size_t i = 0;
+        const auto [p, ec] = std::from_chars(rest.data(), rest.data() + rest.size(), i);
+        if (ec == std::errc() && p == rest.data() + rest.size() && i >= 1 &&
+            i <= static_cast<std::size_t>(model.dim)) {
+            if (by_name && j != i - 1)
+                throw usage_error("'" + k + "' is ambiguous for " + model.name +
+                                  ": coordinate " + std::to_string(i) + ", or the coordinate "
+                                  "named '" + rest + "' (coordinate " + std::to_string(j + 1) +
+                                  "); rename that joint");
+            if (!by_name && k != prefix + std::to_string(i)) // q0_01: one spelling per key
+                throw usage_error("'" + k + "' is not a key of " + model.name +
+                                  "; did you mean " + prefix + std::to_string(i) + "?");
+            return {kind, i - 1};
         }
+        if (by_name) return {kind, j}; // q0_NAME
     }
     for (std::size_t j = 0; j < model.parameters.size(); ++j)
         if (model.parameters[j].first == k) return {2, j};
@@ -190,7 +197,8 @@ member_set make_member_set(const member_options& o, ensemble_model& model) {
             read_regular_file(o.members_file, std::uint64_t{1} << 32, "--members file");
         boost::crc_32_type crc;
         crc.process_bytes(text.data(), text.size());
-        s.identity = "members=" + o.members_file + " crc=" + std::to_string(crc.checksum());
+        s.identity = "members=" + std::filesystem::absolute(o.members_file).string() +
+                     " crc=" + std::to_string(crc.checksum());
         std::size_t line_no = 0;
         // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first key.
         const std::string_view body =
@@ -220,7 +228,13 @@ member_set make_member_set(const member_options& o, ensemble_model& model) {
     for (const auto& k : s.keys) {
         if (std::count(s.keys.begin(), s.keys.end(), k) > 1)
             throw usage_error("the key " + k + " is given twice");
-        s.targets.push_back(target_of(k, model));
+        const auto target = target_of(k, model);
+        const auto same = std::find(s.targets.begin(), s.targets.end(), target);
+        if (same != s.targets.end()) // q0_1 and q0_NAME of the same coordinate
+            throw usage_error("the keys " + s.keys[static_cast<std::size_t>(
+                                                same - s.targets.begin())] +
+                              " and " + k + " set the same value; give it once");
+        s.targets.push_back(target);
         if (std::find(model.dimension_keys.begin(), model.dimension_keys.end(), k) !=
             model.dimension_keys.end())
             throw usage_error(k +
@@ -259,6 +273,11 @@ std::vector<ensemble_model> ensemble_models() {
     return all;
 }
 
+void add_member_inputs(file_roles& roles, const member_run_options& o) {
+    roles.add("--urdf", o.urdf.path);
+    roles.add("--members", o.members.members_file);
+}
+
 ensemble_model find_ensemble_model(const member_run_options& given) {
     member_run_options o = given;
     if (o.model.empty()) {
@@ -270,8 +289,14 @@ ensemble_model find_ensemble_model(const member_run_options& given) {
             throw usage_error("--model is required (one of " + ensemble_model_names() + ")");
     }
     if (o.model == "urdf") {
-        ensemble_model m = make_registry_ensemble(robot_model_of(o.urdf));
-        m.identity = "urdf file=[" + o.urdf.path + "] torques=[" + o.urdf.torques + "]";
+        // The robot's absolute path and content: a journal of another robot, or of this one
+        // before an edit, belongs to another ensemble.
+        checkpoint::input_file file;
+        ensemble_model m = make_registry_ensemble(robot_model_of(o.urdf, &file));
+        m.identity = "urdf file=[" + file.path + "] " + file.digest + " torques=[" +
+                     o.urdf.torques + "]";
+        std::replace_if(m.identity.begin(), m.identity.end(),
+                        [](char c) { return c == '\n' || c == '\r'; }, ' ');
         return m;
     }
     if (!o.urdf.path.empty())

@@ -16,6 +16,8 @@
 
 namespace varsym::cli {
 
+class file_roles;
+
 /// The options that say which members run.
 struct member_options {
     std::vector<std::string> grid; ///< KEY=FIRST:LAST:COUNT, one per axis
@@ -39,6 +41,8 @@ struct member_run_options {
 /// --model (required, unless --lagrangian or --urdf implies it; `models` names the choices), --scheme, --degree, --time, --steps and the
 /// member options.
 void add_member_run_options(CLI::App& cmd, member_run_options& o, const std::string& models);
+/// The files the members are read from (--urdf, --members), as roles no output may take.
+void add_member_inputs(file_roles& roles, const member_run_options& o);
 
 /// The members: their keys (grid axes or CSV columns), count, values and data.
 struct member_set {

@@ -2,22 +2,44 @@
 // --urdf FILE (the models layer's robot_model), which `varsym run`, `ensemble`, `section`,
 // `converge` and `stability` run like a registry model. Its parameters (gravity, damping, the PD
 // controller, torques) are the shared parameter options.
+#include <algorithm>
+#include <filesystem>
 #include <memory>
 
 #include "expression_options.hpp"
 #include "model_run.hpp"
 #include "registry_models.hpp"
+#include "varsym/models/input_file.hpp"
 #include "varsym/models/robot.hpp"
 
 namespace varsym::cli {
 
-std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u) {
+void check_resumed_input(const checkpoint& ck, const checkpoint::input_file& now) {
+    const auto was = std::find_if(ck.inputs.begin(), ck.inputs.end(),
+                                  [&](const auto& in) { return in.path == now.path; });
+    if (was == ck.inputs.end())
+        throw usage_error("cannot resume: the checkpoint records no digest of the URDF file '" +
+                          now.path + "', so the robot cannot be checked; start a new run");
+    if (was->digest != now.digest)
+        throw usage_error("cannot resume: the URDF file '" + now.path +
+                          "' changed since the run started (" + was->digest + " then, " +
+                          now.digest + " now); restore it, or start a new run");
+}
+
+std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u,
+                                                    checkpoint::input_file* file) {
     if (u.path.empty())
         throw usage_error("--model urdf needs --urdf FILE, the robot's URDF description");
     std::shared_ptr<const multibody::model> tree;
     try {
-        tree = models::load_urdf(u.path);
-    } catch (const models::urdf_error& e) {
+        // One read: the bytes parsed are the bytes whose digest a checkpoint records.
+        const std::string text =
+            models::read_input_file(u.path, models::max_urdf_bytes, "URDF file");
+        if (file != nullptr)
+            *file = {std::filesystem::absolute(u.path).lexically_normal().string(),
+                     models::content_digest(text)};
+        tree = models::parse_urdf(text, u.path);
+    } catch (const std::invalid_argument& e) { // models::urdf_error, models::input_error
         throw usage_error(std::string("--urdf: ") + e.what());
     }
     const std::vector<std::string> torques =
@@ -67,8 +89,12 @@ model make_robot_model(std::shared_ptr<parameter_options> po) {
         m.options.push_back("--" + l.option_name());
     m.add_options = [spec](CLI::App& cmd) { add_urdf_option(cmd, *spec); };
     m.run = [spec, po](const run_setup& s) {
-        const auto robot = robot_model_of(*spec);
-        run_model(*robot, s, po->values(*robot), po->lists(*robot));
+        run_setup with_file = s;
+        checkpoint::input_file file;
+        const auto robot = robot_model_of(*spec, &file);
+        if (s.resume) check_resumed_input(*s.resume, file);
+        with_file.inputs = {file};
+        run_model(*robot, with_file, po->values(*robot), po->lists(*robot));
     };
     return m;
 }

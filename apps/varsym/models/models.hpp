@@ -35,6 +35,7 @@ struct run_setup {
     double max_energy_error = -1.0;  ///< stop (exit 4) past it; < 0: the default, 0: never
     std::vector<std::string> args;   ///< the run's arguments, kept in its checkpoints
     std::shared_ptr<const cli::checkpoint> resume; ///< the checkpoint a resumed run continues
+    std::vector<checkpoint::input_file> inputs;     ///< the model's files, kept in checkpoints
     bool scheme_given = false; ///< --scheme or --degree was set (the rigid bodies refuse them)
     /// The model's own integrator where it is not `spec` (the rigid bodies: "lgvi-4"; from
     /// models::problem::integrator).
@@ -72,8 +73,14 @@ model make_robot_model(std::shared_ptr<class parameter_options> po = nullptr);
 struct urdf_spec {
     std::string path, torques;
 };
-/// The model of the URDF file and typed torques (usage_error naming --urdf or --torques).
-std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u);
+/// The model of the URDF file and typed torques (usage_error naming --urdf or --torques). With
+/// `file`, also the URDF's absolute path and the digest of the bytes read (what a checkpoint or
+/// an ensemble journal records).
+std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u,
+                                                    checkpoint::input_file* file = nullptr);
+/// Refuses to resume the run of `ck` with the input `now` unless ck recorded that very file with
+/// the same digest (usage_error saying which and what to do).
+void check_resumed_input(const checkpoint& ck, const checkpoint::input_file& now);
 /// Adds --urdf FILE and --torques to cmd.
 void add_urdf_option(CLI::App& cmd, urdf_spec& u);
 

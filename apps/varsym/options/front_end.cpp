@@ -3,6 +3,7 @@
 #include "front_end.hpp"
 
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <new>
@@ -63,16 +64,29 @@ bool resume_arguments(std::vector<std::string>& args, run_context& ctx) {
 }
 
 /// The arguments of `varsym run` a checkpoint keeps: after "run", without --config FILE (whose
-/// options expand_config already inserted), so a resume does not depend on the config file.
+/// options expand_config already inserted), so a resume does not depend on the config file, and
+/// with --urdf FILE made absolute, so a resume from another directory reads the same robot.
 std::vector<std::string> run_arguments(const std::vector<std::string>& args) {
     std::vector<std::string> out;
     if (args.empty() || args[0] != "run") return out;
+    const auto absolute = [](const std::string& path) {
+        return path.empty() ? path : std::filesystem::absolute(path).lexically_normal().string();
+    };
     for (std::size_t i = 1; i < args.size(); ++i) {
         if (args[i] == "--config") {
             ++i;
             continue;
         }
         if (args[i].rfind("--config=", 0) == 0) continue;
+        if (args[i] == "--urdf" && i + 1 < args.size()) {
+            out.push_back(args[i]);
+            out.push_back(absolute(args[++i]));
+            continue;
+        }
+        if (args[i].rfind("--urdf=", 0) == 0) {
+            out.push_back("--urdf=" + absolute(args[i].substr(7)));
+            continue;
+        }
         out.push_back(args[i]);
     }
     return out;

@@ -12,6 +12,7 @@
 
 #include "cli_common.hpp"
 #include "signals.hpp"
+#include "varsym/models/input_file.hpp"
 
 namespace varsym::cli {
 
@@ -118,33 +119,11 @@ file_kind kind_of(const std::string& path) {
 
 std::string read_regular_file(const std::string& path, std::uint64_t max_bytes,
                               const std::string& role) {
-    if (path.empty()) throw usage_error("the " + role + " name is empty");
-    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) throw usage_error("cannot read " + role + " '" + path + "': " + error_text(errno));
-    struct stat st {};
-    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        ::close(fd);
-        throw usage_error("cannot read " + role + " '" + path + "': " +
-                          (S_ISDIR(st.st_mode) ? "it is a directory"
-                                               : "not a regular file (a FIFO or a device)"));
+    try {
+        return models::read_input_file(path, max_bytes, role);
+    } catch (const models::input_error& e) {
+        throw usage_error(e.what());
     }
-    if (static_cast<std::uint64_t>(st.st_size) > max_bytes) {
-        ::close(fd);
-        throw usage_error("cannot read " + role + " '" + path + "': " + std::to_string(st.st_size) +
-                          " bytes, more than a valid " + role + " can be (" +
-                          std::to_string(max_bytes) + ")");
-    }
-    std::string text(static_cast<std::size_t>(st.st_size), '\0');
-    std::size_t got = 0;
-    while (got < text.size()) {
-        const ssize_t n = ::read(fd, text.data() + got, text.size() - got);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break;
-        got += static_cast<std::size_t>(n);
-    }
-    ::close(fd);
-    text.resize(got); // a file that shrank while read: its parser reports what is missing
-    return text;
 }
 
 void file_roles::add(std::string role, const std::string& path) {

@@ -47,12 +47,14 @@ int run_gnuplot(const fs::path& dir, const std::string& script, const std::strin
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
 }
 
-std::string first_line(const fs::path& file) {
+/// gnuplot's message in its log: the last line that says something (it echoes the command
+/// and a caret line before its '"FILE", line N: what' message).
+std::string last_message(const fs::path& file) {
     std::ifstream in(file);
-    std::string line;
+    std::string line, last;
     while (std::getline(in, line))
-        if (!line.empty() && line.find_first_not_of(" \t^") != std::string::npos) return line;
-    return "no message";
+        if (line.find_first_not_of(" \t^") != std::string::npos) last = line;
+    return last.empty() ? "no message" : last;
 }
 
 } // namespace
@@ -197,7 +199,7 @@ void render_figure(const figure& fig, const std::vector<std::string>& outputs, f
             throw std::runtime_error(
                 "cannot draw '" + o + "': " +
                 (rc == 127 ? std::string("gnuplot not found; install gnuplot-nox (make run does)")
-                           : "gnuplot failed: " + first_line(log.path())));
+                           : "gnuplot failed: " + last_message(log.path())));
         pictures[i]->write(read_regular_file(
             drawn.path(), std::numeric_limits<std::uint64_t>::max(), "picture drawn by gnuplot"));
     }

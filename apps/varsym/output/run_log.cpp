@@ -85,6 +85,7 @@ void run_log::write_checkpoint_to(const std::string& path, std::size_t j, const 
     out_.sync(); // the rows the checkpoint counts are on disk before it
     checkpoint ck;
     ck.args = s_.args;
+    ck.inputs = s_.inputs;
     ck.output = std::filesystem::absolute(s_.output).string();
     ck.scheme = s_.label();
     ck.step = j;

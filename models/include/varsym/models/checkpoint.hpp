@@ -34,6 +34,12 @@ inline constexpr std::uint64_t max_checkpoint_bytes = (1U << 20) + 100 * max_che
 struct checkpoint {
     std::string version = checkpoint_version;
     std::vector<std::string> args; ///< the arguments of the run (`varsym run`'s, config expanded)
+    /// A file the run's model was read from (a robot's URDF): its absolute path and its
+    /// content_digest (input_file.hpp). A resume refuses a file that changed or moved.
+    struct input_file {
+        std::string path, digest;
+    };
+    std::vector<input_file> inputs;
     std::string output;            ///< absolute path of the CSV
     std::string scheme;            ///< e.g. "simpson", "gauss-3" (checked on resume)
     std::uint64_t step = 0;        ///< the last step taken
