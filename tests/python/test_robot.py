@@ -197,7 +197,7 @@ def test_refusals_and_ensemble():
     with open(os.path.join(DATA, "panda.urdf")) as f:
         text = f.read().replace('mimic joint="panda_finger_joint1"', 'mimic joint="nothing"')
     with pytest.raises(varsym.UsageError, match=r":348: <mimic>: joint panda_finger_joint2 mimics"):
-        varsym.Robot(text, text=True)
+        varsym.Robot(text=text)
     with pytest.raises(varsym.UsageError, match="cannot open the URDF file"):
         varsym.Robot(os.path.join(DATA, "missing.urdf"))
     robot = varsym.Robot(os.path.join(DATA, "ur5_robot.urdf"))
