@@ -2,7 +2,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <cstdlib>
+#include <limits>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
@@ -11,6 +12,7 @@
 #include <IpTNLP.hpp>
 
 #include "varsym/optimal/solve.hpp"
+#include "varsym/run/input_file.hpp"
 #include "varsym/run/memory.hpp"
 
 namespace varsym::optimal {
@@ -110,16 +112,22 @@ class adapter final : public Ipopt::TNLP {
         Eigen::Map<vector>(x, n) = x0;
         return true;
     }
+    /// Whether the caller asked to stop (solver_options::stop): an evaluation then fails, which
+    /// ends IPOPT's derivative test (which calls no intermediate_callback) at once.
+    [[nodiscard]] bool stopping() const { return o_.stop && o_.stop(); }
     bool eval_f(Index n, const Number* x, bool, Number& f) override {
+        if (stopping()) return false;
         f = p_.cost(Eigen::Map<const vector>(x, n));
         return std::isfinite(f);
     }
     bool eval_grad_f(Index n, const Number* x, bool, Number* g) override {
+        if (stopping()) return false;
         p_.cost_gradient(Eigen::Map<const vector>(x, n), grad_);
         Eigen::Map<vector>(g, n) = grad_;
         return grad_.allFinite();
     }
     bool eval_g(Index n, const Number* x, bool, Index m, Number* g) override {
+        if (stopping()) return false;
         p_.residual(Eigen::Map<const vector>(x, n), res_);
         Eigen::Map<vector>(g, m) = res_;
         return res_.allFinite();
@@ -133,6 +141,7 @@ class adapter final : public Ipopt::TNLP {
             }
             return true;
         }
+        if (stopping()) return false;
         p_.jacobian(Eigen::Map<const vector>(x, n), buffer_);
         bool ok = true;
         for (Index i = 0; i < nele; ++i) {
@@ -151,6 +160,7 @@ class adapter final : public Ipopt::TNLP {
             }
             return true;
         }
+        if (stopping()) return false;
         p_.hessian(Eigen::Map<const vector>(x, n), sigma, Eigen::Map<const vector>(lambda, m),
                    buffer_);
         for (Index i = 0; i < nele; ++i)
@@ -172,6 +182,7 @@ class adapter final : public Ipopt::TNLP {
                                const Ipopt::IpoptData*,
                                Ipopt::IpoptCalculatedQuantities*) override {
         out_.iterations = iter;
+        if (stopping()) return false;
         if (!o_.progress) return true;
         return o_.progress(iteration{.number = iter,
                                      .cost = f,
@@ -225,6 +236,38 @@ void check_memory(const transcription& t) {
     throw std::invalid_argument(buf);
 }
 
+/// Whether `value` is a setting IPOPT accepts for option `reg` (its type and range).
+bool valid_setting(const Ipopt::RegisteredOption& reg, const std::string& value) {
+    if (value.empty()) return false;
+    char* end = nullptr;
+    switch (reg.Type()) {
+    case Ipopt::OT_Number: {
+        const double v = std::strtod(value.c_str(), &end);
+        return *end == '\0' && std::isfinite(v) && reg.IsValidNumberSetting(v);
+    }
+    case Ipopt::OT_Integer: {
+        const long v = std::strtol(value.c_str(), &end, 10);
+        return *end == '\0' && v >= std::numeric_limits<Index>::min() &&
+               v <= std::numeric_limits<Index>::max() &&
+               reg.IsValidIntegerSetting(static_cast<Index>(v));
+    }
+    case Ipopt::OT_String:
+        return reg.IsValidStringSetting(value);
+    default:
+        return false;
+    }
+}
+
+/// What option `reg` takes, for a message: "a number", "an integer" or its words.
+std::string expected_setting(const Ipopt::RegisteredOption& reg) {
+    if (reg.Type() == Ipopt::OT_Number) return "it takes a number in its range";
+    if (reg.Type() == Ipopt::OT_Integer) return "it takes an integer in its range";
+    std::string words;
+    for (const auto& s : reg.GetValidStrings())
+        words += (words.empty() ? "" : ", ") + s.value_;
+    return "one of: " + words;
+}
+
 } // namespace
 
 std::vector<ipopt_option> parse_ipopt_options(const std::string& text, const std::string& file) {
@@ -237,10 +280,15 @@ std::vector<ipopt_option> parse_ipopt_options(const std::string& text, const std
         ipopt_option o;
         o.line = number;
         if (!(words >> o.name)) continue;
-        if (!Ipopt::IsValid(app->RegOptions()->GetOption(o.name)))
+        const auto reg = app->RegOptions()->GetOption(o.name);
+        if (!Ipopt::IsValid(reg))
             throw std::invalid_argument(file + ":" + std::to_string(number) + ": '" + o.name +
                                         "' is not an IPOPT option");
         words >> o.value;
+        if (!valid_setting(*reg, o.value))
+            throw std::invalid_argument(file + ":" + std::to_string(number) + ": IPOPT's option '" +
+                                        o.name + "' cannot be '" + o.value + "' (" +
+                                        expected_setting(*reg) + ")");
         out.push_back(std::move(o));
     }
     return out;
@@ -287,15 +335,10 @@ nlp_result solve(const nlp& problem, const solver_options& options, const vector
     // output_file (truncating any file, past the tool's file checks), print into a CSV on
     // standard output, or loosen the tolerances under a "solved" verdict; our options are the
     // only ones, with the file the caller names.
-    if (!options.options_file.empty()) {
-        std::ifstream in(options.options_file);
-        if (!in)
-            throw std::invalid_argument("cannot read the IPOPT options file '" +
-                                        options.options_file + "'");
-        std::ostringstream text;
-        text << in.rdbuf();
-        (void)parse_ipopt_options(text.str(), options.options_file);
-    }
+    if (!options.options_file.empty()) // a regular file of at most 1 MiB, every line valid
+        (void)parse_ipopt_options(
+            read_input_file(options.options_file, max_ipopt_options_bytes, "IPOPT options file"),
+            options.options_file);
     if (app->Initialize(options.options_file) != Ipopt::Solve_Succeeded)
         throw std::invalid_argument(
             options.options_file.empty()
@@ -307,9 +350,23 @@ nlp_result solve(const nlp& problem, const solver_options& options, const vector
     Ipopt::SmartPtr<Ipopt::TNLP> tnlp = new adapter(problem, options, start, exact, out);
     const Ipopt::ApplicationReturnStatus r = app->OptimizeTNLP(tnlp);
     if (out.x.size() == 0) { // IPOPT stopped before finalize_solution (bad problem, options)
-        out.verdict = status::failed;
+        if (r == Ipopt::Invalid_Option)
+            throw std::invalid_argument(
+                "IPOPT cannot use the options it was given" +
+                (options.options_file.empty() ? std::string()
+                                              : " in '" + options.options_file + "'") +
+                " (a linear_solver it was not built with? Debian's IPOPT has mumps)");
+        // Stopped before its first iterate (a signal during its derivative test, a failed
+        // evaluation): the start is the iterate reached, and nothing is claimed of it.
+        out.verdict = options.stop && options.stop() ? status::interrupted : status::failed;
         out.message = "IPOPT stopped before iterating (return code " +
                       std::to_string(static_cast<int>(r)) + ")";
+        out.x = start != nullptr ? *start : problem.start();
+        out.lambda = vector::Zero(problem.constraints());
+        out.cost = problem.cost(out.x);
+        vector g;
+        problem.residual(out.x, g);
+        out.constraint_violation = g.size() > 0 ? g.cwiseAbs().maxCoeff() : 0.0;
     }
     return out;
 }

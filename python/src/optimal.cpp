@@ -59,6 +59,20 @@ py::dict optimize(const py::object& source, const std::vector<std::string>& inpu
     const models::model& m = *found;
     if (!m.optimal)
         throw std::invalid_argument("model " + m.name + " has no control input to optimise");
+    // A parameter only a simulation uses (a controller's gains, a constant torque) set away from
+    // its default would be silently dropped: refused, as the tool refuses --kp.
+    for (const std::string& only : m.simulation_only) {
+        for (std::size_t i = 0; i < m.parameters.size() && i < values.size(); ++i)
+            if (m.parameters[i].name == only && values[i] != m.parameters[i].value)
+                throw std::invalid_argument(only + " is a simulation's parameter of " + m.name +
+                                            "; optimize computes the inputs (bound them with "
+                                            "max_control)");
+        for (std::size_t i = 0; i < m.lists.size() && i < lists.size(); ++i)
+            if (m.lists[i].name == only && !lists[i].empty())
+                throw std::invalid_argument(only + " is a simulation's parameter of " + m.name +
+                                            "; optimize computes the inputs (bound them with "
+                                            "max_control)");
+    }
     (void)m.prepare(values, {}, lists); // the parameters' ranges
     optimal::control_problem p;
     p.time = time;

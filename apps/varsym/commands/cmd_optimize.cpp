@@ -160,6 +160,8 @@ void optimize(const optimize_options& o) {
     }
     file_roles roles;
     if (!o.config.empty()) roles.add("--config", o.config);
+    roles.add("--urdf", o.urdf);
+    roles.add("--ipopt-options", o.ipopt_options);
     roles.add_output("--output", o.output);
     if (!o.controls.empty()) roles.add("--controls", o.controls);
     check_ipopt_options(o.ipopt_options, roles);
@@ -196,6 +198,7 @@ void optimize(const optimize_options& o) {
                          it.restoration ? "  (restoration)" : "");
         return pending_signal() == 0;
     };
+    so.stop = [] { return pending_signal() != 0; }; // also during IPOPT's derivative test
     const auto started = std::chrono::steady_clock::now();
     optimal::nlp_result r;
     if (o.refine > 0) {
@@ -249,9 +252,24 @@ void optimize(const optimize_options& o) {
     if (sig != 0)
         throw interrupted(sig, "varsym optimize: stopped by signal; the files hold the last "
                                "iterate");
-    if (!r.converged())
+    if (!r.converged()) {
+        // A pose target met to round-off while the motion's equations are not: not an
+        // unreachable target but a degenerate one (the pose constraint's Jacobian loses rank
+        // where the arm is fully stretched, a singular configuration).
+        const auto miss = reach_miss(o, path.q.col(path.q.cols() - 1));
+        char violation[32];
+        std::snprintf(violation, sizeof violation, "%.1e", r.constraint_violation);
+        if (miss && miss->distance < 1e-9 && miss->angle < 1e-9)
+            throw numerical_error(
+                "varsym optimize: " + std::string(optimal::status_name(r.verdict)) + ": " +
+                o.reach + " reaches its target, but the equations of motion are not met (max |g| " +
+                violation + "): the target pose is likely at a "
+                "singular configuration (an arm fully stretched), where the pose constraint is "
+                "degenerate; move the target slightly inside the workspace, or make it a terminal "
+                "cost with --reach-weight W > 0; the files hold the last iterate");
         throw numerical_error("varsym optimize: " + std::string(optimal::status_name(r.verdict)) +
                               ": " + r.message + "; the files hold the last iterate");
+    }
     if (!check.ok()) throw numerical_error("varsym optimize: not trusted: " + check.advice());
     // A free horizon stopped at its lower bound, T = --time / 1000 (the bound that keeps the
     // steps positive), is that bound's answer, not the minimum: the guess was too long.
@@ -387,6 +405,9 @@ void add_optimize_command(CLI::App& app, action& todo) {
             if (!o->urdf.empty()) o->model = "urdf";
             if (!o->lagrangian.empty()) o->model = "lagrangian";
         }
+        o->typed_options.clear();
+        for (const char* name : {"--coordinates", "--parameters", "--inputs", "--constraints"})
+            if (cmd->count(name) > 0) o->typed_options.emplace_back(name);
         todo = [o] { optimize(*o); };
     });
 }

@@ -119,7 +119,7 @@ std::optional<Eigen::Matrix3d> reach_rotation(const optimize_options& o) {
 }
 
 /// --reach LINK: the link's target pose as the problem's end target (the URDF read again: a
-/// few milliseconds).
+/// few milliseconds), the robot kept in o.reach_robot for reach_report.
 void reach_of(const optimize_options& o, optimal::control_problem& p) {
     if (o.reach.empty()) {
         if (!o.reach_position.empty() || !o.reach_rpy.empty() || o.reach_weight != 0.0)
@@ -132,8 +132,9 @@ void reach_of(const optimize_options& o, optimal::control_problem& p) {
         throw usage_error("--reach needs --reach-position X,Y,Z: where the link's origin must be "
                           "at T [m, world frame]");
     try {
+        o.reach_robot = models::load_urdf(o.urdf);
         p.end_target = models::frame_target(
-            models::load_urdf(o.urdf), o.reach,
+            o.reach_robot, o.reach,
             three(o.reach_position, "--reach-position", "0.5,0,0.6"), reach_rotation(o));
     } catch (const std::invalid_argument& e) {
         throw usage_error("--reach: " + std::string(e.what()));
@@ -169,16 +170,20 @@ void add_velocity_and_reach_options(CLI::App& cmd, optimize_options& o) {
         ->capture_default_str();
 }
 
+std::optional<models::frame_miss> reach_miss(const optimize_options& o, const Eigen::VectorXd& q) {
+    if (o.reach.empty() || !o.reach_robot) return std::nullopt;
+    return models::frame_target_miss(*o.reach_robot, o.reach, q,
+                                     three(o.reach_position, "--reach-position", "0.5,0,0.6"),
+                                     reach_rotation(o));
+}
+
 std::string reach_report(const optimize_options& o, const Eigen::VectorXd& q) {
-    if (o.reach.empty()) return {};
-    const auto tree = models::load_urdf(o.urdf);
-    const auto rotation = reach_rotation(o);
-    const auto miss = models::frame_target_miss(
-        *tree, o.reach, q, three(o.reach_position, "--reach-position", "0.5,0,0.6"), rotation);
+    const auto miss = reach_miss(o, q);
+    if (!miss) return {};
     char line[240], angle[64] = "";
-    if (rotation) std::snprintf(angle, sizeof angle, " and %.3g rad", miss.angle);
+    if (!o.reach_rpy.empty()) std::snprintf(angle, sizeof angle, " and %.3g rad", miss->angle);
     std::snprintf(line, sizeof line, "varsym optimize: %s ends %.3g m%s from its target\n",
-                  o.reach.c_str(), miss.distance, angle);
+                  o.reach.c_str(), miss->distance, angle);
     return line;
 }
 
@@ -219,6 +224,14 @@ optimal::control_problem problem_of(const optimize_options& o, const models::mod
 
 std::shared_ptr<const models::model> optimize_model(const optimize_options& o,
                                                     std::vector<double>& values) {
+    // A typed Lagrangian's options would be silently dropped by any other model.
+    if (o.model != "lagrangian" && !o.typed_options.empty())
+        throw usage_error(o.typed_options.front() +
+                          ": --coordinates, --parameters, --inputs and --constraints are a typed "
+                          "Lagrangian's options; they need --lagrangian EXPR, not " +
+                          (o.model == "urdf" ? std::string("a URDF robot (its inputs are its "
+                                                           "actuated joints' torques)")
+                                             : "--model " + o.model));
     if (o.model == "urdf") {
         auto robot = robot_model_of(urdf_spec{o.urdf, ""});
         values = o.parameters->values(*robot);
@@ -246,8 +259,6 @@ std::shared_ptr<const models::model> optimize_model(const optimize_options& o,
             throw usage_error(std::string("--lagrangian: ") + e.what());
         }
     }
-    if (!o.constraints.empty())
-        throw usage_error("--constraints are a typed Lagrangian's: they need --lagrangian EXPR");
     if (!o.urdf.empty() || !o.lagrangian.empty())
         throw usage_error(std::string(o.urdf.empty() ? "--lagrangian" : "--urdf") +
                           " gives the model itself: leave --model " + o.model + " out");
@@ -302,7 +313,7 @@ void check_ipopt_options(const std::string& file, file_roles& roles) {
     if (file.empty()) return;
     try {
         for (const auto& o : optimal::parse_ipopt_options(
-                 read_regular_file(file, 1 << 20, "IPOPT options file"), file))
+                 read_regular_file(file, optimal::max_ipopt_options_bytes, "IPOPT options file"), file))
             if (o.name == "output_file") roles.add("--ipopt-options' output_file", o.value);
     } catch (const std::invalid_argument& e) {
         throw usage_error(e.what());

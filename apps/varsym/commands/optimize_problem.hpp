@@ -4,6 +4,7 @@
 
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -11,6 +12,8 @@
 #include "files.hpp"
 #include "registry_models.hpp"
 #include "shared_options.hpp"
+#include "varsym/models/robot.hpp"
+#include "varsym/multibody/model.hpp"
 #include "varsym/optimal/problem.hpp"
 
 namespace varsym::cli {
@@ -33,11 +36,15 @@ struct optimize_options {
     std::string urdf; ///< --urdf FILE: the model `urdf`
     std::string lagrangian, coordinates = "q", expression_parameters, inputs,
                             constraints; ///< `lagrangian`
+    std::vector<std::string> typed_options; ///< those of the four above given (--inputs, ...)
     bool no_limits = false;              ///< --no-limits: a robot's URDF limits left out
     /// --reach LINK with --reach-position X,Y,Z, --reach-rpy R,P,Y and --reach-weight W: a URDF
     /// link's target pose at T (models::frame_target) instead of --to.
     std::string reach, reach_position, reach_rpy;
     double reach_weight = 0.0;
+    /// The robot of --reach, read once by problem_of: reach_report measures the miss on it, so
+    /// a URDF changed or removed during the solve cannot turn a solved problem into an error.
+    mutable std::shared_ptr<const multibody::model> reach_robot;
 };
 
 /// Adds --max-velocity, --reach, --reach-position, --reach-rpy and --reach-weight to cmd.
@@ -45,6 +52,8 @@ void add_velocity_and_reach_options(CLI::App& cmd, optimize_options& o);
 /// With --reach: one line saying how far the link ends from its target at the final position
 /// q (the miss in m, and in rad with --reach-rpy); else empty.
 std::string reach_report(const optimize_options& o, const Eigen::VectorXd& q);
+/// With --reach: how far the link ends from its target at q; else nothing.
+std::optional<models::frame_miss> reach_miss(const optimize_options& o, const Eigen::VectorXd& q);
 
 /// --ipopt-options FILE, read before any file is made: an unreadable file or an option IPOPT
 /// does not have is a usage_error naming FILE:LINE, and its output_file is a role (file_roles).

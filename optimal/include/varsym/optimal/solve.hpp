@@ -35,6 +35,10 @@ struct solver_options {
     /// Called after every iteration; return false to stop (status::interrupted), keeping the
     /// iterate reached.
     std::function<bool(const iteration&)> progress;
+    /// Polled at every evaluation and iteration: true stops the solve (status::interrupted)
+    /// as soon as IPOPT returns, also during its derivative test, which reports no iterations.
+    /// Must be cheap and thread-safe (a signal flag).
+    std::function<bool()> stop;
     /// Checks the first derivatives against finite differences before solving (IPOPT's
     /// derivative_test), printing what it finds to standard error.
     bool derivative_test = false;
@@ -44,6 +48,9 @@ struct solver_options {
     /// What it loosens is not trusted blindly: check the answer (solution_check.hpp).
     std::string options_file;
 };
+
+/// The longest IPOPT options file read (a few lines are the norm).
+inline constexpr std::uint64_t max_ipopt_options_bytes = std::uint64_t{1} << 20;
 
 /// One entry of an IPOPT options file.
 struct ipopt_option {
