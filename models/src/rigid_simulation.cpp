@@ -192,8 +192,9 @@ class rigid_simulation final : public simulation {
         return r;
     }
     [[nodiscard]] bool has_dense_output() const override { return false; }
-    [[nodiscard]] section_result section(const section_plane&, long long, long long,
-                                         const std::atomic<bool>*) override {
+    [[nodiscard]] section_result
+    section(const section_plane&, long long, long long, const std::atomic<bool>*,
+            const std::function<void(const section_result&)>&) override {
         throw std::logic_error("the rigid bodies' Lie group integrator has no dense output for "
                                "sections");
     }

@@ -153,16 +153,18 @@ class simulation_of final : public simulation {
             g);
     }
     [[nodiscard]] bool has_dense_output() const override { return dense_stepper<S>; }
-    [[nodiscard]] section_result section(const section_plane& plane, long long steps,
-                                         long long crossings,
-                                         const std::atomic<bool>* stop) override {
+    [[nodiscard]] section_result
+    section(const section_plane& plane, long long steps, long long crossings,
+            const std::atomic<bool>* stop,
+            const std::function<void(const section_result&)>& drain) override {
         section_result out;
         if constexpr (dense_stepper<S>) {
             S s = s_;
             timed(s, time());
             phase_state<D> x = r_.x;
             const double h = s.step_size();
-            for (long long j = 0; j < steps && std::ssize(out.time) < crossings; ++j) {
+            long long found = 0;
+            for (long long j = 0; j < steps && found < crossings; ++j) {
                 if (stop != nullptr && stop->load(std::memory_order_relaxed)) {
                     out.stopped = true;
                     break;
@@ -175,9 +177,15 @@ class simulation_of final : public simulation {
                 const auto c =
                     find_crossing(s, from, x, time() + static_cast<double>(j) * h, plane);
                 if (!c) continue;
+                ++found;
                 out.time.push_back(c->time);
                 for (const auto* v : {&c->x.q, &c->x.p})
                     out.states.insert(out.states.end(), v->data(), v->data() + v->size());
+                if (drain && out.time.size() >= section_drain_size) {
+                    drain(out);
+                    out.time.clear();
+                    out.states.clear();
+                }
             }
             return out;
         } else {

@@ -91,6 +91,7 @@ void run_section(const section_options& o) {
     const std::size_t cx = column(x), cy = column(y);
     file_roles roles;
     roles.add_output("--output", o.output);
+    add_member_inputs(roles, o.run);
     if (!o.plot.empty()) {
         check_pictures(o.plot);
         add_figure_files(roles, {".points.csv"}, o.plot);
@@ -115,42 +116,48 @@ void run_section(const section_options& o) {
                 prefix += ',';
                 append_number(prefix, v);
             }
-            std::string body;
-            try {
-                body = model.section(set.input(keys), setup, plane, o.crossings);
-            } catch (const std::exception&) {
-                ++invalid;
-                return writer.done(m, {});
-            }
-            std::string r, p;
+            // The crossings come a few thousand at a time and go out as they come (the
+            // writer holds them only while a member before this one runs).
             long long k = 0;
-            for (std::size_t at = 0; at < body.size();) {
-                const std::size_t end = body.find('\n', at);
-                if (body.compare(at, end - at, "failed") == 0) {
-                    ++failed;
-                    break;
-                }
-                const std::size_t first = r.size();
-                r += prefix + ',' + std::to_string(k++) + ',';
-                r.append(body, at, end + 1 - at);
-                at = end + 1;
-                if (o.plot.empty()) continue;
-                std::vector<std::string_view> f; // the row's fields, for the plot's points
-                const std::string_view row(r.data() + first, r.size() - first - 1);
-                for (std::size_t i = 0, from = 0; i <= row.size(); ++i)
-                    if (i == row.size() || row[i] == ',') {
-                        f.push_back(row.substr(from, i - from));
-                        from = i + 1;
+            const auto emit = [&](const std::string& body) {
+                std::string r, p;
+                for (std::size_t at = 0; at < body.size();) {
+                    const std::size_t end = body.find('\n', at);
+                    if (body.compare(at, end - at, "failed") == 0) {
+                        ++failed;
+                        break;
                     }
-                p.append(f[0]).append(",").append(f[base + cx]).append(",");
-                p.append(f[base + cy]).append("\n");
+                    const std::size_t first = r.size();
+                    r += prefix + ',' + std::to_string(k++) + ',';
+                    r.append(body, at, end + 1 - at);
+                    at = end + 1;
+                    ++count;
+                    if (o.plot.empty()) continue;
+                    std::vector<std::string_view> f; // the row's fields, for the plot's points
+                    const std::string_view row(r.data() + first, r.size() - first - 1);
+                    for (std::size_t i = 0, from = 0; i <= row.size(); ++i)
+                        if (i == row.size() || row[i] == ',') {
+                            f.push_back(row.substr(from, i - from));
+                            from = i + 1;
+                        }
+                    p.append(f[0]).append(",").append(f[base + cx]).append(",");
+                    p.append(f[base + cy]).append("\n");
+                }
+                if (!p.empty()) {
+                    const std::lock_guard lock(points_mutex);
+                    points += p;
+                }
+                writer.partial(m, std::move(r));
+            };
+            try {
+                model.section(set.input(keys), setup, plane, o.crossings,
+                              [&](std::string body) { emit(body); });
+            } catch (const std::exception&) {
+                // Refused by the model (its data, found when the member is prepared, before
+                // any crossing): counted invalid.
+                ++invalid;
             }
-            count += k;
-            if (!p.empty()) {
-                const std::lock_guard lock(points_mutex);
-                points += p;
-            }
-            writer.done(m, std::move(r));
+            writer.done(m, {});
         });
     } catch (...) {
         writer.flush_all();

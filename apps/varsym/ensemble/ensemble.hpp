@@ -58,10 +58,11 @@ struct ensemble_model {
     /// Runs one member; throws std::invalid_argument for data the model refuses (the member's
     /// row then says `invalid` and why).
     std::function<member_result(const member_input&, const ensemble_setup&)> run;
-    /// The member's crossings of a plane (`varsym section`), one CSV row each ("t,q..,p..\n"),
-    /// at most `crossings`; empty for a model whose steppers have no dense output.
-    std::function<std::string(const member_input&, const ensemble_setup&, const section_plane&,
-                              long long crossings)>
+    /// The member's crossings of a plane (`varsym section`), at most `crossings`, handed to
+    /// `emit` as they are found, a few thousand at a time: CSV rows "t,q..,p..\n", then the row
+    /// "failed\n" if a step failed. Empty for a model whose steppers have no dense output.
+    std::function<void(const member_input&, const ensemble_setup&, const section_plane&,
+                       long long crossings, const std::function<void(std::string)>& emit)>
         section;
 };
 
@@ -84,33 +85,6 @@ member_result run_ensemble_member(S& s, const phase_state<S::dim>& x, const ense
         return tape->output(0);
     };
     return run_member(s, x, e.plan, energy, event);
-}
-
-/// The crossings of `plane` by s from x over the setup's steps, at most `crossings`, as CSV rows
-/// "t,q_1..,p_1..". A failed step ends the list (its last row is then "failed").
-template <class S>
-std::string section_rows(S& s, phase_state<S::dim> x, const ensemble_setup& e,
-                         const section_plane& plane, long long crossings) {
-    std::string rows;
-    long long found = 0;
-    for (long long j = 0; j < e.plan.steps && found < crossings && !e.plan.stopped(); ++j) {
-        const phase_state<S::dim> from = x;
-        if (!s.step(x).converged || !x.q.allFinite() || !x.p.allFinite()) {
-            rows += "failed\n";
-            break;
-        }
-        const auto c = find_crossing(s, from, x, static_cast<double>(j) * s.step_size(), plane);
-        if (!c) continue;
-        ++found;
-        append_number(rows, c->time);
-        for (const auto* v : {&c->x.q, &c->x.p})
-            for (Eigen::Index i = 0; i < v->size(); ++i) {
-                rows += ',';
-                append_number(rows, (*v)(i));
-            }
-        rows += '\n';
-    }
-    return rows;
 }
 
 } // namespace varsym::cli

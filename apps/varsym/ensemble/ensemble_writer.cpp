@@ -3,8 +3,21 @@
 
 namespace varsym::cli {
 
+void ordered_writer::partial(std::size_t k, std::string rows) {
+    const std::lock_guard lock(mutex_);
+    if (k == next_)
+        buffer_ += rows;
+    else
+        started_[k] += rows;
+    if (buffer_.size() > (std::size_t{1} << 16)) write();
+}
+
 void ordered_writer::done(std::size_t k, std::string row) {
     const std::lock_guard lock(mutex_);
+    if (const auto s = started_.find(k); s != started_.end()) { // its rows before these
+        row = std::move(s->second) + row;
+        started_.erase(s);
+    }
     waiting_.emplace(k, std::move(row));
     for (;;) { // every row from next_ on that is done goes out, in order
         if (!waiting_.empty() && waiting_.begin()->first == next_) {
@@ -14,6 +27,11 @@ void ordered_writer::done(std::size_t k, std::string row) {
             break;
         }
         ++next_;
+        // The new head's rows so far go out now; the rest follow through partial().
+        if (const auto s = started_.find(next_); s != started_.end()) {
+            buffer_ += s->second;
+            started_.erase(s);
+        }
     }
     // A member far slower than the rest: the rows behind it do not wait (where allowed).
     if (max_waiting_ > 0 && waiting_.size() > max_waiting_) {
@@ -33,6 +51,9 @@ void ordered_writer::flush_all() {
     for (auto& [j, r] : waiting_)
         buffer_ += r;
     waiting_.clear();
+    for (auto& [j, r] : started_) // members stopped part-way (an error ends the work)
+        buffer_ += r;
+    started_.clear();
     write();
 }
 

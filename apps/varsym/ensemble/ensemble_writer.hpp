@@ -25,6 +25,10 @@ class ordered_writer {
     /// The k-th member (counting from 0, in increasing member order) is done, with its rows
     /// (each ending in '\n'; empty for a member skipped or without rows).
     void done(std::size_t k, std::string row);
+    /// Some rows of the k-th member, more to come (done() ends it): written at once when every
+    /// member before it is done, so that a member with many rows streams through (a section's
+    /// millions of crossings), else kept until then.
+    void partial(std::size_t k, std::string rows);
     /// Writes every row done, in member order (at the end, or when the work stops).
     void flush_all();
 
@@ -35,6 +39,7 @@ class ordered_writer {
     std::mutex mutex_;
     std::size_t next_ = 0;                       ///< the first member not yet written
     std::map<std::size_t, std::string> waiting_; ///< rows after next_, done early
+    std::map<std::size_t, std::string> started_; ///< partial rows of members after next_
     std::set<std::size_t> ahead_;                ///< rows after next_ written early
     std::string buffer_;
     std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();

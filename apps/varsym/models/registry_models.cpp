@@ -337,7 +337,8 @@ ensemble_model make_registry_ensemble(std::shared_ptr<const models::model> model
     // Names for the keys q0_NAME: the coordinates "x, theta" where each is a plain identifier
     // and there are d of them ("th_1 ... th_n" is not a list of names). A robot's joint names
     // may also hold spaces and non-ASCII (UTF-8) letters: its reader refuses the commas, quotes,
-    // control characters and outer spaces that would make a name ambiguous here.
+    // control characters and outer spaces that would make a name ambiguous here. A name may be
+    // a number ("1"): the keys then know it, and refuse q0_1 where it means two joints.
     std::vector<std::string> names;
     for (std::size_t at = 0; at <= rm.coordinates.size();) {
         const std::size_t comma = std::min(rm.coordinates.find(',', at), rm.coordinates.size());
@@ -348,8 +349,7 @@ ensemble_model make_registry_ensemble(std::shared_ptr<const models::model> model
         at = comma + 1;
     }
     const bool plain = std::all_of(names.begin(), names.end(), [](const std::string& c) {
-        return !c.empty() && !std::isdigit(static_cast<unsigned char>(c[0])) &&
-               std::all_of(c.begin(), c.end(), [](char ch) {
+        return !c.empty() && std::all_of(c.begin(), c.end(), [](char ch) {
                    const auto u = static_cast<unsigned char>(ch);
                    return std::isalnum(u) || ch == '_' || ch == '-' || ch == ' ' || u >= 0x80;
                });
@@ -381,22 +381,26 @@ ensemble_model make_registry_ensemble(std::shared_ptr<const models::model> model
     }
     if (dense)
         m.section = [model](const member_input& in, const ensemble_setup& e,
-                            const section_plane& plane, long long crossings) {
+                            const section_plane& plane, long long crossings,
+            const std::function<void(std::string)>& emit) {
             const auto sim = member_simulation(*model, in, e);
-            const models::section_result r =
-                sim->section(plane, e.plan.steps, crossings, e.plan.stop);
-            std::string rows;
             const std::size_t width = 2 * static_cast<std::size_t>(sim->dim());
-            for (std::size_t k = 0; k < r.time.size(); ++k) {
-                append_number(rows, r.time[k]);
-                for (std::size_t i = 0; i < width; ++i) {
-                    rows += ',';
-                    append_number(rows, r.states[k * width + i]);
+            const auto rows_of = [&](const models::section_result& r) {
+                std::string rows;
+                for (std::size_t k = 0; k < r.time.size(); ++k) {
+                    append_number(rows, r.time[k]);
+                    for (std::size_t i = 0; i < width; ++i) {
+                        rows += ',';
+                        append_number(rows, r.states[k * width + i]);
+                    }
+                    rows += '\n';
                 }
-                rows += '\n';
-            }
-            if (r.failed) rows += "failed\n";
-            return rows;
+                return rows;
+            };
+            const models::section_result rest =
+                sim->section(plane, e.plan.steps, crossings, e.plan.stop,
+                             [&](const models::section_result& r) { emit(rows_of(r)); });
+            emit(rows_of(rest) + (rest.failed ? "failed\n" : ""));
         };
     return m;
 }

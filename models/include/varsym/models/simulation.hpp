@@ -46,6 +46,9 @@ struct section_result {
     bool stopped = false;       ///< the caller's stop flag ended it (the crossings so far)
 };
 
+/// How many crossings simulation::section holds before it hands them to its `drain`.
+inline constexpr std::size_t section_drain_size = 4096;
+
 /// A model's system stepped by one scheme from one initial state.
 class simulation {
   public:
@@ -115,10 +118,13 @@ class simulation {
     /// The crossings of `plane` over `steps` steps from the current state, at most `crossings`
     /// of them; throws std::logic_error where !has_dense_output(). The state is not changed.
     /// `stop`, when given and set (another thread, a signal handler), ends it after the
-    /// current step (section_result::stopped).
-    [[nodiscard]] virtual section_result section(const section_plane& plane, long long steps,
-                                                 long long crossings,
-                                                 const std::atomic<bool>* stop) = 0;
+    /// current step (section_result::stopped). With `drain`, the crossings are handed to it
+    /// every section_drain_size of them and the result keeps only the rest: memory stays
+    /// bounded however many crossings there are (`varsym section` streams them to its file).
+    [[nodiscard]] virtual section_result
+    section(const section_plane& plane, long long steps, long long crossings,
+            const std::atomic<bool>* stop,
+            const std::function<void(const section_result&)>& drain = {}) = 0;
 };
 
 /// Runs f(), an evaluation of the model at the simulation's current state (its row's values,
