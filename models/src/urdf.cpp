@@ -4,6 +4,7 @@
 // builds a model varsym would then have to walk again). Only <robot>'s direct <link> and <joint>
 // children are read: <transmission> (whose <joint> elements are not joints), <gazebo>, <material>,
 // visuals, collisions and unknown tags are ignored. What is refused: docs/robots.md.
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -43,6 +44,68 @@ void check_finite(const reader& rd, const multibody::model& m,
             rd.fail(joint[k], "joint " + m.bodies[k].name +
                                   ": the mass properties of the links it moves overflow a double "
                                   "at q = 0 (lengths or masses too large)");
+}
+
+/// Moves the bodies of mimic joints (a <mimic> element; on a fixed joint it is ignored: there
+/// is no position to couple) after the coordinates' and couples them: θ = multiplier · q_master
+/// + offset (URDF's defaults 1 and 0). The master is a moving joint without <mimic>; a moving
+/// joint below a mimic joint must mimic too (else it would be a coordinate after the mimic
+/// bodies, whose parents must come first). `inertia` and `joint` are per body, reordered too.
+void couple_mimics(const reader& rd, multibody::model& m, std::vector<mat6>& inertia,
+                   std::vector<const XMLElement*>& joint) {
+    const std::size_t n = m.bodies.size();
+    std::vector<const XMLElement*> mimic(n);
+    std::map<std::string, std::size_t> body_of;
+    for (std::size_t k = 0; k < n; ++k) {
+        mimic[k] = joint[k]->FirstChildElement("mimic");
+        body_of[m.bodies[k].name] = k;
+    }
+    std::vector<std::size_t> order; // new index -> old: coordinates, then mimic bodies
+    for (const bool second : {false, true})
+        for (std::size_t k = 0; k < n; ++k)
+            if ((mimic[k] != nullptr) == second) order.push_back(k);
+    if (std::none_of(mimic.begin(), mimic.end(), [](const XMLElement* e) { return e; })) return;
+    std::vector<int> new_index(n);
+    for (std::size_t i = 0; i < n; ++i)
+        new_index[order[i]] = static_cast<int>(i);
+    std::vector<multibody::body> bodies;
+    std::vector<mat6> inertias;
+    std::vector<const XMLElement*> joints;
+    for (const std::size_t k : order) {
+        multibody::body b = m.bodies[k];
+        if (b.parent >= 0) {
+            const auto p = static_cast<std::size_t>(b.parent);
+            if (!mimic[k] && mimic[p])
+                rd.fail(joint[k], "joint " + b.name + " moves below the mimic joint " +
+                                      m.bodies[p].name +
+                                      ": a joint below a mimic joint must mimic too");
+            b.parent = new_index[p];
+        }
+        bodies.push_back(b);
+        inertias.push_back(inertia[k]);
+        joints.push_back(joint[k]);
+    }
+    for (const std::size_t k : order) {
+        const XMLElement* e = mimic[k];
+        if (!e) continue;
+        const std::string master = rd.attribute(e, "joint");
+        const auto at = body_of.find(master);
+        if (at == body_of.end() || mimic[at->second])
+            rd.fail(e, "joint " + m.bodies[k].name + " mimics " + master +
+                           (at == body_of.end()
+                                ? ", which is not a revolute, continuous or prismatic joint"
+                                : ", which is a mimic joint itself (mimic its master instead)"));
+        multibody::mimic c;
+        c.master = new_index[at->second];
+        c.multiplier = rd.number(e, "multiplier", 1.0);
+        c.offset = rd.number(e, "offset", 0.0);
+        m.mimics.push_back(c);
+    }
+    for (multibody::frame& f : m.frames)
+        if (f.body >= 0) f.body = new_index[static_cast<std::size_t>(f.body)];
+    m.bodies = std::move(bodies);
+    inertia = std::move(inertias);
+    joint = std::move(joints);
 }
 
 } // namespace
@@ -97,11 +160,6 @@ std::shared_ptr<const multibody::model> parse_urdf(std::string_view xml, const s
         if (j.type != "revolute" && j.type != "continuous" && j.type != "prismatic" &&
             j.type != "fixed")
             rd.fail(e, "joint " + j.name + ": unknown type '" + j.type + "'");
-        // A fixed joint has no position to mimic: its <mimic> changes nothing and is ignored.
-        if (const XMLElement* mimic = e->FirstChildElement("mimic"); mimic && j.type != "fixed")
-            rd.fail(mimic, "joint " + j.name +
-                               ": <mimic> on a moving joint is not supported (remove the "
-                               "<mimic> element to make the joint independent)");
         for (const std::string& l : {j.parent, j.child})
             if (!links.contains(l))
                 rd.fail(e, "joint " + j.name + " names link " + l + ", which is not defined");
@@ -220,6 +278,7 @@ std::shared_ptr<const multibody::model> parse_urdf(std::string_view xml, const s
                            " (a closed loop)");
     if (m->bodies.empty())
         rd.fail(robot, "no revolute, continuous or prismatic joint: nothing moves");
+    couple_mimics(rd, *m, inertia, body_joint);
     for (std::size_t i = 0; i < m->bodies.size(); ++i) {
         multibody::body& b = m->bodies[i];
         unpack(inertia[i], b);
