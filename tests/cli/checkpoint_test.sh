@@ -97,34 +97,34 @@ killed_and_resumed fs "--predictor forces" run --model kepler --scheme gauss --d
 "$VARSYM" run --steps-per-period 100 --periods 20 -o c.csv --checkpoint c.ckpt --checkpoint-every 100 2> /dev/null
 cp c.ckpt good.ckpt
 sed 's/^step \(.*\)/step 1\1/' good.ckpt > c.ckpt   # one more digit in the step
-expect_error 2 "damaged checkpoint" run --resume c.ckpt
+expect_error 2 "damaged checkpoint" "checkpoint 'c.ckpt' is damaged (CRC-32 checksum mismatch)" run --resume c.ckpt
 grep -q 'damaged (CRC-32' stderr.txt && ok || bad "damaged message: $(cat stderr.txt)"
 head -c 200 good.ckpt > c.ckpt
-expect_error 2 "truncated checkpoint" run --resume c.ckpt
+expect_error 2 "truncated checkpoint" "checkpoint 'c.ckpt' is damaged" run --resume c.ckpt
 sed 's/^version .*/version 0.0.1/' good.ckpt > c.ckpt
-expect_error 2 "checkpoint of another version" run --resume c.ckpt
+expect_error 2 "checkpoint of another version" "was written by varsym 0.0.1, this is varsym" run --resume c.ckpt
 grep -q 'written by varsym 0.0.1' stderr.txt && ok || bad "version message: $(cat stderr.txt)"
 echo 'step,t,q,p' > c.ckpt
-expect_error 2 "not a checkpoint" run --resume c.ckpt
-expect_error 2 "missing checkpoint" run --resume nowhere.ckpt
+expect_error 2 "not a checkpoint" "'c.ckpt' is not a varsym checkpoint" run --resume c.ckpt
+expect_error 2 "missing checkpoint" "cannot read checkpoint 'nowhere.ckpt': No such file or" run --resume nowhere.ckpt
 cp good.ckpt c.ckpt
-expect_error 2 "resume with other options" run --resume c.ckpt --steps-per-period 10
-expect_error 2 "checkpoint exists" run -o out.csv --checkpoint c.ckpt
+expect_error 2 "resume with other options" "--resume FILE takes no other option: the run continues with" run --resume c.ckpt --steps-per-period 10
+expect_error 2 "checkpoint exists" "checkpoint 'c.ckpt' exists: continue its run with 'varsym" run -o out.csv --checkpoint c.ckpt
 grep -q 'resume' stderr.txt && ok || bad "exists message: $(cat stderr.txt)"
-expect_error 2 "checkpoint without output" run --checkpoint new.ckpt
-expect_error 2 "checkpoint-every without checkpoint" run -o out.csv --checkpoint-every 10
-expect_error 2 "zero checkpoint-every" run -o out.csv --checkpoint new.ckpt --checkpoint-every 0
-expect_error 2 "NaN checkpoint-seconds" run -o out.csv --checkpoint new.ckpt --checkpoint-seconds nan
-expect_error 2 "checkpoint is the output" run -o same.csv --checkpoint same.csv
-expect_error 1 "unwritable checkpoint" run -o out.csv --checkpoint /nonexistent/dir/c.ckpt
+expect_error 2 "checkpoint without output" "--checkpoint needs --output naming a regular file: a" run --checkpoint new.ckpt
+expect_error 2 "checkpoint-every without checkpoint" "--checkpoint-every requires --checkpoint" run -o out.csv --checkpoint-every 10
+expect_error 2 "zero checkpoint-every" "--checkpoint-every: must be >= 1, got '0'" run -o out.csv --checkpoint new.ckpt --checkpoint-every 0
+expect_error 2 "NaN checkpoint-seconds" "--checkpoint-seconds: 'nan' is not finite" run -o out.csv --checkpoint new.ckpt --checkpoint-seconds nan
+expect_error 2 "checkpoint is the output" "--output 'same.csv' and --checkpoint 'same.csv' are the" run -o same.csv --checkpoint same.csv
+expect_error 1 "unwritable checkpoint" "cannot write checkpoint '/nonexistent/dir/c.ckpt'" run -o out.csv --checkpoint /nonexistent/dir/c.ckpt
 # A run whose rows are gone, or shorter than its checkpoint says, cannot resume (the checkpoint
 # alone cannot rebuild them).
 "$VARSYM" run --steps-per-period 100 --periods 20 -o gone.csv --checkpoint gone.ckpt 2> /dev/null && rm gone.csv
-expect_error 2 "resume with its rows gone" run --resume gone.ckpt
+expect_error 2 "resume with its rows gone" "the rows of the interrupted run, is missing" run --resume gone.ckpt
 grep -q 'gone.csv.part.*missing' stderr.txt && ok || bad "rows-gone message: $(cat stderr.txt)"
 "$VARSYM" run --steps-per-period 100 --periods 20 -o cut.csv --checkpoint cut.ckpt 2> /dev/null &&
   head -c 100 cut.csv > cut.csv.part && rm cut.csv
-expect_error 2 "resume with rows cut" run --resume cut.ckpt
+expect_error 2 "resume with rows cut" "has 100 bytes, fewer than the" run --resume cut.ckpt
 grep -q 'fewer than the' stderr.txt && ok || bad "rows-cut message: $(cat stderr.txt)"
 
 # --- a failed step: exit 3, safer step, checkpoint of the last good state ------------------------
@@ -153,19 +153,19 @@ case $ck_q1 in -*) ck_q1="-0x${ck_q1#-}" ;; *) ck_q1="0x$ck_q1" ;; esac
 "$VARSYM" stability --format csv > stab.csv 2> stderr.txt || bad "stability: $(cat stderr.txt)"
 limit() { awk -F, -v s="$1" '$1 == s { print $3 }' stab.csv; }
 intervals() { awk -F, -v s="$1" '$1 == s { print $4 }' stab.csv; }
-near() { awk -v x="$1" -v y="$2" 'BEGIN { exit !(x - y < 1e-7 * y && y - x < 1e-7 * y) }'; }
-near "$(limit lobatto-1)" 2 && ok || bad "lobatto-1 limit $(limit lobatto-1)"
-near "$(limit simpson)" "$(awk 'BEGIN { printf "%.17g", 2 * sqrt(2) }')" && [ "$(limit lobatto-2)" = "$(limit simpson)" ] &&
+near_limit() { rel "$1" "$2" 1e-7; } # the limits are printed to 8 digits
+near_limit "$(limit lobatto-1)" 2 && ok || bad "lobatto-1 limit $(limit lobatto-1)"
+near_limit "$(limit simpson)" "$(awk 'BEGIN { printf "%.17g", 2 * sqrt(2) }')" && [ "$(limit lobatto-2)" = "$(limit simpson)" ] &&
   ok || bad "simpson limit $(limit simpson)"
 read -r a b c d <<< "$(intervals simpson | tr '();' '   ')"
-near "$b" "$(awk 'BEGIN { printf "%.17g", 2 * sqrt(3) }')" && near "$c" "$(awk 'BEGIN { printf "%.17g", 2 * sqrt(6) }')" &&
+near_limit "$b" "$(awk 'BEGIN { printf "%.17g", 2 * sqrt(3) }')" && near_limit "$c" "$(awk 'BEGIN { printf "%.17g", 2 * sqrt(6) }')" &&
   [ "$d" = inf ] && ok || bad "simpson intervals $(intervals simpson)"
 for s in newmark gauss-1 gauss-2 gauss-3 gauss-4 gauss-5 gauss-6 gauss-7 gauss-8; do
   [ "$(limit $s)" = none ] || bad "$s limit $(limit $s)"
 done
 # Higher Lobatto members: a finite limit that grows with the order (every second member).
 for s in 1 2 3 4 5 6; do
-  awk -v x="$(limit lobatto-$s)" -v y="$(limit lobatto-$((s + 2)))" 'BEGIN { exit !(y > x) }' ||
+  lt "$(limit lobatto-$s)" "$(limit lobatto-$((s + 2)))" ||
     bad "lobatto-$((s + 2)) limit not above lobatto-$s's"
 done
 ok

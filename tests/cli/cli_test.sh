@@ -5,67 +5,67 @@
 source "$(dirname "$0")/lib.sh" "$@"
 
 # --- bad input: exit 2 ---------------------------------------------------------------------
-expect_error 2 "zero steps" run --steps-per-period 0 -o out.csv
-expect_error 2 "negative steps" run --steps-per-period -5 -o out.csv
-expect_error 2 "fractional steps" run --steps-per-period 2.5 -o out.csv
-expect_error 2 "zero periods" run --periods 0 -o out.csv
-expect_error 2 "negative periods" run --periods -1 -o out.csv
-expect_error 2 "unknown iteration" run --iteration chord -o out.csv
-expect_error 2 "unknown predictor" run --predictor cubic -o out.csv
-expect_error 2 "previous predictor on the general engine" run --model double-pendulum --predictor previous -o out.csv
-expect_error 2 "unknown bench solver" bench --solver chord --problems kepler
-expect_error 2 "unknown solver after a scheme" bench --schemes gauss-4/chord --problems kepler
-expect_error 2 "zero mass" run --mass 0 -o out.csv
-expect_error 2 "negative mass" run --mass -2 -o out.csv
-expect_error 2 "zero omega" run --omega 0 -o out.csv
-expect_error 2 "negative omega" run --omega -6.28 -o out.csv
-expect_error 2 "NaN mass" run --mass nan -o out.csv
-expect_error 2 "inf omega" run --omega inf -o out.csv
-expect_error 2 "NaN q0" run --q0 NaN -o out.csv
-expect_error 2 "inf p0" run --p0 -inf -o out.csv
-expect_error 2 "text for a number" run --mass heavy -o out.csv
-expect_error 2 "text for steps" run --steps-per-period many -o out.csv
-expect_error 2 "negative every" run --every -1 -o out.csv
-expect_error 2 "zero time" run --time 0 --steps 10 -o out.csv
-expect_error 2 "zero steps with time" run --time 1 --steps 0 -o out.csv
-expect_error 2 "time without steps" run --time 1 -o out.csv
-expect_error 2 "time with periods" run --time 1 --steps 10 --periods 2 -o out.csv
-expect_error 2 "unknown scheme" run --scheme euler -o out.csv
-expect_error 2 "unknown option" run --bogus 1 -o out.csv
-expect_error 2 "unknown command" frobnicate
-expect_error 2 "unknown paper command" paper table2
-expect_error 2 "missing command" paper
-expect_error 2 "separatrix" run --q0 3.141592653589793 -o out.csv
-expect_error 2 "periods not giving whole steps" run --steps-per-period 3 --periods 0.5 -o out.csv
-expect_error 2 "too many steps (periods)" run --periods 1e14 -o out.csv
-expect_error 2 "too many steps (time)" run --time 1 --steps 2000000000000000 -o out.csv
-expect_error 2 "table1 unknown format" paper table1 --format xml -o out.csv
-expect_error 2 "figure bad extension" paper figure1 -o out.jpg
-expect_error 2 "figure without output" paper figure1
-expect_error 2 "degree with simpson" run --scheme simpson --degree 3 -o out.csv
-expect_error 2 "degree with newmark" run --scheme newmark --degree 2 -o out.csv
-expect_error 2 "degree too high" run --scheme gauss --degree 9 -o out.csv
-expect_error 2 "degree zero" run --scheme lobatto --degree 0 -o out.csv
-expect_error 2 "degree not a number" run --scheme lobatto --degree two -o out.csv
-expect_error 2 "converge one step count" converge --steps 50 -o out.csv
-expect_error 2 "converge repeated step count" converge --steps 50,50 -o out.csv
-expect_error 2 "converge zero steps" converge --steps 0,50 -o out.csv
-expect_error 2 "converge text in steps" converge --steps 25,abc -o out.csv
-expect_error 2 "converge unknown model" converge --model nosuch -o out.csv
-expect_error 2 "converge, a scheme for a rigid body" converge --model top --scheme gauss -o out.csv
-expect_error 2 "converge zero periods" converge --periods 0 -o out.csv
-expect_error 2 "converge bad plot extension" converge --plot out.pdf -o out.csv
+expect_error 2 "zero steps" "--steps-per-period: must be >= 1, got '0'" run --steps-per-period 0 -o out.csv
+expect_error 2 "negative steps" "--steps-per-period: must be >= 1, got '-5'" run --steps-per-period -5 -o out.csv
+expect_error 2 "fractional steps" "--steps-per-period: '2.5' is not a whole number" run --steps-per-period 2.5 -o out.csv
+expect_error 2 "zero periods" "--periods: must be > 0, got '0'" run --periods 0 -o out.csv
+expect_error 2 "negative periods" "--periods: must be > 0, got '-1'" run --periods -1 -o out.csv
+expect_error 2 "unknown iteration" "--iteration: chord not in {newton,simplified,fixed-point}" run --iteration chord -o out.csv
+expect_error 2 "unknown predictor" "--predictor: cubic not in {taylor,previous,forces}" run --predictor cubic -o out.csv
+expect_error 2 "previous predictor on the general engine" "double-pendulum: the predictors 'previous' and 'forces' are" run --model double-pendulum --predictor previous -o out.csv
+expect_error 2 "unknown bench solver" "--solver: unknown solver 'chord': automatic, newton" bench --solver chord --problems kepler
+expect_error 2 "unknown solver after a scheme" "--schemes: in 'gauss-4/chord': unknown solver 'chord'" bench --schemes gauss-4/chord --problems kepler
+expect_error 2 "zero mass" "--mass: mass must be positive, got 0" run --mass 0 -o out.csv
+expect_error 2 "negative mass" "--mass: mass must be positive, got -2" run --mass -2 -o out.csv
+expect_error 2 "zero omega" "--omega: omega must be positive, got 0" run --omega 0 -o out.csv
+expect_error 2 "negative omega" "--omega: omega must be positive, got -6.28" run --omega -6.28 -o out.csv
+expect_error 2 "NaN mass" "--mass: mass must be positive, got nan" run --mass nan -o out.csv
+expect_error 2 "inf omega" "--omega: omega must be positive, got inf" run --omega inf -o out.csv
+expect_error 2 "NaN q0" "--q0: value 1, 'NaN', is not finite" run --q0 NaN -o out.csv
+expect_error 2 "inf p0" "--p0: value 1, '-inf', is not finite" run --p0 -inf -o out.csv
+expect_error 2 "text for a number" "--mass: 'heavy' is not a number" run --mass heavy -o out.csv
+expect_error 2 "text for steps" "--steps-per-period: 'many' is not a whole number" run --steps-per-period many -o out.csv
+expect_error 2 "negative every" "--every: must be >= 0, got '-1'" run --every -1 -o out.csv
+expect_error 2 "zero time" "--time: must be > 0, got '0'" run --time 0 --steps 10 -o out.csv
+expect_error 2 "zero steps with time" "--steps: must be >= 1, got '0'" run --time 1 --steps 0 -o out.csv
+expect_error 2 "time without steps" "--time requires --steps" run --time 1 -o out.csv
+expect_error 2 "time with periods" "--periods excludes --time" run --time 1 --steps 10 --periods 2 -o out.csv
+expect_error 2 "unknown scheme" "--scheme: euler not in {simpson,newmark,lobatto,gauss}" run --scheme euler -o out.csv
+expect_error 2 "unknown option" "The following arguments were not expected: 1 --bogus" run --bogus 1 -o out.csv
+expect_error 2 "unknown command" "unknown command 'frobnicate'; expected one of run, models" frobnicate
+expect_error 2 "unknown paper command" "unknown command 'table2'; expected one of table1, figure1" paper table2
+expect_error 2 "missing command" "A subcommand is required" paper
+expect_error 2 "separatrix" "pendulum: initial state is on the separatrix" run --q0 3.141592653589793 -o out.csv
+expect_error 2 "periods not giving whole steps" "--periods 0.500000 times --steps-per-period 3 is not a" run --steps-per-period 3 --periods 0.5 -o out.csv
+expect_error 2 "too many steps (periods)" "more than 1000000000000000 steps requested" run --periods 1e14 -o out.csv
+expect_error 2 "too many steps (time)" "more than 1000000000000000 steps requested" run --time 1 --steps 2000000000000000 -o out.csv
+expect_error 2 "table1 unknown format" "--format: xml not in {text,csv}" paper table1 --format xml -o out.csv
+expect_error 2 "figure bad extension" "cannot draw 'out.jpg': use a .png or .svg file name" paper figure1 -o out.jpg
+expect_error 2 "figure without output" "--output is required" paper figure1
+expect_error 2 "degree with simpson" "--degree applies to --scheme lobatto or gauss; simpson has" run --scheme simpson --degree 3 -o out.csv
+expect_error 2 "degree with newmark" "--degree applies to --scheme lobatto or gauss; newmark has" run --scheme newmark --degree 2 -o out.csv
+expect_error 2 "degree too high" "--degree: degree must be between 1 and 8, got 9" run --scheme gauss --degree 9 -o out.csv
+expect_error 2 "degree zero" "--degree: must be >= 1, got '0'" run --scheme lobatto --degree 0 -o out.csv
+expect_error 2 "degree not a number" "--degree: 'two' is not a whole number" run --scheme lobatto --degree two -o out.csv
+expect_error 2 "converge one step count" "--steps needs at least two different step counts, e.g." converge --steps 50 -o out.csv
+expect_error 2 "converge repeated step count" "--steps needs at least two different step counts, e.g." converge --steps 50,50 -o out.csv
+expect_error 2 "converge zero steps" "--steps: must be >= 1, got '0'" converge --steps 0,50 -o out.csv
+expect_error 2 "converge text in steps" "--steps: 'abc' is not a whole number" converge --steps 25,abc -o out.csv
+expect_error 2 "converge unknown model" "--model: nosuch not in" converge --model nosuch -o out.csv
+expect_error 2 "converge, a scheme for a rigid body" "--scheme and --degree do not apply to --model top: rigid" converge --model top --scheme gauss -o out.csv
+expect_error 2 "converge zero periods" "--periods: must be >= 1, got '0'" converge --periods 0 -o out.csv
+expect_error 2 "converge bad plot extension" "cannot draw 'out.pdf': use a .png or .svg file name" converge --plot out.pdf -o out.csv
 
 # --- unwritable paths: exit 1 --------------------------------------------------------------
-expect_error 1 "missing folder" run -o "$work/no/such/dir/out.csv"
+expect_error 1 "missing folder" "/no/such/dir/out.csv.part': No such file or directory" run -o "$work/no/such/dir/out.csv"
 mkdir -p adir
-expect_error 2 "path is a folder" run -o adir
-expect_error 1 "figure in missing folder" paper figure1 -o "$work/no/such/fig.png"
-expect_error 1 "table1 missing folder" paper table1 -o "$work/no/such/t.txt"
+expect_error 2 "path is a folder" "cannot write 'adir': it is a directory" run -o adir
+expect_error 1 "figure in missing folder" "/no/such' does not exist" paper figure1 -o "$work/no/such/fig.png"
+expect_error 1 "table1 missing folder" "/no/such/t.txt.part': No such file or directory" paper table1 -o "$work/no/such/t.txt"
 
 # --- Newton divergence: exit 3, rows kept in out.csv.part ----------------------------------
 # One Simpson step per period diverges at step 2 (tests/schemes/test_integrate.cpp).
-expect_error 3 "newton diverges" run --steps-per-period 1 --periods 3 --max-energy-error 0 -o out.csv
+expect_error 3 "newton diverges" "Newton's method did not converge in step 2" run --steps-per-period 1 --periods 3 --max-energy-error 0 -o out.csv
 if grep -q 'step 2' stderr.txt && grep -q 'residual' stderr.txt && grep -q 'out.csv.part' stderr.txt; then ok; else
   bad "divergence message: $(cat stderr.txt)"; fi
 if [ -f out.csv.part ] && [ "$(head -1 out.csv.part)" = "step,t,q,p,energy,q_exact,p_exact" ] &&
@@ -126,7 +126,7 @@ if command -v gnuplot > /dev/null; then
   (gnuplot fig.gp) 2> gp.txt && ok || bad "fig.gp does not redraw: $(cat gp.txt)"
   ls ./*.part > /dev/null 2>&1 && bad "figure left .part files" || ok
 else
-  echo "SKIP: gnuplot not installed (make test installs it)"
+  skip "converge --plot and paper figure2: gnuplot not installed (make test installs it)"
 fi
 
 # --- models (issue 3) ----------------------------------------------------------------------
@@ -170,29 +170,29 @@ header_of() { "$VARSYM" run --model "$1" --every 0 "${@:2}" 2> stderr.txt | head
   awk -F, '{ d = 0; for (i = 3; i <= 7; ++i) { x = $i - $(i + 7); if (x < 0) x = -x; if (x > d) d = x }
              exit !(d <= 1e-12 && NF == 14) }' && ok || bad "double pendulum simplified != newton"
 
-expect_error 2 "another model's option" run --eccentricity 0.3 -o out.csv
-expect_error 2 "eccentricity 1" run --model kepler --eccentricity 1 -o out.csv
-expect_error 2 "kepler with q0" run --model kepler --q0 1,0 -o out.csv
-expect_error 2 "unknown model" run --model rocket -o out.csv
-expect_error 2 "q0 wrong length" run --model heavy-top --q0 1,0 -o out.csv
-expect_error 2 "period for double pendulum" run --model double-pendulum --periods 2 -o out.csv
-expect_error 2 "chain with a dense family member at large n" run --model chain --scheme lobatto --degree 3 --n 5000 -o out.csv
+expect_error 2 "another model's option" "--eccentricity is a parameter of --model kepler, not of --model pendulum" run --eccentricity 0.3 -o out.csv
+expect_error 2 "eccentricity 1" "--eccentricity: eccentricity must be 0 <= eccentricity < 1" run --model kepler --eccentricity 1 -o out.csv
+expect_error 2 "kepler with q0" "kepler: it starts at pericentre: set the orbit with" run --model kepler --q0 1,0 -o out.csv
+expect_error 2 "unknown model" "--model: rocket not in" run --model rocket -o out.csv
+expect_error 2 "q0 wrong length" "heavy-top: q0 needs 3 values (th, phi, psi), got 2" run --model heavy-top --q0 1,0 -o out.csv
+expect_error 2 "period for double pendulum" "--model double-pendulum has no period: give the run's" run --model double-pendulum --periods 2 -o out.csv
+expect_error 2 "chain with a dense family member at large n" "chain: lobatto-3 solves a dense system of 3 n unknowns a" run --model chain --scheme lobatto --degree 3 --n 5000 -o out.csv
 # The chain on the family (dense Newton): gauss-2 (order 4) at n = 16, h = 0.1 keeps the energy
 # (column 35) to 1e-9 relative over 1000 steps against the first row's (measured 4.2e-11;
 # Newmark, order 2, gives 1.1e-6 on the same run, so a wrong order would fail).
 "$VARSYM" run --model chain --n 16 --scheme gauss --degree 2 > chain.csv &&
   awk -F, 'NR == 2 { e0 = $35 } NR > 2 { d = ($35 - e0) / e0; if (d < 0) d = -d; if (d > m) m = d }
            END { exit !(NR == 1002 && m < 1e-9) }' chain.csv && ok || bad "chain on gauss-2: $(tail -1 chain.csv)"
-expect_error 2 "chain n zero" run --model chain --n 0 -o out.csv
-expect_error 2 "oscillator bad matrix size" run --model oscillator --dim 3 --mass-matrix 1,2 -o out.csv
-expect_error 2 "oscillator indefinite K" run --model oscillator --stiffness-matrix 1,-1 -o out.csv
-expect_error 2 "double pendulum zero mass" run --model double-pendulum --masses 0,1 -o out.csv
-expect_error 2 "p0 and v0" run --model heavy-top --p0 0,1,1 --v0 0,1,1 -o out.csv
+expect_error 2 "chain n zero" "--n: n must be a whole number, 1 <= n <= 10000000, got 0" run --model chain --n 0 -o out.csv
+expect_error 2 "oscillator bad matrix size" "oscillator: mass_matrix needs 1, 3 or 9 values for dim 3" run --model oscillator --dim 3 --mass-matrix 1,2 -o out.csv
+expect_error 2 "oscillator indefinite K" "oscillator: stiffness matrix is not positive definite" run --model oscillator --stiffness-matrix 1,-1 -o out.csv
+expect_error 2 "double pendulum zero mass" "--masses: m1 must be positive, got 0" run --model double-pendulum --masses 0,1 -o out.csv
+expect_error 2 "p0 and v0" "--p0 excludes --v0" run --model heavy-top --p0 0,1,1 --v0 0,1,1 -o out.csv
 # A top standing vertically: the Euler angles' mass matrix is singular at theta = 0.
-expect_error 2 "singular mass matrix" run --model heavy-top --q0 0,0,0 -o out.csv
+expect_error 2 "singular mass matrix" "heavy-top: the mass matrix d2L/dqdot2 is singular or not" run --model heavy-top --q0 0,0,0 -o out.csv
 grep -q 'singular' stderr.txt && ok || bad "singular mass message: $(cat stderr.txt)"
 # Ten steps over 100 s of the chaotic double pendulum: Newton cannot converge.
-expect_error 3 "double pendulum step too large" run --model double-pendulum --time 100 --steps 10 -o out.csv
+expect_error 3 "double pendulum step too large" "Newton's method did not converge in step 1 (t = 0 -> 10)" run --model double-pendulum --time 100 --steps 10 -o out.csv
 grep -q 'step 1 (t = 0' stderr.txt && [ -f out.csv.part ] && [ "$(wc -l < out.csv.part)" -eq 2 ] && ok ||
   bad "divergence message/rows: $(cat stderr.txt)"
 rm -f out.csv.part
@@ -212,30 +212,30 @@ TOML
 "$VARSYM" run --config kep.toml --periods 1 > cfg1.csv && [ "$(tail -1 cfg1.csv | cut -d, -f1)" = "100" ] && ok ||
   bad "command line should override the config file"
 printf 'model = "kepler"\nq0 = [1.0, 0.0]\nstats = true\n' > list.toml
-expect_error 2 "config list for kepler" run --config list.toml -o out.csv
+expect_error 2 "config list for kepler" "kepler: it starts at pericentre: set the orbit with" run --config list.toml -o out.csv
 printf 'model = "kepler"\n\neccentricty = 0.3\n' > typo.toml
-expect_error 2 "config unknown key" run --config typo.toml -o out.csv
+expect_error 2 "config unknown key" "typo.toml:3: unknown key 'eccentricty'" run --config typo.toml -o out.csv
 grep -q 'typo.toml:3: unknown key .eccentricty.' stderr.txt && ok || bad "unknown key message: $(cat stderr.txt)"
 printf 'model = "kepler"\neccentricity = "high"\n' > type.toml
-expect_error 2 "config wrong type" run --config type.toml -o out.csv
+expect_error 2 "config wrong type" "type.toml:2: key 'eccentricity' expects a number" run --config type.toml -o out.csv
 grep -q "type.toml:2: key 'eccentricity' expects a number" stderr.txt && ok || bad "type message: $(cat stderr.txt)"
 printf 'model = "kepler"\nsteps = 2.5\n' > int.toml
-expect_error 2 "config float for integer" run --config int.toml -o out.csv
+expect_error 2 "config float for integer" "int.toml:2: key 'steps' expects a whole number" run --config int.toml -o out.csv
 printf 'model = "kepler"\n\n\neccentricity = 1.5\n' > range.toml
-expect_error 2 "config out of range" run --config range.toml -o out.csv
+expect_error 2 "config out of range" "range.toml:4: key 'eccentricity': --eccentricity" run --config range.toml -o out.csv
 grep -q "range.toml:4: key 'eccentricity'" stderr.txt && ok || bad "range message: $(cat stderr.txt)"
 printf 'model = "kepler"\nperiods = [1, 2]\n' > scalar.toml
-expect_error 2 "config list for a scalar" run --config scalar.toml -o out.csv
+expect_error 2 "config list for a scalar" "scalar.toml:2: key 'periods' takes one value, not a list" run --config scalar.toml -o out.csv
 printf 'model = \n' > syntax.toml
-expect_error 2 "config syntax error" run --config syntax.toml -o out.csv
+expect_error 2 "config syntax error" "syntax.toml:1: Error while parsing key-value pair: expected" run --config syntax.toml -o out.csv
 grep -q 'syntax.toml:1' stderr.txt && ok || bad "syntax message: $(cat stderr.txt)"
-expect_error 2 "config missing file" run --config nowhere.toml -o out.csv
+expect_error 2 "config missing file" "cannot read config file 'nowhere.toml': No such file or" run --config nowhere.toml -o out.csv
 # A repeatable option takes a list: plot = ["a.png", "a.svg"] draws both (it was refused).
 printf 'model = "pendulum"\ntime = 2\nfrom = [0]\nto = [1]\nplot = ["pic.png", "pic.svg"]\n' > plots.toml
 "$VARSYM" optimize --config plots.toml -o plots.csv --quiet 2> stderr.txt && [ -s pic.png ] &&
   [ -s pic.svg ] && ok || bad "config plot list: $(cat stderr.txt)"
 printf 'model = "pendulum"\ntime = 2\nfrom = [0]\nto = [1]\nplot = ["pic.png", 3]\n' > plot3.toml
-expect_error 2 "config plot list with a number" optimize --config plot3.toml -o out.csv
+expect_error 2 "config plot list with a number" "plot3.toml:5: key 'plot': every entry expects a string" optimize --config plot3.toml -o out.csv
 
 # --- bench (issue 5): tiny settings; one row per method and N, ratios to odeint's peer ----------
 "$VARSYM" bench --problems pendulum --schemes simpson,gauss-2 --compositions none --steps 25,50 \
@@ -265,16 +265,18 @@ if command -v gnuplot > /dev/null; then
     colours=$(grep -o "stroke='rgb([0-9, ]*)'" wpc.svg | sort -u | wc -l) &&
     [ "$methods" -ge 16 ] && [ "$colours" -ge $((methods + 1)) ] && ok ||
     bad "bench figure colours: $methods methods, $colours colours $(cat stderr.txt)"
+else
+  skip "bench --plot: gnuplot not installed (make test installs it)"
 fi
-expect_error 2 "bench q0 beyond pi" bench --q0 4 -o out.csv
-expect_error 2 "bench unknown composition" bench --compositions euler -o out.csv
-expect_error 2 "bench zero days" bench --days 0 -o out.csv
+expect_error 2 "bench q0 beyond pi" "--q0 must be between 0 and pi rad (exclusive), got 4.000000" bench --q0 4 -o out.csv
+expect_error 2 "bench unknown composition" "--compositions: unknown composition 'euler'" bench --compositions euler -o out.csv
+expect_error 2 "bench zero days" "--days: must be > 0, got '0'" bench --days 0 -o out.csv
 # Simpson's error at N = 50 over 2 periods is Table 1's regime (~1e-6 per period): below 1e-5.
 awk -F, '$2 == "simpson" && $4 == 50 { exit !($5 < 1e-5) }' bench.csv && ok || bad "bench simpson error"
-expect_error 2 "bench zero repetitions" bench --repetitions 0 -o out.csv
-expect_error 2 "bench unknown problem" bench --problems rocket -o out.csv
-expect_error 2 "bench unknown scheme" bench --schemes euler --periods 1 --steps 25 -o out.csv
-expect_error 2 "bench zero steps" bench --steps 0 -o out.csv
+expect_error 2 "bench zero repetitions" "--repetitions: must be >= 1, got '0'" bench --repetitions 0 -o out.csv
+expect_error 2 "bench unknown problem" "--problems: rocket not in {pendulum,kepler,solar}" bench --problems rocket -o out.csv
+expect_error 2 "bench unknown scheme" "unknown scheme 'euler' in --schemes" bench --schemes euler --periods 1 --steps 25 -o out.csv
+expect_error 2 "bench zero steps" "--steps: must be >= 1, got '0'" bench --steps 0 -o out.csv
 
 # Determinism: the same command gives byte-identical output (no -ffast-math, no threads, no
 # randomness; README "Determinism").

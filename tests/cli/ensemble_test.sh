@@ -78,10 +78,10 @@ grep -q "^varsym: SIGINT: stopping once the members in flight finish their curre
 # row checksums (first line "# varsym ensemble: ...").
 { echo "# varsym ensemble journal 2: another"; echo "0,1 #00000000"; } > other.csv.journal
 cp other.csv.journal other.keep
-expect_error 2 "another ensemble's journal" "${hh[@]}" -o other.csv
+expect_error 2 "another ensemble's journal" "./other.csv.journal belongs to another ensemble" "${hh[@]}" -o other.csv
 cmp -s other.csv.journal other.keep && ok || bad "the other journal was changed"
 { echo "# varsym ensemble: another"; echo "0,1"; } > other.csv.journal
-expect_error 2 "an old journal" "${hh[@]}" -o other.csv
+expect_error 2 "an old journal" "./other.csv.journal was written by an older varsym, without" "${hh[@]}" -o other.csv
 grep -q "older varsym" stderr.txt && ok || bad "old journal message: $(cat stderr.txt)"
 
 # --- journal rows carry their CRC-32: a forged or damaged row is computed again, never copied ---
@@ -122,7 +122,7 @@ rc=$?
 "$VARSYM" "${big[@]}" --threads 1 -o busy.csv 2> /dev/null &
 pid=$!
 for _ in $(seq 200); do [ -s busy.csv.journal ] && break; sleep 0.05; done
-expect_error 2 "a second ensemble of the output" "${big[@]}" -o busy.csv
+expect_error 2 "a second ensemble of the output" "busy.csv.journal is in use by another running ensemble of" "${big[@]}" -o busy.csv
 grep -q "in use by another running ensemble" stderr.txt && ok || bad "busy: $(cat stderr.txt)"
 kill -KILL "$pid" 2> /dev/null
 wait "$pid" 2> /dev/null
@@ -208,11 +208,11 @@ if ldd "$VARSYM" | grep -q libmpi && command -v mpirun > /dev/null; then
   mpirun -np 2 "$VARSYM" "${big[@]}" --threads 1 -o both.csv > /dev/null 2>&1 &
   pid=$!
   for _ in $(seq 200); do [ -s both.csv.journal.1 ] && break; sleep 0.05; done
-  expect_error 2 "a plain ensemble beside mpirun" "${big[@]}" -o both.csv
+  expect_error 2 "a plain ensemble beside mpirun" "both.csv.journal is in use by another running ensemble of" "${big[@]}" -o both.csv
   kill -TERM "$pid" 2> /dev/null
   wait "$pid" 2> /dev/null
 else
-  echo "skipped: MPI (this varsym is built without MPI, or mpirun is missing)"
+  skip "MPI (this varsym is built without MPI, or mpirun is missing)"
 fi
 
 # --- Poincaré sections: on the plane, on the energy surface, the same for any threads ----------
@@ -243,30 +243,30 @@ limit_kb=$((out_kb / 2))
 [ "$(wc -l < secm.csv)" -eq 600001 ] && [ -n "$peak_kb" ] && [ "$peak_kb" -lt $limit_kb ] &&
   awk -F, 'NR > 1 && ($1 < m || ($1 == m && $3 != c + 1 && NR > 2)) { bad++ } NR > 1 { m = $1; c = $3 }
     END { exit bad > 0 }' secm.csv && ok || bad "section memory: peak ${peak_kb} KiB for ${out_kb} KiB"
-expect_error 2 "bad plane" section --model henon-heiles --grid q0_2=0:0.1:2 --plane x1=0 -o out.csv
-expect_error 2 "no dense output" section --model four-bar --grid torque=0:0.1:2 -o out.csv
+expect_error 2 "bad plane" "--plane needs qI=VALUE or pI=VALUE with I from 1 to 2, got" section --model henon-heiles --grid q0_2=0:0.1:2 --plane x1=0 -o out.csv
+expect_error 2 "no dense output" "varsym section needs a stepper with dense output" section --model four-bar --grid torque=0:0.1:2 -o out.csv
 
 # --- errors: one line, exit 2 ------------------------------------------------------------------
-expect_error 2 "unknown key" ensemble --model henon-heiles --grid z=0:1:2 -o out.csv
-expect_error 2 "bad grid" ensemble --model henon-heiles --grid q0_2=0:1 -o out.csv
-expect_error 2 "zero count" ensemble --model henon-heiles --grid q0_2=0:1:0 -o out.csv
-expect_error 2 "grid and members" ensemble --model pendulum --grid q0_1=0:1:2 --members pm.csv -o out.csv
-expect_error 2 "no members" ensemble --model pendulum -o out.csv
-expect_error 2 "no output" ensemble --model pendulum --grid q0_1=0:1:2
-expect_error 2 "plot of one axis" ensemble --model pendulum --grid q0_1=0:1:2 -o out.csv --plot p.png
-expect_error 2 "bad event" ensemble --model pendulum --grid q0_1=0:1:2 --event 'q3 + 1' -o out.csv
-expect_error 2 "unknown model" ensemble --model kepler --grid q0_1=0:1:2 -o out.csv
-expect_error 2 "bad --set" ensemble --model pendulum --set mass -o out.csv --grid q0_1=0:1:2
-expect_error 2 "too many steps" ensemble --model pendulum --grid q0_1=0:1:1000000000 --steps 10000000 -o out.csv
+expect_error 2 "unknown key" "'z' is not a key of henon-heiles; its keys: q0_1 p0_1 q0_2" ensemble --model henon-heiles --grid z=0:1:2 -o out.csv
+expect_error 2 "bad grid" "--grid needs KEY=FIRST:LAST:COUNT, got 'q0_2=0:1'" ensemble --model henon-heiles --grid q0_2=0:1 -o out.csv
+expect_error 2 "zero count" "--grid q0_2: the count must be a whole number from 1 to" ensemble --model henon-heiles --grid q0_2=0:1:0 -o out.csv
+expect_error 2 "grid and members" "give --grid or --members, not both" ensemble --model pendulum --grid q0_1=0:1:2 --members pm.csv -o out.csv
+expect_error 2 "no members" "no members: give --grid KEY=FIRST:LAST:COUNT or --members" ensemble --model pendulum -o out.csv
+expect_error 2 "no output" "--output is required" ensemble --model pendulum --grid q0_1=0:1:2
+expect_error 2 "plot of one axis" "--plot draws a heat map over a grid of two --grid axes of" ensemble --model pendulum --grid q0_1=0:1:2 -o out.csv --plot p.png
+expect_error 2 "bad event" "--event: unknown name 'q3' at column 1 of \"q3 + 1\"" ensemble --model pendulum --grid q0_1=0:1:2 --event 'q3 + 1' -o out.csv
+expect_error 2 "unknown model" "'q0_1' is not a key of kepler; its keys: eccentricity" ensemble --model kepler --grid q0_1=0:1:2 -o out.csv
+expect_error 2 "bad --set" "--set needs NAME=VALUE, got 'mass'" ensemble --model pendulum --set mass -o out.csv --grid q0_1=0:1:2
+expect_error 2 "too many steps" "more than 1000000000000000 steps requested" ensemble --model pendulum --grid q0_1=0:1:1000000000 --steps 10000000 -o out.csv
 
 # A parameter set for every member (--set) is checked once against its range: exit 2 before any
 # member runs (n = 0 and dim = 0 ran every member into an error, n = 2e7 wrote 737 MB of invalid
 # rows, energy = inf marked every member invalid with exit 0). Negative control: in range runs.
-expect_error 2 "--set n=0" ensemble --model chain --set n=0 --grid q0_1=0:1:2 -o out.csv
-expect_error 2 "--set n=2e7" ensemble --model chain --set n=2e7 --grid q0_1=0:1:2 -o out.csv
-expect_error 2 "--set dim=-3" ensemble --model oscillator --set dim=-3 --grid q0_1=0:1:2 -o out.csv
-expect_error 2 "--set dim=0" ensemble --model oscillator --set dim=0 --grid q0_1=0:1:2 -o out.csv
-expect_error 2 "--set energy=inf" ensemble --model henon-heiles --set energy=inf \
+expect_error 2 "--set n=0" "--set n: n must be a whole number, 1 <= n <= 10000000, got 0" ensemble --model chain --set n=0 --grid q0_1=0:1:2 -o out.csv
+expect_error 2 "--set n=2e7" "--set n: n must be a whole number, 1 <= n <= 10000000, got" ensemble --model chain --set n=2e7 --grid q0_1=0:1:2 -o out.csv
+expect_error 2 "--set dim=-3" "--set dim: dim must be a whole number, 1 <= dim <= 10000" ensemble --model oscillator --set dim=-3 --grid q0_1=0:1:2 -o out.csv
+expect_error 2 "--set dim=0" "--set dim: dim must be a whole number, 1 <= dim <= 10000" ensemble --model oscillator --set dim=0 --grid q0_1=0:1:2 -o out.csv
+expect_error 2 "--set energy=inf" "--set energy: energy must be a finite number" ensemble --model henon-heiles --set energy=inf \
   --grid q0_2=0:0.1:2 -o out.csv
 grep -q "^varsym: error: --set energy: energy must be" stderr.txt && ok || bad "$(cat stderr.txt)"
 "$VARSYM" ensemble --model chain --set n=3 --grid q0_1=0:0.1:2 --time 0.1 --steps 10 \

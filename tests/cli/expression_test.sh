@@ -57,20 +57,20 @@ awk -F, 'NR == 2 { e = $7 } NR > 2 { d = $7 - e; if (d < 0) d = -d; if (d > m) m
 head -1 damped.csv | grep -qx 'step,t,q,p,energy,work,energy_balance' && ok || bad "damped columns"
 awk -F, 'NR == 2 { e = $5 } NR > 1 { b = $7; if (b < 0) b = -b; if (b > m) m = b }
   END { exit !(m < 1e-9 && $5 - e < -0.2) }' damped.csv && ok || bad "damped balance: $(tail -1 damped.csv)"
-expect_error 2 "force of the wrong size" run --lagrangian "0.5*q_dot**2" --force "-q_dot,0" -o out.csv
+expect_error 2 "force of the wrong size" "--force: 2 components for the Lagrangian's 1 coordinates" run --lagrangian "0.5*q_dot**2" --force "-q_dot,0" -o out.csv
 
 # --- bad input: one line, exit 2, nothing written ----------------------------------------------
-expect_error 2 "parse error" run --lagrangian "0.5*q_dot**2 - (q" -o out.csv
+expect_error 2 "parse error" "--lagrangian: expected ')' to close the '(' of column 16 at" run --lagrangian "0.5*q_dot**2 - (q" -o out.csv
 grep -q 'at column 18' stderr.txt && ok || bad "parse error column: $(cat stderr.txt)"
-expect_error 2 "unknown name" run --lagrangian "0.5*k*q_dot**2" -o out.csv
+expect_error 2 "unknown name" "--lagrangian: unknown name 'k' at column 5 of" run --lagrangian "0.5*k*q_dot**2" -o out.csv
 grep -q "unknown name 'k'" stderr.txt && ok || bad "unknown name: $(cat stderr.txt)"
-expect_error 2 "singular mass" run --lagrangian "q**2*q_dot**2" -o out.csv
+expect_error 2 "singular mass" "lagrangian: the mass matrix d2L/dqdot2 is singular or not" run --lagrangian "q**2*q_dot**2" -o out.csv
 grep -q 'singular' stderr.txt && ok || bad "singular: $(cat stderr.txt)"
-expect_error 2 "no expression" run --model lagrangian -o out.csv
-expect_error 2 "bad parameters" run --lagrangian "0.5*k*q_dot**2" --parameters k -o out.csv
-expect_error 2 "empty coordinate" run --lagrangian "0.5*q_dot**2" --coordinates q, -o out.csv
-expect_error 2 "repeated name" run --lagrangian "0.5*q_dot**2" --coordinates q,q -o out.csv
-expect_error 2 "other model's option" run --lagrangian "0.5*q_dot**2" --eccentricity 0.5 -o out.csv
+expect_error 2 "no expression" "--model lagrangian needs --lagrangian EXPR" run --model lagrangian -o out.csv
+expect_error 2 "bad parameters" "--parameters: 'k' is not NAME=NUMBER" run --lagrangian "0.5*k*q_dot**2" --parameters k -o out.csv
+expect_error 2 "empty coordinate" "--coordinates: empty entry in 'q,'" run --lagrangian "0.5*q_dot**2" --coordinates q, -o out.csv
+expect_error 2 "repeated name" "--lagrangian: the name 'q' is given twice" run --lagrangian "0.5*q_dot**2" --coordinates q,q -o out.csv
+expect_error 2 "other model's option" "--eccentricity is a parameter of --model kepler, not of --model lagrangian" run --lagrangian "0.5*q_dot**2" --eccentricity 0.5 -o out.csv
 # An L that depends on t takes the energy watch on E - W (W = -integral of dL/dt): accepted.
 "$VARSYM" run --lagrangian "0.5*q_dot**2*exp(t)" --q0 0 --v0 1 --max-energy-error 0.1 --time 1 \
   --steps 100 -o timed.csv 2> stderr.txt && head -1 timed.csv | grep -q ',energy_balance$' && ok ||
@@ -82,7 +82,7 @@ chain_l() { awk -v d="$1" 'BEGIN { for (i = 0; i < d; i++) printf "%s0.5*x%d_dot
   printf " - ("; for (i = 0; i + 1 < d; i++) printf "%s0.5*(x%d - x%d)**2", (i ? " + " : ""), i + 1, i
   printf ")" }'; }
 chain_c() { awk -v d="$1" 'BEGIN { for (i = 0; i < d; i++) printf "%sx%d", (i ? "," : ""), i }'; }
-expect_error 2 "typed chain of 2000" run --lagrangian "$(chain_l 2000)" --coordinates "$(chain_c 2000)" \
+expect_error 2 "typed chain of 2000" "--lagrangian: a Lagrangian of 2000 coordinates typed in" run --lagrangian "$(chain_l 2000)" --coordinates "$(chain_c 2000)" \
   -o out.csv
 grep -q "would take about" stderr.txt && ok || bad "size guard: $(cut -c1-200 stderr.txt)"
 "$VARSYM" run --lagrangian "$(chain_l 100)" --coordinates "$(chain_c 100)" --q0 "1$(printf ',0%.0s' $(seq 99))" \
@@ -124,7 +124,7 @@ for _ in $(seq 200); do [ -s lother.csv.journal ] && [ "$(wc -l < lother.csv.jou
 kill -TERM "$pid" 2> /dev/null
 wait "$pid" 2> /dev/null
 [ -s lother.csv.journal ] && ok || bad "the stopped ensemble kept no journal"
-expect_error 2 "another Lagrangian's journal" ensemble --model lagrangian \
+expect_error 2 "another Lagrangian's journal" "./lother.csv.journal belongs to another ensemble" ensemble --model lagrangian \
   --lagrangian "0.5*x_dot**2 - 0.5*k*x**2 - x**4" "${long[@]}"
 # A member of an L that depends on t reports the error of E - W (W = -integral of dL/dt), the
 # scheme's: below 1e-5 relative, where E itself grows by more than 10 % (failures_test.sh).
@@ -167,19 +167,19 @@ for want in "simpson 4" "newmark 2"; do
       END { if (!f) exit 1 }' lconv.txt && ok ||
     bad "lagrangian converge $scheme: $(cat lconv.txt lconv.log)"
 done
-expect_error 2 "converge: a start key past d" converge "${quartic[@]}" --set q0_2=1
-expect_error 2 "converge: --lagrangian with another model" converge --model kepler \
+expect_error 2 "converge: a start key past d" "'q0_2' is not a key of lagrangian; its keys: q0_1 p0_1" converge "${quartic[@]}" --set q0_2=1
+expect_error 2 "converge: --lagrangian with another model" "--lagrangian is for --model lagrangian, not 'kepler'" converge --model kepler \
   --lagrangian "0.5*x_dot**2" --set eccentricity=0.5
-expect_error 2 "--lagrangian with another model" ensemble --model pendulum --lagrangian "0.5*q_dot**2" \
+expect_error 2 "--lagrangian with another model" "--lagrangian is for --model lagrangian, not 'pendulum'" ensemble --model pendulum --lagrangian "0.5*q_dot**2" \
   --grid q0_1=0:1:2 -o out.csv
-expect_error 2 "lagrangian ensemble without L" ensemble --model lagrangian --grid q0_1=0:1:2 -o out.csv
+expect_error 2 "lagrangian ensemble without L" "--model lagrangian needs --lagrangian EXPR" ensemble --model lagrangian --grid q0_1=0:1:2 -o out.csv
 
 # --predictor forces on a separable typed L (the separable steppers take it; it was refused),
 # refused where L runs the general engine.
 "$VARSYM" run --lagrangian "0.5*q_dot^2 - 0.5*q^2" --q0 1 --time 10 --steps 100 --scheme gauss \
   --degree 4 --iteration fixed-point --predictor forces -o sep.csv 2> sep.err && ok ||
   bad "--predictor forces on a separable L: $(cat sep.err)"
-expect_error 2 "--predictor forces, general engine" run --lagrangian "0.5*q_dot^2*(1+q^2) - 0.5*q^2" \
+expect_error 2 "--predictor forces, general engine" "lagrangian: the predictors 'previous' and 'forces' are for" run --lagrangian "0.5*q_dot^2*(1+q^2) - 0.5*q^2" \
   --q0 1 --time 10 --steps 100 --predictor forces -o out.csv
 
 finish

@@ -34,7 +34,7 @@ if mknod null c 1 3 2> /dev/null; then
     bad "run -o a character device: $(cat stderr.txt); $(ls -l null*)"
   "$VARSYM" converge --steps 10,20 -o null 2> /dev/null && [ -c null ] && ok || bad "converge -o device"
 else
-  echo "files_test: not root, the mknod character-device case is skipped"
+  skip "not root: the mknod character-device case"
 fi
 "$VARSYM" run -o /dev/stdout > through_stdout.txt 2> stderr.txt && ok || bad "run -o /dev/stdout"
 [ "$(wc -l < through_stdout.txt)" -eq 52 ] && [ -L /dev/stdout ] && ok || bad "/dev/stdout output"
@@ -100,10 +100,10 @@ rm -f o.csv* ck*
 # Files the run did not create are never removed: an unrelated CK.tmp, a stale FILE.part.
 rm -f o.csv* ck*
 echo mine > ck.tmp
-expect_error 2 "existing CK.tmp" run -o o.csv --checkpoint ck
+expect_error 2 "existing CK.tmp" "'ck.tmp' exists; varsym writes checkpoint 'ck' through that" run -o o.csv --checkpoint ck
 [ "$(cat ck.tmp)" = mine ] && ok || bad "CK.tmp was changed"
 echo mine > o.csv.part
-expect_error 2 "existing FILE.part" run -o o.csv
+expect_error 2 "existing FILE.part" "cannot write 'o.csv': 'o.csv.part' exists" run -o o.csv
 [ "$(cat o.csv.part)" = mine ] && grep -q "o.csv.part' exists" stderr.txt && ok || bad "FILE.part kept"
 rm -f o.csv* ck*
 
@@ -113,7 +113,7 @@ long=(run --time 100 --steps 400000000 --every 1000000 -o busy.csv --checkpoint 
 "$VARSYM" "${long[@]}" 2> first.txt &
 first=$!
 for _ in $(seq 100); do [ -e busy.ck ] && break; sleep 0.1; done
-expect_error 2 "second run on the same output" run -o busy.csv
+expect_error 2 "second run on the same output" "another varsym run is writing 'busy.csv'" run -o busy.csv
 grep -q 'is locked' stderr.txt && ok || bad "lock message: $(cat stderr.txt)"
 kill -TERM "$first"
 wait "$first"
@@ -123,7 +123,7 @@ rc=$?
 "$VARSYM" run --resume busy.ck 2> first.txt &
 first=$!
 sleep 0.5
-expect_error 2 "second resume" run --resume busy.ck
+expect_error 2 "second resume" "busy.csv.part' is locked by another varsym run" run --resume busy.ck
 grep -q 'locked by another varsym run' stderr.txt && ok || bad "resume lock: $(cat stderr.txt)"
 kill -INT "$first"
 wait "$first"
@@ -205,17 +205,21 @@ else
 fi
 
 # --- bounded reads ------------------------------------------------------------------------------
-expect_error 2 "resume /dev/zero" run --resume /dev/zero
-expect_error 2 "resume a directory" run --resume .
+expect_error 2 "resume /dev/zero" "cannot read checkpoint '/dev/zero': not a regular file" run --resume /dev/zero
+expect_error 2 "resume a directory" "cannot read checkpoint '.': it is a directory" run --resume .
 truncate -s 3G huge.ckpt
-expect_error 2 "resume a 3 GB file" run --resume huge.ckpt
+expect_error 2 "resume a 3 GB file" "cannot read checkpoint 'huge.ckpt': 3221225472 bytes, more" run --resume huge.ckpt
 grep -q 'more than a valid checkpoint' stderr.txt && ok || bad "size message: $(cat stderr.txt)"
 rm -f huge.ckpt
 mkfifo endless
 (yes > endless &) 2> /dev/null
-expect_error 2 "resume an endless FIFO" run --resume endless
+expect_error 2 "resume an endless FIFO" "cannot read checkpoint 'endless': not a regular file" run --resume endless
 pkill -f '^yes$' 2> /dev/null
-for f in /dev/zero /dev/urandom . ""; do expect_error 2 "config '$f'" run --config "$f"; done
+for f in /dev/zero /dev/urandom; do
+  expect_error 2 "config '$f'" "cannot read config file '$f': not a regular file" run --config "$f"
+done
+expect_error 2 "config '.'" "cannot read config file '.': it is a directory" run --config .
+expect_error 2 "config ''" "--config needs a file name" run --config ""
 
 # --- numbers: decimal only, correctly rounded, whole numbers as reals --------------------------
 rows() { "$VARSYM" run "$@" 2> /dev/null | tail -n +2 | wc -l; }
@@ -223,9 +227,9 @@ rows() { "$VARSYM" run "$@" 2> /dev/null | tail -n +2 | wc -l; }
 [ "$(rows --time 1 --steps 1e1)" -eq 11 ] && ok || bad "1e1 steps"
 [ "$(rows --steps-per-period +10)" -eq 11 ] && ok || bad "+10 steps"
 [ "$(rows --q0 +1)" -eq 51 ] && ok || bad "--q0 +1"
-expect_error 2 "q0 '1,'" run --q0 1,
-expect_error 2 "q0 '1,,2'" run --model double-pendulum --q0 1,,2
-expect_error 2 "hexadecimal" run --steps-per-period 0x10
+expect_error 2 "q0 '1,'" "--q0: value 2 of '1,' is empty" run --q0 1,
+expect_error 2 "q0 '1,,2'" "--q0: value 2 of '1,,2' is empty" run --model double-pendulum --q0 1,,2
+expect_error 2 "hexadecimal" "--steps-per-period: '0x10' is not a whole number" run --steps-per-period 0x10
 # The midpoint of 1 and its successor, plus 1e-60: correctly rounded it is the successor (a
 # parser through long double lands on the midpoint and rounds to even, 1).
 q0=$("$VARSYM" run --q0 1.00000000000000011102230246251565404236316680908203125000001 --every 0 |
@@ -237,11 +241,11 @@ printf 'stats = true\n' > s.toml
 "$VARSYM" run --config s.toml > /dev/null 2> stderr.txt && grep -q 'Newton iterations' stderr.txt &&
   ok || bad "stats = true: $(cat stderr.txt)"
 printf 'stats = "true"\n' > s.toml
-expect_error 2 'stats = "true"' run --config s.toml
+expect_error 2 'stats = "true"' "s.toml:1: key 'stats' expects true or false" run --config s.toml
 grep -q '^varsym: error: s.toml:1: ' stderr.txt && ok || bad "file:line: $(cat stderr.txt)"
 head -c 10000000 /dev/zero | tr '\0' x > big.txt
 printf 'model = "%s"\n' "$(cat big.txt)" > big.toml
-expect_error 2 "10 MB value" run --config big.toml
+expect_error 2 "10 MB value" "cannot read config file 'big.toml': 10000011 bytes, more than" run --config big.toml
 [ "$(wc -c < stderr.txt)" -lt 2100 ] && ok || bad "10 MB value echoed: $(wc -c < stderr.txt) bytes"
 rm -f big.*
 
@@ -285,14 +289,14 @@ for a in "models" "stability" "--help" "run --help"; do
   "$VARSYM" $a > /dev/full 2> stderr.txt
   [ $? -eq 1 ] && grep -q 'cannot write standard output' stderr.txt && ok || bad "$a > /dev/full"
 done
-expect_error 2 "bench periods 1e-9" bench --periods 1e-9 --problems pendulum --schemes simpson
-expect_error 2 "bench lobatto-x" bench --schemes lobatto-x
+expect_error 2 "bench periods 1e-9" "must give between 1 and 1e10 steps a run" bench --periods 1e-9 --problems pendulum --schemes simpson
+expect_error 2 "bench lobatto-x" "in 'lobatto-x', the degree after '-' must be a whole number" bench --schemes lobatto-x
 grep -q 'degree after' stderr.txt && ok || bad "bench label: $(cat stderr.txt)"
-expect_error 2 "stability --max 1000" stability --max 1000
-expect_error 2 "figure2 --periods 1e6" paper figure2 --periods 1000000 -o f.svg
-expect_error 2 "chain n 1e8" run --model chain --n 1e8
+expect_error 2 "stability --max 1000" "--max: must be <= 200, got '1000'" stability --max 1000
+expect_error 2 "figure2 --periods 1e6" "--periods: Value 1000000 not in range 1 to 1000" paper figure2 --periods 1000000 -o f.svg
+expect_error 2 "chain n 1e8" "--n: n must be a whole number, 1 <= n <= 10000000, got 100000000" run --model chain --n 1e8
 # 1e7 masses with Simpson (3 GB) fit; a dense member needs 24 (s n)^2 bytes: 2e16 GB.
-expect_error 2 "chain too big for memory" run --model chain --n 1e7 --scheme gauss --degree 8
+expect_error 2 "chain too big for memory" "chain: n = 10000000 with gauss-8 needs about 153600003 GB" run --model chain --n 1e7 --scheme gauss --degree 8
 grep -q 'needs about .* GB' stderr.txt && ok || bad "memory message: $(cat stderr.txt)"
 "$VARSYM" run --checkpoint-seconds 1e10 --checkpoint cs.ck -o cs.csv 2> stderr.txt && [ -e cs.ck ] &&
   ok || bad "--checkpoint-seconds 1e10: $(cat stderr.txt)"

@@ -1,5 +1,8 @@
 # tests/cli/lib.sh: what the command-line test scripts share (sourced with VARSYM's path as $1):
-# a scratch directory removed at exit, pass/fail counting and expect_error.
+# a scratch directory removed at exit, pass/fail counting, expect_error, the numeric comparisons
+# (each refuses an empty or non-numeric value as a failure of its own, so that a missing field
+# or a failed run cannot pass, not even a negated check) and visible skips (exit 77, which CTest
+# reports as skipped through SKIP_RETURN_CODE).
 set -u
 VARSYM=$(realpath "${1:?usage: ${0##*/} PATH_TO_VARSYM}")
 work=$(mktemp -d)
@@ -7,15 +10,53 @@ trap 'rm -rf "$work"' EXIT
 cd "$work" || exit 1
 failures=0
 passed=0
+skipped=()
 
 ok() { passed=$((passed + 1)); }
 bad() { echo "FAIL: $*"; failures=$((failures + 1)); }
+# skip REASON: a part of the script that could not run; the script then exits 77 (skipped)
+# unless something failed.
+skip() { echo "SKIP: $*"; skipped+=("$*"); }
 
-# expect_error CODE NAME ARGS...: exit status CODE, exactly one line on stderr starting with
-# "varsym: error:", nothing named out.csv created, and a pre-existing keep.csv unchanged.
+# is_number X: X is a decimal number (what awk would read as one, with nothing left over).
+is_number() { [[ $1 =~ ^[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$ ]]; }
+# numbers WHO X...: every X is a number; else a failure naming WHO and the caller's line, and
+# status 2. The comparisons below call it first: whether negated or not, an empty value fails.
+numbers() {
+  local who=$1 x
+  shift
+  for x in "$@"; do
+    is_number "$x" && continue
+    bad "$who at line ${BASH_LINENO[1]}: '$x' is not a number (a missing value or a failed run)"
+    return 2
+  done
+}
+# near A B TOL: |A - B| <= TOL.
+near() {
+  numbers near "$@" || return 2
+  awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= t) }'
+}
+# rel A B TOL: |A - B| <= TOL |B|.
+rel() {
+  numbers rel "$@" || return 2
+  awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; if (d < 0) d = -d; m = b < 0 ? -b : b
+    exit !(d <= t * m) }'
+}
+# lt A B: A < B; le A B: A <= B; between LO X HI: LO < X < HI.
+lt() { numbers lt "$@" || return 2; awk -v a="$1" -v b="$2" 'BEGIN { exit !(a < b) }'; }
+le() { numbers le "$@" || return 2; awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; }
+between() {
+  numbers between "$@" || return 2
+  awk -v l="$1" -v x="$2" -v h="$3" 'BEGIN { exit !(l < x && x < h) }'
+}
+
+# expect_error CODE NAME WORDS ARGS...: exit status CODE, exactly one line on stderr starting with
+# "varsym: error:" and containing WORDS (a fixed string: the words that say what was refused),
+# nothing named out.csv created, and a pre-existing keep.csv unchanged. An empty WORDS is refused.
 expect_error() {
-  local code=$1 name=$2
-  shift 2
+  local code=$1 name=$2 words=$3
+  shift 3
+  if [ -z "$words" ]; then bad "$name: expect_error without the words of the message"; return; fi
   rm -f out.csv out.csv.part
   echo "precious" > keep.csv
   "$VARSYM" "$@" > stdout.txt 2> stderr.txt
@@ -25,14 +66,19 @@ expect_error() {
   if [ "$rc" -ne "$code" ]; then bad "$name: exit $rc, expected $code ($(cat stderr.txt))"; return; fi
   if [ "$lines" -ne 1 ]; then bad "$name: $lines lines on stderr: $(cat stderr.txt)"; return; fi
   if ! grep -q '^varsym: error: ' stderr.txt; then bad "$name: message: $(cat stderr.txt)"; return; fi
+  if ! grep -qF -- "$words" stderr.txt; then
+    bad "$name: the message does not say '$words': $(cat stderr.txt)"
+    return
+  fi
   if [ -e out.csv ]; then bad "$name: left out.csv behind"; return; fi
   if [ "$(cat keep.csv)" != "precious" ]; then bad "$name: changed keep.csv"; return; fi
   ok
 }
 
-
-# finish: the summary line; the script's status is whether every check passed.
+# finish: the summary line; the script's status is whether every check passed, or 77 (skipped)
+# when every check that ran passed but a part could not run.
 finish() {
-  echo "$passed passed, $failures failed"
-  [ "$failures" -eq 0 ]
+  echo "$passed passed, $failures failed, ${#skipped[@]} skipped"
+  [ "$failures" -eq 0 ] || exit 1
+  [ "${#skipped[@]}" -eq 0 ] || exit 77
 }

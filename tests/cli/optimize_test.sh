@@ -7,7 +7,6 @@ source "$(dirname "$0")/lib.sh" "$@"
 pi=3.141592653589793
 # last_field FILE COLUMN: the value of COLUMN (1-based) in FILE's last row.
 last_field() { tail -1 "$1" | cut -d, -f"$2"; }
-near() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= t) }'; }
 
 # The acrobot swing-up: hanging (0, 0) to upright (pi, 0) in 4 s.
 "$VARSYM" optimize --model acrobot --time 4 --steps 40 --from 0,0 --to $pi,0 \
@@ -27,10 +26,12 @@ closure=$(sed -n 's/.*closure (general engine replay) \([^ ]*\)$/\1/p' acrobot.e
 near "$closure" 0 1e-8 && ok || bad "acrobot closure $closure"
 
 # --plot: the picture and its data and script beside it.
-"$VARSYM" optimize --model acrobot --time 4 --steps 20 --from 0,0 --to $pi,0 --quiet \
+# (40 steps: at 20 the optimum is not trusted, its replay fails: exit 3, which this check took
+# as success.)
+"$VARSYM" optimize --model acrobot --time 4 --steps 40 --from 0,0 --to $pi,0 --quiet \
   --output /dev/null --plot swing.png --plot swing.svg 2> plot.err
 rc=$?
-[ $rc -eq 0 ] || [ $rc -eq 3 ] && ok || bad "--plot: exit $rc ($(cat plot.err))"
+[ $rc -eq 0 ] && ok || bad "--plot: exit $rc ($(cat plot.err))"
 for f in swing.png swing.svg swing.nodes.csv swing.controls.csv swing.poses.csv swing.gp; do
   [ -s "$f" ] && ok || bad "--plot did not write $f"
 done
@@ -83,22 +84,22 @@ near "$(last_field free.csv 3)" 0 1e-12 && near "$(last_field free.csv 5)" 0 1e-
   bad "free end: the pole does not end upright at rest: $(tail -1 free.csv)"
 fixed_cost=$(sed -n 's/.* cost \([^,]*\),.*/\1/p' cp.err)
 free_cost=$(sed -n 's/.* cost \([^,]*\),.*/\1/p' free.err)
-awk -v f="$free_cost" -v x="$fixed_cost" 'BEGIN { exit !(f > 0 && f < x) }' && ok ||
+lt 0 "$free_cost" && lt "$free_cost" "$fixed_cost" && ok ||
   bad "free end: cost $free_cost, not below the fixed end's $fixed_cost"
 # A terminal weight on the cart's place pulls it back towards x = 0: a cost between the two.
-"$VARSYM" optimize --config free.toml --terminal-weight 1000,0 --quiet > pulled.csv 2> pulled.err
+"$VARSYM" optimize --config free.toml --terminal-weight 1000,0 --quiet > pulled.csv 2> pulled.err ||
+  bad "terminal weight: exit $? ($(tail -1 pulled.err))"
 pulled_cost=$(sed -n 's/.* cost \([^,]*\),.*/\1/p' pulled.err)
-awk -v p="$pulled_cost" -v f="$free_cost" -v x="$fixed_cost" 'BEGIN { exit !(p > f && p < x) }' &&
-  ok || bad "terminal weight: cost $pulled_cost, not between $free_cost and $fixed_cost"
+between "$free_cost" "$pulled_cost" "$fixed_cost" && ok || bad "terminal weight: cost $pulled_cost, not between $free_cost and $fixed_cost"
 x_free=$(last_field free.csv 2)
 x_pulled=$(last_field pulled.csv 2)
-awk -v a="$x_free" -v b="$x_pulled" 'BEGIN { a = a < 0 ? -a : a; b = b < 0 ? -b : b; exit !(b < a / 10) }' &&
+numbers "terminal weight" "$x_free" "$x_pulled" && awk -v a="$x_free" -v b="$x_pulled" 'BEGIN { a = a < 0 ? -a : a; b = b < 0 ? -b : b; exit !(b < a / 10) }' &&
   ok || bad "terminal weight: the cart ends at $x_pulled, the free one at $x_free"
 printf 'model = "cart-pole"\nspeed = 3\n' > bad.toml
-expect_error 2 "unknown config key" optimize --config bad.toml --time 2 --from 0,0 --to 1,0 --output out.csv
+expect_error 2 "unknown config key" "bad.toml:2: unknown key 'speed'" optimize --config bad.toml --time 2 --from 0,0 --to 1,0 --output out.csv
 grep -q 'bad.toml:2: unknown key .speed.' stderr.txt && ok || bad "config error: $(cat stderr.txt)"
-expect_error 2 "bad --free-end" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --free-end q3 --output out.csv
-expect_error 2 "weights not matching --free-end" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --free-end q1 --terminal-weight 1,2 --output out.csv
+expect_error 2 "bad --free-end" "--free-end: 'q3' is not a coordinate: give q1 … q2" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --free-end q3 --output out.csv
+expect_error 2 "weights not matching --free-end" "--terminal-weight needs one weight per --free-end entry" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --free-end q1 --terminal-weight 1,2 --output out.csv
 
 # The pendulum (omega^2 = 9.81: m = l = 1 under g = 9.81) swung up by a torque at the pivot bounded
 # by 5 N m, from hanging to upright at rest in 3 s: the bound is active (the unbounded optimum
@@ -130,14 +131,14 @@ rc=$?
   bad "spurious optimum: exit $rc ($(cat spurious.err))"
 
 # Bad input: one line, exit 2, no file.
-expect_error 2 "minimum time unbounded" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --cost time --output out.csv
-expect_error 2 "unknown cost term" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --cost speed --output out.csv
-expect_error 2 "model without inputs" optimize --model oscillator --time 2 --from 0 --to 1 --output out.csv
-expect_error 2 "unknown model" optimize --model acrobat --time 2 --from 0,0 --to 1,0 --output out.csv
-expect_error 2 "short --from" optimize --model acrobot --time 2 --from 0 --to 1,0 --output out.csv
-expect_error 2 "NaN target" optimize --model acrobot --time 2 --from 0,0 --to nan,0 --output out.csv
-expect_error 2 "zero horizon" optimize --model acrobot --time 0 --from 0,0 --to 1,0 --output out.csv
-expect_error 2 "bad mass" optimize --model acrobot --m1 -1 --time 2 --from 0,0 --to 1,0 --output out.csv
+expect_error 2 "minimum time unbounded" "--cost time needs --max-control: with unbounded inputs the" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --cost time --output out.csv
+expect_error 2 "unknown cost term" "--cost: unknown term 'speed'; the terms are effort" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --cost speed --output out.csv
+expect_error 2 "model without inputs" "model oscillator has no control input to optimise; models" optimize --model oscillator --time 2 --from 0 --to 1 --output out.csv
+expect_error 2 "unknown model" "no model 'acrobat'; did you mean 'acrobot'? The models" optimize --model acrobat --time 2 --from 0,0 --to 1,0 --output out.csv
+expect_error 2 "short --from" "--from needs 2 values (q1, q2) for acrobot, got 1" optimize --model acrobot --time 2 --from 0 --to 1,0 --output out.csv
+expect_error 2 "NaN target" "--to: value 1, 'nan', is not finite" optimize --model acrobot --time 2 --from 0,0 --to nan,0 --output out.csv
+expect_error 2 "zero horizon" "--time: must be > 0, got '0'" optimize --model acrobot --time 0 --from 0,0 --to 1,0 --output out.csv
+expect_error 2 "bad mass" "--m1: m1 must be positive, got -1" optimize --model acrobot --m1 -1 --time 2 --from 0,0 --to 1,0 --output out.csv
 
 # Unreachable: |u| <= 0.01 N m cannot swing the acrobot up: exit 3, the last iterate kept.
 "$VARSYM" optimize --model acrobot --time 4 --from 0,0 --to $pi,0 --max-control 0.01 --quiet \
@@ -150,12 +151,12 @@ grep -q '^varsym: error: .*infeasible' unreachable.err && ok || bad "message: $(
 # Options the optimiser would drop are refused (they were accepted and ignored, exit 0): the
 # parameter that holds the input constant in a simulation, and another model's parameter.
 # Negative control: the model's own parameter is taken (another gravity, another cost).
-expect_error 2 "--push on the cart-pole" optimize --model cart-pole --push 1e6 --time 2 \
+expect_error 2 "--push on the cart-pole" "--push is a simulation's parameter of cart-pole; optimize" optimize --model cart-pole --push 1e6 --time 2 \
   --steps 20 --from 0,$pi --to 0,0 -o out.csv
 grep -q "push is a simulation's parameter of cart-pole" stderr.txt && ok || bad "$(cat stderr.txt)"
-expect_error 2 "--torque on the acrobot" optimize --model acrobot --torque 1 --time 4 \
+expect_error 2 "--torque on the acrobot" "--torque is a simulation's parameter of acrobot; optimize" optimize --model acrobot --torque 1 --time 4 \
   --steps 20 --from 0,0 --to $pi,0 -o out.csv
-expect_error 2 "another model's option" optimize --model cart-pole --eccentricity 0.3 --time 2 \
+expect_error 2 "another model's option" "not expected: 0.3 --eccentricity" optimize --model cart-pole --eccentricity 0.3 --time 2 \
   --steps 20 --from 0,$pi --to 0,0 -o out.csv
 grep -q "not expected: .*--eccentricity" stderr.txt && ok || bad "$(cat stderr.txt)"
 # optimize --help lists the parameters of the models it takes (it listed every model's).
@@ -181,7 +182,7 @@ rc=$?
 grep -q "^varsym optimize: bound active: |u| = --max-control at [1-9][0-9]* of 120 control values" \
   mintime.err && ok || bad "minimum time: the saturated push was not reported"
 grep -q "bound active" acrobot.err && bad "an unbounded swing-up reported an active bound" || ok
-expect_error 2 "exact Hessian of a free time" optimize --model cart-pole --time 3 --steps 20 \
+expect_error 2 "exact Hessian of a free time" "--hessian exact: a free final time (--cost time) has no" optimize --model cart-pole --time 3 --steps 20 \
   --from 0,$pi --to 1,$pi --max-control 10 --cost time --hessian exact -o out.csv
 grep -q "a free final time (--cost time) has no exact Hessian" stderr.txt && ok || bad "$(cat stderr.txt)"
 
@@ -216,44 +217,44 @@ printf '# a comment\ntol 1e-10\nprint_level 5\n' > fine.opt
 [ "$(head -1 fine.csv)" = "$(head -1 acrobot.csv)" ] && ok || bad "IPOPT printed on standard output"
 grep -q "This is Ipopt" fine.err && ok || bad "print_level 5 in the file was not read"
 printf 'no_such_option 5\n' > bad.opt
-expect_error 2 "unknown IPOPT option" optimize --model pendulum --time 2 --from 0 --to 1 \
+expect_error 2 "unknown IPOPT option" "bad.opt:1: 'no_such_option' is not an IPOPT option" optimize --model pendulum --time 2 --from 0 --to 1 \
   --ipopt-options bad.opt -o out.csv
 grep -q "bad.opt:1: 'no_such_option' is not an IPOPT option" stderr.txt && ok || bad "$(tail -1 stderr.txt)"
-expect_error 2 "missing IPOPT options file" optimize --model pendulum --time 2 --from 0 --to 1 \
+expect_error 2 "missing IPOPT options file" "cannot read IPOPT options file 'nowhere.opt': No such file" optimize --model pendulum --time 2 --from 0 --to 1 \
   --ipopt-options nowhere.opt -o out.csv
 cp acrobot_u.csv kept_u.csv
 printf 'output_file kept_u.csv\n' > clash.opt
-expect_error 2 "output_file on --controls" optimize --model pendulum --time 2 --from 0 --to 1 \
+expect_error 2 "output_file on --controls" "--controls 'kept_u.csv' and --ipopt-options' output_file" optimize --model pendulum --time 2 --from 0 --to 1 \
   --ipopt-options clash.opt -o out.csv --controls kept_u.csv
 cmp -s kept_u.csv acrobot_u.csv && ok || bad "the options file's output_file touched --controls"
 
 # Sizes checked before memory: 1e8 steps reached 24 GB before the OOM killer; now the estimate
 # (14.7 KB a step for the acrobot) is refused at once, saying how many steps fit; 2e9 steps
 # would overflow IPOPT's indices.
-expect_error 2 "1e8 steps" optimize --model acrobot --time 4 --steps 1e8 --from 0,0 --to 3,0 -o out.csv
+expect_error 2 "1e8 steps" "100000000 steps need about 1470.0 GB to optimise" optimize --model acrobot --time 4 --steps 1e8 --from 0,0 --to 3,0 -o out.csv
 grep -q "100000000 steps need about .* GB to optimise .* at most about [0-9]* steps fit" stderr.txt &&
   ok || bad "$(cat stderr.txt)"
-expect_error 2 "2e9 steps" optimize --model acrobot --time 4 --steps 2000000000 --from 0,0 --to 3,0 \
+expect_error 2 "2e9 steps" "acrobot: 2000000000 steps make more than 2e9 unknowns" optimize --model acrobot --time 4 --steps 2000000000 --from 0,0 --to 3,0 \
   -o out.csv
 
 # Values the model cannot evaluate (they overflow) are bad input, said so (was exit 1, "mass
 # matrix singular"); the inputs that optimize computes are not offered by --help.
-expect_error 2 "--to 1e308" optimize --model pendulum --time 2 --from 0 --to 1e308 -o out.csv
+expect_error 2 "--to 1e308" "are not finite at its starting point" optimize --model pendulum --time 2 --from 0 --to 1e308 -o out.csv
 grep -q "not finite at its starting point" stderr.txt && ok || bad "$(cat stderr.txt)"
-expect_error 2 "--omega 1e200" optimize --model pendulum --time 2 --from 0 --to 1 --omega 1e200 \
+expect_error 2 "--omega 1e200" "are not finite at its starting point" optimize --model pendulum --time 2 --from 0 --to 1 --omega 1e200 \
   -o out.csv
 "$VARSYM" optimize --help > help.txt
 grep -qE -- "--(push|torque)" help.txt && bad "optimize --help offers --push or --torque" || ok
 grep -q -- "--omega" help.txt && ok || bad "negative control: optimize --help lost --omega"
-expect_error 2 "--push" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --push 3 -o out.csv
+expect_error 2 "--push" "--push is a simulation's parameter of cart-pole; optimize" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --push 3 -o out.csv
 
 # File roles on resolved targets: the nodes on standard output and --controls /dev/stdout, or a
 # dangling link to --output, are one file (the controls were written over the nodes).
-expect_error 2 "--controls /dev/stdout beside standard output" optimize --model pendulum --time 2 \
+expect_error 2 "--controls /dev/stdout beside standard output" "--output (standard output) '/dev/stdout' and --controls" optimize --model pendulum --time 2 \
   --from 0 --to 1 --controls /dev/stdout
 grep -q "are the same file" stderr.txt && ok || bad "$(tail -1 stderr.txt)"
 rm -f same.csv && ln -sf same.csv dangling.csv
-expect_error 2 "dangling link to --output" optimize --model pendulum --time 2 --from 0 --to 1 \
+expect_error 2 "dangling link to --output" "--output 'same.csv' and --controls 'dangling.csv' are the" optimize --model pendulum --time 2 --from 0 --to 1 \
   --controls dangling.csv --output same.csv
 [ ! -e same.csv ] && ok || bad "same.csv was written"
 "$VARSYM" optimize --model pendulum --time 2 --from 0 --to 1 --quiet --controls dangling.csv \

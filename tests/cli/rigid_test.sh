@@ -7,18 +7,22 @@ source "$(dirname "$0")/lib.sh" "$@"
 
 # col FILE NAME: the column number of NAME in FILE's header.
 col() { head -1 "$1" | tr ',' '\n' | grep -nx "$2" | cut -d: -f1; }
-# spread FILE NAME: max - min of column NAME, relative to max |value| (0 if all are 0).
+# spread FILE NAME: max - min of column NAME, relative to max |value| (0 if all are 0); nothing
+# (which lt refuses) without a data row or without the column. (The conditional is in
+# parentheses: unbracketed, awk read "printf ..., m > 0 ? ..." as output redirected to a file
+# named 0, printed nothing, and every check of a spread passed on the empty string.)
 spread() {
-  awk -F, -v c="$(col "$1" "$2")" 'NR > 1 { v = $c + 0; if (NR == 2 || v < lo) lo = v;
+  awk -F, -v c="$(col "$1" "$2")" 'NR > 1 && c != "" { v = $c + 0; if (NR == 2 || v < lo) lo = v;
     if (NR == 2 || v > hi) hi = v; a = v < 0 ? -v : v; if (a > m) m = a }
-    END { printf "%.3e", m > 0 ? (hi - lo) / m : 0 }' "$1"
+    END { if (NR > 1 && c != "") printf "%.3e", (m > 0 ? (hi - lo) / m : 0) }' "$1"
 }
-# maxabs FILE NAME [OTHER]: max |NAME| (or max |NAME - OTHER|) over the rows.
+# maxabs FILE NAME [OTHER]: max |NAME| (or max |NAME - OTHER|) over the rows; nothing without a
+# data row or a column.
 maxabs() {
-  awk -F, -v c="$(col "$1" "$2")" -v d="${3:+$(col "$1" "${3:-}")}" 'NR > 1 {
-    v = $c - (d != "" ? $d : 0); if (v < 0) v = -v; if (v > m) m = v } END { printf "%.3e", m }' "$1"
+  awk -F, -v c="$(col "$1" "$2")" -v d="${3:+$(col "$1" "${3:-}")}" -v o="${3:-}" 'NR > 1 {
+    v = $c - (d != "" ? $d : 0); if (v < 0) v = -v; if (v > m) m = v }
+    END { if (NR > 1 && c != "" && (o == "" || d != "")) printf "%.3e", m }' "$1"
 }
-lt() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a + 0 < b + 0) }'; }
 
 "$VARSYM" models > models.txt && for m in rigid-body top pendulum-3d; do
   grep -q "^$m: " models.txt && ok || bad "models does not list $m"
@@ -38,11 +42,11 @@ s=$(maxabs top.csv orthogonality); lt "$s" 1e-15 && ok || bad "top |R^T R - I| u
 e4=$(maxabs top.csv theta theta_exact); lt "$e4" 2e-4 && ok || bad "top theta error $e4"
 "$VARSYM" run --model top --periods 3 --order 2 -o top2.csv || bad "order-2 top failed"
 e2=$(maxabs top2.csv theta theta_exact)
-lt "$(awk -v a="$e4" 'BEGIN { print 10 * a }')" "$e2" && ok || bad "order 2 ($e2) not worse than 4 ($e4)"
+numbers "order 2 against 4" "$e4" && lt "$(awk -v a="$e4" 'BEGIN { print 10 * a }')" "$e2" && ok || bad "order 2 ($e2) not worse than 4 ($e4)"
 s=$(spread top.csv energy); lt "$s" 1e-6 && ok || bad "top energy varies by $s"
 
 # --- through the vertical: the group model runs, the Euler-angle model refuses ----------------
-expect_error 2 "heavy-top at the vertical" run --model heavy-top --q0 0,0,0 --v0 0.3,0,5 -o out.csv
+expect_error 2 "heavy-top at the vertical" "heavy-top: the mass matrix d2L/dqdot2 is singular or not" run --model heavy-top --q0 0,0,0 --v0 0.3,0,5 -o out.csv
 "$VARSYM" run --model top --q0 0,0,0 --v0 0.3,0,5 --time 10 --steps 2000 -o vert.csv ||
   bad "top through the vertical failed"
 grep -q theta_exact vert.csv && bad "a closed form where the axis reaches the vertical" || ok
@@ -102,7 +106,7 @@ wait "$pid" 2> /dev/null
 a=$(tail -1 run.csv | cut -d, -f"$(col run.csv theta)")
 b=$(awk -F, -v c="$(col ens.csv q_1)" 'NR == 2 { print $c }' ens.csv)
 c=$(awk -F, -v c="$(col ens.csv q_1)" 'NR == 3 { print $c }' ens.csv)
-awk -v a="$a" -v b="$b" -v c="$c" 'BEGIN { e = a - b; f = a - c; e = e < 0 ? -e : e;
+numbers "top ensemble tilt" "$a" "$b" "$c" && awk -v a="$a" -v b="$b" -v c="$c" 'BEGIN { e = a - b; f = a - c; e = e < 0 ? -e : e;
   f = f < 0 ? -f : f; exit !(e < 1e-13 && f > 1e-3) }' && ok ||
   bad "top ensemble tilt: run $a, members $b $c"
 [ "$(awk -F, -v c="$(col ens.csv lyapunov)" 'NR > 1 { print $c }' ens.csv | sort -u)" = nan ] &&
@@ -113,26 +117,26 @@ for k in 2 4; do
     awk -v k=$k '$1 == "fitted" { exit !($2 > k - 0.1 && $2 < k + 0.1) }' c.txt &&
     grep -q "lgvi-$k (order $k) on pendulum-3d" c.txt && ok || bad "converge order $k: $(cat c.txt)"
 done
-expect_error 2 "converge --scheme for a rigid body" converge --model top --scheme gauss
-expect_error 2 "section of a rigid body" section --model top --plane q1=1 -o out.csv
+expect_error 2 "converge --scheme for a rigid body" "--scheme and --degree do not apply to --model top: rigid" converge --model top --scheme gauss
+expect_error 2 "section of a rigid body" "varsym section needs a stepper with dense output" section --model top --plane q1=1 -o out.csv
 
 # --- bad input ---------------------------------------------------------------------------------
-expect_error 2 "scheme for a rigid body" run --model top --scheme gauss -o out.csv
-expect_error 2 "degree for a rigid body" run --model rigid-body --degree 3 -o out.csv
-expect_error 2 "order 3" run --model top --order 3 -o out.csv
-expect_error 2 "impossible inertia" run --model rigid-body --inertia 1,1,3 -o out.csv
-expect_error 2 "negative inertia" run --model top --inertia 1,-1,1 -o out.csv
-expect_error 2 "inertia of 2 values" run --model top --inertia 1,1 -o out.csv
-expect_error 2 "inertia not positive definite" run --model top --inertia 1,1,1,2,0,0 -o out.csv
-expect_error 2 "com for a free body" run --model rigid-body --com 0,0,1 -o out.csv
-expect_error 2 "com of 2 values" run --model top --com 0,1 -o out.csv
-expect_error 2 "negative weight" run --model top --weight -1 -o out.csv
-expect_error 2 "non-unit quaternion" run --model top --q0 1,0,0,0.1 -o out.csv
-expect_error 2 "q0 of 5 values" run --model top --q0 1,0,0,0,0 -o out.csv
-expect_error 2 "v0 of 2 values" run --model top --v0 1,0 -o out.csv
-expect_error 2 "p0 and v0" run --model top --p0 0,0,1 --v0 0,0,1 -o out.csv
-expect_error 2 "NaN com" run --model top --com 0,0,nan -o out.csv
-expect_error 2 "infinite initial energy" run --model top --v0 1e300,0,0 -o out.csv
+expect_error 2 "scheme for a rigid body" "--scheme and --degree do not apply to --model top: rigid" run --model top --scheme gauss -o out.csv
+expect_error 2 "degree for a rigid body" "--degree applies to --scheme lobatto or gauss; simpson has" run --model rigid-body --degree 3 -o out.csv
+expect_error 2 "order 3" "top: order must be 2, 4 or 6, got 3" run --model top --order 3 -o out.csv
+expect_error 2 "impossible inertia" "rigid-body: the principal moments of inertia must satisfy" run --model rigid-body --inertia 1,1,3 -o out.csv
+expect_error 2 "negative inertia" "top: the inertia tensor must be positive definite" run --model top --inertia 1,-1,1 -o out.csv
+expect_error 2 "inertia of 2 values" "top: inertia needs 3 values (principal moments I1,I2,I3) or" run --model top --inertia 1,1 -o out.csv
+expect_error 2 "inertia not positive definite" "top: the inertia tensor must be positive definite" run --model top --inertia 1,1,1,2,0,0 -o out.csv
+expect_error 2 "com for a free body" "--com is a parameter of --model top, not of --model rigid-body" run --model rigid-body --com 0,0,1 -o out.csv
+expect_error 2 "com of 2 values" "top: com needs 3 values (x,y,z of the centre of mass), got 2" run --model top --com 0,1 -o out.csv
+expect_error 2 "negative weight" "--weight: weight must be non-negative, got -1" run --model top --weight -1 -o out.csv
+expect_error 2 "non-unit quaternion" "top: q0: a quaternion (w,x,y,z) must have norm 1, got" run --model top --q0 1,0,0,0.1 -o out.csv
+expect_error 2 "q0 of 5 values" "top: q0 needs 3 values (th, phi, psi) or 4" run --model top --q0 1,0,0,0,0 -o out.csv
+expect_error 2 "v0 of 2 values" "top: v0 needs 3 values (th, phi, psi) or 4" run --model top --v0 1,0 -o out.csv
+expect_error 2 "p0 and v0" "--p0 excludes --v0" run --model top --p0 0,0,1 --v0 0,0,1 -o out.csv
+expect_error 2 "NaN com" "--com: com must be a finite number, got nan" run --model top --com 0,0,nan -o out.csv
+expect_error 2 "infinite initial energy" "top: the energy of the initial state is not a finite number" run --model top --v0 1e300,0,0 -o out.csv
 # A turn of more than 90 degrees per sub-step has no step: exit 3, the step limit in the message.
 rm -f big.csv*
 "$VARSYM" run --model top --time 10 --steps 100 -o big.csv 2> big.txt

@@ -7,12 +7,12 @@ data=$(realpath "$(dirname "$0")/../data/urdf")
 source "$(dirname "$0")/lib.sh" "$@"
 ur5=$data/ur5_robot.urdf
 iiwa=$data/iiwa14_no_collision.urdf
-# max_abs FILE COLUMN_NAME: the largest |value| of that column.
+# max_abs FILE COLUMN_NAME: the largest |value| of that column; nothing (which lt refuses)
+# without the column or a data row.
 max_abs() {
   awk -F, -v name="$2" 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == name) c = i; next }
-    { v = $c < 0 ? -$c : $c; if (v > m) m = v } END { printf "%.3g", m }' "$1"
+    c { v = $c < 0 ? -$c : $c; if (v > m) m = v } END { if (NR > 1 && c) printf "%.3g", m }' "$1"
 }
-below() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a + 0 < b + 0) }'; }
 
 # --- a passive UR5 conserves its energy (gauss-2, h = 1 ms, 2 s of free fall and swing) --------
 "$VARSYM" run --urdf "$ur5" --q0 0,-1,1,0,0.5,0 --scheme gauss --degree 2 --time 2 --steps 2000 \
@@ -21,15 +21,15 @@ head -1 ur5.csv | grep -q '^step,t,q_shoulder_pan_joint,q_shoulder_lift_joint,.*
   ok || bad "UR5 columns: $(head -1 ur5.csv)"
 # E ≈ 51 J; the order-4 error at h ω ≈ 0.02 is far below 1e-7 of it (measured 3e-9 J).
 e=$(max_abs ur5.csv energy_balance)
-below "$e" 1e-6 && ok || bad "UR5 energy error $e J"
+lt "$e" 1e-6 && ok || bad "UR5 energy error $e J"
 
 # --- the URDF's joint damping: energy falls by the damping's work --------------------------------
 "$VARSYM" run --urdf "$iiwa" --q0 0.3,1,0,-1,0,0.5,0 --scheme gauss --degree 2 --time 2 \
   --steps 2000 --every 100 -o iiwa.csv 2> iiwa.err && ok || bad "iiwa run: $(cat iiwa.err)"
 e=$(max_abs iiwa.csv energy_balance)
-below "$e" 1e-6 && ok || bad "iiwa energy balance $e J"
+lt "$e" 1e-6 && ok || bad "iiwa energy balance $e J"
 w=$(tail -1 iiwa.csv | awk -F, '{ print $(NF - 2) }')
-below "$w" -1 && ok || bad "iiwa: damping took no energy ($w J)"
+lt "$w" -1 && ok || bad "iiwa: damping took no energy ($w J)"
 # Negative control: without the damping nothing is taken.
 "$VARSYM" run --urdf "$iiwa" --no-damping --q0 0.3,1,0,-1,0,0.5,0 --time 2 --steps 2000 \
   --every 2000 -o free.csv 2> free.err && [ "$(tail -1 free.csv | awk -F, '{ print $(NF - 2) }')" = 0 ] &&
@@ -48,9 +48,9 @@ tail -1 pd.csv | awk -F, '{ t[1] = 0.5; t[2] = 0.5; t[3] = 0; t[4] = -1; t[5] = 
   --scheme gauss --degree 2 --time 2 --steps 2000 --every 100 -o typed.csv 2> typed.err && ok ||
   bad "typed torques: $(cat typed.err)"
 e=$(max_abs typed.csv energy_balance)
-below "$e" 1e-6 && ok || bad "typed torques: energy balance $e J"
+lt "$e" 1e-6 && ok || bad "typed torques: energy balance $e J"
 w=$(max_abs typed.csv work)
-below 0.1 "$w" && ok || bad "typed torques did no work ($w J)"
+lt 0.1 "$w" && ok || bad "typed torques did no work ($w J)"
 # Constant torques (--torque) are the typed constants: the same rows.
 "$VARSYM" run --urdf "$ur5" --q0 0,-1,1,0,0.5,0 --torque 1,2,0,0,0,0 --time 0.5 --steps 500 \
   --every 500 -o const.csv 2> /dev/null &&
@@ -65,11 +65,11 @@ order() { # order ARGS...: the fitted order of the state error over the last pai
 }
 for s in 1 2 3 4; do
   k=$(order --scheme gauss --degree "$s")
-  awk -v k="$k" -v p=$((2 * s)) 'BEGIN { d = k - p; if (d < 0) d = -d; exit !(d < 0.35) }' && ok ||
+  near "$k" $((2 * s)) 0.35 && ok ||
     bad "gauss-$s on the UR5: order $k, expected $((2 * s))"
 done
 k=$(order --scheme simpson)
-awk -v k="$k" 'BEGIN { exit !(k > 3.7 && k < 4.3) }' && ok || bad "Simpson on the UR5: order $k"
+between 3.7 "$k" 4.3 && ok || bad "Simpson on the UR5: order $k"
 
 # --- an ensemble over a joint's start (--urdf implies --model urdf) -----------------------------
 "$VARSYM" ensemble --urdf "$ur5" --grid q0_2=-1.5:-0.5:3 --time 0.5 --steps 500 -o ens.csv \
@@ -87,34 +87,34 @@ awk -v k="$k" 'BEGIN { exit !(k > 3.7 && k < 4.3) }' && ok || bad "Simpson on th
   bad "section: $(cat sec.err)"
 
 # --- refusals: exit 2, one line, nothing written ------------------------------------------------
-expect_error 2 "missing URDF" run --urdf no_such.urdf -o out.csv
+expect_error 2 "missing URDF" "--urdf: cannot read URDF file 'no_such.urdf': No such file" run --urdf no_such.urdf -o out.csv
 # The real Panda runs, its second finger mimicking the first (not a column); a mimic of an
 # unknown joint is refused with the line.
 "$VARSYM" run --urdf "$data/panda.urdf" --time 0.01 --steps 10 -o panda.csv 2> panda.err &&
   grep -q "q_panda_finger_joint1" panda.csv && ! grep -q "finger_joint2" panda.csv && ok ||
   bad "mimic Panda: $(cat panda.err)"
 sed 's/mimic joint="panda_finger_joint1"/mimic joint="nothing"/' "$data/panda.urdf" > mimic.urdf
-expect_error 2 "mimic of an unknown joint" run --urdf mimic.urdf -o out.csv
+expect_error 2 "mimic of an unknown joint" "<mimic>: joint panda_finger_joint2 mimics nothing" run --urdf mimic.urdf -o out.csv
 grep -q "mimic.urdf:348: <mimic>: joint panda_finger_joint2 mimics nothing" stderr.txt && ok ||
   bad "$(cat stderr.txt)"
 printf '<robot name="r"><link name="a"/>\n' > broken.urdf
-expect_error 2 "malformed XML" run --urdf broken.urdf -o out.csv
+expect_error 2 "malformed XML" "--urdf: broken.urdf:1: malformed XML: XML_ERROR_PARSING" run --urdf broken.urdf -o out.csv
 sed 's/type="revolute"/type="floating"/' "$ur5" > floating.urdf
-expect_error 2 "floating joint" run --urdf floating.urdf -o out.csv
+expect_error 2 "floating joint" "floating joints are not supported" run --urdf floating.urdf -o out.csv
 sed 's/izz="0.00666"/izz="0.1"/' "$ur5" > triangle.urdf
-expect_error 2 "triangle inequality" run --urdf triangle.urdf -o out.csv
+expect_error 2 "triangle inequality" "break the triangle inequality" run --urdf triangle.urdf -o out.csv
 grep -q "link shoulder_link: principal moments .* break the triangle inequality" stderr.txt && ok ||
   bad "$(cat stderr.txt)"
-expect_error 2 "no --urdf" run --model urdf -o out.csv
-expect_error 2 "--urdf with another model" converge --model kepler --urdf "$ur5"
-expect_error 2 "kp count" run --urdf "$ur5" --kp 1,2 -o out.csv
-expect_error 2 "target without kp" run --urdf "$ur5" --target 0,0,0,0,0,0 -o out.csv
-expect_error 2 "q0 count" run --urdf "$ur5" --q0 1,2 -o out.csv
-expect_error 2 "torque of an unknown name" run --urdf "$ur5" --torques "hand,0,0,0,0,0" -o out.csv
-expect_error 2 "torques count" run --urdf "$ur5" --torques "1,2" -o out.csv
-expect_error 2 "torques and torque" run --urdf "$ur5" --torques 1,0,0,0,0,0 --torque 1,0,0,0,0,0 \
+expect_error 2 "no --urdf" "--model urdf needs --urdf FILE, the robot's URDF description" run --model urdf -o out.csv
+expect_error 2 "--urdf with another model" "--urdf is for --model urdf, not 'kepler'" converge --model kepler --urdf "$ur5"
+expect_error 2 "kp count" "urdf: kp needs 6 values (one per joint), got 2" run --urdf "$ur5" --kp 1,2 -o out.csv
+expect_error 2 "target without kp" "urdf: target without kp: the PD controller needs its gains" run --urdf "$ur5" --target 0,0,0,0,0,0 -o out.csv
+expect_error 2 "q0 count" "urdf: q0 needs 6 values" run --urdf "$ur5" --q0 1,2 -o out.csv
+expect_error 2 "torque of an unknown name" "--torques: unknown name 'hand' at column 1 of \"hand\"" run --urdf "$ur5" --torques "hand,0,0,0,0,0" -o out.csv
+expect_error 2 "torques count" "--torques: the joint torques need 6 expressions" run --urdf "$ur5" --torques "1,2" -o out.csv
+expect_error 2 "torques and torque" "urdf: give constant torques or typed ones, not both" run --urdf "$ur5" --torques 1,0,0,0,0,0 --torque 1,0,0,0,0,0 \
   -o out.csv
-expect_error 2 "--torques for another model" run --model kepler --torques 1 -o out.csv
-expect_error 2 "unknown joint key" ensemble --urdf "$ur5" --grid q0_hand=1:2:2 -o out.csv
+expect_error 2 "--torques for another model" "--torques is a parameter of --model urdf, not of --model kepler" run --model kepler --torques 1 -o out.csv
+expect_error 2 "unknown joint key" "'q0_hand' is not a key of urdf; its keys: q0_1 p0_1 q0_2" ensemble --urdf "$ur5" --grid q0_hand=1:2:2 -o out.csv
 
 finish
