@@ -125,9 +125,9 @@ recorded record(models::simulation& sim, std::size_t last, std::size_t every, py
                 if (++since_read < stride) return false;
                 since_read = 0;
                 const auto now = clock::now();
-                stride = now - last_read < std::chrono::milliseconds(1) ? std::min<std::size_t>(
-                                                                              2 * stride, 64)
-                                                                        : 1;
+                stride = now - last_read < std::chrono::milliseconds(1)
+                             ? std::min<std::size_t>(2 * stride, 64)
+                             : 1;
                 last_read = now;
                 if (now < next) return false;
                 next = now + std::chrono::milliseconds(50);

@@ -153,8 +153,8 @@ figure convergence_plot(const method& spec, const std::vector<result>& rs,
     // nothing to draw.
     std::array<bool, 3> drawn{};
     for (int q = 0; q < 3; ++q)
-        drawn[static_cast<std::size_t>(q)] = std::any_of(
-            rs.begin(), rs.end(), [&](const result& r) { return r.err[q] > 0.0; });
+        drawn[static_cast<std::size_t>(q)] =
+            std::any_of(rs.begin(), rs.end(), [&](const result& r) { return r.err[q] > 0.0; });
     if (std::none_of(drawn.begin(), drawn.end(), [](bool b) { return b; }))
         throw std::runtime_error("cannot draw --plot: every error is 0 (the scheme reproduces "
                                  "this motion exactly), nothing to show on log axes; the table "
@@ -164,8 +164,8 @@ figure convergence_plot(const method& spec, const std::vector<result>& rs,
     for (const auto& r : rs) {
         std::string line = std::to_string(r.steps);
         const double first = rs.front().err[drawn[1] ? 1 : drawn[0] ? 0 : 2];
-        const double ref = 0.1 * first *
-                           std::pow(static_cast<double>(r.steps) / rs.front().steps, -spec.order);
+        const double ref =
+            0.1 * first * std::pow(static_cast<double>(r.steps) / rs.front().steps, -spec.order);
         for (double v : {r.err[0], r.err[1], r.err[2], ref}) {
             line += ',';
             append_number(line, v);

@@ -263,7 +263,8 @@ void optimize(const optimize_options& o) {
             throw numerical_error(
                 "varsym optimize: " + std::string(optimal::status_name(r.verdict)) + ": " +
                 o.reach + " reaches its target, but the equations of motion are not met (max |g| " +
-                violation + "): the target pose is likely at a "
+                violation +
+                "): the target pose is likely at a "
                 "singular configuration (an arm fully stretched), where the pose constraint is "
                 "degenerate; move the target slightly inside the workspace, or make it a terminal "
                 "cost with --reach-weight W > 0; the files hold the last iterate");

@@ -125,7 +125,8 @@ void run(run_options& o, const CLI::App& cmd, const run_context& ctx) {
     o.setup.q0 = parse_number_list(o.q0);
     o.setup.p0 = parse_number_list(o.p0);
     o.setup.v0 = parse_number_list(o.v0);
-    const std::string urdf = cmd.count("--urdf") > 0 ? cmd.get_option("--urdf")->as<std::string>() : "";
+    const std::string urdf =
+        cmd.count("--urdf") > 0 ? cmd.get_option("--urdf")->as<std::string>() : "";
     if (ctx.resume) {
         if (!prepare_resume(o.setup, ctx, urdf)) return;
     } else {

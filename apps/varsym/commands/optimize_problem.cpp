@@ -134,8 +134,8 @@ void reach_of(const optimize_options& o, optimal::control_problem& p) {
     try {
         o.reach_robot = models::load_urdf(o.urdf);
         p.end_target = models::frame_target(
-            o.reach_robot, o.reach,
-            three(o.reach_position, "--reach-position", "0.5,0,0.6"), reach_rotation(o));
+            o.reach_robot, o.reach, three(o.reach_position, "--reach-position", "0.5,0,0.6"),
+            reach_rotation(o));
     } catch (const std::invalid_argument& e) {
         throw usage_error("--reach: " + std::string(e.what()));
     }
@@ -313,7 +313,8 @@ void check_ipopt_options(const std::string& file, file_roles& roles) {
     if (file.empty()) return;
     try {
         for (const auto& o : optimal::parse_ipopt_options(
-                 read_regular_file(file, optimal::max_ipopt_options_bytes, "IPOPT options file"), file))
+                 read_regular_file(file, optimal::max_ipopt_options_bytes, "IPOPT options file"),
+                 file))
             if (o.name == "output_file") roles.add("--ipopt-options' output_file", o.value);
     } catch (const std::invalid_argument& e) {
         throw usage_error(e.what());

@@ -35,9 +35,9 @@ struct optimize_options {
     std::shared_ptr<parameter_options> parameters = std::make_shared<parameter_options>();
     std::string urdf; ///< --urdf FILE: the model `urdf`
     std::string lagrangian, coordinates = "q", expression_parameters, inputs,
-                            constraints; ///< `lagrangian`
+                            constraints;    ///< `lagrangian`
     std::vector<std::string> typed_options; ///< those of the four above given (--inputs, ...)
-    bool no_limits = false;              ///< --no-limits: a robot's URDF limits left out
+    bool no_limits = false;                 ///< --no-limits: a robot's URDF limits left out
     /// --reach LINK with --reach-position X,Y,Z, --reach-rpy R,P,Y and --reach-weight W: a URDF
     /// link's target pose at T (models::frame_target) instead of --to.
     std::string reach, reach_position, reach_rpy;

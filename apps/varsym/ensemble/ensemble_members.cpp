@@ -67,13 +67,13 @@ std::pair<int, std::size_t> target_of(const std::string& k, const ensemble_model
         if (ec == std::errc() && p == rest.data() + rest.size() && i >= 1 &&
             i <= static_cast<std::size_t>(model.dim)) {
             if (by_name && j != i - 1)
-                throw usage_error("'" + k + "' is ambiguous for " + model.name +
-                                  ": coordinate " + std::to_string(i) + ", or the coordinate "
-                                  "named '" + rest + "' (coordinate " + std::to_string(j + 1) +
+                throw usage_error("'" + k + "' is ambiguous for " + model.name + ": coordinate " +
+                                  std::to_string(i) + ", or the coordinate named '" + rest +
+                                  "' (coordinate " + std::to_string(j + 1) +
                                   "); rename that joint");
             if (!by_name && k != prefix + std::to_string(i)) // q0_01: one spelling per key
-                throw usage_error("'" + k + "' is not a key of " + model.name +
-                                  "; did you mean " + prefix + std::to_string(i) + "?");
+                throw usage_error("'" + k + "' is not a key of " + model.name + "; did you mean " +
+                                  prefix + std::to_string(i) + "?");
             return {kind, i - 1};
         }
         if (by_name) return {kind, j}; // q0_NAME
@@ -201,9 +201,9 @@ member_set make_member_set(const member_options& o, ensemble_model& model) {
                      " crc=" + std::to_string(crc.checksum());
         std::size_t line_no = 0;
         // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first key.
-        const std::string_view body =
-            std::string_view(text).starts_with("\xEF\xBB\xBF") ? std::string_view(text).substr(3)
-                                                                 : std::string_view(text);
+        const std::string_view body = std::string_view(text).starts_with("\xEF\xBB\xBF")
+                                          ? std::string_view(text).substr(3)
+                                          : std::string_view(text);
         for (std::string_view line : split(body, '\n')) {
             ++line_no;
             if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
@@ -231,9 +231,9 @@ member_set make_member_set(const member_options& o, ensemble_model& model) {
         const auto target = target_of(k, model);
         const auto same = std::find(s.targets.begin(), s.targets.end(), target);
         if (same != s.targets.end()) // q0_1 and q0_NAME of the same coordinate
-            throw usage_error("the keys " + s.keys[static_cast<std::size_t>(
-                                                same - s.targets.begin())] +
-                              " and " + k + " set the same value; give it once");
+            throw usage_error("the keys " +
+                              s.keys[static_cast<std::size_t>(same - s.targets.begin())] + " and " +
+                              k + " set the same value; give it once");
         s.targets.push_back(target);
         if (std::find(model.dimension_keys.begin(), model.dimension_keys.end(), k) !=
             model.dimension_keys.end())
@@ -293,10 +293,11 @@ ensemble_model find_ensemble_model(const member_run_options& given) {
         // before an edit, belongs to another ensemble.
         checkpoint::input_file file;
         ensemble_model m = make_registry_ensemble(robot_model_of(o.urdf, &file));
-        m.identity = "urdf file=[" + file.path + "] " + file.digest + " torques=[" +
-                     o.urdf.torques + "]";
-        std::replace_if(m.identity.begin(), m.identity.end(),
-                        [](char c) { return c == '\n' || c == '\r'; }, ' ');
+        m.identity =
+            "urdf file=[" + file.path + "] " + file.digest + " torques=[" + o.urdf.torques + "]";
+        std::replace_if(
+            m.identity.begin(), m.identity.end(), [](char c) { return c == '\n' || c == '\r'; },
+            ' ');
         return m;
     }
     if (!o.urdf.path.empty())
@@ -307,8 +308,9 @@ ensemble_model find_ensemble_model(const member_run_options& given) {
                      o.expression.coordinates + "] parameters=[" + o.expression.parameters +
                      "] force=[" + o.expression.force + "] constraints=[" +
                      o.expression.constraints + "]";
-        std::replace_if(m.identity.begin(), m.identity.end(),
-                        [](char c) { return c == '\n' || c == '\r'; }, ' ');
+        std::replace_if(
+            m.identity.begin(), m.identity.end(), [](char c) { return c == '\n' || c == '\r'; },
+            ' ');
         return m;
     }
     if (!o.expression.lagrangian.empty())

@@ -1,6 +1,6 @@
-// apps/varsym/ensemble/ensemble_members.hpp: what `varsym ensemble` runs: the models, the members (a grid
-// of --grid axes or the rows of a --members CSV file, over initial coordinates q0_i, momenta
-// p0_i and model parameters), the event expression, and the heat map of a result.
+// apps/varsym/ensemble/ensemble_members.hpp: what `varsym ensemble` runs: the models, the members
+// (a grid of --grid axes or the rows of a --members CSV file, over initial coordinates q0_i,
+// momenta p0_i and model parameters), the event expression, and the heat map of a result.
 #pragma once
 
 #include <string>
@@ -38,8 +38,8 @@ struct member_run_options {
     long long steps = 0;
     member_options members;
 };
-/// --model (required, unless --lagrangian or --urdf implies it; `models` names the choices), --scheme, --degree, --time, --steps and the
-/// member options.
+/// --model (required, unless --lagrangian or --urdf implies it; `models` names the choices),
+/// --scheme, --degree, --time, --steps and the member options.
 void add_member_run_options(CLI::App& cmd, member_run_options& o, const std::string& models);
 /// The files the members are read from (--urdf, --members), as roles no output may take.
 void add_member_inputs(file_roles& roles, const member_run_options& o);

@@ -26,7 +26,7 @@ struct run_setup {
     long long every = 1;
     std::string output;
     bool stats = false;
-    bool quiet = false; ///< no progress line
+    bool quiet = false;             ///< no progress line
     std::vector<double> q0, p0, v0; ///< initial state; empty: the model's default
     bool periods_given = false;
     std::string checkpoint;          ///< --checkpoint FILE, or the file of --resume
@@ -35,7 +35,7 @@ struct run_setup {
     double max_energy_error = -1.0;  ///< stop (exit 4) past it; < 0: the default, 0: never
     std::vector<std::string> args;   ///< the run's arguments, kept in its checkpoints
     std::shared_ptr<const cli::checkpoint> resume; ///< the checkpoint a resumed run continues
-    std::vector<checkpoint::input_file> inputs;     ///< the model's files, kept in checkpoints
+    std::vector<checkpoint::input_file> inputs;    ///< the model's files, kept in checkpoints
     bool scheme_given = false; ///< --scheme or --degree was set (the rigid bodies refuse them)
     /// The model's own integrator where it is not `spec` (the rigid bodies: "lgvi-4"; from
     /// models::problem::integrator).

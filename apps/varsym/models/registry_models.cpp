@@ -350,9 +350,9 @@ ensemble_model make_registry_ensemble(std::shared_ptr<const models::model> model
     }
     const bool plain = std::all_of(names.begin(), names.end(), [](const std::string& c) {
         return !c.empty() && std::all_of(c.begin(), c.end(), [](char ch) {
-                   const auto u = static_cast<unsigned char>(ch);
-                   return std::isalnum(u) || ch == '_' || ch == '-' || ch == ' ' || u >= 0x80;
-               });
+            const auto u = static_cast<unsigned char>(ch);
+            return std::isalnum(u) || ch == '_' || ch == '-' || ch == ' ' || u >= 0x80;
+        });
     });
     if (plain && std::ssize(names) == rm.dim) m.coordinates = names;
     for (const auto& p : rm.parameters) {
@@ -382,7 +382,7 @@ ensemble_model make_registry_ensemble(std::shared_ptr<const models::model> model
     if (dense)
         m.section = [model](const member_input& in, const ensemble_setup& e,
                             const section_plane& plane, long long crossings,
-            const std::function<void(std::string)>& emit) {
+                            const std::function<void(std::string)>& emit) {
             const auto sim = member_simulation(*model, in, e);
             const std::size_t width = 2 * static_cast<std::size_t>(sim->dim());
             const auto rows_of = [&](const models::section_result& r) {

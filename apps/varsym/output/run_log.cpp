@@ -1,5 +1,5 @@
-// apps/varsym/output/run_log.cpp: the output and checkpoints of `varsym run` (model_run.hpp): when a
-// checkpoint is written, what it holds, how a resumed run checks it, and how a run stops: a
+// apps/varsym/output/run_log.cpp: the output and checkpoints of `varsym run` (model_run.hpp): when
+// a checkpoint is written, what it holds, how a resumed run checks it, and how a run stops: a
 // failed step (exit 3), the energy watch (exit 4), SIGINT/SIGTERM (exit 130/143).
 #include <cmath>
 #include <csignal>

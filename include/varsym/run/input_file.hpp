@@ -41,9 +41,9 @@ inline std::string read_input_file(const std::string& path, std::uint64_t max_by
     }
     if (static_cast<std::uint64_t>(st.st_size) > max_bytes) {
         ::close(fd);
-        throw input_error("cannot read " + role + " '" + path + "': " +
-                          std::to_string(st.st_size) + " bytes, more than a valid " + role +
-                          " can be (" + std::to_string(max_bytes) + ")");
+        throw input_error("cannot read " + role + " '" + path + "': " + std::to_string(st.st_size) +
+                          " bytes, more than a valid " + role + " can be (" +
+                          std::to_string(max_bytes) + ")");
     }
     std::string text(static_cast<std::size_t>(st.st_size), '\0');
     std::size_t got = 0;

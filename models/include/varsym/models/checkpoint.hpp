@@ -40,13 +40,13 @@ struct checkpoint {
         std::string path, digest;
     };
     std::vector<input_file> inputs;
-    std::string output;            ///< absolute path of the CSV
-    std::string scheme;            ///< e.g. "simpson", "gauss-3" (checked on resume)
-    std::uint64_t step = 0;        ///< the last step taken
-    std::uint64_t steps = 0;       ///< the run's total number of steps
-    double h = 0.0;                ///< time step (checked bit for bit on resume)
-    std::uint64_t csv_bytes = 0;   ///< length of the CSV holding the rows of steps 0 … step
-    std::uint32_t csv_crc32 = 0;   ///< CRC-32 of those csv_bytes bytes
+    std::string output;          ///< absolute path of the CSV
+    std::string scheme;          ///< e.g. "simpson", "gauss-3" (checked on resume)
+    std::uint64_t step = 0;      ///< the last step taken
+    std::uint64_t steps = 0;     ///< the run's total number of steps
+    double h = 0.0;              ///< time step (checked bit for bit on resume)
+    std::uint64_t csv_bytes = 0; ///< length of the CSV holding the rows of steps 0 … step
+    std::uint32_t csv_crc32 = 0; ///< CRC-32 of those csv_bytes bytes
     std::vector<double> q, p, carry_q, carry_p, history;
     std::int64_t newton_iterations = 0; ///< Newton statistics of steps 1 … step
     int newton_iterations_max = 0;
