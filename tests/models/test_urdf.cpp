@@ -308,7 +308,11 @@ TEST(Urdf, EachRefusalNamesTheElementAndWhatIsWrong) {
         (void)models::load_urdf(data("no_such_robot.urdf"));
         ADD_FAILURE() << "a missing file";
     } catch (const models::urdf_error& e) {
-        EXPECT_NE(std::string(e.what()).find("cannot open the URDF file"), std::string::npos);
+        // "cannot open the URDF file" before the reads of regular files only (issue 60, item 7).
+        const std::string what = e.what();
+        EXPECT_TRUE(what.find("cannot open the URDF file") != std::string::npos ||
+                    what.find("cannot read URDF file") != std::string::npos)
+            << what;
     }
 }
 
@@ -532,6 +536,16 @@ TEST(UrdfTrees, MimicOnAFixedJointIsIgnored) {
     EXPECT_NEAR(tora->bodies[6].mass, 0.735522 + 0.73 + 2 * 0.015, 1e-12);
 }
 
+/// L = ½ (2 q̇₁² + m22 q̇₂²): M = diag(2, m22).
+struct two_masses {
+    static constexpr int dim = 2;
+    double m22 = 1.0;
+    template <class T>
+    T operator()(const tvec<T, 2>&, const tvec<T, 2>& v) const {
+        return v(0) * v(0) + 0.5 * m22 * v(1) * v(1);
+    }
+};
+
 TEST(UrdfTrees, AnIllConditionedMassMatrixIsCalledSoWithItsConditionNumber) {
     // A 2000-link chain's step failed with "singular or not positive definite" while the
     // eigenvalues it printed were all positive. The diagnosis now says which.
@@ -550,6 +564,22 @@ TEST(UrdfTrees, AnIllConditionedMassMatrixIsCalledSoWithItsConditionNumber) {
     }
     m(1, 1) = 1e-3;
     EXPECT_EQ(detail::mass_matrix_problem<dynamic>(m), "");
+    // The check of the initial state (lagrangian_system::check_regular), which refused the
+    // 2000-link chain (measured: eigenvalues from 3.13e-10 to 1.29e+03), says the same.
+    auto refused = [](double m22) {
+        try {
+            lagrangian_system<two_masses>(two_masses{m22}).check_regular(vec<2>::Zero(),
+                                                                         vec<2>::Zero());
+        } catch (const std::invalid_argument& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_EQ(refused(2e-13), "the mass matrix d2L/dqdot2 is ill-conditioned at the initial "
+                              "state: condition number 1e+13 (eigenvalues from 2e-13 to 2)");
+    EXPECT_NE(refused(-1.0).find("is singular or not positive definite at the initial state"),
+              std::string::npos);
+    EXPECT_EQ(refused(1e-3), "");
 }
 
 /// Two links hanging along −z from joints about y: link 1 (m1, centre lc1 below its joint,
