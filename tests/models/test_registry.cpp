@@ -98,7 +98,12 @@ TEST(Registry, EveryModelStepsWithEverySchemeAndKeepsItsEnergy) {
                 EXPECT_TRUE(std::isfinite(v));
             EXPECT_TRUE(std::isfinite(values.at(0))); // every model's first column: energy
             if (sim->conserves_energy()) { // 200 steps of h = T/200 or less: bounded error
-                EXPECT_LT(worst, 2e-2 * std::max(1.0, std::abs(e0)));
+                // Measured over the models (200 steps): at most 8.4e-3 of |E0| with Newmark
+                // (Kepler; order 2) and 2.5e-6 with Simpson and gauss-2 (Kepler; order 4); the
+                // double pendulum starts with E0 = 0 and errs by 5e-9 J. Budgets: 2e-2 and 1e-5
+                // of |E0| (2.4 and 4 times those), plus 1e-8 J (2 times).
+                const double relative = spec.label() == "newmark" ? 2e-2 : 1e-5;
+                EXPECT_LT(worst, relative * std::abs(e0) + 1e-8);
             }
         }
 }
@@ -207,9 +212,17 @@ TEST(Registry, EveryModelRunsEnsembleMembersAndSectionsWhereItHasDenseOutput) {
         EXPECT_EQ(e.status, varsym::member_result::outcome::event);
         EXPECT_NEAR(e.event_time, 10.5 * h, 1e-12);
         if (sim->has_dense_output()) {
-            const varsym::section_plane plane{false, 0, 0.5 * sim->q()[0], 0};
+            // The plane q_1 = the value q_1 passes through at step 25 (of a second run of the
+            // same model): crossed at least once (q_1 = q_1(0)/2 was never crossed by the
+            // heavy top or the cart-pole, and a section of no crossings passed).
+            const auto ahead = simulate(m, scheme_spec(scheme_kind::simpson));
+            ahead->advance(25);
+            const double q25 = ahead->q()[0];
+            ASSERT_NE(q25, sim->q()[0]); // it moved: the plane is not the start's
+            const varsym::section_plane plane{false, 0, q25, 0};
             const vm::section_result s = sim->section(plane, 2000, 3, nullptr);
             EXPECT_FALSE(s.failed);
+            EXPECT_GE(s.time.size(), 1U);
             EXPECT_FALSE(s.stopped);
             EXPECT_EQ(s.states.size(), s.time.size() * 2 * static_cast<std::size_t>(m.dim));
             // A stop flag already set (Ctrl-C) ends it before the first step.

@@ -68,7 +68,7 @@ struct two_link {
 struct derivative_errors {
     double gradient = 0.0, jacobian = 0.0;
     double hessian = std::numeric_limits<double>::quiet_NaN();
-    double largest_hessian = 0.0, largest_jacobian = 0.0; ///< for the errors' scale
+    double largest_hessian = 0.0, largest_jacobian = 0.0, largest_gradient = 0.0; ///< scales
 };
 
 /// Two transcriptions of one problem compared: the largest |a_i − b_i| and |a_i| over the values
@@ -109,6 +109,7 @@ inline derivative_errors check_derivatives(const optimal::nlp& t, const Eigen::V
     derivative_errors out;
     Eigen::VectorXd g;
     t.cost_gradient(x, g);
+    out.largest_gradient = g.size() > 0 ? g.cwiseAbs().maxCoeff() : 0.0;
     const Eigen::MatrixXd jac = jacobian(x);
     out.largest_jacobian = jac.cwiseAbs().maxCoeff();
     Eigen::MatrixXd hes(n, n);

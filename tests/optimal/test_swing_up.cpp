@@ -96,6 +96,10 @@ TEST(OptimalSwingUp, TwoExtremalsAgreeWithTheIndirectSolution) {
         const double h = swing_time / 40;
         const swing_state ref =
             swing_indirect(-(-3 * c(0, 0) + 4 * c(0, 1) - c(0, 2)) / (2 * h), c(0, 0));
+        // The shooting converged: θ(T) = π, ω(T) = 0 to its stopping test (1e-12) and the
+        // integrator's 1e-13 controls.
+        EXPECT_NEAR(ref[0], std::numbers::pi, 1e-11) << amplitude;
+        EXPECT_NEAR(ref[1], 0.0, 1e-11) << amplitude;
         const double e_coarse = std::abs(coarse.path.cost - ref[4]),
                      e_fine = std::abs(fine.path.cost - ref[4]);
         EXPECT_NEAR(std::log2(e_coarse / e_fine), 4.0, 0.3) << amplitude; // Simpson: order 4
@@ -134,6 +138,8 @@ TEST(OptimalSwingUp, DerivativesMatchFiniteDifferences) {
         Eigen::VectorXd::LinSpaced(tr->variables(), 0.3, 2.9).array().sin() + 0.5;
     const auto e = optimal_test::check_derivatives(
         *tr, x, 0.7, Eigen::VectorXd::LinSpaced(tr->constraints(), -1.0, 2.0));
+    // The cost's gradient too (measured 2.5e-10: the differences' round-off, ε|J|/step).
+    EXPECT_LT(e.gradient, 1e-8);
     EXPECT_LT(e.jacobian, 1e-7);
     EXPECT_LT(e.hessian, 1e-7);
     EXPECT_GT(e.largest_hessian, 1.0); // not vacuous: L's third derivatives are there
@@ -234,6 +240,8 @@ TEST(OptimalSwingUp, ConstrainedCartesianPendulumReachesTheSameExtremal) {
     const double h = swing_time / 40;
     const swing_state ref =
         swing_indirect(-(-3 * c(0, 0) + 4 * c(0, 1) - c(0, 2)) / (2 * h), c(0, 0));
+    EXPECT_NEAR(ref[0], std::numbers::pi, 1e-11); // the shooting converged (as above)
+    EXPECT_NEAR(ref[1], 0.0, 1e-11);
     const auto coarse = swing_cartesian_solve(scheme_kind::simpson, 20);
     const auto fine = swing_cartesian_solve(scheme_kind::simpson, 40);
     ASSERT_EQ(fine.result.verdict, optimal::status::solved) << fine.result.message;
@@ -251,7 +259,9 @@ TEST(OptimalSwingUp, ConstrainedCartesianPendulumReachesTheSameExtremal) {
     // The push along the circle is the torque: u(0) = λ_ω(0), as in the angle formulation.
     const Eigen::Vector2d q0 = fine.path.position(fine.path.control_times(0));
     const double along = fine.path.u(0, 0) * -q0(1) + fine.path.u(1, 0) * q0(0);
-    EXPECT_NEAR(along, ref[3], 0.05); // at t = (c₁ = 0) h: Simpson's first point is the start
+    // At t = (c₁ = 0) h: Simpson's first point is the start. Measured 3.3e-7 (N = 40 against the
+    // continuous extremal); budget 30×.
+    EXPECT_NEAR(along, ref[3], 1e-5);
 }
 
 TEST(OptimalSwingUp, ConstrainedDerivativesMatchFiniteDifferences) {
@@ -265,6 +275,7 @@ TEST(OptimalSwingUp, ConstrainedDerivativesMatchFiniteDifferences) {
     const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(tr->variables(), 0.3, 2.9).array().sin();
     const auto e = optimal_test::check_derivatives(
         *tr, x, 0.7, Eigen::VectorXd::LinSpaced(tr->constraints(), -1.0, 2.0));
+    EXPECT_LT(e.gradient, 1e-8); // measured 7e-11: the differences' round-off
     EXPECT_LT(e.jacobian, 1e-7);
     EXPECT_LT(e.hessian, 1e-7);
     EXPECT_GT(e.largest_hessian, 1.0);
