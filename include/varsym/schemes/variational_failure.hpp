@@ -28,29 +28,6 @@ bool finite_force(const force_terms<D>& f) {
     return f.f.allFinite() && f.fq.allFinite() && f.fv.allFinite();
 }
 
-/// Empty if ∂²L/∂q̇² is positive definite (its smallest eigenvalue above 1e-12 of the largest),
-/// else what it is: singular or not positive definite (the smallest eigenvalue ≤ 0), or
-/// ill-conditioned (all positive, but the condition number hi/lo above 1e12, where Newton's
-/// solves keep fewer than four of a double's 16 digits).
-template <int D>
-std::string mass_matrix_problem(const mat<D>& m) {
-    const Eigen::VectorXd lambda = symmetric_eigenvalues<D>(m);
-    const double lo = lambda.minCoeff(), hi = lambda.maxCoeff();
-    if (lo > 1e-12 * std::abs(hi)) return {};
-    char buf[200];
-    if (lo > 0.0)
-        std::snprintf(buf, sizeof buf,
-                      "the mass matrix d2L/dqdot2 is ill-conditioned: condition number %.3g "
-                      "(eigenvalues from %.3g to %.3g)",
-                      hi / lo, lo, hi);
-    else
-        std::snprintf(buf, sizeof buf,
-                      "the mass matrix d2L/dqdot2 is singular or not positive definite "
-                      "(eigenvalues from %.3g to %.3g)",
-                      lo, hi);
-    return buf;
-}
-
 /// " <where> (t = <t>)".
 inline std::string where_when(const char* where, double t) {
     char buf[32];

@@ -3,9 +3,11 @@
 // differentiation (autodiff/second_order.hpp), or from the user's own derivatives(q, v, terms).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <concepts>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -222,6 +224,30 @@ void differentiate_in_blocks(const L& l, const vec<L::dim>& q, const vec<L::dim>
         }
     }
 }
+/// Empty if ∂²L/∂q̇² is positive definite (its smallest eigenvalue above 1e-12 of the largest),
+/// else what it is: singular or not positive definite (the smallest eigenvalue ≤ 0), or
+/// ill-conditioned (all positive, but the condition number hi/lo above 1e12, where Newton's
+/// solves keep fewer than four of a double's 16 digits). `where` (" at the initial state")
+/// follows the verdict.
+template <int D>
+std::string mass_matrix_problem(const mat<D>& m, const char* where = "") {
+    const Eigen::VectorXd lambda = symmetric_eigenvalues<D>(m);
+    const double lo = lambda.minCoeff(), hi = lambda.maxCoeff();
+    if (lo > 1e-12 * std::abs(hi)) return {};
+    char buf[240];
+    if (lo > 0.0)
+        std::snprintf(buf, sizeof buf,
+                      "the mass matrix d2L/dqdot2 is ill-conditioned%s: condition number %.3g "
+                      "(eigenvalues from %.3g to %.3g)",
+                      where, hi / lo, lo, hi);
+    else
+        std::snprintf(buf, sizeof buf,
+                      "the mass matrix d2L/dqdot2 is singular or not positive definite%s "
+                      "(eigenvalues from %.3g to %.3g)",
+                      where, lo, hi);
+    return buf;
+}
+
 } // namespace detail
 
 /// Fills `t` with L(q, v) and its derivatives: by hand when L provides them, else by
@@ -322,8 +348,12 @@ class lagrangian_system {
 
     /// Solves ∂L/∂q̇(q, v) = p for v by Newton from v = 0 (one iteration when L is quadratic
     /// in q̇). Where ∂²L/∂q̇² is singular on the way but not at the solution (L = q̇⁴/4 at
-    /// q̇ = 0), Newton starts again from v = p. Throws std::domain_error if ∂²L/∂q̇² is not
-    /// positive definite from both starts, or Newton fails.
+    /// q̇ = 0), Newton starts again from v = p. Converged when a correction is below 1e-13 |v|,
+    /// or below the round-off floor of the solve, 100 ε κ |v| with κ the condition number's
+    /// estimate (LLT's rcond): an ill-conditioned mass matrix (a 40-link chain: κ ~ 1e7) leaves
+    /// corrections of ε κ |v| that no iteration removes. A floor above 1e-4 (κ > 4.5e9) is not
+    /// accepted. Throws std::domain_error if ∂²L/∂q̇² is not positive definite from both
+    /// starts, or Newton fails.
     [[nodiscard]] vec<dim> velocity(const vec<dim>& q, const vec<dim>& p, double time) const {
         lagrangian_terms<dim> t;
         for (const bool from_p : {false, true}) {
@@ -340,13 +370,19 @@ class lagrangian_system {
                 v += dv;
                 if (!v.allFinite()) break;
                 // Quadratic Lagrangians are done after one iteration; the next confirms it.
+                const double rcond = llt.rcond();
+                const double floor =
+                    rcond > 0.0 ? std::clamp(100.0 * std::numeric_limits<double>::epsilon() / rcond,
+                                             1e-13, 1e-4)
+                                : 1e-13;
                 if (it > 0 && dv.template lpNorm<Eigen::Infinity>() <=
-                                  1e-13 * v.template lpNorm<Eigen::Infinity>())
+                                  floor * v.template lpNorm<Eigen::Infinity>())
                     return v;
                 if (dv.isZero(0.0)) return v;
             }
         }
-        throw std::domain_error("could not solve dL/dqdot = p for the velocity");
+        throw std::domain_error("could not solve dL/dqdot = p for the velocity (the mass matrix "
+                                "d2L/dqdot2 may be too ill-conditioned)");
     }
     [[nodiscard]] vec<dim> velocity(const vec<dim>& q, const vec<dim>& p) const
         requires(!time_dependent) {
@@ -372,24 +408,9 @@ class lagrangian_system {
                 "the Lagrangian or its derivatives are NaN or infinite at the "
                 "initial state");
         // Eigenvalues, not a Cholesky attempt: round-off can let a singular matrix pass LLᵀ.
-        const Eigen::VectorXd lambda = symmetric_eigenvalues<dim>(t.lvv);
-        const double lo = lambda.minCoeff(), hi = lambda.maxCoeff();
-        if (!(lo > 1e-12 * hi)) {
-            // All eigenvalues positive: regular, but with a condition number above 1e12, where
-            // Newton's solves keep fewer than four of a double's digits.
-            char what[200];
-            if (lo > 0.0)
-                std::snprintf(what, sizeof what,
-                              "the mass matrix d2L/dqdot2 is ill-conditioned at the initial "
-                              "state: condition number %.3g (eigenvalues from %.3g to %.3g)",
-                              hi / lo, lo, hi);
-            else
-                std::snprintf(what, sizeof what,
-                              "the mass matrix d2L/dqdot2 is singular or not positive definite at "
-                              "the initial state (eigenvalues from %.3g to %.3g)",
-                              lo, hi);
-            throw std::invalid_argument(what);
-        }
+        if (std::string m = detail::mass_matrix_problem<dim>(t.lvv, " at the initial state");
+            !m.empty())
+            throw std::invalid_argument(m);
     }
     void check_regular(const vec<dim>& q, const vec<dim>& v) const requires(!time_dependent) {
         check_regular(q, v, 0.0);
