@@ -48,7 +48,9 @@ TEST(OptimalCosts, GradientsAndHessiansMatchFiniteDifferences) {
         tr->cost_gradient(x, g);
         EXPECT_LT(e.gradient, 1e-7 * std::max(1.0, g.cwiseAbs().maxCoeff()));
         EXPECT_EQ(tr->has_hessian(), w.invariant == 0.0);
-        if (tr->has_hessian()) EXPECT_LT(e.hessian, 1e-6 * std::max(1.0, e.largest_hessian));
+        if (tr->has_hessian()) {
+            EXPECT_LT(e.hessian, 1e-6 * std::max(1.0, e.largest_hessian));
+        }
     }
 }
 
