@@ -117,14 +117,14 @@ void bind_robot(py::module_& m) {
             [](const robot& r, const std::vector<double>& q, const std::vector<double>& v,
                double g) {
                 // E = T + V = 2T − L, T = ½ q̇ᵀ M q̇.
-                const multibody::model m = r.at_gravity(g);
+                const multibody::model tree = r.at_gravity(g);
                 multibody::workspace w;
-                multibody::kinematics(m, w, r.vector(q, "q"));
-                multibody::velocities(m, w, r.vector(v, "v"));
+                multibody::kinematics(tree, w, r.vector(q, "q"));
+                multibody::velocities(tree, w, r.vector(v, "v"));
                 double t = 0.0;
-                for (std::size_t k = 0; k < m.bodies.size(); ++k)
+                for (std::size_t k = 0; k < tree.bodies.size(); ++k)
                     t += 0.5 * w.v[k].dot(w.h[k]);
-                return 2.0 * t - multibody::lagrangian_value(m, w);
+                return 2.0 * t - multibody::lagrangian_value(tree, w);
             },
             py::arg("q"), py::arg("v"), py::arg("gravity"))
         .def(
