@@ -1,12 +1,19 @@
-// models/src/urdf_reader.hpp: the checked reading of one URDF element at a time for urdf.cpp:
-// names, numbers, origins, axes and <inertial>. Every refusal names the file, the element's line
-// and what is wrong (urdf_error); what is refused and why: docs/robots.md.
+// models/src/urdf_reader.hpp: the two phases of the URDF reader and what passes between them.
+// The read phase (urdf.cpp, read_urdf) checks the XML and gives a robot_data: links with their
+// mass properties, joints with their kind, links, origin, axis, limits and mimic coupling. The
+// build phase (urdf_build.cpp, build_tree) makes the multibody::tree of it. Below them, the
+// checked reading of one element at a time: names, numbers, origins, axes and <inertial>. Every
+// refusal names the file, the element's line and what is wrong (urdf_error); what is refused and
+// why: docs/robots.md.
 #pragma once
 
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 #include <tinyxml2.h>
@@ -20,15 +27,48 @@ using multibody::mat6;
 using multibody::vec3;
 using tinyxml2::XMLElement;
 
+/// A link as read: its element (for messages) and its mass properties.
 struct link_data {
     const XMLElement* element = nullptr;
     bool has_inertial = false;
     mat6 inertia = mat6::Zero(); ///< spatial inertia in the link frame
 };
 
+/// A moving joint's <mimic> as read: θ = multiplier · q_master + offset.
+struct mimic_data {
+    const XMLElement* element = nullptr; ///< its <mimic>; null: the joint does not mimic
+    std::size_t master = 0;              ///< the joint it follows (in robot_data::joints)
+    double multiplier = 1.0;
+    double offset = 0.0;
+};
+
+/// A joint as read: its element (for messages), name, type and links. Of a joint reached from
+/// the root, its origin; of a moving one (type revolute, continuous or prismatic), its kind,
+/// unit axis, limits and damping, and its mimic coupling (a fixed joint's <mimic> is ignored).
 struct joint_data {
     const XMLElement* element = nullptr;
     std::string name, type, parent, child;
+    multibody::pose origin; ///< the child link's frame in the parent link's
+    multibody::joint_kind kind = multibody::joint_kind::revolute;
+    vec3 axis = vec3::UnitX();
+    multibody::joint_limits limits;
+    mimic_data mimic;
+
+    [[nodiscard]] bool moves() const { return type != "fixed"; }
+};
+
+/// A URDF robot as read and checked: one tree of links from `root`, every link reached, at
+/// least one moving joint; the mimic couplings follow moving joints that do not mimic, and no
+/// joint that does not mimic moves below one that does. Its elements point into the document
+/// it was read from.
+struct robot_data {
+    const XMLElement* robot = nullptr; ///< the <robot> element
+    std::string name;
+    std::map<std::string, link_data> links;
+    std::string root;               ///< the root link
+    std::vector<joint_data> joints; ///< in file order
+    /// The joints reached from the root, depth first, children in file order.
+    std::vector<std::size_t> order;
 };
 
 /// `s` with control characters written as \xNN, for messages.
@@ -47,6 +87,8 @@ inline std::string printable(const std::string& s) {
     return out;
 }
 
+/// Reads one element at a time, checked; fail() throws urdf_error naming the source (a file or
+/// "<urdf>"), the element and its line.
 class reader {
   public:
     explicit reader(std::string source) : source_(std::move(source)) {}
@@ -82,8 +124,7 @@ class reader {
                 fail(e, quoted + " has a '" + ch +
                             "' (names become CSV columns and keys: give one without , and \")");
         }
-        if (n.front() == ' ' || n.back() == ' ')
-            fail(e, quoted + " begins or ends with a space");
+        if (n.front() == ' ' || n.back() == ' ') fail(e, quoted + " begins or ends with a space");
         return n;
     }
 
@@ -97,14 +138,16 @@ class reader {
         const char* p = text.data();
         const char* end = p + text.size();
         for (int i = 0; i < count; ++i) {
-            while (p < end && std::isspace(static_cast<unsigned char>(*p))) ++p;
+            while (p < end && std::isspace(static_cast<unsigned char>(*p)))
+                ++p;
             const auto r = std::from_chars(p + (p < end && *p == '+' ? 1 : 0), end, out(i));
             if (r.ec != std::errc() || !std::isfinite(out(i)))
                 fail(e, std::string("attribute ") + name + "=\"" + text + "\" needs " +
                             std::to_string(count) + " finite number" + (count > 1 ? "s" : ""));
             p = r.ptr;
         }
-        while (p < end && std::isspace(static_cast<unsigned char>(*p))) ++p;
+        while (p < end && std::isspace(static_cast<unsigned char>(*p)))
+            ++p;
         if (p != end)
             fail(e, std::string("attribute ") + name + "=\"" + text + "\" has more than " +
                         std::to_string(count) + " number" + (count > 1 ? "s" : ""));
@@ -156,10 +199,12 @@ class reader {
         const multibody::pose o = origin(in);
         if (m > 0.0 || !ic.isZero(0.0)) check_inertia(t ? t : in, name, m, ic);
         // In the link frame: I_c rotated from the inertial frame, the centre at the origin.
-        l.inertia = multibody::spatial_inertia(m, o.origin, o.rotation * ic * o.rotation.transpose());
+        l.inertia =
+            multibody::spatial_inertia(m, o.origin, o.rotation * ic * o.rotation.transpose());
         if (!l.inertia.allFinite())
-            fail(in, "link " + name + ": its mass properties overflow a double (the mass, its "
-                                      "moments or m c c at its <origin> exceed 1.8e308)");
+            fail(in, "link " + name +
+                         ": its mass properties overflow a double (the mass, its "
+                         "moments or m c c at its <origin> exceed 1.8e308)");
     }
 
     void check_inertia(const XMLElement* e, const std::string& name, double m,
@@ -214,5 +259,12 @@ inline mat6 moved(const mat6& i, const multibody::pose& x) {
     return multibody::spatial_inertia(m, x.point(b.com),
                                       x.rotation * b.inertia * x.rotation.transpose());
 }
+
+/// The read phase (urdf.cpp): the robot of a parsed document, checked; throws urdf_error.
+robot_data read_urdf(const reader& rd, const tinyxml2::XMLDocument& doc);
+/// The build phase (urdf_build.cpp): the tree of a robot read by read_urdf, its bodies the
+/// moving joints depth first (then the mimic ones moved last), fixed joints merged; throws
+/// urdf_error for what overflows a double and for a moving link without mass.
+std::shared_ptr<multibody::tree> build_tree(const reader& rd, const robot_data& data);
 
 } // namespace varsym::models::urdf_detail

@@ -10,7 +10,7 @@
 
 #include <Eigen/Dense>
 
-#include "varsym/multibody/model.hpp"
+#include "varsym/multibody/tree.hpp"
 #include "varsym/systems/lagrangian.hpp"
 
 namespace varsym::test {
@@ -18,7 +18,7 @@ namespace varsym::test {
 template <int D>
 struct reference_lagrangian {
     static constexpr int dim = D;
-    const multibody::model* m = nullptr;
+    const multibody::tree* m = nullptr;
 
     template <class T>
     T operator()(const tvec<T, D>& q, const tvec<T, D>& qd) const {
@@ -55,8 +55,8 @@ struct reference_lagrangian {
                 // Rotation about the joint axis: R(θ) = cos θ 1 + sin θ [a]× + (1 − cos θ) a aᵀ.
                 const Eigen::Vector3d a0 = b.axis;
                 m3 k;
-                k << T(0.0), T(-a0(2)), T(a0(1)), T(a0(2)), T(0.0), T(-a0(0)), T(-a0(1)),
-                    T(a0(0)), T(0.0);
+                k << T(0.0), T(-a0(2)), T(a0(1)), T(a0(2)), T(0.0), T(-a0(0)), T(-a0(1)), T(a0(0)),
+                    T(0.0);
                 const m3 aa = (a0 * a0.transpose()).cast<T>();
                 const m3 r = m3::Identity() * cos(th) + k * sin(th) + aa * (1.0 - cos(th));
                 rot[static_cast<std::size_t>(i)] = rj * r;

@@ -29,16 +29,15 @@ multibody::mat3 random_inertia(std::mt19937& g) {
 
 /// Seven bodies: a branched tree (0 ← 1 ← 2, 1 ← 3 ← 4, 0 ← 5 ← 6), bodies 2 and 5 on prismatic
 /// joints, every placement, axis, mass and centre of mass random.
-multibody::model random_tree(unsigned seed) {
+multibody::tree random_tree(unsigned seed) {
     std::mt19937 g(seed);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
-    multibody::model m;
+    multibody::tree m;
     const int parents[] = {-1, 0, 1, 1, 3, 0, 5};
     for (int i = 0; i < 7; ++i) {
         multibody::body b;
         b.name = "j" + std::to_string(i);
         b.link = "l" + std::to_string(i);
-        b.parent = parents[i];
         b.kind =
             (i == 2 || i == 5) ? multibody::joint_kind::prismatic : multibody::joint_kind::revolute;
         b.placement.rotation = multibody::roll_pitch_yaw(vec3(3 * u(g), 3 * u(g), 3 * u(g)));
@@ -47,7 +46,7 @@ multibody::model random_tree(unsigned seed) {
         b.mass = 1.0 + u(g) * 0.5;
         b.com = vec3(u(g), u(g), u(g)) * 0.3;
         b.inertia = random_inertia(g);
-        m.bodies.push_back(b);
+        m.add_body(parents[i], b);
     }
     m.gravity = vec3(0.3, -0.2, -9.81);
     return m;
@@ -65,8 +64,8 @@ constexpr double tolerance = 1e-12;
 
 TEST(MultibodyDerivatives,
      FirstAndSecondDerivativesEqualAutomaticDifferentiationOfASecondImplementation) {
-    const multibody::model m = random_tree(7);
-    const multibody::robot_lagrangian l(std::make_shared<const multibody::model>(m));
+    const multibody::tree m = random_tree(7);
+    const multibody::robot_lagrangian l(std::make_shared<const multibody::tree>(m));
     const test::reference_lagrangian<7> ref{&m};
     std::mt19937 g(11);
     std::uniform_real_distribution<double> u(-2.0, 2.0);
@@ -96,11 +95,11 @@ TEST(MultibodyDerivatives,
 
 TEST(MultibodyDerivatives, ADifferentInertiaInTheReferenceIsSeen) {
     // Negative control: the comparison above detects a 1 % change of one off-diagonal inertia.
-    const multibody::model m = random_tree(7);
-    multibody::model changed = m;
+    const multibody::tree m = random_tree(7);
+    multibody::tree changed = m;
     changed.bodies[4].inertia(0, 1) *= 1.01;
     changed.bodies[4].inertia(1, 0) *= 1.01;
-    const multibody::robot_lagrangian l(std::make_shared<const multibody::model>(m));
+    const multibody::robot_lagrangian l(std::make_shared<const multibody::tree>(m));
     const test::reference_lagrangian<7> ref{&changed};
     vec<7> q, v;
     q << 0.3, -0.7, 0.2, 1.1, -0.4, 0.5, 0.9;
@@ -118,8 +117,8 @@ TEST(MultibodyDerivatives, ThirdDerivativesEqualAutomaticDifferentiationOfASecon
     // recursive algorithms) against the reference's by nested forward-mode AD
     // (optimal::contracted_third), on the branched tree with its prismatic joints. Third
     // derivatives sum more products than second ones: 1e-11 relative is still round-off.
-    const multibody::model m = random_tree(5);
-    const multibody::robot_lagrangian l(std::make_shared<const multibody::model>(m));
+    const multibody::tree m = random_tree(5);
+    const multibody::robot_lagrangian l(std::make_shared<const multibody::tree>(m));
     const test::reference_lagrangian<7> ref{&m};
     std::mt19937 g(13);
     std::uniform_real_distribution<double> u(-2.0, 2.0);
@@ -146,8 +145,8 @@ TEST(MultibodyDerivatives, ThirdDerivativesEqualAutomaticDifferentiationOfASecon
 TEST(MultibodyDerivatives, NewtonEulerBiasAndCompositeMassMatrixSatisfyEulerLagrange) {
     // d/dt ∂L/∂q̇ − ∂L/∂q = M q̈ + (∂²L/∂q∂q̇)ᵀ q̇ − ∂L/∂q: the bias C q̇ + g of the recursive
     // Newton–Euler pass is (∂²L/∂q∂q̇)ᵀ q̇ − ∂L/∂q, and g(q) = −∂L/∂q(q, 0).
-    const multibody::model m = random_tree(3);
-    const multibody::robot_lagrangian l(std::make_shared<const multibody::model>(m));
+    const multibody::tree m = random_tree(3);
+    const multibody::robot_lagrangian l(std::make_shared<const multibody::tree>(m));
     multibody::workspace w;
     vec<dynamic> q(7), v(7), bias(7), gravity(7);
     q << 0.3, -0.7, 0.2, 1.1, -0.4, 0.5, 0.9;
@@ -170,8 +169,8 @@ TEST(MultibodyDerivatives, NewtonEulerBiasAndCompositeMassMatrixSatisfyEulerLagr
 /// revolute joint on body 4 following the prismatic q_2 (θ = −0.7 q_2 + 0.2); body 8, a
 /// prismatic joint on body 7 following q_0 (1.3 q_0 − 0.1); body 9, a revolute joint on body 6
 /// following q_6 (0.5 q_6). `coupled` false: the same ten bodies, all coordinates.
-multibody::model mimic_tree(bool coupled) {
-    multibody::model m = random_tree(9);
+multibody::tree mimic_tree(bool coupled) {
+    multibody::tree m = random_tree(9);
     std::mt19937 g(21);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     const int parents[] = {4, 7, 6};
@@ -192,10 +191,10 @@ TEST(MultibodyMimic, MimicJointsAreTheirCouplingSubstitutedIntoTheFullTree) {
     // Reference: the ten-coordinate tree at θ = A q + b, θ̇ = A q̇ (no mimic: the algorithms'
     // uncoupled path), where L(q, q̇) = L10(θ, θ̇), ∂L/∂q = Aᵀ ∂L10/∂θ, ∂²L = Aᵀ ∂²L10 A, and
     // the AD of the second implementation on the coupled tree.
-    const multibody::model m = mimic_tree(true), full = mimic_tree(false);
+    const multibody::tree m = mimic_tree(true), full = mimic_tree(false);
     ASSERT_EQ(m.dof(), 7);
-    const multibody::robot_lagrangian l(std::make_shared<const multibody::model>(m));
-    const multibody::robot_lagrangian l10(std::make_shared<const multibody::model>(full));
+    const multibody::robot_lagrangian l(std::make_shared<const multibody::tree>(m));
+    const multibody::robot_lagrangian l10(std::make_shared<const multibody::tree>(full));
     Eigen::MatrixXd a = Eigen::MatrixXd::Zero(10, 7);
     a.topRows(7).setIdentity();
     a(7, 2) = -0.7;
@@ -251,9 +250,9 @@ TEST(MultibodyMimic, MimicJointsAreTheirCouplingSubstitutedIntoTheFullTree) {
         EXPECT_LT(relative_gap(jac, Eigen::MatrixXd(jac10 * a)), tolerance);
     }
     // Negative control: the coupling's offset matters.
-    multibody::model shifted = m;
+    multibody::tree shifted = m;
     shifted.mimics[0].offset = 0.0;
-    const multibody::robot_lagrangian ls(std::make_shared<const multibody::model>(shifted));
+    const multibody::robot_lagrangian ls(std::make_shared<const multibody::tree>(shifted));
     const vec<dynamic> q = vec<dynamic>::LinSpaced(7, -0.5, 0.9), v = vec<dynamic>::Ones(7);
     EXPECT_GT(std::abs(ls(q, v) - l(q, v)), 1e-3);
 }
@@ -265,7 +264,7 @@ TEST(MultibodyFrames, FrameJacobianIsTheDerivativeOfTheFramePose) {
     // differences of frame_pose (step 1e-6: truncation and round-off about 1e-10) on the
     // branched tree: the frame on body 4 sees joints 4, 3, 1, 0 and not 2, 5, 6, whose columns
     // must be exactly zero.
-    const multibody::model m = random_tree(11);
+    const multibody::tree m = random_tree(11);
     multibody::frame f{
         "tool", 4, {multibody::roll_pitch_yaw(vec3(0.3, -0.2, 0.9)), vec3(0.1, 0.2, -0.3)}};
     const Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(7, -0.8, 1.1);

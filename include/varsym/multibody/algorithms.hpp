@@ -1,5 +1,5 @@
-// varsym/multibody/algorithms.hpp: the recursive algorithms over a model and a workspace
-// (model.hpp), in world coordinates (Featherstone's spatial notation, spatial.hpp): kinematics,
+// varsym/multibody/algorithms.hpp: the recursive algorithms over a tree and a workspace
+// (tree.hpp), in world coordinates (Featherstone's spatial notation, spatial.hpp): kinematics,
 // the Lagrangian L = ½ Σ v_iᵀ I_i v_i − V(q), V = −Σ m_i g·c_i, with its first derivatives in
 // O(n) and its second derivatives in O(n²) (the variational steppers' residuals and Newton
 // Jacobians), the mass matrix, gravity and bias forces, and frame poses.
@@ -18,14 +18,14 @@
 // zero where neither joint is above the other. The world-frame quantities moving rigidly with
 // joint i change by S_i × (motions) and S_i ×* (forces) and those changes cancel in each S_jᵀ(·)
 // product; what is left are the terms in u_i and α_i (docs/robots.md derives them).
-// These are derivatives in the joint positions θ of all bodies; with mimic joints (model.hpp)
+// These are derivatives in the joint positions θ of all bodies; with mimic joints (tree.hpp)
 // each entry (i, j) is added, times a_i a_j (a = ∂θ/∂q: 1 or the multiplier), to the entry of
 // the coordinates (c_i, c_j) that move them: Aᵀ (·) A, and Aᵀ (·) for the first derivatives.
 #pragma once
 
 #include <Eigen/Core>
 
-#include "varsym/multibody/model.hpp"
+#include "varsym/multibody/tree.hpp"
 
 namespace varsym::multibody {
 
@@ -33,7 +33,7 @@ namespace varsym::multibody {
 /// f_i = I_i (0; g) at q. Over the workspace's scalar S (the algorithms down to
 /// lagrangian_derivatives take any; the model's data are double and enter as S).
 template <class S, class Q>
-void kinematics(const model& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>& q) {
+void kinematics(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>& q) {
     const int n = m.body_count();
     w.resize(n);
     const vec3_of<S> g = m.gravity.template cast<S>();
@@ -56,13 +56,13 @@ void kinematics(const model& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q
         const vec3_of<S> c = w.x[k].point(b.com);
         w.inertia[k] = spatial_inertia(b.mass, c, r * b.inertia.template cast<S>() * r.transpose());
         const S mass(b.mass);
-        w.f[k] << mass * c.cross(g), mass * g;
+        w.gravity[k] << mass * c.cross(g), mass * g;
     }
 }
 
 /// Body velocities v_i = v_λ(i) + S_i q̇_i and momenta h_i = I_i v_i (after kinematics).
 template <class S, class V>
-void velocities(const model& m, basic_workspace<S>& w, const Eigen::MatrixBase<V>& qd) {
+void velocities(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<V>& qd) {
     for (int i = 0; i < m.body_count(); ++i) {
         const auto k = static_cast<std::size_t>(i);
         const int p = m.bodies[k].parent;
@@ -72,10 +72,10 @@ void velocities(const model& m, basic_workspace<S>& w, const Eigen::MatrixBase<V
     }
 }
 
-/// L = T − V from the bodies' velocities, momenta and wrenches (after velocities, before
-/// the subtree sums): T = ½ Σ v_iᵀ h_i, V = −Σ m_i g·c_i (the wrench's moment is m c × g).
+/// L = T − V from the bodies' velocities and momenta (after velocities): T = ½ Σ v_iᵀ h_i,
+/// V = −Σ m_i g·c_i.
 template <class S>
-S lagrangian_value(const model& m, const basic_workspace<S>& w) {
+S lagrangian_value(const tree& m, const basic_workspace<S>& w) {
     S t(0.0), minus_v(0.0);
     const vec3_of<S> g = m.gravity.template cast<S>();
     for (std::size_t k = 0; k < m.bodies.size(); ++k) {
@@ -86,23 +86,41 @@ S lagrangian_value(const model& m, const basic_workspace<S>& w) {
     return S(0.5) * t + minus_v;
 }
 
-/// Sums momenta and gravity wrenches (and, with inertias, spatial inertias) over each subtree,
-/// leaves first: h^c_i, F^c_i (I^c_i).
+/// The energy E = T + V = 2T − L at (q, q̇) (kinematics, velocities and L in one call).
+template <class Q, class V>
+double energy(const tree& m, workspace& w, const Eigen::MatrixBase<Q>& q,
+              const Eigen::MatrixBase<V>& qd) {
+    kinematics(m, w, q);
+    velocities(m, w, qd);
+    double t = 0.0;
+    for (std::size_t k = 0; k < m.bodies.size(); ++k)
+        t += 0.5 * w.v[k].dot(w.h[k]);
+    return 2.0 * t - lagrangian_value(m, w);
+}
+
+/// The subtree sums of the momenta and gravity wrenches (and, with inertias, of the spatial
+/// inertias), leaves first: h^c_i, F^c_i (I^c_i). The per-body fields are left as they are.
 template <class S>
-void subtree_sums(const model& m, basic_workspace<S>& w, bool inertias) {
+void subtree_sums(const tree& m, basic_workspace<S>& w, bool inertias) {
+    const auto n = static_cast<std::size_t>(m.body_count());
+    for (std::size_t k = 0; k < n; ++k) {
+        w.h_c[k] = w.h[k];
+        w.gravity_c[k] = w.gravity[k];
+        if (inertias) w.inertia_c[k] = w.inertia[k];
+    }
     for (int i = m.body_count() - 1; i >= 0; --i) {
         const int p = m.bodies[static_cast<std::size_t>(i)].parent;
         if (p < 0) continue;
         const auto k = static_cast<std::size_t>(i), pk = static_cast<std::size_t>(p);
-        w.h[pk] += w.h[k];
-        w.f[pk] += w.f[k];
-        if (inertias) w.inertia[pk] += w.inertia[k];
+        w.h_c[pk] += w.h_c[k];
+        w.gravity_c[pk] += w.gravity_c[k];
+        if (inertias) w.inertia_c[pk] += w.inertia_c[k];
     }
 }
 
 /// L(q, q̇), ∂L/∂q and ∂L/∂q̇ in O(n): value, lq, lv (sized n).
 template <class S, class Q, class V, class Out>
-S lagrangian_gradient(const model& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>& q,
+S lagrangian_gradient(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>& q,
                       const Eigen::MatrixBase<V>& qd, Eigen::MatrixBase<Out>& lq,
                       Eigen::MatrixBase<Out>& lv, bool keep_inertias = false) {
     kinematics(m, w, q);
@@ -111,15 +129,15 @@ S lagrangian_gradient(const model& m, basic_workspace<S>& w, const Eigen::Matrix
     subtree_sums(m, w, keep_inertias);
     for (int j = 0; j < m.dof(); ++j) {
         const auto k = static_cast<std::size_t>(j);
-        lv(j) = w.s[k].dot(w.h[k]);
-        lq(j) = w.s[k].dot(w.f[k] - cross_force(w.v[k], w.h[k]));
+        lv(j) = w.s[k].dot(w.h_c[k]);
+        lq(j) = w.s[k].dot(w.gravity_c[k] - cross_force(w.v[k], w.h_c[k]));
     }
     for (int j = m.dof(); j < m.body_count(); ++j) { // mimic joints: Aᵀ (·)
         const auto k = static_cast<std::size_t>(j);
         const int c = m.coordinate(j);
         const S a(m.weight(j));
-        lv(c) += a * w.s[k].dot(w.h[k]);
-        lq(c) += a * w.s[k].dot(w.f[k] - cross_force(w.v[k], w.h[k]));
+        lv(c) += a * w.s[k].dot(w.h_c[k]);
+        lq(c) += a * w.s[k].dot(w.gravity_c[k] - cross_force(w.v[k], w.h_c[k]));
     }
     return value;
 }
@@ -127,7 +145,7 @@ S lagrangian_gradient(const model& m, basic_workspace<S>& w, const Eigen::Matrix
 /// The first and second derivatives of L in O(n²) (the formulas at the top of this file):
 /// lq, lv, and lqq, lqv (lqv(i, j) = ∂²L/∂q_i∂q̇_j), lvv = M(q). Returns L.
 template <class S, class Q, class V, class Vec, class Mat>
-S lagrangian_derivatives(const model& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>& q,
+S lagrangian_derivatives(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>& q,
                          const Eigen::MatrixBase<V>& qd, Eigen::MatrixBase<Vec>& lq,
                          Eigen::MatrixBase<Vec>& lv, Eigen::MatrixBase<Mat>& lqq,
                          Eigen::MatrixBase<Mat>& lqv, Eigen::MatrixBase<Mat>& lvv) {
@@ -146,17 +164,17 @@ S lagrangian_derivatives(const model& m, basic_workspace<S>& w, const Eigen::Mat
         else
             w.u[k].setZero();
         w.alpha[k] = cross_motion(w.s[k], ag);
-        w.dh[k] = cross_force(w.s[k], w.h[k]) - w.inertia[k] * w.u[k];
-        w.df[k] = cross_force(w.s[k], w.f[k]) - w.inertia[k] * w.alpha[k];
-        w.s_ic[k].noalias() = w.s[k].transpose() * w.inertia[k];
+        w.dh[k] = cross_force(w.s[k], w.h_c[k]) - w.inertia_c[k] * w.u[k];
+        w.df[k] = cross_force(w.s[k], w.gravity_c[k]) - w.inertia_c[k] * w.alpha[k];
+        w.s_ic[k].noalias() = w.s[k].transpose() * w.inertia_c[k];
         // t = Sᵀ (v ×*), and r with r u = Sᵀ (u ×* h + v ×* I u): for u = (a; b), h = (n; f),
         // S = (s₁; s₂), Sᵀ (u ×* h) = a·(n × s₁ + f × s₂) + b·(f × s₁).
         const vec3_of<S> s1 = w.s[k].template head<3>(), s2 = w.s[k].template tail<3>();
         const vec3_of<S> om = w.v[k].template head<3>(), vo = w.v[k].template tail<3>();
-        const vec3_of<S> hn = w.h[k].template head<3>(), fh = w.h[k].template tail<3>();
+        const vec3_of<S> hn = w.h_c[k].template head<3>(), fh = w.h_c[k].template tail<3>();
         w.t[k].template head<3>() = s1.cross(om).transpose(); // Sᵀ (v ×* g) = t g
         w.t[k].template tail<3>() = (s1.cross(vo) + s2.cross(om)).transpose();
-        w.r[k].noalias() = w.t[k] * w.inertia[k];
+        w.r[k].noalias() = w.t[k] * w.inertia_c[k];
         w.r[k].template head<3>() += (hn.cross(s1) + fh.cross(s2)).transpose();
         w.r[k].template tail<3>() += fh.cross(s1).transpose();
     }
@@ -209,14 +227,14 @@ S lagrangian_derivatives(const model& m, basic_workspace<S>& w, const Eigen::Mat
 
 /// The joint-space mass matrix M(q) by the composite-rigid-body algorithm (O(n²)).
 template <class Q, class Mat>
-void mass_matrix(const model& m, workspace& w, const Eigen::MatrixBase<Q>& q,
+void mass_matrix(const tree& m, workspace& w, const Eigen::MatrixBase<Q>& q,
                  Eigen::MatrixBase<Mat>& out) {
     kinematics(m, w, q);
     subtree_sums(m, w, true);
     out.setZero();
     for (int j = 0; j < m.body_count(); ++j) { // M_θ, and Aᵀ M_θ A with mimic joints
         const auto jk = static_cast<std::size_t>(j);
-        const vec6 ics = m.weight(j) * (w.inertia[jk] * w.s[jk]);
+        const vec6 ics = m.weight(j) * (w.inertia_c[jk] * w.s[jk]);
         const int cj = m.coordinate(j);
         for (int i = j; i >= 0; i = m.bodies[static_cast<std::size_t>(i)].parent) {
             const int ci = m.coordinate(i);
@@ -231,7 +249,7 @@ void mass_matrix(const model& m, workspace& w, const Eigen::MatrixBase<Q>& q,
 /// §5.3, in world coordinates, gravity as the base's acceleration −a_g): the bias
 /// C(q, q̇)q̇ + g(q) with M(q)q̈ + C(q, q̇)q̇ + g(q) = τ. With q̇ = 0 it is g(q) = ∂V/∂q.
 template <class Q, class V, class Out>
-void bias_forces(const model& m, workspace& w, const Eigen::MatrixBase<Q>& q,
+void bias_forces(const tree& m, workspace& w, const Eigen::MatrixBase<Q>& q,
                  const Eigen::MatrixBase<V>& qd, Eigen::MatrixBase<Out>& out) {
     kinematics(m, w, q);
     velocities(m, w, qd);
@@ -242,14 +260,14 @@ void bias_forces(const model& m, workspace& w, const Eigen::MatrixBase<Q>& q,
         // a_i = a_λ(i) + Ṡ_i θ̇_i, Ṡ_i = v_i × S_i; f_i = I_i a_i + v_i ×* I_i v_i (θ̈ = A q̈ = 0).
         w.a[k] = (p < 0 ? base : w.a[static_cast<std::size_t>(p)]) +
                  cross_motion(w.v[k], w.s[k]) * m.joint_rate(qd, i);
-        w.f[k] = w.inertia[k] * w.a[k] + cross_force(w.v[k], w.h[k]);
+        w.force[k] = w.inertia[k] * w.a[k] + cross_force(w.v[k], w.h[k]);
     }
     out.setZero();
     for (int i = m.body_count() - 1; i >= 0; --i) { // Aᵀ τ_θ
         const auto k = static_cast<std::size_t>(i);
-        out(m.coordinate(i)) += m.weight(i) * w.s[k].dot(w.f[k]);
+        out(m.coordinate(i)) += m.weight(i) * w.s[k].dot(w.force[k]);
         const int p = m.bodies[k].parent;
-        if (p >= 0) w.f[static_cast<std::size_t>(p)] += w.f[k];
+        if (p >= 0) w.force[static_cast<std::size_t>(p)] += w.force[k];
     }
 }
 
@@ -262,7 +280,7 @@ inline pose frame_pose(const workspace& w, const frame& f) {
 /// and its origin's velocity (rows 3–5) per joint rate. Column j is (S_j^ω; S_j^v + S_j^ω × o),
 /// o the frame's origin, for joint j on the path from the frame's body to the root; else zero
 /// (a mimic joint's column, times its multiplier, added to its master's).
-inline void frame_jacobian(const model& m, const workspace& w, const frame& f,
+inline void frame_jacobian(const tree& m, const workspace& w, const frame& f,
                            Eigen::MatrixXd& out) {
     out.setZero(6, m.dof());
     const vec3 o = frame_pose(w, f).origin;

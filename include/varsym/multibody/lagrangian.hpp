@@ -18,15 +18,15 @@ class robot_lagrangian {
   public:
     static constexpr int dim = dynamic;
 
-    explicit robot_lagrangian(std::shared_ptr<const model> m) : m_(std::move(m)) {
+    explicit robot_lagrangian(std::shared_ptr<const tree> m) : m_(std::move(m)) {
         if (!m_ || m_->dof() < 1)
             throw std::invalid_argument("a robot needs at least one moving joint");
         m_->check();
     }
 
     [[nodiscard]] int dimension() const { return m_->dof(); }
-    [[nodiscard]] const model& robot() const { return *m_; }
-    [[nodiscard]] const std::shared_ptr<const model>& shared() const { return m_; }
+    [[nodiscard]] const tree& robot() const { return *m_; }
+    [[nodiscard]] const std::shared_ptr<const tree>& shared() const { return m_; }
 
     /// L(q, q̇) [J].
     double operator()(const vec<dynamic>& q, const vec<dynamic>& v) const {
@@ -92,7 +92,7 @@ class robot_lagrangian {
     }
 
   private:
-    std::shared_ptr<const model> m_;
+    std::shared_ptr<const tree> m_;
 
     void size(lagrangian_terms<dynamic>& t, bool second) const {
         const int n = m_->dof();

@@ -1,17 +1,18 @@
-// varsym/multibody/model.hpp: a kinematic tree of rigid bodies joined by one-degree-of-freedom
+// varsym/multibody/tree.hpp: a kinematic tree of rigid bodies joined by one-degree-of-freedom
 // joints (revolute or prismatic), read once (from a URDF file, models/src/urdf.cpp, or built in
 // code) and then constant, and the workspace of one thread's evaluations. The recursive
 // algorithms (algorithms.hpp) are free functions over the two, as Pinocchio's Model/Data and
-// MuJoCo's mjModel/mjData: one model serves every thread, each with its own workspace.
+// MuJoCo's mjModel/mjData: one tree serves every thread, each with its own workspace.
 //
 // Conventions: body i moves by joint i, whose coordinate is q_i (rad or m); body i's parent is
 // parent[i] < i, or −1 for the ground. Mimic joints (URDF <mimic>) come last: body dof() + k
 // moves by a joint whose position is θ = multiplier · q_master + offset (mimics[k]), not a
 // coordinate; so L(q, q̇) = L_θ(θ(q), A q̇) with A = ∂θ/∂q, and every derivative is contracted by
-// the chain rule (∂L/∂q = Aᵀ ∂L_θ/∂θ, M = Aᵀ M_θ A), as Pinocchio's and MuJoCo's mimic joints. Joint i's frame is at `placement` in its parent body's
-// frame (the ground's: the world) at q_i = 0; the joint turns about, or slides along, the unit
-// `axis` of that frame, and the body's frame is the joint frame so moved. Mass properties are
-// in the body's frame: mass [kg], centre of mass [m], rotational inertia about it [kg m²].
+// the chain rule (∂L/∂q = Aᵀ ∂L_θ/∂θ, M = Aᵀ M_θ A), as Pinocchio's and MuJoCo's mimic joints.
+// Joint i's frame is at `placement` in its parent body's frame (the ground's: the world) at q_i =
+// 0; the joint turns about, or slides along, the unit `axis` of that frame, and the body's frame is
+// the joint frame so moved. Mass properties are in the body's frame: mass [kg], centre of mass [m],
+// rotational inertia about it [kg m²].
 #pragma once
 
 #include <cmath>
@@ -65,9 +66,9 @@ struct mimic {
     double offset = 0.0;
 };
 
-/// The constant model: bodies in tree order (parents first), frames, gravity [m/s²]; the last
+/// The constant tree: bodies in tree order (parents first), frames, gravity [m/s²]; the last
 /// mimics.size() bodies move by mimic joints.
-struct model {
+struct tree {
     std::string name;
     std::vector<body> bodies;
     std::vector<frame> frames;
@@ -100,6 +101,63 @@ struct model {
         return S(weight(i)) * qd(coordinate(i));
     }
 
+    /// This tree with gravity of magnitude g [m/s²] along −z (a model's parameter `gravity`).
+    [[nodiscard]] tree with_gravity(double g) const {
+        tree t = *this;
+        t.gravity = vec3(0.0, 0.0, -g);
+        return t;
+    }
+    /// The coordinates' joint data as vectors, one value per coordinate (bodies 0 … dof() − 1):
+    /// position bounds [rad or m], effort [N m or N], velocity [rad/s or m/s] (0 or infinite:
+    /// none) and viscous damping, as joint_limits holds them.
+    struct limit_vectors {
+        Eigen::VectorXd lower, upper, effort, velocity, damping;
+    };
+    [[nodiscard]] limit_vectors limits() const {
+        const int n = dof();
+        limit_vectors out{Eigen::VectorXd(n), Eigen::VectorXd(n), Eigen::VectorXd(n),
+                          Eigen::VectorXd(n), Eigen::VectorXd(n)};
+        for (int i = 0; i < n; ++i) {
+            const joint_limits& l = bodies[static_cast<std::size_t>(i)].limits;
+            out.lower(i) = l.lower;
+            out.upper(i) = l.upper;
+            out.effort(i) = l.effort;
+            out.velocity(i) = l.velocity;
+            out.damping(i) = l.damping;
+        }
+        return out;
+    }
+    /// The actuated coordinates (their indices): those whose joint effort is positive.
+    [[nodiscard]] std::vector<int> actuated() const {
+        std::vector<int> out;
+        for (int i = 0; i < dof(); ++i)
+            if (bodies[static_cast<std::size_t>(i)].limits.effort > 0.0) out.push_back(i);
+        return out;
+    }
+    /// The coordinates outside their position bounds at q.
+    template <class Q>
+    [[nodiscard]] int limit_violations(const Q& q) const {
+        int n = 0;
+        for (int i = 0; i < dof(); ++i) {
+            const joint_limits& l = bodies[static_cast<std::size_t>(i)].limits;
+            n += (q(i) < l.lower || q(i) > l.upper) ? 1 : 0;
+        }
+        return n;
+    }
+
+    /// Appends body b as the child of body `parent` (−1: the ground), setting b.parent, and
+    /// returns its index. Throws std::invalid_argument naming the body unless the parent comes
+    /// before it (−1 ≤ parent < the new index).
+    int add_body(int parent, body b) {
+        const int index = body_count();
+        if (parent < -1 || parent >= index)
+            throw std::invalid_argument("body " + b.link +
+                                        ": its parent must come before it in the tree");
+        b.parent = parent;
+        bodies.push_back(std::move(b));
+        return index;
+    }
+
     /// Checks the tree's order and each body's data; throws std::invalid_argument naming the
     /// body.
     void check() const {
@@ -129,18 +187,27 @@ struct model {
     }
 };
 
-/// One thread's scratch for the algorithms, sized for a model once (resize) and then reused
+/// One thread's scratch for the algorithms, sized for a tree once (resize) and then reused
 /// without allocating. World-frame quantities per body i, over the scalar S (double; a dual
-/// number for robot_lagrangian::third).
+/// number for robot_lagrangian::third). Each field has one meaning, set by the pass named:
+/// per-body quantities by kinematics and velocities, subtree sums (superscript c) by
+/// subtree_sums, the Newton–Euler pass's by bias_forces, the second derivatives' rows by
+/// lagrangian_derivatives. A field is valid from its pass until the next kinematics.
 template <class S>
 struct basic_workspace {
-    std::vector<basic_pose<S>> x;       ///< body frames in the world
-    std::vector<vec6_of<S>> s;          ///< joint motion subspaces S_i
-    std::vector<mat6_of<S>> inertia;    ///< body spatial inertias I_i; composite I^c_i after a pass
-    std::vector<vec6_of<S>> v;          ///< body velocities v_i
-    std::vector<vec6_of<S>> a;          ///< body accelerations (the recursive Newton–Euler pass)
-    std::vector<vec6_of<S>> h;          ///< momenta I_i v_i; composite h^c_i after a pass
-    std::vector<vec6_of<S>> f;          ///< gravity wrenches I_i a_g; composite F^c_i after a pass
+    std::vector<basic_pose<S>> x;    ///< body frames in the world (kinematics)
+    std::vector<vec6_of<S>> s;       ///< joint motion subspaces S_i (kinematics)
+    std::vector<mat6_of<S>> inertia; ///< body spatial inertias I_i (kinematics)
+    std::vector<vec6_of<S>> gravity; ///< body gravity wrenches I_i a_g (kinematics)
+    std::vector<vec6_of<S>> v;       ///< body velocities v_i (velocities)
+    std::vector<vec6_of<S>> h;       ///< body momenta I_i v_i (velocities)
+    /// Subtree sums over body i and its descendants (subtree_sums): the composite inertia
+    /// I^c_i (where asked for), momentum h^c_i and gravity wrench F^c_i.
+    std::vector<mat6_of<S>> inertia_c;
+    std::vector<vec6_of<S>> h_c, gravity_c;
+    std::vector<vec6_of<S>> a;          ///< body accelerations at q̈ = 0 (bias_forces)
+    std::vector<vec6_of<S>> force;      ///< I_i a_i + v_i ×* h_i summed over the subtree: the
+                                        ///< wrench joint i transmits (bias_forces)
     std::vector<vec6_of<S>> u, alpha;   ///< S_i × v_parent(i) and S_i × a_g
     std::vector<vec6_of<S>> dh, df;     ///< ∂h^c_i/∂q_i and ∂F^c_i/∂q_i
     std::vector<row6_of<S>> r, s_ic, t; ///< per-body rows of the second derivatives
@@ -148,17 +215,11 @@ struct basic_workspace {
     void resize(int n) {
         const auto k = static_cast<std::size_t>(n);
         if (x.size() == k) return;
+        for (auto* f : {&s, &gravity, &v, &h, &h_c, &gravity_c, &a, &force, &u, &alpha, &dh, &df})
+            f->resize(k);
         x.resize(k);
-        s.resize(k);
         inertia.resize(k);
-        v.resize(k);
-        a.resize(k);
-        h.resize(k);
-        f.resize(k);
-        u.resize(k);
-        alpha.resize(k);
-        dh.resize(k);
-        df.resize(k);
+        inertia_c.resize(k);
         r.resize(k);
         s_ic.resize(k);
         t.resize(k);
