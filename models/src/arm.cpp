@@ -4,10 +4,47 @@
 #include <string>
 
 #include "simulation_of.hpp"
+#include "varsym/models/parameters.hpp"
 #include "varsym/optimal/input_system.hpp"
 #include "varsym/problems/arm.hpp"
 
 namespace varsym::models::defs {
+
+namespace {
+
+struct parameters {
+    double gravity, move_time, no_gravity_compensation;
+    std::vector<double> masses, lengths, inertias, damping, kp, kd, target;
+};
+
+/// A list of one value per link: the one given (n values, else std::invalid_argument), or where
+/// none is given the model's rule for it.
+std::vector<double> per_link(const std::vector<double>& given, std::size_t n, const char* name,
+                             std::vector<double> otherwise) {
+    return given.empty() ? otherwise : sized(given, n, name, "link");
+}
+
+/// What a simulation and an optimisation share: the arm's L (n links, n the masses' count) and
+/// its joints' viscous damping.
+struct links {
+    arm::lagrangian lagrangian;
+    std::vector<double> damping;
+};
+
+/// The links from the lists (where none are given: lengths 1, 0.8, 0.6 for n = 3, inertias 0
+/// each, damping 0.5 each), checked: std::invalid_argument where the lengths are missing for
+/// n != 3 or a list has another count than n.
+links links_of(const parameters& p) {
+    const std::size_t n = p.masses.size();
+    if (p.lengths.empty() && n != 3)
+        throw std::invalid_argument("give the lengths of the " + std::to_string(n) + " links");
+    const std::vector<double> lengths = per_link(p.lengths, n, "lengths", {1.0, 0.8, 0.6});
+    const std::vector<double> inertias = per_link(p.inertias, n, "inertias", {});
+    std::vector<double> damping = per_link(p.damping, n, "damping", std::vector<double>(n, 0.5));
+    return {arm::lagrangian(p.masses, lengths, p.gravity, inertias), std::move(damping)};
+}
+
+} // namespace
 
 model arm() {
     model m;
@@ -26,20 +63,6 @@ model arm() {
         "  Not conserved: energy; balanced: energy - work. No period.";
     m.dim = 3;
     m.coordinates = "th_1 ... th_n";
-    m.parameters = {
-        {.name = "gravity", .value = 9.81, .unit = "m/s^2", .doc = "gravity g", .lower = 0.0},
-        {.name = "move_time",
-         .value = 2.0,
-         .unit = "s",
-         .doc = "duration of the minimum-jerk move to the target",
-         .lower = 0.0,
-         .lower_open = true},
-        {.name = "no_gravity_compensation",
-         .value = 0.0,
-         .doc = "leave gravity out of the controller",
-         .lower = 0.0,
-         .upper = 1.0,
-         .flag = true}};
     auto positive = [](const char* name, std::vector<double> v, const char* unit, const char* doc) {
         return list_parameter{.name = name,
                               .value = std::move(v),
@@ -51,49 +74,60 @@ model arm() {
     auto non_negative = [](const char* name, const char* unit, const char* doc) {
         return list_parameter{.name = name, .unit = unit, .doc = doc, .lower = 0.0};
     };
-    m.lists = {
-        positive("masses", {1, 1, 1}, "kg", "the links' end masses, one per link (n of them)"),
-        positive("lengths", {}, "m", "the links' lengths (1, 0.8, 0.6 for n = 3)"),
-        non_negative("inertias", "kg m^2", "each link's rotational inertia (0 each)"),
-        non_negative("damping", "N m s/rad", "viscous damping per joint (0.5 each)"),
-        non_negative("kp", "N m/rad", "proportional gain per joint (100 each)"),
-        non_negative("kd", "N m s/rad", "derivative gain per joint (40 each)"),
-        {.name = "target",
-         .unit = "rad",
-         .doc = "target joint angles (0.8, 0.5, 0.3 for n = 3, else 0.5 each)"}};
-    m.lists[0].sets_dimension = true;
-    m.dimension = [](std::span<const double>, const lists& l) {
-        return l[0].empty() ? 3 : static_cast<int>(l[0].size());
-    };
+    list_parameter masses =
+        positive("masses", {1, 1, 1}, "kg", "the links' end masses, one per link (n of them)");
+    masses.sets_dimension = true;
+    const parameter_set<parameters> set{
+        {{&parameters::gravity,
+          {.name = "gravity", .value = 9.81, .unit = "m/s^2", .doc = "gravity g", .lower = 0.0}},
+         {&parameters::move_time,
+          {.name = "move_time",
+           .value = 2.0,
+           .unit = "s",
+           .doc = "duration of the minimum-jerk move to the target",
+           .lower = 0.0,
+           .lower_open = true}},
+         {&parameters::no_gravity_compensation,
+          {.name = "no_gravity_compensation",
+           .value = 0.0,
+           .doc = "leave gravity out of the controller",
+           .lower = 0.0,
+           .upper = 1.0,
+           .flag = true}}},
+        {{&parameters::masses, masses},
+         {&parameters::lengths,
+          positive("lengths", {}, "m", "the links' lengths (1, 0.8, 0.6 for n = 3)")},
+         {&parameters::inertias,
+          non_negative("inertias", "kg m^2", "each link's rotational inertia (0 each)")},
+         {&parameters::damping,
+          non_negative("damping", "N m s/rad", "viscous damping per joint (0.5 each)")},
+         {&parameters::kp, non_negative("kp", "N m/rad", "proportional gain per joint (100 each)")},
+         {&parameters::kd, non_negative("kd", "N m s/rad", "derivative gain per joint (40 each)")},
+         {&parameters::target,
+          {.name = "target",
+           .unit = "rad",
+           .doc = "target joint angles (0.8, 0.5, 0.3 for n = 3, else 0.5 each)"}}}};
+    set.declare(m);
+    m.dimension =
+        set.dimension([](const parameters& p) { return static_cast<int>(p.masses.size()); });
     m.time = 5.0;
     m.steps = 5000;
     m.ensemble_time = 5.0;
     m.ensemble_steps = 1000;
     m.ensemble_note = "The settling of the move: --grid move_time=0.5:3:11.";
-    m.make = [](std::span<const double> v, const start& s, const lists& l) {
-        const std::vector<double> masses = l[0].empty() ? std::vector<double>{1, 1, 1} : l[0];
-        const auto n = masses.size();
+    m.make = set.make([](const parameters& p, const start& s) {
+        const auto n = p.masses.size();
         const int d = static_cast<int>(n);
-        auto each = [n](const std::vector<double>& given, const char* name,
-                        std::vector<double> fallback) {
-            if (given.empty()) return fallback;
-            if (given.size() != n)
-                throw std::invalid_argument(std::string(name) + " needs " + std::to_string(n) +
-                                            " values (one per link), got " +
-                                            std::to_string(given.size()));
-            return given;
-        };
-        if (l[1].empty() && n != 3)
-            throw std::invalid_argument("give the lengths of the " + std::to_string(n) + " links");
-        const std::vector<double> lengths = each(l[1], "lengths", {1.0, 0.8, 0.6});
+        const links body = links_of(p);
+        const arm::lagrangian& lag = body.lagrangian;
         arm::control c;
-        c.damping = each(l[3], "damping", std::vector<double>(n, 0.5));
-        c.kp = each(l[4], "kp", std::vector<double>(n, 100.0));
-        c.kd = each(l[5], "kd", std::vector<double>(n, 40.0));
-        c.gravity_compensation = v[2] == 0.0;
+        c.damping = body.damping;
+        c.kp = per_link(p.kp, n, "kp", std::vector<double>(n, 100.0));
+        c.kd = per_link(p.kd, n, "kd", std::vector<double>(n, 40.0));
+        c.gravity_compensation = p.no_gravity_compensation == 0.0;
         const std::vector<double> target =
-            each(l[6], "target", n == 3 ? std::vector<double>{0.8, 0.5, 0.3} : std::vector(n, 0.5));
-        const arm::lagrangian lag(masses, lengths, v[0], each(l[2], "inertias", {}));
+            per_link(p.target, n, "target",
+                     n == 3 ? std::vector<double>{0.8, 0.5, 0.3} : std::vector(n, 0.5));
         const lagrangian_system<arm::lagrangian> sys(lag);
         auto given = [d](const std::vector<double>& g) {
             return vec<dynamic>(Eigen::Map<const vec<dynamic>>(g.data(), d));
@@ -105,7 +139,7 @@ model arm() {
         const mat<dynamic> b = arm::joint_map(d);
         c.reference.from = b * q0;
         c.reference.to = given(target);
-        c.reference.duration = v[1];
+        c.reference.duration = p.move_time;
         const arm::force f = arm::make_force(lag, c);
         const phase_state<dynamic> x0{q0, p0};
         const double e0 = sys.energy(x0);
@@ -125,36 +159,21 @@ model arm() {
                                        out[3] = (b * x.q - r).lpNorm<Eigen::Infinity>();
                                    }});
         });
-    };
+    });
     // Optimal control: the joint torques tau (one per joint, on the joint angles phi = B th:
     // the generalized force B^T tau), with the joints' damping B^T C B; the controller's lists
     // and parameters are a simulation's only.
     m.controls = {"tau_i [N m]: the torque at joint i (between links i-1 and i), i = 1 ... n"};
     m.simulation_only = {"move_time", "no_gravity_compensation", "kp", "kd", "target"};
-    m.optimal = [](std::span<const double> v, const lists& l, const optimal::control_problem& p) {
-        const std::vector<double> masses = l[0].empty() ? std::vector<double>{1, 1, 1} : l[0];
-        const auto n = masses.size();
-        const int d = static_cast<int>(n);
-        if (l[1].empty() && n != 3)
-            throw std::invalid_argument("give the lengths of the " + std::to_string(n) + " links");
-        for (std::size_t i : {1U, 2U, 3U})
-            if (!l[i].empty() && l[i].size() != n)
-                throw std::invalid_argument(std::string(i == 1   ? "lengths"
-                                                        : i == 2 ? "inertias"
-                                                                 : "damping") +
-                                            " needs " + std::to_string(n) +
-                                            " values (one per link), got " +
-                                            std::to_string(l[i].size()));
-        const std::vector<double> lengths =
-            l[1].empty() ? std::vector<double>{1.0, 0.8, 0.6} : l[1];
-        const std::vector<double> damping = l[3].empty() ? std::vector<double>(n, 0.5) : l[3];
-        const arm::lagrangian lag(masses, lengths, v[0], l[2]);
+    m.control = set.control([](const parameters& p) {
+        const links body = links_of(p);
+        const int d = static_cast<int>(p.masses.size());
         const mat<dynamic> b = arm::joint_map(d);
-        const vec<dynamic> c = Eigen::Map<const vec<dynamic>>(damping.data(), d);
-        return std::unique_ptr<optimal::transcription>(
-            optimal::transcribe_inputs(lag, optimal::matrix(b.transpose()), p,
-                                       optimal::matrix(b.transpose() * c.asDiagonal() * b)));
-    };
+        const vec<dynamic> c = Eigen::Map<const vec<dynamic>>(body.damping.data(), d);
+        return std::make_shared<const optimal::input_system<arm::lagrangian>>(
+            body.lagrangian, optimal::matrix(b.transpose()),
+            optimal::matrix(b.transpose() * c.asDiagonal() * b));
+    });
     return m;
 }
 

@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "simulation_of.hpp"
+#include "varsym/models/parameters.hpp"
 #include "varsym/optimal/input_system.hpp"
 
 namespace varsym::models::defs {
@@ -40,6 +41,14 @@ struct push_on_cart {
     }
 };
 
+struct parameters {
+    double cart_mass, pole_mass, pole_length, pole_inertia, gravity, push;
+};
+
+cart_pole_lagrangian lagrangian(const parameters& p) {
+    return {p.cart_mass, p.pole_mass, p.pole_length, p.pole_inertia, p.gravity};
+}
+
 } // namespace
 
 model cart_pole() {
@@ -55,59 +64,66 @@ model cart_pole() {
     m.dim = 2;
     m.coordinates = "x, th";
     const cart_pole_lagrangian l0;
-    m.parameters = {
-        {.name = "cart_mass",
-         .value = l0.cart,
-         .unit = "kg",
-         .doc = "mass M of the cart",
-         .lower = 0.0,
-         .lower_open = true},
-        {.name = "pole_mass",
-         .value = l0.pole,
-         .unit = "kg",
-         .doc = "mass m of the pole",
-         .lower = 0.0,
-         .lower_open = true},
-        {.name = "pole_length",
-         .value = l0.l,
-         .unit = "m",
-         .doc = "distance l from the pivot to the pole's centre of mass",
-         .lower = 0.0,
-         .lower_open = true},
-        {.name = "pole_inertia",
-         .value = l0.inertia,
-         .unit = "kg m^2",
-         .doc = "pole's moment of inertia I about its centre of mass",
-         .lower = 0.0},
-        {.name = "gravity", .value = l0.g, .unit = "m/s^2", .doc = "gravity g", .lower = 0.0},
-        {.name = "push",
-         .value = 0.0,
-         .unit = "N",
-         .doc = "constant horizontal push u on the cart"}};
+    const parameter_set<parameters> set{
+        {{&parameters::cart_mass,
+          {.name = "cart_mass",
+           .value = l0.cart,
+           .unit = "kg",
+           .doc = "mass M of the cart",
+           .lower = 0.0,
+           .lower_open = true}},
+         {&parameters::pole_mass,
+          {.name = "pole_mass",
+           .value = l0.pole,
+           .unit = "kg",
+           .doc = "mass m of the pole",
+           .lower = 0.0,
+           .lower_open = true}},
+         {&parameters::pole_length,
+          {.name = "pole_length",
+           .value = l0.l,
+           .unit = "m",
+           .doc = "distance l from the pivot to the pole's centre of mass",
+           .lower = 0.0,
+           .lower_open = true}},
+         {&parameters::pole_inertia,
+          {.name = "pole_inertia",
+           .value = l0.inertia,
+           .unit = "kg m^2",
+           .doc = "pole's moment of inertia I about its centre of mass",
+           .lower = 0.0}},
+         {&parameters::gravity,
+          {.name = "gravity", .value = l0.g, .unit = "m/s^2", .doc = "gravity g", .lower = 0.0}},
+         {&parameters::push,
+          {.name = "push",
+           .value = 0.0,
+           .unit = "N",
+           .doc = "constant horizontal push u on the cart"}}}};
+    set.declare(m);
     m.time = 5.0;
     m.steps = 5000;
     m.ensemble_time = 5.0;
     m.ensemble_steps = 2500;
     m.ensemble_note = "The pole falls over: --event 'q2^2 - 2.4649' (|th| reaches 1.57).";
-    m.make = [](std::span<const double> v, const start& s, const lists&) {
+    m.make = set.make([](const parameters& p, const start& s) {
         using L = cart_pole_lagrangian;
-        const auto sys = lagrangian_system<L>(L{v[0], v[1], v[2], v[3], v[4]});
+        const auto sys = lagrangian_system<L>(lagrangian(p));
         return detail::controlled_problem<L, push_on_cart>(
-            sys, v[5], detail::general_start(sys, s, vec<2>{0.0, 0.1}, vec<2>(vec<2>::Zero())));
-    };
-    m.pose = [](std::span<const double> v, std::span<const double> q) {
-        const double l = 2.0 * v[2]; // the pole drawn uniform: twice the pivot-to-centre length
+            sys, p.push, detail::general_start(sys, s, vec<2>{0.0, 0.1}, vec<2>(vec<2>::Zero())));
+    });
+    m.pose = set.pose([](const parameters& p, std::span<const double> q) {
+        // The pole drawn uniform: twice the pivot-to-centre length.
+        const double l = 2.0 * p.pole_length;
         return std::vector<double>{
             q[0] - 0.25,       0.0, q[0] + 0.25, 0.0, q[0], 0.0, q[0] + l * std::sin(q[1]),
             l * std::cos(q[1])};
-    };
+    });
     m.controls = {"u [N]: horizontal push on the cart"};
     m.simulation_only = {"push"};
-    m.optimal = [](std::span<const double> v, const lists&, const optimal::control_problem& p) {
-        return std::unique_ptr<optimal::transcription>(optimal::transcribe_inputs(
-            cart_pole_lagrangian{v[0], v[1], v[2], v[3], v[4]}, optimal::matrix{{1.0}, {0.0}},
-            p)); // the push on x: f = (u, 0)
-    };
+    m.control = set.control([](const parameters& p) { // the push on x: f = (u, 0)
+        return std::make_shared<const optimal::input_system<cart_pole_lagrangian>>(
+            lagrangian(p), optimal::matrix{{1.0}, {0.0}});
+    });
     return m;
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "simulation_of.hpp"
+#include "varsym/models/parameters.hpp"
 #include "varsym/problems/chain.hpp"
 #include "varsym/run/memory.hpp"
 
@@ -37,6 +38,10 @@ void check_size(int n, const scheme_spec& spec) {
                                     "2000 with it, or simpson/newmark");
 }
 
+struct parameters {
+    double amplitude, beta, n;
+};
+
 } // namespace
 
 model chain() {
@@ -53,27 +58,31 @@ model chain() {
         "  No exact solution, no period.";
     m.dim = 64;
     m.coordinates = "q_1 ... q_n";
-    m.parameters = {
-        {.name = "amplitude", .value = 1.0, .doc = "amplitude A of the initial lowest mode"},
-        {.name = "beta", .value = 1.0, .doc = "quartic coupling beta", .lower = 0.0},
-        {.name = "n",
-         .value = 64,
-         .doc = "number of moving masses (the dimension d)",
-         .lower = 1,
-         .upper = 1e7,
-         .integer = true,
-         .sets_dimension = true}};
-    m.dimension = [](std::span<const double> v, const lists&) { return static_cast<int>(v[2]); };
+    const parameter_set<parameters> set{
+        {{&parameters::amplitude,
+          {.name = "amplitude", .value = 1.0, .doc = "amplitude A of the initial lowest mode"}},
+         {&parameters::beta,
+          {.name = "beta", .value = 1.0, .doc = "quartic coupling beta", .lower = 0.0}},
+         {&parameters::n,
+          {.name = "n",
+           .value = 64,
+           .doc = "number of moving masses (the dimension d)",
+           .lower = 1,
+           .upper = 1e7,
+           .integer = true,
+           .sets_dimension = true}}}};
+    set.declare(m);
+    m.dimension = set.dimension([](const parameters& par) { return static_cast<int>(par.n); });
     m.time = 100.0;
     m.steps = 1000;
     m.ensemble_time = 100.0;
     m.ensemble_steps = 1000;
     m.ensemble_note = "Energy sharing between modes: --grid amplitude=0.5:2:16; n for all\n"
                       "  members: --set n=16.";
-    m.make = [](std::span<const double> v, const start& s, const lists&) {
-        const int n = static_cast<int>(v[2]);
-        const chain::system sys(n, v[1]);
-        phase_state<dynamic> x0 = sys.lowest_mode(v[0]);
+    m.make = set.make([](const parameters& par, const start& s) {
+        const int n = static_cast<int>(par.n);
+        const chain::system sys(n, par.beta);
+        phase_state<dynamic> x0 = sys.lowest_mode(par.amplitude);
         auto given = [n](const std::vector<double>& g) {
             return vec<dynamic>(Eigen::Map<const vec<dynamic>>(g.data(), n));
         };
@@ -88,7 +97,7 @@ model chain() {
                                    [sys](double, const phase_state<dynamic>& x, const auto&,
                                          double* out) { out[0] = sys.energy(x); }});
         });
-    };
+    });
     return m;
 }
 

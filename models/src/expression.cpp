@@ -177,6 +177,14 @@ void check_expression_size(int d, std::size_t length) {
 
 namespace {
 
+/// The expression's parameters at `values`, given in their order (the model's first values).
+std::vector<expression_parameter> at_values(std::vector<expression_parameter> parameters,
+                                            std::span<const double> values) {
+    for (std::size_t i = 0; i < parameters.size(); ++i)
+        parameters[i].value = values[i];
+    return parameters;
+}
+
 /// expression_model, with L at the defaults already built where `built` is given.
 model make_expression_model(const std::string& text, const std::vector<std::string>& coordinates,
                             const std::vector<expression_parameter>& parameters,
@@ -198,9 +206,7 @@ model make_expression_model(const std::string& text, const std::vector<std::stri
     };
     (void)constraints_at(parameters);
     auto build = [=](std::span<const double> par) {
-        std::vector<expression_parameter> given = parameters;
-        for (std::size_t i = 0; i < given.size(); ++i)
-            given[i].value = par[i];
+        const std::vector<expression_parameter> given = at_values(parameters, par);
         expression_lagrangian l(text, coordinates, given);
         expression_force f = force_at(given, l.dimension());
         return std::pair{std::move(l), std::move(f)};
@@ -258,12 +264,10 @@ model make_expression_model(const std::string& text, const std::vector<std::stri
         sys.check_regular(x0.q, sys.velocity(x0.q, x0.p, 0.0), 0.0);
         problem pr;
         if (par.size() > n_par) { // constrained: checked (or projected) here, before any run
-            std::vector<expression_parameter> given = parameters;
-            for (std::size_t i = 0; i < n_par; ++i)
-                given[i].value = par[i];
-            expression_constraint c = *constraints_at(given);
+            expression_constraint c = *constraints_at(at_values(parameters, par));
+            const bool project = par[n_par] != 0.0; // the flag after L's parameters
             const auto probe = simulate_constrained_expression(
-                l, c, f, x0, {scheme_spec(scheme_kind::simpson), {}, 1.0}, 0.0, par[n_par] != 0.0);
+                l, c, f, x0, {scheme_spec(scheme_kind::simpson), {}, 1.0}, 0.0, project);
             x0 = probe->save().x;
             pr.simulate = [l = std::move(l), c = std::move(c), f = std::move(f),
                            x0](const step_options& o) {

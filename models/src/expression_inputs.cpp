@@ -1,8 +1,9 @@
 // models/src/expression_inputs.cpp: optimal control of a Lagrangian typed as an expression (the
 // model `lagrangian`): its inputs are generalized forces on named coordinates, under typed
-// holonomic constraints if any, transcribed by the one compiled transcription
-// (varsym::transcription) over the typed L's and constraints' symbolic derivatives.
+// holonomic constraints if any: the controlled system (varsym/optimal/input_system.hpp) over the
+// typed L's and constraints' symbolic derivatives, which the optimal control layer transcribes.
 #include <algorithm>
+#include <memory>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -40,16 +41,20 @@ void add_expression_inputs(model& m, const std::string& text,
         m.controls.push_back("u" + std::to_string(j + 1) + ": the generalized force on " +
                              inputs[j] + " (units of dL/d" + inputs[j] + ")");
     }
-    m.optimal = [=](std::span<const double> v, const lists&, const optimal::control_problem& p) {
+    // The controlled system at the parameters' values, in the order of `parameters`.
+    m.control = [=](std::span<const double> values,
+                    const lists&) -> std::shared_ptr<const optimal::controlled_system> {
         std::vector<expression_parameter> given = parameters;
         for (std::size_t i = 0; i < given.size(); ++i)
-            given[i].value = v[i];
+            given[i].value = values[i];
         expression_lagrangian l(text, coordinates, given);
         if (constraints.empty())
-            return std::unique_ptr<optimal::transcription>(
-                optimal::transcribe_inputs(std::move(l), b, p));
-        return std::unique_ptr<optimal::transcription>(optimal::transcribe_inputs(
-            std::move(l), b, p, {}, expression_constraint(constraints, coordinates, given)));
+            return std::make_shared<const optimal::input_system<expression_lagrangian>>(
+                std::move(l), b);
+        return std::make_shared<
+            const optimal::input_system<expression_lagrangian, expression_constraint>>(
+            std::move(l), b, optimal::matrix{},
+            expression_constraint(constraints, coordinates, given));
     };
 }
 

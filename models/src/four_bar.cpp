@@ -3,11 +3,21 @@
 #include <numbers>
 
 #include "constrained_of.hpp"
+#include "varsym/models/parameters.hpp"
 
 namespace varsym::models::defs {
 
 using detail::crank_torque_parameter, detail::gravity_parameter, detail::positive_value,
     detail::project_parameter;
+
+namespace {
+
+struct parameters {
+    double crank_length, coupler_length, rocker_length, ground_length;
+    double crank_mass, coupler_mass, rocker_mass, gravity, torque, project;
+};
+
+} // namespace
 
 model four_bar() {
     const mechanisms::four_bar p0;
@@ -26,35 +36,45 @@ model four_bar() {
     m.coordinates = "th1, th2, th3";
     m.short_start = {1};
     m.short_start_doc = "1 (th1 alone)";
-    m.parameters = {
-        positive_value("crank_length", p0.a, "m", "crank length a", "lengths", 0),
-        positive_value("coupler_length", p0.b, "m", "coupler length b", "lengths", 1),
-        positive_value("rocker_length", p0.c, "m", "rocker length c", "lengths", 2),
-        positive_value("ground_length", p0.ground, "m", "ground length d", "lengths", 3),
-        positive_value("crank_mass", p0.m1, "kg", "crank mass m1", "masses", 0),
-        positive_value("coupler_mass", p0.m2, "kg", "coupler mass m2", "masses", 1),
-        positive_value("rocker_mass", p0.m3, "kg", "rocker mass m3", "masses", 2),
-        gravity_parameter(p0.g),
-        crank_torque_parameter(),
-        project_parameter()};
+    const parameter_set<parameters> set{
+        {{&parameters::crank_length,
+          positive_value("crank_length", p0.a, "m", "crank length a", "lengths", 0)},
+         {&parameters::coupler_length,
+          positive_value("coupler_length", p0.b, "m", "coupler length b", "lengths", 1)},
+         {&parameters::rocker_length,
+          positive_value("rocker_length", p0.c, "m", "rocker length c", "lengths", 2)},
+         {&parameters::ground_length,
+          positive_value("ground_length", p0.ground, "m", "ground length d", "lengths", 3)},
+         {&parameters::crank_mass,
+          positive_value("crank_mass", p0.m1, "kg", "crank mass m1", "masses", 0)},
+         {&parameters::coupler_mass,
+          positive_value("coupler_mass", p0.m2, "kg", "coupler mass m2", "masses", 1)},
+         {&parameters::rocker_mass,
+          positive_value("rocker_mass", p0.m3, "kg", "rocker mass m3", "masses", 2)},
+         {&parameters::gravity, gravity_parameter(p0.g)},
+         {&parameters::torque, crank_torque_parameter()},
+         {&parameters::project, project_parameter()}}};
+    set.declare(m);
     m.time = 10.0;
     m.steps = 10000;
     m.ensemble_time = 10.0;
     m.ensemble_steps = 2000;
     m.ensemble_note = "The crank's turns: --event 'q1 - 6.2832' (th1 passes 2 pi).";
-    m.make = [](std::span<const double> v, const start& s, const lists&) {
+    m.make = set.make([](const parameters& par, const start& s) {
         mechanisms::four_bar p;
-        p.a = v[0], p.b = v[1], p.c = v[2], p.ground = v[3];
-        p.m1 = v[4], p.m2 = v[5], p.m3 = v[6], p.g = v[7];
+        p.a = par.crank_length, p.b = par.coupler_length, p.c = par.rocker_length;
+        p.ground = par.ground_length;
+        p.m1 = par.crank_mass, p.m2 = par.coupler_mass, p.m3 = par.rocker_mass;
+        p.g = par.gravity;
         p.validate();
         const mechanisms::four_bar_loop loop{p};
         const auto [q, qdot] = detail::loop_start(
             s, loop, [&](double th) { return p.assemble(th); }, std::numbers::pi / 3, 2.0);
         const lagrangian_system<mechanisms::four_bar_lagrangian> sys({p});
-        return detail::constrained_problem(sys, loop, detail::crank_torque(v[8]),
-                                           detail::state_of(sys, s, q, qdot), v[9] != 0.0,
+        return detail::constrained_problem(sys, loop, detail::crank_torque(par.torque),
+                                           detail::state_of(sys, s, q, qdot), par.project != 0.0,
                                            detail::no_columns());
-    };
+    });
     return m;
 }
 

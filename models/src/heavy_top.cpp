@@ -3,9 +3,18 @@
 #include <optional>
 
 #include "simulation_of.hpp"
+#include "varsym/models/parameters.hpp"
 #include "varsym/problems/heavy_top.hpp"
 
 namespace varsym::models::defs {
+
+namespace {
+
+struct parameters {
+    double i1, i3, mgl;
+};
+
+} // namespace
 
 model heavy_top() {
     model m;
@@ -19,32 +28,36 @@ model heavy_top() {
         "  Exact: th(t) in closed form (q_1_exact). Period: the nutation period.";
     m.dim = 3;
     m.coordinates = "th, phi, psi";
-    m.parameters = {{.name = "I1",
-                     .value = 1.0,
-                     .unit = "kg m^2",
-                     .doc = "moment of inertia about a transverse axis",
-                     .lower = 0.0,
-                     .lower_open = true},
-                    {.name = "I3",
-                     .value = 0.5,
-                     .unit = "kg m^2",
-                     .doc = "moment of inertia about the symmetry axis",
-                     .lower = 0.0,
-                     .lower_open = true},
-                    {.name = "mgl",
-                     .value = 1.0,
-                     .unit = "J",
-                     .doc = "weight times distance to the centre of mass",
-                     .lower = 0.0,
-                     .lower_open = true}};
+    const parameter_set<parameters> set{{{&parameters::i1,
+                                          {.name = "I1",
+                                           .value = 1.0,
+                                           .unit = "kg m^2",
+                                           .doc = "moment of inertia about a transverse axis",
+                                           .lower = 0.0,
+                                           .lower_open = true}},
+                                         {&parameters::i3,
+                                          {.name = "I3",
+                                           .value = 0.5,
+                                           .unit = "kg m^2",
+                                           .doc = "moment of inertia about the symmetry axis",
+                                           .lower = 0.0,
+                                           .lower_open = true}},
+                                         {&parameters::mgl,
+                                          {.name = "mgl",
+                                           .value = 1.0,
+                                           .unit = "J",
+                                           .doc = "weight times distance to the centre of mass",
+                                           .lower = 0.0,
+                                           .lower_open = true}}}};
+    set.declare(m);
     m.steps_per_period = 100;
     m.time = 10.0;
     m.steps = 1000;
     m.ensemble_time = 20.0;
     m.ensemble_steps = 2000;
-    m.make = [](std::span<const double> v, const start& s, const lists&) {
+    m.make = set.make([](const parameters& par, const start& s) {
         using L = heavy_top::lagrangian;
-        const L l{v[0], v[1], v[2]};
+        const L l{par.i1, par.i3, par.mgl};
         const auto sys = heavy_top::make_system(l);
         const phase_state<3> x0 =
             detail::general_start(sys, s, vec<3>{1.0, 0.0, 0.0}, vec<3>{0.0, 0.5, 8.0});
@@ -72,7 +85,7 @@ model heavy_top() {
             });
         pr.no_period = no_period;
         return pr;
-    };
+    });
     return m;
 }
 

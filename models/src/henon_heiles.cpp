@@ -3,9 +3,18 @@
 #include <cmath>
 
 #include "simulation_of.hpp"
+#include "varsym/models/parameters.hpp"
 #include "varsym/problems/henon_heiles.hpp"
 
 namespace varsym::models::defs {
+
+namespace {
+
+struct parameters {
+    double energy; ///< NaN: p0 as given
+};
+
+} // namespace
 
 model henon_heiles() {
     model m;
@@ -19,21 +28,23 @@ model henon_heiles() {
         "  period. The section x = 0 of an ensemble: vary q0_2 and p0_2 at a fixed energy.";
     m.dim = 2;
     m.coordinates = "x, y";
-    m.parameters = {{.name = "energy",
-                     .value = 0.125,
-                     .doc = "energy E, sets p_x >= 0",
-                     .nan_means = "use p0 as given"}};
+    const parameter_set<parameters> set{{{&parameters::energy,
+                                          {.name = "energy",
+                                           .value = 0.125,
+                                           .doc = "energy E, sets p_x >= 0",
+                                           .nan_means = "use p0 as given"}}}};
+    set.declare(m);
     m.velocities = false;
     m.time = 200.0;
     m.steps = 4000;
     m.ensemble_time = 1000.0;
     m.ensemble_steps = 20000;
-    m.make = [](std::span<const double> par, const start& s, const lists&) {
+    m.make = set.make([](const parameters& par, const start& s) {
         const auto sys = henon_heiles::make_system();
         vec<2> q{0.0, 0.1}, p{0.0, 0.0};
         if (!s.q0.empty()) q = vec<2>{s.q0[0], s.q0[1]};
         if (!s.p0.empty()) p = vec<2>{s.p0[0], s.p0[1]};
-        if (const double energy = par[0]; std::isfinite(energy)) {
+        if (const double energy = par.energy; std::isfinite(energy)) {
             const double px2 = 2.0 * (energy - henon_heiles::potential{}.value(q)) - p(1) * p(1);
             if (!(px2 >= 0.0))
                 throw std::invalid_argument(
@@ -50,7 +61,7 @@ model henon_heiles() {
                                        out[0] = sys.energy(x);
                                    }});
         });
-    };
+    });
     return m;
 }
 

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "simulation_of.hpp"
+#include "varsym/models/parameters.hpp"
 #include "varsym/problems/oscillator.hpp"
 
 namespace varsym::models::defs {
@@ -11,14 +12,14 @@ namespace varsym::models::defs {
 namespace {
 
 /// A d×d matrix from 1 value (times the identity), d values (diagonal) or d² (row by row).
-Eigen::MatrixXd square_matrix(const std::vector<double>& v, int d, const char* name) {
-    const auto n = static_cast<int>(v.size());
-    if (n == 1) return v[0] * Eigen::MatrixXd::Identity(d, d);
-    if (n == d) return Eigen::Map<const Eigen::VectorXd>(v.data(), d).asDiagonal();
+Eigen::MatrixXd square_matrix(const std::vector<double>& entries, int d, const char* name) {
+    const auto n = static_cast<int>(entries.size());
+    if (n == 1) return entries.front() * Eigen::MatrixXd::Identity(d, d);
+    if (n == d) return Eigen::Map<const Eigen::VectorXd>(entries.data(), d).asDiagonal();
     if (n == d * d)
         return Eigen::Map<
-            const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(v.data(),
-                                                                                          d, d);
+            const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+            entries.data(), d, d);
     throw std::invalid_argument(std::string(name) + " needs 1, " + std::to_string(d) + " or " +
                                 std::to_string(d * d) + " values for dim " + std::to_string(d) +
                                 ", got " + std::to_string(n));
@@ -33,6 +34,11 @@ std::vector<std::string> exact_columns(int d) {
                                    : std::string(v) + "_" + std::to_string(i) + "_exact");
     return names;
 }
+
+struct parameters {
+    double dim;
+    std::vector<double> mass_matrix, stiffness_matrix; ///< stiffness_matrix empty: the default
+};
 
 } // namespace
 
@@ -50,33 +56,37 @@ model oscillator() {
         "  Period: the slowest mode's, 2 pi / omega_min.";
     m.dim = 2;
     m.coordinates = "q_1 ... q_d";
-    m.parameters = {{.name = "dim",
-                     .value = 2,
-                     .doc = "dimension d",
-                     .lower = 1,
-                     .upper = 10000,
-                     .integer = true,
-                     .sets_dimension = true}};
-    m.lists = {{.name = "mass_matrix",
-                .value = {1.0},
-                .doc = "mass matrix M: 1, d or d*d values",
-                .option = "mass-matrix"},
-               {.name = "stiffness_matrix",
-                .doc = "stiffness matrix K: 1, d or d*d values (default above)",
-                .option = "stiffness-matrix"}};
-    m.dimension = [](std::span<const double> v, const lists&) { return static_cast<int>(v[0]); };
+    const parameter_set<parameters> set{
+        {{&parameters::dim,
+          {.name = "dim",
+           .value = 2,
+           .doc = "dimension d",
+           .lower = 1,
+           .upper = 10000,
+           .integer = true,
+           .sets_dimension = true}}},
+        {{&parameters::mass_matrix,
+          {.name = "mass_matrix",
+           .value = {1.0},
+           .doc = "mass matrix M: 1, d or d*d values",
+           .option = "mass-matrix"}},
+         {&parameters::stiffness_matrix,
+          {.name = "stiffness_matrix",
+           .doc = "stiffness matrix K: 1, d or d*d values (default above)",
+           .option = "stiffness-matrix"}}}};
+    set.declare(m);
+    m.dimension = set.dimension([](const parameters& par) { return static_cast<int>(par.dim); });
     m.steps_per_period = 50;
     m.ensemble_time = 10.0;
     m.ensemble_steps = 500;
     m.ensemble_note = "Energy exchange between the coupled masses: --grid q0_2=-1:1:21.";
-    m.make = [](std::span<const double> v, const start& s, const lists& l) {
-        const int d = static_cast<int>(v[0]);
+    m.make = set.make([](const parameters& par, const start& s) {
+        const int d = static_cast<int>(par.dim);
         const double w2 = 4.0 * std::numbers::pi * std::numbers::pi;
-        const Eigen::MatrixXd mass =
-            square_matrix(l[0].empty() ? std::vector<double>{1.0} : l[0], d, "mass_matrix");
+        const Eigen::MatrixXd mass = square_matrix(par.mass_matrix, d, "mass_matrix");
         Eigen::MatrixXd k = w2 * Eigen::MatrixXd::Identity(d, d);
-        if (!l[1].empty())
-            k = square_matrix(l[1], d, "stiffness_matrix");
+        if (!par.stiffness_matrix.empty())
+            k = square_matrix(par.stiffness_matrix, d, "stiffness_matrix");
         else if (d == 2)
             k << 2 * w2, -w2, -w2, 2 * w2;
         const oscillator::system sys = oscillator::make_system(mass, k);
@@ -103,7 +113,7 @@ model oscillator() {
                                        }
                                    }});
         });
-    };
+    });
     return m;
 }
 

@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "simulation_of.hpp"
+#include "varsym/models/parameters.hpp"
 #include "varsym/optimal/input_system.hpp"
 #include "varsym/problems/pendulum.hpp"
 
@@ -22,6 +23,10 @@ struct pendulum_under_torque {
     }
 };
 
+struct parameters {
+    double mass, omega;
+};
+
 } // namespace
 
 model pendulum() {
@@ -35,23 +40,26 @@ model pendulum() {
         "  period 4K(k^2)/omega (one revolution in rotation).";
     m.dim = 1;
     m.coordinates = "q";
-    m.parameters = {{.name = "mass",
-                     .value = 1.0,
-                     .unit = "kg m^2",
-                     .doc = "moment of inertia m",
-                     .lower = 0.0,
-                     .lower_open = true},
-                    {.name = "omega",
-                     .value = 2.0 * std::numbers::pi,
-                     .unit = "rad/s",
-                     .doc = "small-oscillation angular frequency",
-                     .lower = 0.0,
-                     .lower_open = true}};
+    const parameter_set<parameters> set{{{&parameters::mass,
+                                          {.name = "mass",
+                                           .value = 1.0,
+                                           .unit = "kg m^2",
+                                           .doc = "moment of inertia m",
+                                           .lower = 0.0,
+                                           .lower_open = true}},
+                                         {&parameters::omega,
+                                          {.name = "omega",
+                                           .value = 2.0 * std::numbers::pi,
+                                           .unit = "rad/s",
+                                           .doc = "small-oscillation angular frequency",
+                                           .lower = 0.0,
+                                           .lower_open = true}}}};
+    set.declare(m);
     m.steps_per_period = 50;
     m.ensemble_time = 10.0;
     m.ensemble_steps = 500;
-    m.make = [](std::span<const double> par, const start& s, const lists&) {
-        const double mass = par[0], omega = par[1];
+    m.make = set.make([](const parameters& par, const start& s) {
+        const double mass = par.mass, omega = par.omega;
         const double q0 = s.q0.empty() ? std::numbers::pi / 2 : s.q0[0];
         const double p0 = !s.p0.empty() ? s.p0[0] : !s.v0.empty() ? mass * s.v0[0] : 0.0;
         const pendulum::system sys = pendulum::make_system(mass, omega);
@@ -80,12 +88,12 @@ model pendulum() {
             });
         pr.no_period = no_period;
         return pr;
-    };
+    });
     m.controls = {"u [N m]: torque at the pivot"};
-    m.optimal = [](std::span<const double> v, const lists&, const optimal::control_problem& p) {
-        return std::unique_ptr<optimal::transcription>(
-            optimal::transcribe_inputs(pendulum_under_torque{v[0], v[1]}, optimal::matrix{{1.0}}, p));
-    };
+    m.control = set.control([](const parameters& par) {
+        return std::make_shared<const optimal::input_system<pendulum_under_torque>>(
+            pendulum_under_torque{par.mass, par.omega}, optimal::matrix{{1.0}});
+    });
     return m;
 }
 

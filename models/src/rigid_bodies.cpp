@@ -11,6 +11,7 @@
 #include "varsym/lie/so3.hpp"
 #include "varsym/lie/symmetric_top.hpp"
 #include "varsym/models/model.hpp"
+#include "varsym/models/parameters.hpp"
 
 namespace varsym::models::defs {
 
@@ -35,16 +36,24 @@ struct rigid_defaults {
     long long steps;
 };
 
-lie::mat3 inertia_of(const std::vector<double>& v) {
+/// The parameters of the three models: weight and com only where there is gravity (else 0 and
+/// empty: not declared).
+struct rigid_parameters {
+    double weight, order, matrix;
+    std::vector<double> inertia, com;
+};
+
+/// J from the inertia list i: the principal moments I1,I2,I3 or J11,J22,J33,J12,J13,J23.
+lie::mat3 inertia_of(const std::vector<double>& i) {
     lie::mat3 j = lie::mat3::Zero();
-    if (v.size() == 3) {
-        j.diagonal() << v[0], v[1], v[2];
-    } else if (v.size() == 6) {
-        j << v[0], v[3], v[4], v[3], v[1], v[5], v[4], v[5], v[2];
+    if (i.size() == 3) {
+        j.diagonal() << i[0], i[1], i[2];
+    } else if (i.size() == 6) {
+        j << i[0], i[3], i[4], i[3], i[1], i[5], i[4], i[5], i[2];
     } else {
         throw std::invalid_argument("inertia needs 3 values (principal moments I1,I2,I3) or 6 "
                                     "(J11,J22,J33,J12,J13,J23) [kg m^2], got " +
-                                    std::to_string(v.size()));
+                                    std::to_string(i.size()));
     }
     return j;
 }
@@ -82,50 +91,61 @@ model make_rigid(const std::string& name, const std::string& summary,
     m.integrator_note = "rigid bodies are integrated on SO(3) by the Lie group variational "
                         "integrator; choose its order with --order 2, 4 or 6";
     m.integrator_parameter = "order";
-    m.lists = {inertia_parameter(d.inertia, gravity ? "the pivot" : "the centre of mass")};
+    using set_type = parameter_set<rigid_parameters>;
+    std::vector<set_type::scalar> scalars;
+    std::vector<set_type::list> several{
+        {&rigid_parameters::inertia,
+         inertia_parameter(d.inertia, gravity ? "the pivot" : "the centre of mass")}};
     if (gravity) {
-        m.lists.push_back({.name = "com",
-                           .value = d.com,
-                           .unit = "m",
-                           .doc = "centre of mass x,y,z in the body frame, from the pivot"});
-        m.parameters.push_back(
-            {.name = "weight", .value = d.weight, .unit = "N", .doc = "weight m g", .lower = 0.0});
+        several.push_back({&rigid_parameters::com,
+                           {.name = "com",
+                            .value = d.com,
+                            .unit = "m",
+                            .doc = "centre of mass x,y,z in the body frame, from the pivot"}});
+        scalars.push_back({&rigid_parameters::weight,
+                           {.name = "weight",
+                            .value = d.weight,
+                            .unit = "N",
+                            .doc = "weight m g",
+                            .lower = 0.0}});
     }
-    m.parameters.push_back({.name = "order",
-                            .value = 4,
-                            .doc = "order of the Lie group integrator: 2, 4 or 6",
-                            .lower = 2,
-                            .upper = 6,
-                            .integer = true});
-    m.parameters.push_back({.name = "matrix",
-                            .value = 0,
-                            .doc = "also show the attitude matrix R_11..R_33",
-                            .lower = 0,
-                            .upper = 1,
-                            .integer = true,
-                            .flag = true});
+    scalars.push_back({&rigid_parameters::order,
+                       {.name = "order",
+                        .value = 4,
+                        .doc = "order of the Lie group integrator: 2, 4 or 6",
+                        .lower = 2,
+                        .upper = 6,
+                        .integer = true}});
+    scalars.push_back({&rigid_parameters::matrix,
+                       {.name = "matrix",
+                        .value = 0,
+                        .doc = "also show the attitude matrix R_11..R_33",
+                        .lower = 0,
+                        .upper = 1,
+                        .integer = true,
+                        .flag = true}});
+    const set_type set(std::move(scalars), std::move(several));
+    set.declare(m);
     m.steps_per_period = 100;
     m.time = d.time;
     m.steps = d.steps;
     m.ensemble_time = d.time;
     m.ensemble_steps = d.steps;
-    m.make = [d, gravity, name](std::span<const double> v, const start& s, const lists& l) {
-        const std::size_t k = gravity ? 1 : 0; // order and matrix follow the weight, if any
-        const int order = static_cast<int>(v[k]);
+    m.make = set.make([d, gravity](const rigid_parameters& par, const start& s) {
+        const int order = static_cast<int>(par.order);
         if (order != 2 && order != 4 && order != 6)
             throw std::invalid_argument("order must be 2, 4 or 6, got " + std::to_string(order));
-        if (gravity && !l[1].empty() && l[1].size() != 3)
+        // An empty com given is d.com, of 3 values.
+        if (gravity && par.com.size() != 3)
             throw std::invalid_argument("com needs 3 values (x,y,z of the centre of mass), got " +
-                                        std::to_string(l[1].size()));
-        const std::vector<double>& com = !gravity       ? std::vector<double>{0, 0, 0}
-                                         : l[1].empty() ? d.com
-                                                        : l[1];
-        detail::rigid_setup r{lie::rigid_body(inertia_of(l[0].empty() ? d.inertia : l[0]),
+                                        std::to_string(par.com.size()));
+        const std::vector<double> com = gravity ? par.com : std::vector<double>{0, 0, 0};
+        detail::rigid_setup r{lie::rigid_body(inertia_of(par.inertia),
                                               lie::vec3(com[0], com[1], com[2]),
-                                              gravity ? v[0] : 0.0),
+                                              gravity ? par.weight : 0.0),
                               {},
                               order,
-                              v[k + 1] != 0.0,
+                              par.matrix != 0.0,
                               {},
                               {}};
         if (s.v0.size() == 4) throw std::invalid_argument("v0 needs 3 values (Omega), got 4");
@@ -160,7 +180,7 @@ model make_rigid(const std::string& name, const std::string& summary,
         pr.integrator = detail::lgvi_integrator(order);
         pr.simulate = [r](const step_options& o) { return detail::simulate_rigid(r, o); };
         return pr;
-    };
+    });
     return m;
 }
 

@@ -25,7 +25,7 @@ vec3 vee(const mat3& s) {
     return {s(2, 1), s(0, 2), s(1, 0)};
 }
 
-const multibody::frame& find_frame(const multibody::model& r, const std::string& name) {
+const multibody::frame& find_frame(const multibody::tree& r, const std::string& name) {
     const auto f = std::find_if(r.frames.begin(), r.frames.end(),
                                 [&](const auto& x) { return x.name == name; });
     if (f != r.frames.end()) return *f;
@@ -38,7 +38,7 @@ const multibody::frame& find_frame(const multibody::model& r, const std::string&
 
 class frame_target_function final : public optimal::end_function {
   public:
-    frame_target_function(std::shared_ptr<const multibody::model> r, multibody::frame f,
+    frame_target_function(std::shared_ptr<const multibody::tree> r, multibody::frame f,
                           const vec3& position, const std::optional<mat3>& rotation)
         : r_(std::move(r)), f_(std::move(f)), position_(position), rotation_(rotation) {}
 
@@ -76,7 +76,7 @@ class frame_target_function final : public optimal::end_function {
     }
 
   private:
-    std::shared_ptr<const multibody::model> r_;
+    std::shared_ptr<const multibody::tree> r_;
     multibody::frame f_;
     vec3 position_;
     std::optional<mat3> rotation_;
@@ -84,7 +84,7 @@ class frame_target_function final : public optimal::end_function {
 
 } // namespace
 
-multibody::pose frame_pose_at(const multibody::model& r, const std::string& frame,
+multibody::pose frame_pose_at(const multibody::tree& r, const std::string& frame,
                               const Eigen::VectorXd& q) {
     const multibody::frame& f = find_frame(r, frame);
     if (q.size() != r.dof())
@@ -96,7 +96,7 @@ multibody::pose frame_pose_at(const multibody::model& r, const std::string& fram
 }
 
 std::shared_ptr<const optimal::end_function>
-frame_target(std::shared_ptr<const multibody::model> r, const std::string& frame,
+frame_target(std::shared_ptr<const multibody::tree> r, const std::string& frame,
              const Eigen::Vector3d& position, const std::optional<Eigen::Matrix3d>& rotation) {
     if (!r) throw std::invalid_argument("frame_target: no robot");
     const multibody::frame f = find_frame(*r, frame);
@@ -114,7 +114,7 @@ frame_target(std::shared_ptr<const multibody::model> r, const std::string& frame
     return std::make_shared<frame_target_function>(std::move(r), f, position, rotation);
 }
 
-frame_miss frame_target_miss(const multibody::model& r, const std::string& frame,
+frame_miss frame_target_miss(const multibody::tree& r, const std::string& frame,
                              const Eigen::VectorXd& q, const Eigen::Vector3d& position,
                              const std::optional<Eigen::Matrix3d>& rotation) {
     const multibody::pose x = frame_pose_at(r, frame, q);

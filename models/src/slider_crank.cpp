@@ -1,11 +1,20 @@
 // models/src/slider_crank.cpp: the slider-crank mechanism, a closed loop of one degree of freedom
 // (problems/mechanisms.hpp), run by the general engine with its two loop constraints.
 #include "constrained_of.hpp"
+#include "varsym/models/parameters.hpp"
 
 namespace varsym::models::defs {
 
 using detail::crank_torque_parameter, detail::gravity_parameter, detail::positive_value,
     detail::project_parameter;
+
+namespace {
+
+struct parameters {
+    double crank_length, rod_length, rod_mass, slider_mass, crank_inertia, gravity, torque, project;
+};
+
+} // namespace
 
 model slider_crank() {
     const mechanisms::slider_crank p0;
@@ -23,33 +32,40 @@ model slider_crank() {
     m.coordinates = "th, phi, x";
     m.short_start = {1};
     m.short_start_doc = "1 (th alone)";
-    m.parameters = {
-        positive_value("crank_length", p0.r, "m", "crank length r", "lengths", 0),
-        positive_value("rod_length", p0.l, "m", "rod length l (> r)", "lengths", 1),
-        positive_value("rod_mass", p0.m_rod, "kg", "rod mass m_rod", "masses", 0),
-        positive_value("slider_mass", p0.m_slider, "kg", "slider mass m_slider", "masses", 1),
-        positive_value("crank_inertia", p0.j, "kg m^2",
-                       "crank's moment of inertia J about its pivot", "inertias", 0),
-        gravity_parameter(p0.g),
-        crank_torque_parameter(),
-        project_parameter()};
+    const parameter_set<parameters> set{
+        {{&parameters::crank_length,
+          positive_value("crank_length", p0.r, "m", "crank length r", "lengths", 0)},
+         {&parameters::rod_length,
+          positive_value("rod_length", p0.l, "m", "rod length l (> r)", "lengths", 1)},
+         {&parameters::rod_mass,
+          positive_value("rod_mass", p0.m_rod, "kg", "rod mass m_rod", "masses", 0)},
+         {&parameters::slider_mass,
+          positive_value("slider_mass", p0.m_slider, "kg", "slider mass m_slider", "masses", 1)},
+         {&parameters::crank_inertia,
+          positive_value("crank_inertia", p0.j, "kg m^2",
+                         "crank's moment of inertia J about its pivot", "inertias", 0)},
+         {&parameters::gravity, gravity_parameter(p0.g)},
+         {&parameters::torque, crank_torque_parameter()},
+         {&parameters::project, project_parameter()}}};
+    set.declare(m);
     m.time = 5.0;
     m.steps = 10000;
     m.ensemble_time = 5.0;
     m.ensemble_steps = 2000;
     m.ensemble_note = "The slider's stroke: --event 'q3 - 1.9' (x passes 1.9 m).";
-    m.make = [](std::span<const double> v, const start& s, const lists&) {
+    m.make = set.make([](const parameters& par, const start& s) {
         mechanisms::slider_crank p;
-        p.r = v[0], p.l = v[1], p.m_rod = v[2], p.m_slider = v[3], p.j = v[4], p.g = v[5];
+        p.r = par.crank_length, p.l = par.rod_length, p.m_rod = par.rod_mass;
+        p.m_slider = par.slider_mass, p.j = par.crank_inertia, p.g = par.gravity;
         p.validate();
         const mechanisms::slider_crank_loop loop{p};
         const auto [q, qdot] = detail::loop_start(
             s, loop, [&](double th) { return p.assemble(th); }, 0.3, 10.0);
         const lagrangian_system<mechanisms::slider_crank_lagrangian> sys({p});
-        return detail::constrained_problem(sys, loop, detail::crank_torque(v[6]),
-                                           detail::state_of(sys, s, q, qdot), v[7] != 0.0,
+        return detail::constrained_problem(sys, loop, detail::crank_torque(par.torque),
+                                           detail::state_of(sys, s, q, qdot), par.project != 0.0,
                                            detail::no_columns());
-    };
+    });
     return m;
 }
 

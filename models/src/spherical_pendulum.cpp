@@ -3,8 +3,17 @@
 #include <cmath>
 
 #include "constrained_of.hpp"
+#include "varsym/models/parameters.hpp"
 
 namespace varsym::models::defs {
+
+namespace {
+
+struct parameters {
+    double mass, length, gravity, project;
+};
+
+} // namespace
 
 model spherical_pendulum() {
     model m;
@@ -21,17 +30,22 @@ model spherical_pendulum() {
     m.coordinates = "x, y, z";
     m.short_start = {2};
     m.short_start_doc = "2 (th, phi)";
-    m.parameters = {detail::positive_value("mass", 1.0, "kg", "mass m of the bob", "masses", 0),
-                    detail::positive_value("length", 1.0, "m", "length l of the rod", "lengths", 0),
-                    detail::gravity_parameter(9.81), detail::project_parameter()};
+    const parameter_set<parameters> set{
+        {{&parameters::mass,
+          detail::positive_value("mass", 1.0, "kg", "mass m of the bob", "masses", 0)},
+         {&parameters::length,
+          detail::positive_value("length", 1.0, "m", "length l of the rod", "lengths", 0)},
+         {&parameters::gravity, detail::gravity_parameter(9.81)},
+         {&parameters::project, detail::project_parameter()}}};
+    set.declare(m);
     m.time = 10.0;
     m.steps = 2000;
     m.ensemble_time = 10.0;
     m.ensemble_steps = 2000;
     m.ensemble_note = "The bob rises above the pivot: --event 'q3'.";
-    m.make = [](std::span<const double> v, const start& s, const lists&) {
+    m.make = set.make([](const parameters& par, const start& s) {
         mechanisms::spherical_pendulum p;
-        p.m = v[0], p.length = v[1], p.g = v[2];
+        p.m = par.mass, p.length = par.length, p.g = par.gravity;
         p.validate();
         auto pick = [](const std::vector<double>& given, std::vector<double> fallback) {
             return given.size() == 2 ? given : fallback;
@@ -44,10 +58,11 @@ model spherical_pendulum() {
         const lagrangian_system<mechanisms::spherical_lagrangian> sys({p});
         return detail::constrained_problem(
             sys, mechanisms::spherical_rod{p}, unforced{}, detail::state_of(sys, s, q, qdot),
-            v[3] != 0.0, detail::column_set{{"spin"}, [](const phase_state<3>& x, double* out) {
-                                                out[0] = mechanisms::spherical_pendulum::spin(x);
-                                            }});
-    };
+            par.project != 0.0,
+            detail::column_set{{"spin"}, [](const phase_state<3>& x, double* out) {
+                                   out[0] = mechanisms::spherical_pendulum::spin(x);
+                               }});
+    });
     return m;
 }
 

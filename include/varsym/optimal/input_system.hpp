@@ -13,7 +13,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "varsym/optimal/transcription.hpp"
+#include "varsym/optimal/system.hpp"
 #include "varsym/systems/constraints.hpp"
 #include "varsym/systems/lagrangian.hpp"
 #include "varsym/systems/lagrangian_time.hpp"
@@ -128,15 +128,5 @@ class input_system final : public lagrangian_part<L> {
     matrix c_;
     C g_;
 };
-
-/// The transcription of `problem` for L driven by f = B u − C q̇, under the constraints g if
-/// given (constraint_of_run_time_size).
-template <lagrangian L, class C = unconstrained>
-std::unique_ptr<dmoc_transcription> transcribe_inputs(L l, matrix b, const control_problem& problem,
-                                                      matrix damping = {}, C constraints = {}) {
-    return transcribe(std::make_shared<const input_system<L, C>>(
-                          std::move(l), std::move(b), std::move(damping), std::move(constraints)),
-                      problem);
-}
 
 } // namespace varsym::optimal

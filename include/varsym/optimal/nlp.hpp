@@ -1,5 +1,5 @@
 // varsym/optimal/nlp.hpp: a nonlinear program min f(x) subject to g(x) = c, bounds on x, with
-// sparse first derivatives, as the optimal control transcription (optimal/transcription.hpp)
+// sparse first derivatives, as the optimal control transcription (optimize/transcription.hpp)
 // states it and a solver (the IPOPT adapter of varsym::optimal, optimal/solve.hpp) consumes it.
 // Eigen only.
 // See docs/optimal_control.md.

@@ -1,6 +1,6 @@
 // varsym/optimal/system.hpp: a mechanical system with control inputs whose sizes are known at run
 // time only (a URDF robot, a typed Lagrangian, a C++ Lagrangian through automatic derivatives),
-// as the one compiled DMOC transcription (varsym::optimal, optimal/transcription.hpp) takes it:
+// as the one compiled DMOC transcription (varsym::optimal, optimize/transcription.hpp) takes it:
 // the Lagrangian's first, second and contracted third derivatives, the input force f(q, q̇, t, u)
 // with its Jacobians and contracted Hessian, and optional holonomic constraints. Eigen only.
 // See docs/optimal_control.md.
@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -116,10 +117,15 @@ class controlled_system {
         (void)q, (void)p, (void)v, (void)t;
     }
 
-    /// The general engine's nodes (q above p, 2d × (N + 1)) under the trajectory's controls
-    /// from its start: the closure check (problem.hpp). The optimal library's default steps this
-    /// system's own derivatives (optimal/src/replay_system.cpp).
-    [[nodiscard]] virtual matrix replay(const trajectory& path) const;
+    /// The closure check's nodes (q above p, 2d × (N + 1)) under the trajectory's controls from
+    /// its start, where the system replays itself by another engine (system_of with
+    /// constraints: the constrained engine for L and C). None (the default): the optimal
+    /// library's general engine steps this system's own derivatives (replay(system, path),
+    /// varsym/optimize/transcription.hpp).
+    [[nodiscard]] virtual std::optional<matrix> own_replay(const trajectory& path) const {
+        (void)path;
+        return std::nullopt;
+    }
 };
 
 /// L's derivatives at (q, q̇, t) by L's own means (by hand, or automatic at a fixed dimension)

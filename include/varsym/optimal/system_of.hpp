@@ -1,8 +1,9 @@
 // varsym/optimal/system_of.hpp: a C++ Lagrangian L (compile-time dimension), a control force F
 // and optional holonomic constraints C as a controlled_system (system.hpp) for the one compiled
-// transcription (transcription.hpp): every derivative by forward-mode automatic differentiation
-// (L's third ones contracted with a direction, third_order.hpp). transcribe(l, force, problem)
-// makes the transcription directly. See docs/optimal_control.md.
+// transcription (varsym/optimize/transcription.hpp): every derivative by forward-mode automatic
+// differentiation (L's third ones contracted with a direction, third_order.hpp).
+// varsym/optimize/transcribe.hpp's transcribe(l, force, problem) makes the transcription
+// directly. See docs/optimal_control.md.
 #pragma once
 
 #include <memory>
@@ -10,8 +11,8 @@
 
 #include "varsym/optimal/control_force.hpp"
 #include "varsym/optimal/replay.hpp"
+#include "varsym/optimal/system.hpp"
 #include "varsym/optimal/third_order.hpp"
-#include "varsym/optimal/transcription.hpp"
 #include "varsym/systems/constraints.hpp"
 
 namespace varsym::optimal {
@@ -90,13 +91,13 @@ class system_of final : public lagrangian_part<L> {
             (void)q, (void)p, (void)v, (void)t;
         }
     }
-    /// Without constraints the optimal library's engine over this system (compiled once); with
-    /// them the constrained engine for L and C.
-    [[nodiscard]] matrix replay(const trajectory& path) const override {
+    /// With constraints the constrained engine for L and C; without, none of its own (the
+    /// optimal library's engine over this system, compiled once).
+    [[nodiscard]] std::optional<matrix> own_replay(const trajectory& path) const override {
         if constexpr (K > 0)
             return optimal::replay(l_, c_, f_, path);
         else
-            return controlled_system::replay(path);
+            return controlled_system::own_replay(path);
     }
 
   private:
@@ -104,21 +105,5 @@ class system_of final : public lagrangian_part<L> {
     F f_;
     C c_;
 };
-
-/// The transcription of `problem` for L and F (automatic derivatives).
-template <lagrangian L, control_force F>
-std::unique_ptr<dmoc_transcription> transcribe(L l, F force, const control_problem& problem) {
-    return transcribe(std::make_shared<const system_of<L, F>>(std::move(l), std::move(force)),
-                      problem);
-}
-
-/// The transcription of `problem` for L under the holonomic constraints C, with F.
-template <lagrangian L, holonomic_constraint C, control_force F>
-std::unique_ptr<dmoc_transcription> transcribe(L l, C constraints, F force,
-                                               const control_problem& problem) {
-    return transcribe(std::make_shared<const system_of<L, F, C>>(std::move(l), std::move(force),
-                                                                 std::move(constraints)),
-                      problem);
-}
 
 } // namespace varsym::optimal

@@ -73,11 +73,12 @@ model expression_model(const expression_lagrangian& l, const std::vector<std::st
 
 /// Gives the model `lagrangian` m (made by expression_model from `text`, `coordinates` and
 /// `parameters`, without force or constraints) control inputs: input j is a generalized force on
-/// the coordinate named inputs[j] (units of ∂L/∂q there). Sets m.controls and m.optimal (the
-/// transcription over L's symbolic derivatives at the parameters' values), under the holonomic
-/// constraints g(q) = 0 typed in `constraints` if any (one expression per equation, over the
-/// coordinates and parameters). Throws std::invalid_argument for a name that is not a
-/// coordinate, or one given twice, and expr::parse_error for a constraint that does not parse.
+/// the coordinate named inputs[j] (units of ∂L/∂q there). Sets m.controls and m.control (the
+/// controlled system over L's symbolic derivatives at the parameters' values,
+/// varsym/optimal/input_system.hpp), under the holonomic constraints g(q) = 0 typed in
+/// `constraints` if any (one expression per equation, over the coordinates and parameters). Throws
+/// std::invalid_argument for a name that is not a coordinate, or one given twice, and
+/// expr::parse_error for a constraint that does not parse.
 void add_expression_inputs(model& m, const std::string& text,
                            const std::vector<std::string>& coordinates,
                            const std::vector<expression_parameter>& parameters,

@@ -1,9 +1,12 @@
 // varsym/models/model.hpp: the built-in models, each defined once as data plus a factory: its
-// name, summary and description, its parameters (default, unit, meaning, bounds), its default
-// initial state and the rules that complete a given one, its period or time scale, and the
-// factory that builds its problem (system, initial state, exact solution) and from that a
-// simulation (simulation.hpp) of any scheme. The command-line tool's options and help, its
-// ensembles and sections, and the Python package are all generated from this data.
+// name, summary and description, its parameters (default, unit, meaning, bounds; declared with
+// parameters.hpp, which reads their values into the model's own struct by name), its default
+// initial state and the rules that complete a given one, its period or time scale, the factory
+// that builds its problem (system, initial state, exact solution) and from that a simulation
+// (simulation.hpp) of any scheme, and, for a model with inputs, its controlled system, which the
+// optimal control layer (varsym/optimize/model.hpp) solves problems of. The command-line tool's
+// options and help, its ensembles and sections, and the Python package are all generated from
+// this data.
 #pragma once
 
 #include <functional>
@@ -17,7 +20,7 @@
 #include "varsym/models/simulation.hpp"
 
 namespace varsym::optimal {
-class transcription;
+class controlled_system;
 struct control_problem;
 } // namespace varsym::optimal
 
@@ -144,25 +147,32 @@ struct model {
     std::function<problem(std::span<const double>, const start&, const models::lists&)> make;
     /// Where the model has control inputs (the acrobot's elbow torque): their names with units
     /// ("u [N m], torque at the elbow"; one line may stand for one input per coordinate, as the
-    /// arm's), and the transcription of an optimal control problem
-    /// (varsym/optimal/transcription.hpp) at the parameters' values and lists (empty: the
-    /// defaults). Empty where it has none.
+    /// arm's). Empty where it has none.
     std::vector<std::string> controls;
     /// The parameters and lists (by name) that only a simulation uses: the one that holds the
     /// input constant (the cart-pole's push, the acrobot's torque), which an optimisation
     /// computes instead, and a controller's gains and target. An optimisation refuses them.
     std::vector<std::string> simulation_only;
-    std::function<std::unique_ptr<optimal::transcription>(
-        std::span<const double>, const models::lists&, const optimal::control_problem&)>
-        optimal;
+    /// The controlled system at the parameters' values and lists (empty: the defaults): L with
+    /// its input matrix and damping (varsym/optimal/input_system.hpp), which the optimal control
+    /// layer (varsym::optimal, varsym/optimize/model.hpp) transcribes and solves. Null where
+    /// the model has no inputs.
+    std::function<std::shared_ptr<const optimal::controlled_system>(std::span<const double>,
+                                                                    const models::lists&)>
+        control;
     /// The model's own bounds for an optimal control problem at the parameters' values (a URDF
     /// robot's joint position, velocity and torque limits), put into the problem's position,
-    /// velocity and control bounds where those are unbounded. Empty: none.
-    std::function<void(std::span<const double>, optimal::control_problem&)> limits;
+    /// velocity and control bounds where those are unbounded. Null: none.
+    std::function<void(std::span<const double>, const models::lists&, optimal::control_problem&)>
+        limits;
     /// Where the model is a linkage to draw (the pictures of `varsym optimize`): the polyline
-    /// of its joints at q, as x0, y0, x1, y1, … [m], from the parameters' values. May be empty.
-    std::function<std::vector<double>(std::span<const double>, std::span<const double>)> pose;
+    /// of its joints at q, as x0, y0, x1, y1, … [m], at the parameters' values. May be null.
+    std::function<std::vector<double>(std::span<const double>, const models::lists&,
+                                      std::span<const double>)>
+        pose;
 
+    /// Whether the model has control inputs (`controls` declared): an optimisation applies.
+    [[nodiscard]] bool has_inputs() const { return !controls.empty(); }
     /// The parameters' defaults, in order.
     [[nodiscard]] std::vector<double> defaults() const;
     /// The number of coordinates d at these parameters' values.

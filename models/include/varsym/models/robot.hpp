@@ -1,5 +1,5 @@
 // varsym/models/robot.hpp: robots read from URDF files into a multibody model
-// (varsym/multibody/model.hpp), and the model of the models layer that simulates one by the
+// (varsym/multibody/tree.hpp), and the model of the models layer that simulates one by the
 // general engine with the recursive derivatives: every command, ensembles and Python run it like
 // a built-in model. What is read and what is refused: docs/robots.md.
 #pragma once
@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "varsym/models/model.hpp"
-#include "varsym/multibody/model.hpp"
+#include "varsym/multibody/tree.hpp"
 #include "varsym/optimal/end_function.hpp"
 
 namespace varsym::models {
@@ -30,12 +30,12 @@ class urdf_error : public std::invalid_argument {
 /// child's mass properties into the parent exactly; gravity (0, 0, −9.81) m/s². Throws
 /// urdf_error for a missing or malformed file and for what docs/robots.md lists as refused,
 /// and for anything but a regular file of at most max_urdf_bytes (a directory, a FIFO, a device).
-std::shared_ptr<const multibody::model> load_urdf(const std::string& path);
+std::shared_ptr<const multibody::tree> load_urdf(const std::string& path);
 /// The longest URDF file load_urdf reads: 256 MiB (a 100 000-link chain takes about 50 MB).
 inline constexpr std::uint64_t max_urdf_bytes = std::uint64_t{256} << 20;
 /// The same from the XML text; `source` names it in messages.
-std::shared_ptr<const multibody::model> parse_urdf(std::string_view xml,
-                                                   const std::string& source = "<urdf>");
+std::shared_ptr<const multibody::tree> parse_urdf(std::string_view xml,
+                                                  const std::string& source = "<urdf>");
 
 /// The model `urdf` of the robot r: its parameters gravity (magnitude along −z, m/s²),
 /// no_damping (leave the URDF's joint damping out), move_time and no_gravity_compensation of the
@@ -46,18 +46,18 @@ std::shared_ptr<const multibody::model> parse_urdf(std::string_view xml,
 /// these and the list torque given). Start: q0 (0) and v0 (0) or p0, in the joints' order.
 /// Columns: energy, work, energy_balance, limit_violations (the joints outside their position
 /// limits at that row).
-model robot_model(std::shared_ptr<const multibody::model> r,
+model robot_model(std::shared_ptr<const multibody::tree> r,
                   const std::vector<std::string>& torques = {});
 
 /// The actuated joints of a robot (their indices in q): those whose URDF effort is positive.
 /// robot_model's optimal control has one input per actuated joint, its torque (force),
 /// bounded by the effort; its `limits` are the joints' position limits, velocity limits (a
 /// URDF velocity of 0: none) and efforts.
-std::vector<int> actuated_joints(const multibody::model& r);
+std::vector<int> actuated_joints(const multibody::tree& r);
 
 /// The pose in the world of robot r's link (frame) `frame` at joint positions q; throws
 /// std::invalid_argument for an unknown link (the message lists the links) or a q of wrong size.
-multibody::pose frame_pose_at(const multibody::model& r, const std::string& frame,
+multibody::pose frame_pose_at(const multibody::tree& r, const std::string& frame,
                               const Eigen::VectorXd& q);
 
 /// A target for link `frame` of robot r at the end of an optimal motion
@@ -69,7 +69,7 @@ multibody::pose frame_pose_at(const multibody::model& r, const std::string& fram
 /// std::invalid_argument for an unknown link, one fixed to the ground, a
 /// non-finite position or a rotation that is not one.
 std::shared_ptr<const optimal::end_function>
-frame_target(std::shared_ptr<const multibody::model> r, const std::string& frame,
+frame_target(std::shared_ptr<const multibody::tree> r, const std::string& frame,
              const Eigen::Vector3d& position,
              const std::optional<Eigen::Matrix3d>& rotation = std::nullopt);
 
@@ -78,7 +78,7 @@ frame_target(std::shared_ptr<const multibody::model> r, const std::string& frame
 struct frame_miss {
     double distance = 0.0, angle = 0.0;
 };
-frame_miss frame_target_miss(const multibody::model& r, const std::string& frame,
+frame_miss frame_target_miss(const multibody::tree& r, const std::string& frame,
                              const Eigen::VectorXd& q, const Eigen::Vector3d& position,
                              const std::optional<Eigen::Matrix3d>& rotation = std::nullopt);
 
