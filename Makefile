@@ -13,7 +13,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 OUT ?= out
 VARSYM = $(BUILD_DIR)/apps/varsym/varsym
 
-.PHONY: all deps configure build tool python run test install san-configure test-sanitize \
+.PHONY: all deps configure build tool python python-tool run test install san-configure test-sanitize \
   test-sanitize-cli fuzz bench bench-optimal bench-robots soak clean
 
 all: build
@@ -28,13 +28,18 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
 
+# The command-line tool: varsym and varsym-optimize (the optimizer, which `varsym optimize` runs).
 tool: configure
-	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_tool
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_tool varsym_optimize_tool
 
 # The Python package, in $(BUILD_DIR)/python (PYTHONPATH=$(BUILD_DIR)/python imports it); to
 # install it with pip, see docs/python.md.
 python: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_python
+
+# varsym._tool: the command line in-process (varsym.call), optional beside the package.
+python-tool: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_python_tool
 
 # Installs the headers and the CMake package (find_package(varsym)) under PREFIX.
 PREFIX ?= /usr/local
@@ -42,8 +47,10 @@ install: configure
 	@cmake --install $(BUILD_DIR) --prefix $(PREFIX)
 
 # Reproduces the paper: Table 1 (text and CSV), Figures 1 and 2 (PNG and SVG, with their data
-# and gnuplot scripts), all into $(OUT)/.
-run: tool
+# and gnuplot scripts), all into $(OUT)/. Builds the program varsym alone (the models layer and
+# the front end), not the optimizer.
+run: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_tool
 	@mkdir -p $(OUT)
 	$(VARSYM) paper table1 --output $(OUT)/table1.txt
 	$(VARSYM) paper table1 --format csv --output $(OUT)/table1.csv
@@ -78,7 +85,7 @@ test-sanitize: san-configure
 # The tool alone under the sanitizers, and its end-to-end tests (run, checkpoints, files, signals,
 # every model and scheme through the library): what CI runs, in a third of test-sanitize's time.
 test-sanitize-cli: san-configure
-	@cmake --build $(SAN_DIR) -j $(JOBS) --target varsym_tool
+	@cmake --build $(SAN_DIR) -j $(JOBS) --target varsym_tool varsym_optimize_tool
 	@cd $(SAN_DIR) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  VARSYM_SANITIZED=1 ctest --output-on-failure -j $(JOBS) -R '^cli'
 

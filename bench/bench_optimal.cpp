@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "interleaved.hpp"
-#include "varsym/optimal/solve.hpp"
-#include "varsym/optimal/system_of.hpp"
+#include "varsym/optimize/solve.hpp"
+#include "varsym/optimize/transcribe.hpp"
 #include "varsym/problems/linked_pendulum.hpp"
 
 namespace {

@@ -22,7 +22,8 @@
 #include "varsym/models/model.hpp"
 #include "varsym/models/robot.hpp"
 #include "varsym/multibody/spatial.hpp"
-#include "varsym/optimal/solve.hpp"
+#include "varsym/optimize/model.hpp"
+#include "varsym/optimize/solve.hpp"
 
 namespace {
 
@@ -37,9 +38,9 @@ struct outcome {
 outcome solve(const models::model& robot, const optimal::control_problem& given,
               optimal::hessian_kind hessian, int max_iterations = 3000) {
     optimal::control_problem p = given;
-    robot.limits(robot.defaults(), p);
+    robot.limits(robot.defaults(), {}, p);
     const auto start = std::chrono::steady_clock::now();
-    const auto tr = robot.optimal(robot.defaults(), {}, p);
+    const auto tr = optimal::transcribe(robot, robot.defaults(), {}, p);
     optimal::solver_options o;
     o.hessian = hessian;
     o.max_iterations = max_iterations;
@@ -92,8 +93,8 @@ void evaluation_costs(int rounds) {
         chains.push_back(models::robot_model(models::parse_urdf(chain_urdf(n), "chain.urdf")));
         optimal::control_problem p =
             rest_to_rest(n, steps, scheme_kind::simpson, Eigen::VectorXd::Constant(n, 0.3 / n));
-        chains.back().limits(chains.back().defaults(), p);
-        problems.push_back(chains.back().optimal(chains.back().defaults(), {}, p));
+        chains.back().limits(chains.back().defaults(), {}, p);
+        problems.push_back(optimal::transcribe(chains.back(), chains.back().defaults(), {}, p));
     }
     std::vector<std::function<timing()>> cases;
     for (std::size_t i = 0; i < links.size(); ++i)

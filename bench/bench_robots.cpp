@@ -62,7 +62,7 @@ std::string read(const std::string& path) {
 /// One robot on both sides.
 struct pair {
     std::string name;
-    std::shared_ptr<const multibody::model> tree;
+    std::shared_ptr<const multibody::tree> tree;
     mjModel* mj = nullptr;
 };
 
@@ -189,7 +189,7 @@ void check(const std::vector<pair>& robots) {
             mat<dynamic> m(n, n);
             multibody::mass_matrix(*p.tree, w, Eigen::Map<const vec<dynamic>>(q.data(), n), m);
             const Eigen::Map<const Eigen::Matrix<double, -1, -1, Eigen::RowMajor>> mm(full.data(),
-                                                                                    n, n);
+                                                                                      n, n);
             worst = std::max(worst, (m - mm).cwiseAbs().maxCoeff() / m.cwiseAbs().maxCoeff());
         }
         std::printf("  %-10s %d joints: largest difference %.1e of the largest entry\n",
@@ -205,8 +205,8 @@ void steps(const std::vector<pair>& robots, int rounds) {
         std::printf(" %20s", p.name.c_str());
     std::printf("\n");
     const auto all = methods();
-    std::vector<std::vector<std::vector<double>>> t(
-        robots.size(), std::vector<std::vector<double>>(all.size()));
+    std::vector<std::vector<std::vector<double>>> t(robots.size(),
+                                                    std::vector<std::vector<double>>(all.size()));
     for (int r = 0; r < rounds; ++r)
         for (std::size_t i = 0; i < robots.size(); ++i)
             for (std::size_t k = 0; k < all.size(); ++k)
@@ -258,14 +258,14 @@ double distance(const std::vector<double>& a, const std::vector<double>& b) {
 }
 
 void precision(const std::vector<pair>& robots) {
-    const double hs[] = {1.0 / 25,   1.0 / 50,   1.0 / 100,  1.0 / 200,  1.0 / 400,
-                         1.0 / 800,  1.0 / 1600, 1.0 / 3200, 1.0 / 6400, 1.0 / 12800};
-    const char* chosen[] = {"mujoco-euler", "mujoco-rk4", "simpson", "gauss-2", "gauss-3",
-                            "gauss-4"};
+    const double hs[] = {1.0 / 25,  1.0 / 50,   1.0 / 100,  1.0 / 200,  1.0 / 400,
+                         1.0 / 800, 1.0 / 1600, 1.0 / 3200, 1.0 / 6400, 1.0 / 12800};
+    const char* chosen[] = {"mujoco-euler", "mujoco-rk4", "simpson",
+                            "gauss-2",      "gauss-3",    "gauss-4"};
     for (const pair& p : robots) {
         double s = 0.0;
-        const auto ref = final_q(p, {"gauss-4", false, 0, scheme_spec(scheme_kind::gauss, 4)},
-                                 1.0 / 4000, &s);
+        const auto ref =
+            final_q(p, {"gauss-4", false, 0, scheme_spec(scheme_kind::gauss, 4)}, 1.0 / 4000, &s);
         const auto rk = final_q(p, methods()[1], 1.0 / 25600, &s);
         std::printf("\n%s: max |q(1 s) - reference| (gauss-4, h = 1/4000 s; MuJoCo RK4 at "
                     "h = 1/25600 s differs from it by %.1e) and CPU ms per simulated second\n",
@@ -327,8 +327,7 @@ void energy(const pair& p, const std::string& file, long steps) {
         mj_forward(m, d);
         return d->energy[0] + d->energy[1];
     };
-    const double e0 = sim->watched_energy(), r0 = mj_energy(p.mj, rk),
-                 u0 = mj_energy(euler.mj, eu);
+    const double e0 = sim->watched_energy(), r0 = mj_energy(p.mj, rk), u0 = mj_energy(euler.mj, eu);
     double worst[3] = {0, 0, 0};
     for (long k = 0; k <= steps; k += 1000) {
         const double a = (sim->watched_energy() - e0) / std::abs(e0);
@@ -359,8 +358,8 @@ void scaling(int rounds) {
                 "steps, median of %d rounds; per link in parentheses)\n%-7s",
                 rounds, "links");
     const auto all = methods();
-    const method chosen[] = {all[1], all[3], all[5],
-                             {"simpson-fixed", false, 0, scheme_spec(scheme_kind::simpson)}};
+    const method chosen[] = {
+        all[1], all[3], all[5], {"simpson-fixed", false, 0, scheme_spec(scheme_kind::simpson)}};
     for (const method& m : chosen)
         std::printf(" %24s", m.label.c_str());
     std::printf("\n");
@@ -396,10 +395,9 @@ void scaling(int rounds) {
 
 int main(int argc, char** argv) {
     const std::string dir = VARSYM_BENCH_DATA "/urdf/";
-    std::vector<pair> robots{
-        load("ur5", read(dir + "ur5_robot.urdf")),
-        load("iiwa14", read(dir + "iiwa14_no_collision.urdf")),
-        load("panda9", read(dir + "panda_fingers_free.urdf"))};
+    std::vector<pair> robots{load("ur5", read(dir + "ur5_robot.urdf")),
+                             load("iiwa14", read(dir + "iiwa14_no_collision.urdf")),
+                             load("panda9", read(dir + "panda_fingers_free.urdf"))};
     std::vector<std::string> what(argv + 1, argv + argc);
     if (what.empty()) what = {"check", "steps", "precision", "scaling"};
     for (std::size_t a = 0; a < what.size(); ++a) {

@@ -10,8 +10,8 @@
 #include <memory>
 #include <vector>
 
-#include "varsym/optimal/system_of.hpp"
-#include "varsym/optimal/solve.hpp"
+#include "varsym/optimize/solve.hpp"
+#include "varsym/optimize/transcribe.hpp"
 #include "varsym/problems/linked_pendulum.hpp"
 
 namespace {

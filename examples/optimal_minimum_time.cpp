@@ -16,7 +16,8 @@
 #include <vector>
 
 #include "varsym/models/model.hpp"
-#include "varsym/optimal/solve.hpp"
+#include "varsym/optimize/model.hpp"
+#include "varsym/optimize/solve.hpp"
 
 int main() {
     namespace vo = varsym::optimal;
@@ -36,7 +37,7 @@ int main() {
         p.q_end = Eigen::VectorXd::Constant(1, pi);
         p.control_lower = Eigen::VectorXd::Constant(1, -bound);
         p.control_upper = Eigen::VectorXd::Constant(1, bound);
-        return m.optimal(values, {}, p);
+        return vo::transcribe(m, values, {}, p);
     };
     const vo::refined run = vo::solve_refined(make, 80, 2);
     const vo::trajectory path = run.problem->unpack(run.result);

@@ -23,8 +23,8 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "front_end.hpp"
-#include "models.hpp"
+#include "models/models.hpp"
+#include "options/front_end.hpp"
 
 namespace {
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "front_end.hpp"
-#include "signals.hpp"
+#include "options/front_end.hpp"
+#include "output/signals.hpp"
 
 int main(int argc, char** argv) {
     using namespace varsym::cli;

@@ -11,7 +11,7 @@
 #include <IpIpoptApplication.hpp>
 #include <IpTNLP.hpp>
 
-#include "varsym/optimal/solve.hpp"
+#include "varsym/optimize/solve.hpp"
 #include "varsym/run/input_file.hpp"
 #include "varsym/run/memory.hpp"
 

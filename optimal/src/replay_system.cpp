@@ -7,9 +7,11 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "varsym/optimal/replay.hpp"
 #include "varsym/optimal/system.hpp"
+#include "varsym/optimize/transcription.hpp"
 #include "varsym/schemes/constrained.hpp"
 #include "varsym/schemes/variational.hpp"
 
@@ -105,16 +107,17 @@ struct system_constraint {
 
 } // namespace
 
-matrix controlled_system::replay(const trajectory& path) const {
-    const lagrangian_system<system_lagrangian> l(system_lagrangian{this});
-    if (constraint_count() > 0) { // the constrained engine: impulses at the control values
+matrix replay(const controlled_system& s, const trajectory& path) {
+    if (auto own = s.own_replay(path)) return *std::move(own);
+    const lagrangian_system<system_lagrangian> l(system_lagrangian{&s});
+    if (s.constraint_count() > 0) { // the constrained engine: impulses at the control values
         general::constrained_stepper<system_lagrangian, system_constraint, system_controls> stepper(
-            l, system_constraint{this}, system_controls{this, &path, 0}, path.h, path.scheme,
+            l, system_constraint{&s}, system_controls{&s, &path, 0}, path.h, path.scheme,
             replay_newton);
         return replay_with(stepper, path);
     }
     general::stepper<system_lagrangian, system_controls> stepper(
-        l, system_controls{this, &path, 0}, path.h, path.scheme, replay_newton);
+        l, system_controls{&s, &path, 0}, path.h, path.scheme, replay_newton);
     return replay_with(stepper, path);
 }
 

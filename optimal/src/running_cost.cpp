@@ -10,7 +10,7 @@
 //              generalized force, smoothed at zero by ε.
 #include <Eigen/Cholesky>
 
-#include "varsym/optimal/transcription.hpp"
+#include "varsym/optimize/transcription.hpp"
 
 namespace varsym::optimal {
 

@@ -1,7 +1,7 @@
 // optimal/src/transcription.cpp: the DMOC transcription of run-time size (transcription.hpp):
 // its sizes, bounds, starting points and cost. The equations and their derivatives are in
 // transcription_derivatives.cpp, the constraints' parts in transcription_constraints.cpp.
-#include "varsym/optimal/transcription.hpp"
+#include "varsym/optimize/transcription.hpp"
 
 #include <algorithm>
 #include <stdexcept>

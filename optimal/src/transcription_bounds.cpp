@@ -9,7 +9,7 @@
 // velocity rows have ∂g/∂T = −g/T. Nothing without bounds.
 #include <cmath>
 
-#include "varsym/optimal/transcription.hpp"
+#include "varsym/optimize/transcription.hpp"
 
 namespace varsym::optimal {
 

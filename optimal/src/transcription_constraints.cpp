@@ -9,7 +9,7 @@
 
 #include <Eigen/LU>
 
-#include "varsym/optimal/transcription.hpp"
+#include "varsym/optimize/transcription.hpp"
 
 namespace varsym::optimal {
 

@@ -3,7 +3,7 @@
 // trajectory of a result. See transcription.hpp for the unknowns and equations.
 #include <Eigen/LU>
 
-#include "varsym/optimal/transcription.hpp"
+#include "varsym/optimize/transcription.hpp"
 
 namespace varsym::optimal {
 

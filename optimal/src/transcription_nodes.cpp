@@ -7,7 +7,7 @@
 //   E⁺_n = (step n's terms)   + ∂L/∂q̇(Q_{ns}, V_n) = 0   (split_row(n)),
 // whose sum is the original equation; V_n is the velocity the discrete Legendre transform gives
 // at the node (unpack's). Nothing without node velocities.
-#include "varsym/optimal/transcription.hpp"
+#include "varsym/optimize/transcription.hpp"
 
 namespace varsym::optimal {
 

@@ -11,7 +11,7 @@
 
 #include "varsym/integrate.hpp"
 #include "varsym/models/model.hpp"
-#include "varsym/multibody/model.hpp"
+#include "varsym/multibody/tree.hpp"
 #include "varsym/schemes/scheme_kind.hpp"
 
 /// The models layer's registry, problems and simulations (simulation.cpp).
@@ -26,7 +26,7 @@ void bind_robot(pybind11::module_& m);
 /// The model of a _Robot, or nullptr if `h` is not one (robot.cpp).
 const varsym::models::model* robot_model_of(pybind11::handle h);
 /// The multibody tree of a _Robot, or nullptr if `h` is not one (robot.cpp).
-std::shared_ptr<const varsym::multibody::model> robot_tree_of(pybind11::handle h);
+std::shared_ptr<const varsym::multibody::tree> robot_tree_of(pybind11::handle h);
 /// A model's data as the Python registry gives it: name, parameters, lists, dim, …
 /// (simulation.cpp).
 pybind11::dict model_info(const varsym::models::model& mod);

@@ -29,34 +29,10 @@ void check_size(const std::vector<double>& x, int d, const char* what) {
                                     " entries (one per coordinate), got " +
                                     std::to_string(x.size()));
 }
-PyObject* step_error = nullptr; ///< varsym.errors.StepFailure
+PyObject* step_error = nullptr;  ///< varsym.errors.StepFailure
 PyObject* usage_error = nullptr; ///< varsym.errors.UsageError
 
 } // namespace
-
-py::array_t<double> to_array(const vec<dynamic>& x) {
-    return py::array_t<double>(x.size(), x.data());
-}
-py::array_t<double> to_array(const mat<dynamic>& m) {
-    py::array_t<double> a({m.rows(), m.cols()});
-    for (Eigen::Index i = 0; i < m.rows(); ++i)
-        for (Eigen::Index j = 0; j < m.cols(); ++j)
-            a.mutable_at(i, j) = m(i, j);
-    return a;
-}
-
-void raise_step_failure(const step_failure& e, std::span<const double> q,
-                        std::span<const double> p, std::size_t rows) {
-    py::dict details;
-    details["step"] = e.step();
-    details["time"] = e.time();
-    details["cause"] = e.cause();
-    details["q"] = py::array_t<double>(static_cast<py::ssize_t>(q.size()), q.data());
-    details["p"] = py::array_t<double>(static_cast<py::ssize_t>(p.size()), p.data());
-    details["rows"] = rows;
-    PyErr_SetObject(step_error, py::make_tuple(e.what(), details).ptr());
-    throw py::error_already_set();
-}
 
 PYBIND11_MODULE(_core, m) {
     m.doc() = "varsym's compiled core; use the package varsym, not this module";
@@ -156,6 +132,7 @@ PYBIND11_MODULE(_core, m) {
             py::arg("q"), py::arg("v"), py::arg("t") = 0.0);
 
     bind_simulation(m);
+    bind_ensemble(m);
     bind_optimal(m);
     bind_robot(m);
 }

@@ -1,6 +1,7 @@
 // python/src/optimal.cpp: varsym._core.optimize, the optimal control of a model with inputs, a
-// URDF robot or a typed Lagrangian with inputs on named coordinates (varsym::optimal's one
-// transcription, varsym/optimal/transcription.hpp, through the model's m.optimal).
+// URDF robot or a typed Lagrangian with inputs on named coordinates, by varsym::optimal's
+// service optimize(model, parameters, request) (varsym/optimize/model.hpp), which the command
+// line calls too: this file translates the arguments and presents the outcome.
 // The solver runs without the GIL; each iteration takes it back to report progress and to see
 // Ctrl-C (KeyboardInterrupt stops the solver, which keeps its last iterate).
 #include <pybind11/eigen.h>
@@ -16,9 +17,7 @@
 #include "varsym/models/model.hpp"
 #include "varsym/models/robot.hpp"
 #include "varsym/multibody/spatial.hpp"
-#include "varsym/optimal/problem.hpp"
-#include "varsym/optimal/solution_check.hpp"
-#include "varsym/optimal/solve.hpp"
+#include "varsym/optimize/model.hpp"
 
 namespace py = pybind11;
 using namespace varsym;
@@ -57,24 +56,10 @@ py::dict optimize(const py::object& source, const std::vector<std::string>& inpu
     }
     if (found == nullptr) throw std::invalid_argument("optimize: not a model");
     const models::model& m = *found;
-    if (!m.optimal)
-        throw std::invalid_argument("model " + m.name + " has no control input to optimise");
-    // A parameter only a simulation uses (a controller's gains, a constant torque) set away from
-    // its default would be silently dropped: refused, as the tool refuses --kp.
-    for (const std::string& only : m.simulation_only) {
-        for (std::size_t i = 0; i < m.parameters.size() && i < values.size(); ++i)
-            if (m.parameters[i].name == only && values[i] != m.parameters[i].value)
-                throw std::invalid_argument(only + " is a simulation's parameter of " + m.name +
-                                            "; optimize computes the inputs (bound them with "
-                                            "max_control)");
-        for (std::size_t i = 0; i < m.lists.size() && i < lists.size(); ++i)
-            if (m.lists[i].name == only && !lists[i].empty())
-                throw std::invalid_argument(only + " is a simulation's parameter of " + m.name +
-                                            "; optimize computes the inputs (bound them with "
-                                            "max_control)");
-    }
-    (void)m.prepare(values, {}, lists); // the parameters' ranges
-    optimal::control_problem p;
+    optimal::model_request request;
+    request.limits = limits;
+    request.refine = refine;
+    optimal::control_problem& p = request.problem;
     p.time = time;
     p.steps = steps;
     p.scheme = spec_of(scheme, degree);
@@ -94,27 +79,21 @@ py::dict optimize(const py::object& source, const std::vector<std::string>& inpu
         p.velocity_lower = Eigen::VectorXd::Constant(1, -max_velocity);
         p.velocity_upper = Eigen::VectorXd::Constant(1, max_velocity);
     }
-    std::optional<Eigen::Matrix3d> reach_rotation;
-    if (reach_rpy) reach_rotation = multibody::roll_pitch_yaw(*reach_rpy);
     if (!reach.empty()) { // a link's target pose (models/robot.hpp)
         if (!robot_tree_of(source))
             throw std::invalid_argument("reach names a link of a robot: give a varsym.Robot");
-        p.end_target =
-            models::frame_target(robot_tree_of(source), reach, reach_position, reach_rotation);
-        p.end_target_weight = reach_weight;
+        request.reach = optimal::reach_request{
+            .robot = robot_tree_of(source),
+            .frame = reach,
+            .position = reach_position,
+            .rotation =
+                reach_rpy ? std::optional(multibody::roll_pitch_yaw(*reach_rpy)) : std::nullopt,
+            .weight = reach_weight};
     }
-    if (limits && m.limits) m.limits(values, p); // a URDF robot's joint and effort limits
-    auto tr = m.optimal(values, lists, p);
-    optimal::solver_options so;
+    optimal::solver_options& so = request.solver;
     so.max_iterations = max_iterations;
     so.options_file = ipopt_options;
-    if (hessian == "exact")
-        so.hessian = optimal::hessian_kind::exact;
-    else if (hessian == "limited-memory")
-        so.hessian = optimal::hessian_kind::limited_memory;
-    else if (hessian != "automatic")
-        throw std::invalid_argument("hessian must be automatic, exact or limited-memory, got '" +
-                                    hessian + "'");
+    so.hessian = optimal::hessian_of(hessian);
     bool interrupted = false;
     std::exception_ptr failure; // raised by the progress callback: re-raised after the solve
     so.progress = [&](const optimal::iteration& it) {
@@ -131,55 +110,43 @@ py::dict optimize(const py::object& source, const std::vector<std::string>& inpu
             return false;
         }
     };
-    optimal::nlp_result r;
+    optimal::model_outcome out;
     {
         py::gil_scoped_release nogil;
-        if (refine > 0) {
-            auto refined = optimal::solve_refined(
-                [&](int n) {
-                    auto q = p;
-                    q.steps = n;
-                    return m.optimal(values, lists, q);
-                },
-                steps, refine, so);
-            r = std::move(refined.result);
-            tr = std::move(refined.problem);
-        } else {
-            r = optimal::solve(*tr, so);
-        }
+        out = optimal::optimize(m, values, lists, std::move(request));
     }
     if (failure) std::rethrow_exception(failure);
-    const optimal::trajectory path = tr->unpack(r);
-    optimal::solution_check check; // ours, whatever IPOPT says (solution_check.hpp)
-    if (r.converged()) check = optimal::check_solution(*tr, r, path);
-    py::dict out;
-    out["t"] = path.node_times;
-    out["q"] = Eigen::MatrixXd(path.q.transpose());
-    out["v"] = Eigen::MatrixXd(path.v.transpose());
-    out["p"] = Eigen::MatrixXd(path.p.transpose());
-    out["costate"] = Eigen::MatrixXd(path.costate.transpose());
-    out["control_t"] = path.control_times;
-    out["u"] = Eigen::MatrixXd(path.u.transpose());
-    out["cost"] = path.cost;
-    out["status"] = std::string(optimal::status_name(r.verdict));
-    out["message"] = r.message;
-    out["iterations"] = r.iterations;
-    out["constraint_violation"] = r.converged() ? check.residual : r.constraint_violation;
-    out["closure"] = check.closure.error;
-    out["trusted"] = !r.converged() || check.ok();
-    out["closure_advice"] = check.ok() ? std::string() : check.advice();
-    out["interrupted"] = interrupted;
-    out["controls_at_bound"] = check.controls_at_bound; // active bounds (solution_check.hpp)
-    out["velocity_excess"] = check.velocity_excess;
-    if (!reach.empty()) {
-        const auto miss =
-            models::frame_target_miss(*robot_tree_of(source), reach, path.q.col(path.q.cols() - 1),
-                                      reach_position, reach_rotation);
-        out["reach_miss"] = py::make_tuple(miss.distance, miss.angle);
-    } else {
-        out["reach_miss"] = py::none();
-    }
-    return out;
+    const optimal::trajectory& path = out.path;
+    const optimal::solution_check& check = out.check;
+    py::dict d;
+    d["t"] = path.node_times;
+    d["q"] = Eigen::MatrixXd(path.q.transpose());
+    d["v"] = Eigen::MatrixXd(path.v.transpose());
+    d["p"] = Eigen::MatrixXd(path.p.transpose());
+    d["costate"] = Eigen::MatrixXd(path.costate.transpose());
+    d["control_t"] = path.control_times;
+    d["u"] = Eigen::MatrixXd(path.u.transpose());
+    d["cost"] = path.cost;
+    d["status"] = std::string(optimal::status_name(out.result.verdict));
+    d["message"] = out.result.message;
+    d["iterations"] = out.result.iterations;
+    d["constraint_violation"] = out.residual();
+    d["closure"] = check.closure.error;
+    d["trusted"] = !out.result.converged() || check.ok();
+    d["closure_advice"] = check.ok() ? std::string() : check.advice();
+    // The service's verdict (varsym/optimize/model.hpp) and its line, as the tool reports them.
+    constexpr const char* verdicts[] = {"solved", "not_solved", "not_trusted", "time_bound",
+                                        "interrupted"};
+    d["verdict"] = std::string(verdicts[static_cast<int>(out.verdict)]);
+    d["verdict_message"] = out.message;
+    d["interrupted"] = interrupted;
+    d["controls_at_bound"] = check.controls_at_bound; // active bounds (solution_check.hpp)
+    d["velocity_excess"] = check.velocity_excess;
+    if (out.reach_miss)
+        d["reach_miss"] = py::make_tuple(out.reach_miss->distance, out.reach_miss->angle);
+    else
+        d["reach_miss"] = py::none();
+    return d;
 }
 
 } // namespace

@@ -16,15 +16,9 @@ using namespace varsym;
 namespace {
 
 struct robot {
-    std::shared_ptr<const multibody::model> tree;
+    std::shared_ptr<const multibody::tree> tree;
     models::model model;
 
-    /// The tree with gravity g along −z (the model's parameter `gravity`).
-    [[nodiscard]] multibody::model at_gravity(double g) const {
-        multibody::model m = *tree;
-        m.gravity = multibody::vec3(0.0, 0.0, -g);
-        return m;
-    }
     [[nodiscard]] vec<dynamic> vector(const std::vector<double>& x, const char* what) const {
         if (static_cast<int>(x.size()) != tree->dof())
             throw std::invalid_argument(std::string(what) + " needs " +
@@ -42,7 +36,7 @@ const models::model* robot_model_of(py::handle h) {
     return py::isinstance<robot>(h) ? &h.cast<const robot&>().model : nullptr;
 }
 
-std::shared_ptr<const multibody::model> robot_tree_of(py::handle h) {
+std::shared_ptr<const multibody::tree> robot_tree_of(py::handle h) {
     return py::isinstance<robot>(h) ? h.cast<const robot&>().tree : nullptr;
 }
 
@@ -59,7 +53,7 @@ void bind_robot(py::module_& m) {
         .def_property_readonly("info", [](const robot& r) { return model_info(r.model); })
         .def_property_readonly("joints",
                                [](const robot& r) {
-                                   std::vector<std::string> out; // the coordinates'
+                                   std::vector<std::string> out;           // the coordinates'
                                    for (int i = 0; i < r.tree->dof(); ++i) // (not mimic joints)
                                        out.push_back(
                                            r.tree->bodies[static_cast<std::size_t>(i)].name);
@@ -74,23 +68,13 @@ void bind_robot(py::module_& m) {
                                })
         .def_property_readonly("limits",
                                [](const robot& r) {
-                                   const auto n = r.tree->dof();
-                                   vec<dynamic> lo(n), hi(n), effort(n), velocity(n), damping(n);
-                                   for (int i = 0; i < n; ++i) {
-                                       const auto& l =
-                                           r.tree->bodies[static_cast<std::size_t>(i)].limits;
-                                       lo(i) = l.lower;
-                                       hi(i) = l.upper;
-                                       effort(i) = l.effort;
-                                       velocity(i) = l.velocity;
-                                       damping(i) = l.damping;
-                                   }
+                                   const multibody::tree::limit_vectors l = r.tree->limits();
                                    py::dict out;
-                                   out["lower"] = to_array(lo);
-                                   out["upper"] = to_array(hi);
-                                   out["effort"] = to_array(effort);
-                                   out["velocity"] = to_array(velocity);
-                                   out["damping"] = to_array(damping);
+                                   out["lower"] = to_array(l.lower);
+                                   out["upper"] = to_array(l.upper);
+                                   out["effort"] = to_array(l.effort);
+                                   out["velocity"] = to_array(l.velocity);
+                                   out["damping"] = to_array(l.damping);
                                    return out;
                                })
         .def(
@@ -108,7 +92,8 @@ void bind_robot(py::module_& m) {
                double g) {
                 multibody::workspace w;
                 vec<dynamic> out(r.tree->dof());
-                multibody::bias_forces(r.at_gravity(g), w, r.vector(q, "q"), r.vector(v, "v"), out);
+                multibody::bias_forces(r.tree->with_gravity(g), w, r.vector(q, "q"),
+                                       r.vector(v, "v"), out);
                 return to_array(out);
             },
             py::arg("q"), py::arg("v"), py::arg("gravity"))
@@ -116,15 +101,9 @@ void bind_robot(py::module_& m) {
             "energy",
             [](const robot& r, const std::vector<double>& q, const std::vector<double>& v,
                double g) {
-                // E = T + V = 2T − L, T = ½ q̇ᵀ M q̇.
-                const multibody::model tree = r.at_gravity(g);
                 multibody::workspace w;
-                multibody::kinematics(tree, w, r.vector(q, "q"));
-                multibody::velocities(tree, w, r.vector(v, "v"));
-                double t = 0.0;
-                for (std::size_t k = 0; k < tree.bodies.size(); ++k)
-                    t += 0.5 * w.v[k].dot(w.h[k]);
-                return 2.0 * t - multibody::lagrangian_value(tree, w);
+                return multibody::energy(r.tree->with_gravity(g), w, r.vector(q, "q"),
+                                         r.vector(v, "v"));
             },
             py::arg("q"), py::arg("v"), py::arg("gravity"))
         .def(

@@ -24,14 +24,6 @@
 namespace py = pybind11;
 using namespace varsym;
 
-scheme_spec spec_of(const std::string& scheme, int degree) {
-    const auto kind = parse_scheme(scheme);
-    if (!kind)
-        throw std::invalid_argument("unknown scheme '" + scheme +
-                                    "': newmark, simpson, lobatto or gauss");
-    return degree > 0 ? scheme_spec(*kind, degree) : scheme_spec(*kind);
-}
-
 namespace {
 
 py::array_t<double> array_of(std::span<const double> v) {
@@ -339,5 +331,4 @@ void bind_simulation(py::module_& m) {
         py::arg("lagrangian"), py::arg("constraints"), py::arg("force"), py::arg("q0"),
         py::arg("p0"), py::arg("t0"), py::arg("h"), py::arg("scheme"), py::arg("degree"),
         py::arg("iteration"), py::arg("project"));
-    bind_ensemble(m);
 }

@@ -11,10 +11,10 @@
 #include <tuple>
 #include <vector>
 
-#include "front_end.hpp"
 #include "interruptible.hpp"
-#include "models.hpp"
-#include "signals.hpp"
+#include "models/models.hpp"
+#include "options/front_end.hpp"
+#include "output/signals.hpp"
 
 namespace py = pybind11;
 using namespace varsym;

@@ -1,4 +1,4 @@
-// The one compiled transcription (varsym/optimal/transcription.hpp) over systems of run-time
+// The one compiled transcription (varsym/optimize/transcription.hpp) over systems of run-time
 // size from the models layer: a URDF robot (recursive derivatives, exact third derivatives by dual
 // numbers) and its derivatives against finite differences, the KKT conditions at a solution, and
 // each system's exact third derivatives against the difference of its second ones.
@@ -11,9 +11,9 @@
 #include "varsym/models/model.hpp"
 #include "varsym/models/robot.hpp"
 #include "varsym/multibody/lagrangian.hpp"
-#include "varsym/optimal/input_system.hpp"
-#include "varsym/optimal/solve.hpp"
-#include "varsym/optimal/system_of.hpp"
+#include "varsym/optimize/model.hpp"
+#include "varsym/optimize/solve.hpp"
+#include "varsym/optimize/transcribe.hpp"
 #include "varsym/systems/expression_lagrangian.hpp"
 
 using namespace varsym;
@@ -44,7 +44,8 @@ TEST(OptimalRobot, DerivativesMatchFiniteDifferences) {
     // to entries of size up to 1e3).
     const auto robot =
         models::robot_model(models::load_urdf(urdf_path("iiwa14_no_collision.urdf")));
-    const auto tr = robot.optimal(robot.defaults(), {}, iiwa_problem(2, {scheme_kind::gauss, 2}));
+    const auto tr =
+        optimal::transcribe(robot, robot.defaults(), {}, iiwa_problem(2, {scheme_kind::gauss, 2}));
     EXPECT_EQ(tr->variables(), 5 * 7 + 4 * 7);
     const Eigen::VectorXd x =
         0.5 * Eigen::VectorXd::LinSpaced(tr->variables(), 0.3, 2.9).array().sin();
@@ -62,7 +63,8 @@ TEST(OptimalRobot, KarushKuhnTuckerConditionsHoldAtTheSolution) {
     // fixed ends excepted), re-evaluated here from the transcription, not IPOPT's report.
     const auto robot =
         models::robot_model(models::load_urdf(urdf_path("iiwa14_no_collision.urdf")));
-    const auto tr = robot.optimal(robot.defaults(), {}, iiwa_problem(20, scheme_kind::simpson));
+    const auto tr =
+        optimal::transcribe(robot, robot.defaults(), {}, iiwa_problem(20, scheme_kind::simpson));
     const auto r = optimal::solve(*tr);
     ASSERT_EQ(r.verdict, optimal::status::solved) << r.message;
     Eigen::VectorXd g, grad, lower, upper;

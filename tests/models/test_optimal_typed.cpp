@@ -11,8 +11,9 @@
 
 #include "../optimal/fixtures.hpp"
 #include "varsym/models/expression.hpp"
-#include "varsym/optimal/solve.hpp"
-#include "varsym/optimal/system_of.hpp"
+#include "varsym/optimize/model.hpp"
+#include "varsym/optimize/solve.hpp"
+#include "varsym/optimize/transcribe.hpp"
 
 using namespace varsym;
 
@@ -61,7 +62,7 @@ std::unique_ptr<optimal::transcription> typed(const optimal::control_problem& p,
     models::model m = models::expression_model(cartesian_text, {"x", "y"}, parameters);
     models::add_expression_inputs(m, cartesian_text, {"x", "y"}, parameters, {"x"},
                                   {"x**2 + y**2 - 1"});
-    return m.optimal(m.defaults(), {}, p);
+    return optimal::transcribe(m, m.defaults(), {}, p);
 }
 
 } // namespace

@@ -14,13 +14,14 @@
 #include "varsym/models/model.hpp"
 #include "varsym/models/robot.hpp"
 #include "varsym/multibody/spatial.hpp"
-#include "varsym/optimal/solve.hpp"
+#include "varsym/optimize/model.hpp"
+#include "varsym/optimize/solve.hpp"
 
 using namespace varsym;
 
 namespace {
 
-std::shared_ptr<const multibody::model> reach_robot(const std::string& file) {
+std::shared_ptr<const multibody::tree> reach_robot(const std::string& file) {
     return models::load_urdf(VARSYM_TEST_DATA "/urdf/" + file);
 }
 
@@ -42,8 +43,8 @@ const Eigen::VectorXd iiwa_end =
 std::unique_ptr<optimal::transcription> limited(const models::model& m,
                                                 const optimal::control_problem& p) {
     optimal::control_problem q = p;
-    m.limits(m.defaults(), q);
-    return m.optimal(m.defaults(), {}, q);
+    m.limits(m.defaults(), {}, q);
+    return optimal::transcribe(m, m.defaults(), {}, q);
 }
 
 optimal::nlp_result solve_reach(const models::model& m, const optimal::control_problem& p,
@@ -90,7 +91,7 @@ TEST(Reach, TranscriptionDerivativesWithATargetMatchFiniteDifferences) {
         p.end_target = models::frame_target(r, "iiwa_link_ee", {0.4, 0.2, 1.1},
                                             multibody::roll_pitch_yaw({0.4, -0.7, 0.6}));
         p.end_target_weight = weight;
-        const auto tr = m.optimal(m.defaults(), {}, p);
+        const auto tr = optimal::transcribe(m, m.defaults(), {}, p);
         const Eigen::VectorXd x =
             0.5 * Eigen::VectorXd::LinSpaced(tr->variables(), 0.3, 2.9).array().sin();
         const auto e = optimal_test::check_derivatives(
@@ -246,7 +247,8 @@ TEST(VelocityBounds, NodeVelocitiesAndTheirDerivativesMatchFiniteDifferences) {
             p.cost.time = 1.0;
         }
         const auto tr = limited(m, p);
-        const auto plain = m.optimal(m.defaults(), {}, p); // no limits: no rows, no unknowns
+        const auto plain =
+            optimal::transcribe(m, m.defaults(), {}, p); // no limits: no rows, no unknowns
         const int positions = 3 * 2 * 7, velocities = 3 * 2 * 7, splits = 2 * 7;
         ASSERT_EQ(tr->constraints(), plain->constraints() + positions + velocities + splits);
         ASSERT_EQ(tr->variables(), plain->variables() + splits);
@@ -281,10 +283,10 @@ TEST(PositionBounds, HoldAtGaussPointsBetweenControlValues) {
     const auto m = models::robot_model(reach_robot("iiwa14_no_collision.urdf"));
     auto p = reach_problem(Eigen::VectorXd::Zero(7), iiwa_end, 20);
     p.scheme = {scheme_kind::gauss, 2};
-    m.limits(m.defaults(), p);
+    m.limits(m.defaults(), {}, p);
     p.velocity_lower = Eigen::VectorXd::Constant(7, -100.0);
     p.velocity_upper = Eigen::VectorXd::Constant(7, 100.0);
-    const auto tr = m.optimal(m.defaults(), {}, p);
+    const auto tr = optimal::transcribe(m, m.defaults(), {}, p);
     const auto r = optimal::solve(*tr);
     ASSERT_TRUE(r.converged()) << r.message;
     const auto path = tr->unpack(r);

@@ -251,7 +251,7 @@ TEST(Allocations, MultibodyRobotStepsWithoutAllocating) {
     // A six-joint tree (a branch at body 1, one prismatic joint) as a run-time multibody model:
     // its recursive derivatives reuse the thread's workspace, and the general engine's Newton
     // steps on it allocate nothing once sized (the tool's path for URDF robots).
-    auto tree = std::make_shared<multibody::model>();
+    auto tree = std::make_shared<multibody::tree>();
     const int parents[] = {-1, 0, 1, 2, 1, 4};
     for (int i = 0; i < 6; ++i) {
         multibody::body b;
@@ -286,4 +286,3 @@ TEST(Allocations, MultibodyRobotStepsWithoutAllocating) {
     general::stepper<multibody::robot_lagrangian> step(robot, 1e-3, {scheme_kind::gauss, 2}, opt);
     EXPECT_EQ(allocations_in_steps(step, phase_state<dynamic>{q, vec<dynamic>::Zero(6)}), 0);
 }
-

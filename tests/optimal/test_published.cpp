@@ -17,8 +17,8 @@
 
 #include <gtest/gtest.h>
 
-#include "varsym/optimal/system_of.hpp"
-#include "varsym/optimal/solve.hpp"
+#include "varsym/optimize/solve.hpp"
+#include "varsym/optimize/transcribe.hpp"
 
 namespace {
 

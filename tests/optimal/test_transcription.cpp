@@ -11,9 +11,9 @@
 #include <gtest/gtest.h>
 
 #include "optimal/fixtures.hpp"
-#include "varsym/optimal/system_of.hpp"
 #include "varsym/optimal/replay.hpp"
-#include "varsym/optimal/solve.hpp"
+#include "varsym/optimize/solve.hpp"
+#include "varsym/optimize/transcribe.hpp"
 
 namespace {
 

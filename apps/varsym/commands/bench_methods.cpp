@@ -1,6 +1,6 @@
 // apps/varsym/commands/bench_methods.cpp: the pendulum and Kepler problems of `varsym bench`, with
 // varsym's schemes and Boost.Odeint's symplectic steppers on each.
-#include "bench_methods.hpp"
+#include "commands/bench_methods.hpp"
 
 #include <algorithm>
 #include <array>
@@ -15,7 +15,7 @@
 #include <boost/numeric/odeint.hpp>
 #include <boost/numeric/odeint/stepper/symplectic_rkn_sb3a_m4_mclachlan.hpp>
 
-#include "cli_common.hpp"
+#include "options/cli_common.hpp"
 #include "varsym/integrate.hpp"
 #include "varsym/problems/kepler.hpp"
 #include "varsym/problems/pendulum.hpp"

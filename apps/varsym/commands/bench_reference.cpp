@@ -3,7 +3,7 @@
 // coefficients of schemes/composition.hpp) in long double, 1 day per step. Its truncation error
 // (Jupiter's period is 4333 days: (2π/4333)^8 ≈ 2e-23 per step) and its round-off (~1e-19 per
 // step, a random walk over 2·10⁵ steps) are far below the double-precision errors it judges.
-#include "bench_methods.hpp"
+#include "commands/bench_methods.hpp"
 
 #include <cmath>
 

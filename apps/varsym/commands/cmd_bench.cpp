@@ -7,10 +7,10 @@
 #include <memory>
 #include <numbers>
 
-#include "bench_methods.hpp"
-#include "cli_common.hpp"
-#include "commands.hpp"
-#include "plot.hpp"
+#include "commands/bench_methods.hpp"
+#include "commands/commands.hpp"
+#include "options/cli_common.hpp"
+#include "output/plot.hpp"
 
 namespace varsym::cli {
 

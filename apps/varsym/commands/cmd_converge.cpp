@@ -10,13 +10,13 @@
 #include <string>
 #include <vector>
 
-#include "cli_common.hpp"
-#include "commands.hpp"
-#include "ensemble_members.hpp"
-#include "expression_options.hpp"
-#include "plot.hpp"
-#include "registry_models.hpp"
-#include "shared_options.hpp"
+#include "commands/commands.hpp"
+#include "ensemble/ensemble_members.hpp"
+#include "models/registry_models.hpp"
+#include "options/cli_common.hpp"
+#include "options/expression_options.hpp"
+#include "options/shared_options.hpp"
+#include "output/plot.hpp"
 #include "varsym/models/model.hpp"
 #include "varsym/problems/paper.hpp"
 

@@ -13,18 +13,18 @@
 
 #include <unistd.h>
 
-#include "commands.hpp"
-#include "ensemble.hpp"
-#include "ensemble_journal.hpp"
-#include "ensemble_members.hpp"
-#include "ensemble_processes.hpp"
-#include "ensemble_writer.hpp"
-#include "files.hpp"
-#include "models.hpp"
-#include "plot.hpp"
-#include "progress.hpp"
-#include "shared_options.hpp"
-#include "signals.hpp"
+#include "commands/commands.hpp"
+#include "ensemble/ensemble.hpp"
+#include "ensemble/ensemble_journal.hpp"
+#include "ensemble/ensemble_members.hpp"
+#include "ensemble/ensemble_processes.hpp"
+#include "ensemble/ensemble_writer.hpp"
+#include "models/models.hpp"
+#include "options/shared_options.hpp"
+#include "output/files.hpp"
+#include "output/plot.hpp"
+#include "output/progress.hpp"
+#include "output/signals.hpp"
 
 namespace varsym::cli {
 

@@ -3,9 +3,9 @@
 #include <charconv>
 #include <iostream>
 
-#include "commands.hpp"
-#include "models.hpp"
-#include "registry_models.hpp"
+#include "commands/commands.hpp"
+#include "models/models.hpp"
+#include "models/registry_models.hpp"
 
 namespace varsym::cli {
 

@@ -1,5 +1,5 @@
 // apps/varsym/commands/cmd_optimize.cpp: `varsym optimize`: the optimal control of a model with
-// control inputs by discrete mechanics (varsym/optimal/transcription.hpp), solved by IPOPT
+// control inputs by discrete mechanics (varsym/optimize/transcription.hpp), solved by IPOPT
 // (varsym::optimal). Writes the nodes' states and costates, and the controls; prints a progress
 // line per iteration; Ctrl-C stops the solver and keeps the last iterate.
 #include <algorithm>
@@ -11,16 +11,14 @@
 #include <memory>
 #include <span>
 
-#include "commands.hpp"
-#include "files.hpp"
-#include "optimize_problem.hpp"
-#include "plot.hpp"
-#include "registry_models.hpp"
-#include "shared_options.hpp"
-#include "signals.hpp"
-#include "varsym/optimal/problem.hpp"
-#include "varsym/optimal/solution_check.hpp"
-#include "varsym/optimal/solve.hpp"
+#include "commands/commands.hpp"
+#include "commands/optimize_problem.hpp"
+#include "models/registry_models.hpp"
+#include "options/shared_options.hpp"
+#include "output/files.hpp"
+#include "output/plot.hpp"
+#include "output/signals.hpp"
+#include "varsym/optimize/model.hpp"
 
 namespace varsym::cli {
 
@@ -69,12 +67,12 @@ std::string control_rows(const optimal::trajectory& path) {
 /// The poses of `m` at nine nodes evenly spread over the motion, each shifted right so that
 /// its first point sits at k times the widest pose's width: "x,y" rows, a blank row between.
 std::string pose_rows(const models::model& m, std::span<const double> values,
-                      const optimal::trajectory& path) {
+                      const models::lists& lists, const optimal::trajectory& path) {
     std::vector<std::vector<double>> poses;
     const auto n = path.q.cols() - 1;
     for (int k = 0; k <= 8; ++k) {
         const Eigen::VectorXd q = path.q.col(n * k / 8);
-        poses.push_back(m.pose(values, std::span<const double>(q.data(), q.size())));
+        poses.push_back(m.pose(values, lists, std::span<const double>(q.data(), q.size())));
     }
     double width = 0.0;
     for (const auto& p : poses)
@@ -96,11 +94,11 @@ std::string pose_rows(const models::model& m, std::span<const double> values,
 /// The figure of `--plot`: the coordinates over time, the controls at the quadrature points,
 /// and a strip of poses where the model draws itself.
 figure optimize_plot(const models::model& m, std::span<const double> values,
-                     const optimal::trajectory& path) {
+                     const models::lists& lists, const optimal::trajectory& path) {
     figure fig;
     fig.data = {{".nodes.csv", node_rows(path)}, {".controls.csv", control_rows(path)}};
     const bool poses = static_cast<bool>(m.pose);
-    if (poses) fig.data.emplace_back(".poses.csv", pose_rows(m, values, path));
+    if (poses) fig.data.emplace_back(".poses.csv", pose_rows(m, values, lists, path));
     const auto d = path.q.rows(), inputs = path.u.rows();
     std::string s = script_preamble(900, poses ? 820 : 600);
     s += "set multiplot layout " + std::string(poses ? "3" : "2") + ",1 title '" + m.name +
@@ -149,15 +147,17 @@ void optimize(const optimize_options& o) {
                                   "--max-control)");
     }
     const models::lists lists = o.parameters->lists(m);
-    optimal::control_problem p = problem_of(o, m, values, lists);
-    if (m.limits && !o.no_limits) m.limits(values, p); // a robot's URDF limits
-    std::unique_ptr<optimal::transcription> tr;
-    try {
-        (void)m.prepare(values, {}, lists); // the parameters' ranges
-        tr = m.optimal(values, lists, p);
-    } catch (const std::invalid_argument& e) {
-        throw usage_error(m.name + ": " + e.what());
-    }
+    optimal::model_request request = request_of(o, m, values, lists);
+    // Options that do not combine (the service refuses them too, without the options' names).
+    const optimal::control_problem& p = request.problem;
+    if (request.solver.hessian == optimal::hessian_kind::exact &&
+        (p.cost.invariant != 0.0 || p.free_time))
+        throw usage_error(std::string("--hessian exact: ") +
+                          (p.cost.invariant != 0.0
+                               ? "the invariant cost has no exact Hessian (it would need L's "
+                                 "fourth derivatives)"
+                               : "a free final time (--cost time) has no exact Hessian") +
+                          "; use automatic or limited-memory");
     file_roles roles;
     if (!o.config.empty()) roles.add("--config", o.config);
     roles.add("--urdf", o.urdf);
@@ -171,26 +171,9 @@ void optimize(const optimize_options& o) {
         add_figure_files(roles, {".nodes.csv", ".controls.csv", ".poses.csv"}, o.plot);
     }
     roles.check();
-    output_file states(o.output);
-    std::unique_ptr<output_file> inputs_file;
-    if (!o.controls.empty()) inputs_file = std::make_unique<output_file>(o.controls);
-
-    optimal::solver_options so;
-    so.max_iterations = o.max_iterations;
-    so.options_file = o.ipopt_options;
-    so.hessian = o.hessian == "exact"       ? optimal::hessian_kind::exact
-                 : o.hessian == "automatic" ? optimal::hessian_kind::automatic
-                                            : optimal::hessian_kind::limited_memory;
-    if (so.hessian == optimal::hessian_kind::exact && !tr->has_hessian())
-        throw usage_error(std::string("--hessian exact: ") +
-                          (p.cost.invariant != 0.0
-                               ? "the invariant cost has no exact Hessian (it would need L's "
-                                 "fourth derivatives)"
-                               : "a free final time (--cost time) has no exact Hessian") +
-                          "; use automatic or limited-memory");
     install_signal_handlers();
     set_signal_polling(true, "IPOPT's current iteration finishes");
-    so.progress = [&](const optimal::iteration& it) {
+    request.solver.progress = [&](const optimal::iteration& it) {
         if (!o.quiet)
             std::fprintf(stderr,
                          "varsym optimize: iteration %4d  cost %.10g  infeasibility %.2e%s\n",
@@ -198,89 +181,62 @@ void optimize(const optimize_options& o) {
                          it.restoration ? "  (restoration)" : "");
         return pending_signal() == 0;
     };
-    so.stop = [] { return pending_signal() != 0; }; // also during IPOPT's derivative test
-    const auto started = std::chrono::steady_clock::now();
-    optimal::nlp_result r;
-    if (o.refine > 0) {
-        auto refined = optimal::solve_refined(
-            [&](int n) {
-                auto q = p;
-                q.steps = n;
-                auto t = m.optimal(values, lists, q);
-                if (!o.quiet) std::fprintf(stderr, "varsym optimize: N = %d\n", n);
-                return t;
-            },
-            o.steps, o.refine, so);
-        r = std::move(refined.result);
-        tr = std::move(refined.problem);
-    } else {
-        r = optimal::solve(*tr, so);
+    request.solver.stop = [] { return pending_signal() != 0; }; // also in IPOPT's derivative test
+    if (!o.quiet)
+        request.level = [](int n) { std::fprintf(stderr, "varsym optimize: N = %d\n", n); };
+    // The files are made once the problem is known to be solvable (no file left on bad input).
+    std::unique_ptr<output_file> states, inputs_file;
+    request.ready = [&] {
+        states = std::make_unique<output_file>(o.output);
+        if (!o.controls.empty()) inputs_file = std::make_unique<output_file>(o.controls);
+    };
+    optimal::model_outcome out;
+    try {
+        out = optimal::optimize(m, values, lists, std::move(request));
+    } catch (const std::invalid_argument& e) {
+        throw usage_error(e.what());
     }
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     const int sig = pending_signal();
     set_signal_polling(false);
-    const optimal::trajectory path = tr->unpack(r);
-    states.write(node_rows(path));
-    states.commit();
+    const optimal::trajectory& path = out.path;
+    states->write(node_rows(path));
+    states->commit();
     if (inputs_file) {
         inputs_file->write(control_rows(path));
         inputs_file->commit();
     }
-    // Our own check, whatever the solver says: the equations, bounds and boundary values, and
-    // the replay (an --ipopt-options file can loosen IPOPT's tolerances under "solved").
-    optimal::solution_check check;
-    if (r.converged()) check = optimal::check_solution(*tr, r, path);
-    if (!o.plot.empty()) render_figure(optimize_plot(m, values, path), o.plot, others);
+    if (!o.plot.empty()) render_figure(optimize_plot(m, values, lists, path), o.plot, others);
+    const optimal::nlp_result& r = out.result;
     std::fprintf(stderr,
                  "varsym optimize: %s (%s) after %d iterations in %.3g s: cost %.12g, "
                  "T %.12g, max |g| %.1e, closure (general engine replay) %.1e\n",
-                 optimal::status_name(r.verdict), r.message.c_str(), r.iterations, seconds,
-                 path.cost, path.node_times(path.node_times.size() - 1),
-                 r.converged() ? check.residual : r.constraint_violation, check.closure.error);
-    std::fputs(reach_report(o, path.q.col(path.q.cols() - 1)).c_str(), stderr);
-    if (check.velocity_excess > 1e-6)
+                 optimal::status_name(r.verdict), r.message.c_str(), r.iterations, out.seconds,
+                 path.cost, path.node_times(path.node_times.size() - 1), out.residual(),
+                 out.check.closure.error);
+    std::fputs(reach_report(o, out).c_str(), stderr);
+    if (out.check.velocity_excess > 1e-6)
         std::fprintf(stderr,
                      "varsym optimize: the node velocities exceed the velocity limits by up to "
                      "%.2g %% (the limits hold on the steps' polynomials): take more --steps\n",
-                     100.0 * check.velocity_excess);
-    if (check.controls_at_bound > 0)
+                     100.0 * out.check.velocity_excess);
+    if (out.check.controls_at_bound > 0)
         std::fprintf(stderr,
                      "varsym optimize: bound active: |u| = --max-control at %d of %lld control "
                      "values\n",
-                     check.controls_at_bound, static_cast<long long>(path.u.size()));
+                     out.check.controls_at_bound, static_cast<long long>(path.u.size()));
     if (sig != 0)
         throw interrupted(sig, "varsym optimize: stopped by signal; the files hold the last "
                                "iterate");
-    if (!r.converged()) {
-        // A pose target met to round-off while the motion's equations are not: not an
-        // unreachable target but a degenerate one (the pose constraint's Jacobian loses rank
-        // where the arm is fully stretched, a singular configuration).
-        const auto miss = reach_miss(o, path.q.col(path.q.cols() - 1));
-        char violation[32];
-        std::snprintf(violation, sizeof violation, "%.1e", r.constraint_violation);
-        if (miss && miss->distance < 1e-9 && miss->angle < 1e-9)
-            throw numerical_error(
-                "varsym optimize: " + std::string(optimal::status_name(r.verdict)) + ": " +
-                o.reach + " reaches its target, but the equations of motion are not met (max |g| " +
-                violation +
-                "): the target pose is likely at a "
-                "singular configuration (an arm fully stretched), where the pose constraint is "
-                "degenerate; move the target slightly inside the workspace, or make it a terminal "
-                "cost with --reach-weight W > 0; the files hold the last iterate");
-        throw numerical_error("varsym optimize: " + std::string(optimal::status_name(r.verdict)) +
-                              ": " + r.message + "; the files hold the last iterate");
-    }
-    if (!check.ok()) throw numerical_error("varsym optimize: not trusted: " + check.advice());
-    // A free horizon stopped at its lower bound, T = --time / 1000 (the bound that keeps the
-    // steps positive), is that bound's answer, not the minimum: the guess was too long.
-    if (p.free_time) {
-        const double lower = p.time_lower > 0.0 ? p.time_lower : 1e-3 * p.time;
-        const double t_end = path.node_times(path.node_times.size() - 1);
-        if (t_end <= lower * (1.0 + 1e-9))
-            throw numerical_error("varsym optimize: the horizon T = " + std::to_string(t_end) +
-                                  " stopped at its lower bound (--time / 1000): the minimum "
-                                  "time may be shorter; start from a shorter --time");
+    switch (out.verdict) {
+    case optimal::verdict::solved:
+        return;
+    case optimal::verdict::not_solved:
+    case optimal::verdict::interrupted:
+        throw numerical_error("varsym optimize: " + out.message +
+                              "; the files hold the last iterate");
+    case optimal::verdict::not_trusted:
+    case optimal::verdict::time_bound:
+        throw numerical_error("varsym optimize: " + out.message);
     }
 }
 
@@ -399,7 +355,7 @@ void add_optimize_command(CLI::App& app, action& todo) {
                     "TOML file of options: each key a long option without '--' (model = "
                     "\"acrobot\", to = [3.14159, 0], refine = 2); the command line wins");
     // Only the parameters of the models with inputs: the others' would be refused anyway.
-    o->parameters->add(*cmd, [](const models::model& m) { return static_cast<bool>(m.optimal); });
+    o->parameters->add(*cmd, [](const models::model& m) { return m.has_inputs(); });
     hide_simulation_only(*cmd);
     cmd->callback([o, cmd, &todo] {
         if (cmd->count("--model") == 0) {

@@ -12,7 +12,7 @@
 
 #include <unistd.h>
 
-#include "commands.hpp"
+#include "commands/commands.hpp"
 
 namespace varsym::cli {
 

@@ -3,9 +3,9 @@
 #include <string>
 #include <vector>
 
-#include "cli_common.hpp"
-#include "commands.hpp"
-#include "plot.hpp"
+#include "commands/commands.hpp"
+#include "options/cli_common.hpp"
+#include "output/plot.hpp"
 #include "varsym/integrate.hpp"
 #include "varsym/problems/paper.hpp"
 

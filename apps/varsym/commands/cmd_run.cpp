@@ -12,12 +12,12 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include "cli_common.hpp"
-#include "commands.hpp"
-#include "files.hpp"
-#include "models.hpp"
-#include "registry_models.hpp"
-#include "shared_options.hpp"
+#include "commands/commands.hpp"
+#include "models/models.hpp"
+#include "models/registry_models.hpp"
+#include "options/cli_common.hpp"
+#include "options/shared_options.hpp"
+#include "output/files.hpp"
 #include "varsym/solvers/solver_name.hpp"
 
 namespace varsym::cli {

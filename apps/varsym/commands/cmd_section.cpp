@@ -12,13 +12,13 @@
 #include <string_view>
 #include <vector>
 
-#include "commands.hpp"
-#include "ensemble_members.hpp"
-#include "ensemble_writer.hpp"
-#include "files.hpp"
-#include "models.hpp"
-#include "plot.hpp"
-#include "shared_options.hpp"
+#include "commands/commands.hpp"
+#include "ensemble/ensemble_members.hpp"
+#include "ensemble/ensemble_writer.hpp"
+#include "models/models.hpp"
+#include "options/shared_options.hpp"
+#include "output/files.hpp"
+#include "output/plot.hpp"
 
 namespace varsym::cli {
 

@@ -6,8 +6,8 @@
 #include <iostream>
 #include <memory>
 
-#include "commands.hpp"
-#include "models.hpp"
+#include "commands/commands.hpp"
+#include "models/models.hpp"
 #include "varsym/diagnostics/stability.hpp"
 #include "varsym/models/model.hpp"
 

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "checkpoint.hpp"
-#include "cli_common.hpp"
+#include "options/cli_common.hpp"
+#include "output/checkpoint.hpp"
 
 namespace varsym::cli {
 

@@ -1,7 +1,7 @@
 // apps/varsym/commands/optimize_problem.cpp: `varsym optimize`'s options as an optimal control
 // problem: the boundary states, the cost's terms, the free final coordinates and their terminal
 // weights, the bounds.
-#include "optimize_problem.hpp"
+#include "commands/optimize_problem.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,12 +10,11 @@
 #include <optional>
 #include <set>
 
-#include "expression_options.hpp"
-#include "models.hpp"
+#include "models/models.hpp"
+#include "options/expression_options.hpp"
 #include "varsym/models/expression.hpp"
 #include "varsym/models/robot.hpp"
 #include "varsym/multibody/spatial.hpp"
-#include "varsym/optimal/solve.hpp"
 
 namespace varsym::cli {
 
@@ -118,28 +117,31 @@ std::optional<Eigen::Matrix3d> reach_rotation(const optimize_options& o) {
     return multibody::roll_pitch_yaw(three(o.reach_rpy, "--reach-rpy", "0,3.14159,0"));
 }
 
-/// --reach LINK: the link's target pose as the problem's end target (the URDF read again: a
-/// few milliseconds), the robot kept in o.reach_robot for reach_report.
-void reach_of(const optimize_options& o, optimal::control_problem& p) {
+/// --reach LINK: the link's target pose (the URDF read again: a few milliseconds), checked here
+/// so that a bad link is an error naming --reach.
+std::optional<optimal::reach_request> reach_of(const optimize_options& o) {
     if (o.reach.empty()) {
         if (!o.reach_position.empty() || !o.reach_rpy.empty() || o.reach_weight != 0.0)
             throw usage_error("--reach-position, --reach-rpy and --reach-weight need --reach LINK");
-        return;
+        return std::nullopt;
     }
     if (o.model != "urdf")
         throw usage_error("--reach needs a robot (--urdf FILE): it names one of its links");
     if (o.reach_position.empty())
         throw usage_error("--reach needs --reach-position X,Y,Z: where the link's origin must be "
                           "at T [m, world frame]");
+    optimal::reach_request r;
+    r.frame = o.reach;
+    r.position = three(o.reach_position, "--reach-position", "0.5,0,0.6");
+    r.rotation = reach_rotation(o);
+    r.weight = o.reach_weight;
     try {
-        o.reach_robot = models::load_urdf(o.urdf);
-        p.end_target = models::frame_target(
-            o.reach_robot, o.reach, three(o.reach_position, "--reach-position", "0.5,0,0.6"),
-            reach_rotation(o));
+        r.robot = models::load_urdf(o.urdf);
+        (void)models::frame_target(r.robot, r.frame, r.position, r.rotation);
     } catch (const std::invalid_argument& e) {
         throw usage_error("--reach: " + std::string(e.what()));
     }
-    p.end_target_weight = o.reach_weight;
+    return r;
 }
 
 } // namespace
@@ -170,27 +172,23 @@ void add_velocity_and_reach_options(CLI::App& cmd, optimize_options& o) {
         ->capture_default_str();
 }
 
-std::optional<models::frame_miss> reach_miss(const optimize_options& o, const Eigen::VectorXd& q) {
-    if (o.reach.empty() || !o.reach_robot) return std::nullopt;
-    return models::frame_target_miss(*o.reach_robot, o.reach, q,
-                                     three(o.reach_position, "--reach-position", "0.5,0,0.6"),
-                                     reach_rotation(o));
-}
-
-std::string reach_report(const optimize_options& o, const Eigen::VectorXd& q) {
-    const auto miss = reach_miss(o, q);
-    if (!miss) return {};
+std::string reach_report(const optimize_options& o, const optimal::model_outcome& out) {
+    if (!out.reach_miss) return {};
     char line[240], angle[64] = "";
-    if (!o.reach_rpy.empty()) std::snprintf(angle, sizeof angle, " and %.3g rad", miss->angle);
+    if (!o.reach_rpy.empty())
+        std::snprintf(angle, sizeof angle, " and %.3g rad", out.reach_miss->angle);
     std::snprintf(line, sizeof line, "varsym optimize: %s ends %.3g m%s from its target\n",
-                  o.reach.c_str(), miss->distance, angle);
+                  o.reach.c_str(), out.reach_miss->distance, angle);
     return line;
 }
 
-optimal::control_problem problem_of(const optimize_options& o, const models::model& m,
-                                    std::span<const double> values, const models::lists& lists) {
+optimal::model_request request_of(const optimize_options& o, const models::model& m,
+                                  std::span<const double> values, const models::lists& lists) {
     const int d = m.dimension_at(values, lists);
-    optimal::control_problem p;
+    optimal::model_request r;
+    r.limits = !o.no_limits;
+    r.refine = o.refine;
+    optimal::control_problem& p = r.problem;
     p.time = o.time;
     p.steps = o.steps;
     p.scheme = make_spec(o.scheme);
@@ -218,8 +216,11 @@ optimal::control_problem problem_of(const optimize_options& o, const models::mod
         p.velocity_upper = Eigen::VectorXd::Constant(1, o.max_velocity);
     }
     free_end_of(o.free_end, o.terminal_weight, d, p);
-    reach_of(o, p);
-    return p;
+    r.reach = reach_of(o);
+    r.solver.max_iterations = o.max_iterations;
+    r.solver.options_file = o.ipopt_options;
+    r.solver.hessian = optimal::hessian_of(o.hessian); // CLI11 checked the word
+    return r;
 }
 
 std::shared_ptr<const models::model> optimize_model(const optimize_options& o,
@@ -269,10 +270,10 @@ std::shared_ptr<const models::model> optimize_model(const optimize_options& o,
             throw usage_error(e.what());
         }
     }();
-    if (!m.optimal) {
+    if (!m.has_inputs()) {
         std::string with;
         for (const auto& other : models::registry())
-            if (other.optimal) with += (with.empty() ? "" : ", ") + other.name;
+            if (other.has_inputs()) with += (with.empty() ? "" : ", ") + other.name;
         throw usage_error("model " + m.name +
                           " has no control input to optimise; models with inputs: " + with +
                           ", and a URDF robot (--urdf) or a typed L (--lagrangian --inputs)");
@@ -291,7 +292,7 @@ void hide_simulation_only(CLI::App& cmd) {
     all.push_back(&models::robot_options());
     std::map<std::string, bool> used; // option name → whether an optimisation uses it
     for (const models::model* m : all) {
-        if (!m->optimal) continue;
+        if (!m->has_inputs()) continue;
         const auto note = [&](const std::string& key) {
             std::string name = key;
             std::replace(name.begin(), name.end(), '_', '-');

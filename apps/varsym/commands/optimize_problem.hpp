@@ -9,12 +9,12 @@
 #include <string>
 #include <vector>
 
-#include "files.hpp"
-#include "registry_models.hpp"
-#include "shared_options.hpp"
+#include "models/registry_models.hpp"
+#include "options/shared_options.hpp"
+#include "output/files.hpp"
 #include "varsym/models/robot.hpp"
-#include "varsym/multibody/model.hpp"
-#include "varsym/optimal/problem.hpp"
+#include "varsym/multibody/tree.hpp"
+#include "varsym/optimize/model.hpp"
 
 namespace varsym::cli {
 
@@ -42,18 +42,13 @@ struct optimize_options {
     /// link's target pose at T (models::frame_target) instead of --to.
     std::string reach, reach_position, reach_rpy;
     double reach_weight = 0.0;
-    /// The robot of --reach, read once by problem_of: reach_report measures the miss on it, so
-    /// a URDF changed or removed during the solve cannot turn a solved problem into an error.
-    mutable std::shared_ptr<const multibody::model> reach_robot;
 };
 
 /// Adds --max-velocity, --reach, --reach-position, --reach-rpy and --reach-weight to cmd.
 void add_velocity_and_reach_options(CLI::App& cmd, optimize_options& o);
-/// With --reach: one line saying how far the link ends from its target at the final position
-/// q (the miss in m, and in rad with --reach-rpy); else empty.
-std::string reach_report(const optimize_options& o, const Eigen::VectorXd& q);
-/// With --reach: how far the link ends from its target at q; else nothing.
-std::optional<models::frame_miss> reach_miss(const optimize_options& o, const Eigen::VectorXd& q);
+/// With --reach: one line saying how far the link ends from its target (the miss in m, and in
+/// rad with --reach-rpy); else empty.
+std::string reach_report(const optimize_options& o, const optimal::model_outcome& out);
 
 /// --ipopt-options FILE, read before any file is made: an unreadable file or an option IPOPT
 /// does not have is a usage_error naming FILE:LINE, and its output_file is a role (file_roles).
@@ -70,9 +65,12 @@ std::shared_ptr<const models::model> optimize_model(const optimize_options& o,
 /// with them; optimize refuses them with a word when given.
 void hide_simulation_only(CLI::App& cmd);
 
-/// The problem the options describe for model m at its parameters' values and lists;
-/// usage_error naming the option on bad input.
-optimal::control_problem problem_of(const optimize_options& o, const models::model& m,
-                                    std::span<const double> values, const models::lists& lists);
+/// The request the options describe for model m at its parameters' values and lists (the
+/// problem, the limits, the reach target, refinement and the solver's options but its
+/// callbacks); usage_error naming the option on bad input. The robot of --reach is read here,
+/// once, so a URDF changed or removed during the solve cannot turn a solved problem into an
+/// error.
+optimal::model_request request_of(const optimize_options& o, const models::model& m,
+                                  std::span<const double> values, const models::lists& lists);
 
 } // namespace varsym::cli

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "cli_common.hpp"
+#include "options/cli_common.hpp"
 #include "varsym/expression/tape.hpp"
 #include "varsym/run/ensemble.hpp"
 #include "varsym/run/section.hpp"

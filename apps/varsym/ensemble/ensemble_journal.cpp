@@ -1,6 +1,6 @@
 // apps/varsym/ensemble/ensemble_journal.cpp: locking, reading, continuing and merging the
 // journals of an ensemble.
-#include "ensemble_journal.hpp"
+#include "ensemble/ensemble_journal.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -21,8 +21,8 @@
 
 #include <boost/crc.hpp>
 
-#include "cli_common.hpp"
-#include "files.hpp"
+#include "options/cli_common.hpp"
+#include "output/files.hpp"
 
 namespace varsym::cli {
 
@@ -84,8 +84,9 @@ class line_reader {
                 do
                     n = ::pread(fd_, buf_.data(), buf_.size(), static_cast<off_t>(base_));
                 while (n < 0 && errno == EINTR);
-                if (n < 0) throw std::runtime_error(std::string("cannot read a journal: ") +
-                                                    std::strerror(errno));
+                if (n < 0)
+                    throw std::runtime_error(std::string("cannot read a journal: ") +
+                                             std::strerror(errno));
                 if (n == 0) return false;
                 have_ = static_cast<std::size_t>(n);
             }
@@ -118,8 +119,8 @@ struct journal_file {
         if (fd < 0 || ::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
             const int err = errno;
             if (fd >= 0) ::close(fd);
-            throw usage_error("cannot read journal '" + path + "': " +
-                              (fd < 0 ? std::strerror(err) : "not a regular file"));
+            throw usage_error("cannot read journal '" + path +
+                              "': " + (fd < 0 ? std::strerror(err) : "not a regular file"));
         }
         size = static_cast<std::uint64_t>(st.st_size);
     }
@@ -227,14 +228,14 @@ void ensemble_journal::lock(const std::string& suffix) {
     // journals, and a lock taken on a removed file would exclude nobody.
     for (int attempt = 0;; ++attempt) {
         fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-        if (fd_ < 0)
-            throw std::runtime_error("cannot open " + path_ + ": " + std::strerror(errno));
+        if (fd_ < 0) throw std::runtime_error("cannot open " + path_ + ": " + std::strerror(errno));
         if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
             ::close(fd_);
             fd_ = -1;
             throw usage_error(path_ + " is in use by another running ensemble of the same output");
         }
-        struct stat held {}, now {};
+        struct stat held {
+        }, now{};
         if (::fstat(fd_, &held) == 0 && ::stat(path_.c_str(), &now) == 0 &&
             held.st_dev == now.st_dev && held.st_ino == now.st_ino)
             return;

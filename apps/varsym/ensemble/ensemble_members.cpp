@@ -1,5 +1,5 @@
 // apps/varsym/ensemble/ensemble_members.cpp: the models, members and event of `varsym ensemble`.
-#include "ensemble_members.hpp"
+#include "ensemble/ensemble_members.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -11,10 +11,10 @@
 
 #include <boost/crc.hpp>
 
-#include "expression_options.hpp"
-#include "files.hpp"
-#include "models.hpp"
-#include "registry_models.hpp"
+#include "models/models.hpp"
+#include "models/registry_models.hpp"
+#include "options/expression_options.hpp"
+#include "output/files.hpp"
 #include "varsym/models/event.hpp"
 
 namespace varsym::cli {

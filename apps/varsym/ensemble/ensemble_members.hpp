@@ -7,12 +7,12 @@
 #include <string_view>
 #include <vector>
 
-#include "cli_common.hpp"
-#include "ensemble.hpp"
-#include "expression_options.hpp"
-#include "models.hpp"
-#include "plot.hpp"
-#include "shared_options.hpp"
+#include "ensemble/ensemble.hpp"
+#include "models/models.hpp"
+#include "options/cli_common.hpp"
+#include "options/expression_options.hpp"
+#include "options/shared_options.hpp"
+#include "output/plot.hpp"
 
 namespace varsym::cli {
 

@@ -1,9 +1,10 @@
-// apps/varsym/ensemble/ensemble_output.cpp: the help of `varsym ensemble`, its heat map and its summary.
+// apps/varsym/ensemble/ensemble_output.cpp: the help of `varsym ensemble`, its heat map and its
+// summary.
 #include <algorithm>
 #include <cstdio>
 #include <string_view>
 
-#include "ensemble_members.hpp"
+#include "ensemble/ensemble_members.hpp"
 
 namespace varsym::cli {
 
@@ -51,7 +52,8 @@ std::string ensemble_help() {
         "Models:\n";
     for (const auto& m : ensemble_models())
         h += m.name + "\n" + m.help + "\n";
-    h += "lagrangian\n  your own L: --lagrangian EXPR with --coordinates, --parameters and --force as\n"
+    h += "lagrangian\n  your own L: --lagrangian EXPR with --coordinates, --parameters and --force "
+         "as\n"
          "  for 'varsym run'. Keys: q0_I, p0_I and the names of --parameters. Default member\n"
          "  run: 10 s in 1000 steps.\n";
     h += "\nExamples:\n"
@@ -113,8 +115,8 @@ void row_digest::add(std::string_view line) {
 figure row_digest::heat_map(const ensemble_model& model) const {
     const bool megno = value_ == "mean_megno";
     std::string script = script_preamble(820, 700) + "set xlabel '" + set_.keys[1] +
-                         "' noenhanced\nset ylabel '" + set_.keys[0] + "' noenhanced\nset title \"" +
-                         model.name + ": " + value_ +
+                         "' noenhanced\nset ylabel '" + set_.keys[0] +
+                         "' noenhanced\nset title \"" + model.name + ": " + value_ +
                          (megno ? " (clipped to [0, 8]; 2: regular, > 2: chaotic)" : "") +
                          "\" font ',14' noenhanced\n"
                          "set autoscale xfix\nset autoscale yfix\nset grid front\n"

@@ -1,6 +1,6 @@
-// apps/varsym/ensemble/ensemble_processes.cpp: MPI where built in (VARSYM_HAVE_MPI) and launched by an MPI
-// launcher; a group of one otherwise.
-#include "ensemble_processes.hpp"
+// apps/varsym/ensemble/ensemble_processes.cpp: MPI where built in (VARSYM_HAVE_MPI) and launched by
+// an MPI launcher; a group of one otherwise.
+#include "ensemble/ensemble_processes.hpp"
 
 #include <algorithm>
 #include <cstdlib>

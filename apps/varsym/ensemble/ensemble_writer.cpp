@@ -1,5 +1,5 @@
 // apps/varsym/ensemble/ensemble_writer.cpp: rows put in member order on their way to a file.
-#include "ensemble_writer.hpp"
+#include "ensemble/ensemble_writer.hpp"
 
 namespace varsym::cli {
 

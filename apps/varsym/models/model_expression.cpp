@@ -5,9 +5,9 @@
 #include <memory>
 #include <numbers>
 
-#include "expression_options.hpp"
-#include "model_run.hpp"
-#include "registry_models.hpp"
+#include "models/model_run.hpp"
+#include "models/registry_models.hpp"
+#include "options/expression_options.hpp"
 #include "varsym/models/expression.hpp"
 
 namespace varsym::cli {

@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <memory>
 
-#include "expression_options.hpp"
-#include "model_run.hpp"
-#include "registry_models.hpp"
+#include "models/model_run.hpp"
+#include "models/registry_models.hpp"
+#include "options/expression_options.hpp"
 #include "varsym/models/input_file.hpp"
 #include "varsym/models/robot.hpp"
 
@@ -30,7 +30,7 @@ std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u,
                                                     checkpoint::input_file* file) {
     if (u.path.empty())
         throw usage_error("--model urdf needs --urdf FILE, the robot's URDF description");
-    std::shared_ptr<const multibody::model> tree;
+    std::shared_ptr<const multibody::tree> tree;
     try {
         // One read: the bytes parsed are the bytes whose digest a checkpoint records.
         const std::string text =

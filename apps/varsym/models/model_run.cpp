@@ -1,10 +1,10 @@
-// apps/varsym/models/model_run.cpp: what the models of `varsym run` share: the registry, step plans,
-// initial vectors and option validators.
+// apps/varsym/models/model_run.cpp: what the models of `varsym run` share: the registry, step
+// plans, initial vectors and option validators.
 #include <algorithm>
 #include <cmath>
 
-#include "models.hpp"
-#include "registry_models.hpp"
+#include "models/models.hpp"
+#include "models/registry_models.hpp"
 
 namespace varsym::cli {
 

@@ -9,10 +9,10 @@
 #include <numbers>
 #include <string>
 
-#include "files.hpp"
-#include "models.hpp"
-#include "progress.hpp"
-#include "signals.hpp"
+#include "models/models.hpp"
+#include "output/files.hpp"
+#include "output/progress.hpp"
+#include "output/signals.hpp"
 #include "varsym/diagnostics/stability.hpp"
 #include "varsym/integrate.hpp"
 #include "varsym/run/energy.hpp"

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "checkpoint.hpp"
-#include "cli_common.hpp"
+#include "options/cli_common.hpp"
+#include "output/checkpoint.hpp"
 #include "varsym/models/model.hpp"
 #include "varsym/schemes/scheme_kind.hpp"
 

@@ -8,9 +8,9 @@
 #include <map>
 #include <optional>
 
-#include "ensemble.hpp"
-#include "model_run.hpp"
-#include "registry_models.hpp"
+#include "ensemble/ensemble.hpp"
+#include "models/model_run.hpp"
+#include "models/registry_models.hpp"
 #include "varsym/models/event.hpp"
 #include "varsym/models/robot.hpp"
 

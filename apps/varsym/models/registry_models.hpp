@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "ensemble.hpp"
-#include "models.hpp"
+#include "ensemble/ensemble.hpp"
+#include "models/models.hpp"
 #include "varsym/models/model.hpp"
 
 namespace varsym::cli {

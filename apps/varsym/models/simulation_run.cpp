@@ -4,8 +4,8 @@
 // the rows kept.
 #include <numbers>
 
-#include "model_run.hpp"
-#include "registry_models.hpp"
+#include "models/model_run.hpp"
+#include "models/registry_models.hpp"
 
 namespace varsym::cli {
 

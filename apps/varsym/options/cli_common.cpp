@@ -1,6 +1,6 @@
-// apps/varsym/options/cli_common.cpp: option validators (correctly rounded, decimal only) and number
-// formatting.
-#include "cli_common.hpp"
+// apps/varsym/options/cli_common.cpp: option validators (correctly rounded, decimal only) and
+// number formatting.
+#include "options/cli_common.hpp"
 
 #include <charconv>
 #include <cmath>

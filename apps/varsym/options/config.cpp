@@ -1,11 +1,11 @@
 // apps/varsym/options/config.cpp: TOML config files for `varsym run` (toml++, from Debian).
-#include "config.hpp"
+#include "options/config.hpp"
 
 #include <algorithm>
 
 #include <toml++/toml.h>
 
-#include "files.hpp"
+#include "output/files.hpp"
 
 namespace varsym::cli {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "cli_common.hpp"
+#include "options/cli_common.hpp"
 
 namespace varsym::cli {
 

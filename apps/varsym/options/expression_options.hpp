@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "cli_common.hpp"
+#include "options/cli_common.hpp"
 #include "varsym/models/model.hpp"
 #include "varsym/systems/expression_constraint.hpp"
 #include "varsym/systems/expression_force.hpp"

@@ -1,6 +1,6 @@
 // apps/varsym/options/front_end.cpp: the varsym application: its subcommands, how a command line is
 // parsed (resume, config files, CLI11), and how every failure becomes one line and an exit code.
-#include "front_end.hpp"
+#include "options/front_end.hpp"
 
 #include <exception>
 #include <filesystem>
@@ -8,7 +8,7 @@
 #include <memory>
 #include <new>
 
-#include "checkpoint.hpp"
+#include "output/checkpoint.hpp"
 #include "varsym/integrate.hpp"
 
 namespace varsym::cli {

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "commands.hpp"
-#include "config.hpp"
+#include "commands/commands.hpp"
+#include "options/config.hpp"
 
 namespace varsym::cli {
 

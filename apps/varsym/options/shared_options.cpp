@@ -1,5 +1,5 @@
 // apps/varsym/options/shared_options.cpp: the pendulum and scheme options shared by subcommands.
-#include "shared_options.hpp"
+#include "options/shared_options.hpp"
 
 namespace varsym::cli {
 

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "cli_common.hpp"
+#include "options/cli_common.hpp"
 #include "varsym/problems/paper.hpp"
 #include "varsym/problems/pendulum.hpp"
 #include "varsym/schemes/scheme_kind.hpp"

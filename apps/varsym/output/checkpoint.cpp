@@ -1,11 +1,11 @@
 // apps/varsym/output/checkpoint.cpp: checkpoint files: the models layer's format
 // (models::checkpoint_text, parse_checkpoint) through the tool's file safety.
-#include "checkpoint.hpp"
+#include "output/checkpoint.hpp"
 
 #include <cstdio>
 
-#include "cli_common.hpp"
-#include "files.hpp"
+#include "options/cli_common.hpp"
+#include "output/files.hpp"
 
 namespace varsym::cli {
 

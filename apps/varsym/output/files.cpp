@@ -1,6 +1,6 @@
 // apps/varsym/output/files.cpp: output files (atomic, written through, exclusive and locked),
 // bounded reads, and the collision check of a command's files (files.hpp).
-#include "files.hpp"
+#include "output/files.hpp"
 
 #include <cerrno>
 #include <cstring>
@@ -10,8 +10,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "cli_common.hpp"
-#include "signals.hpp"
+#include "options/cli_common.hpp"
+#include "output/signals.hpp"
 #include "varsym/models/input_file.hpp"
 
 namespace varsym::cli {

@@ -1,5 +1,5 @@
 // apps/varsym/output/plot.cpp: writes a figure's data and gnuplot script, and runs gnuplot.
-#include "plot.hpp"
+#include "output/plot.hpp"
 
 #include <cerrno>
 #include <cstring>
@@ -13,8 +13,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "cli_common.hpp"
-#include "signals.hpp"
+#include "options/cli_common.hpp"
+#include "output/signals.hpp"
 
 namespace varsym::cli {
 

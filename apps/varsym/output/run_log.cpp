@@ -7,7 +7,7 @@
 #include <cstring>
 #include <filesystem>
 
-#include "model_run.hpp"
+#include "models/model_run.hpp"
 
 namespace varsym::cli {
 

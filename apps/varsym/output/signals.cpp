@@ -1,6 +1,6 @@
 // apps/varsym/output/signals.cpp: the handlers of SIGINT and SIGTERM (signals.hpp). Only
 // async-signal-safe calls in the handler: clock_gettime, unlink, signal, raise, write.
-#include "signals.hpp"
+#include "output/signals.hpp"
 
 #include <algorithm>
 #include <array>

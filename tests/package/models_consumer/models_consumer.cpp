@@ -8,8 +8,8 @@
 #include <numbers>
 
 #include <varsym/models/model.hpp>
-#include <varsym/optimal/system_of.hpp>
-#include <varsym/optimal/solve.hpp>
+#include <varsym/optimize/model.hpp>
+#include <varsym/optimize/solve.hpp>
 
 int main() {
     const varsym::models::model& m = varsym::models::get("cart-pole");
@@ -27,7 +27,7 @@ int main() {
     p.q_start = Eigen::Vector2d(0.0, std::numbers::pi);
     p.q_end = Eigen::Vector2d(1.0, std::numbers::pi);
     p.v_start = p.v_end = Eigen::VectorXd::Zero(2);
-    const auto tr = m.optimal(m.defaults(), {}, p);
+    const auto tr = varsym::optimal::transcribe(m, m.defaults(), {}, p);
     const auto r = varsym::optimal::solve(*tr);
     const auto path = tr->unpack(r);
     const auto closure = varsym::optimal::check_closure(*tr, path);

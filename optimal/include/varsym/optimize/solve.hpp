@@ -1,4 +1,4 @@
-// varsym/optimal/solve.hpp: solving a transcription (optimal/nlp.hpp) with IPOPT (Wächter &
+// varsym/optimize/solve.hpp: solving a transcription (optimal/nlp.hpp) with IPOPT (Wächter &
 // Biegler 2006; Debian's coinor-libipopt-dev, its sparse linear solver MUMPS). The compiled part
 // of varsym::optimal: link varsym::optimal. See docs/optimal_control.md.
 #pragma once

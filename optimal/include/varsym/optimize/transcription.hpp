@@ -1,4 +1,4 @@
-// varsym/optimal/transcription.hpp: discrete mechanics and optimal control (DMOC; Ober-Blöbaum,
+// varsym/optimize/transcription.hpp: discrete mechanics and optimal control (DMOC; Ober-Blöbaum,
 // Junge & Marsden 2011) at every member of the variational family, for a system of run-time size
 // (system.hpp): one transcription compiled once in varsym::transcription for every system: a
 // URDF robot, a typed Lagrangian or a C++ one (system_of.hpp). The unknowns are the control
@@ -17,6 +17,11 @@
 #include "varsym/schemes/tableau.hpp"
 
 namespace varsym::optimal {
+
+/// The closure check's nodes of `system` under the trajectory's controls (q above p,
+/// 2d × (N + 1)): its own replay where it has one, else the general engine over its derivatives
+/// (optimal/src/replay_system.cpp), compiled once here.
+matrix replay(const controlled_system& system, const trajectory& path);
 
 /// The transcription of a control_problem for a controlled_system.
 /// Unknowns x = (Q_0 … Q_{Ns}, u_{0,0} … u_{N−1,r−1}, [v_N], [Λ_0 … Λ_{Ns}], [T]):
@@ -68,7 +73,7 @@ class dmoc_transcription final : public transcription {
                  std::vector<double>& values) const override;
     [[nodiscard]] trajectory unpack(const nlp_result& result) const override;
     [[nodiscard]] Eigen::MatrixXd replay(const trajectory& path) const override {
-        return sys_->replay(path);
+        return optimal::replay(*sys_, path);
     }
 
   private:
