@@ -23,9 +23,9 @@ ROOT = Path(__file__).resolve().parent
 class CMakeBuild(build_ext):
     def build_extension(self, ext):
         build = Path(os.environ.get("VARSYM_BUILD_DIR", ROOT / "build" / "pip")).resolve()
+        tool = "ON" if os.environ.get("VARSYM_PIP_TOOL") == "1" else "OFF"
         if not (build / "CMakeCache.txt").exists():  # a build directory of its own
             python = getattr(sys, "_base_executable", sys.executable)
-            tool = "ON" if os.environ.get("VARSYM_PIP_TOOL") == "1" else "OFF"
             # One file per compiler process (no unity groups): the largest stays under 1.5 GB.
             # clang++ unless CXX is set, as `make` chooses: measured on 2 cores from a fresh
             # clone, 272 s and 1.0 GB at most against GCC 12's 386 s and 1.9 GB.
@@ -38,7 +38,12 @@ class CMakeBuild(build_ext):
                             "-DVARSYM_BUILD_BENCH=OFF", "-DVARSYM_BUILD_EXAMPLES=OFF",
                             "-DVARSYM_INSTALL=OFF", "-DVARSYM_UNITY_GROUPS=0", *compiler],
                            check=True)
-        subprocess.run(["cmake", "--build", str(build), "--target", "varsym_python", "-j",
+        # With VARSYM_PIP_TOOL=1 (or an existing build directory with the tool), the optional
+        # varsym._tool too.
+        cache = (build / "CMakeCache.txt").read_text()
+        tool = tool == "ON" or "VARSYM_BUILD_TOOL:BOOL=ON" in cache
+        targets = ["varsym_python"] + (["varsym_python_tool"] if tool else [])
+        subprocess.run(["cmake", "--build", str(build), "--target", *targets, "-j",
                         str(os.cpu_count() or 2)], check=True)
         built = sorted((build / "python" / "varsym").glob("_core*.so"))
         if not built:

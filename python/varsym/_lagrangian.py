@@ -4,6 +4,7 @@ once into C++ code with exact symbolic derivatives (varsym.Stepper and varsym.si
 import numpy as np
 
 from . import _checks, _core
+from ._members import _ensemble_result, _member_arrays
 from .errors import UsageError
 
 
@@ -110,8 +111,6 @@ class Lagrangian:
         constraints as for varsym.simulate (``project``: move each start onto them). Each
         member runs ``steps`` steps over ``t_span``. Returns the same dict of arrays: status,
         t, q, p, lyapunov, mean_megno, max_energy_error, event_time, cause."""
-        from ._simulate import _ensemble_result, _member_arrays  # noqa: PLC0415 (a cycle)
-
         # The compiled Lagrangian holds its parameters sorted by name (a std::map).
         values, q0, p0 = _member_arrays("ensemble", parameters, self.parameters,
                                         sorted(self.parameters), q0, p0, self.dimension)

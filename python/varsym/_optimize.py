@@ -258,9 +258,7 @@ def optimize(model, *, time, q_start, q_end=None, v_start=None, v_end=None, step
     if raw["interrupted"]:
         raise Interrupted(f"optimize interrupted after {out.iterations} iterations; the last "
                           "iterate is in .partial", partial=out)
-    if out.status not in ("solved", "acceptable"):
-        raise SolverError(f"optimize: {out.status}: {out.message}", partial=out)
-    if not out.trusted:
-        raise SolverError(f"optimize: not trusted: {out._advice}".replace("--steps", "steps"),
+    if raw["verdict"] != "solved":  # not solved, not trusted, or a minimum time at its bound
+        raise SolverError(f"optimize: {raw['verdict_message']}".replace("--steps", "steps"),
                           partial=out)
     return out

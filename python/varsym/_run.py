@@ -7,7 +7,9 @@ import tempfile
 import numpy as np
 
 from . import _core
-from ._simulate import _REGISTRY, Model, _keyword_error, simulate
+from ._lagrangian import Lagrangian, _expression_text
+from ._members import _keyword_error
+from ._simulate import _REGISTRY, Model, simulate
 from ._trajectory import Trajectory
 from .errors import EnergyError, Error, Interrupted, StepFailure, UsageError
 
@@ -39,7 +41,7 @@ def _tool():
     except ImportError:
         raise Error("this installation of varsym has no command-line engine (varsym._tool): "
                     "the models outside the models layer and varsym.call need it; build the "
-                    "package with `make python`, or pip install with VARSYM_PIP_TOOL=1") from None
+                    "package with `make python-tool`, or pip install with VARSYM_PIP_TOOL=1") from None
     return tool
 
 
@@ -135,7 +137,6 @@ def run(model=None, **options):
     standard output). Raises UsageError on bad input, StepFailure when a step does not
     converge (its ``partial`` holds the rows before it), EnergyError when the energy watch
     stops the run."""
-    from ._lagrangian import Lagrangian  # noqa: PLC0415 (a cycle otherwise)
 
     for key in ("output", "resume"):
         if key in options:
@@ -149,8 +150,6 @@ def run(model=None, **options):
     elif lag is not None and not isinstance(lag, str):
         options["lagrangian"] = Lagrangian(lag, options.get("coordinates", ("q",))).expression
     if "force" in options and not isinstance(options["force"], str):
-        from ._lagrangian import _expression_text  # noqa: PLC0415
-
         options["force"] = [_expression_text(f) for f in options["force"]]
     if model in _REGISTRY:
         options = _parameters_of_options(model, options)
