@@ -9,6 +9,7 @@
     X(kepler)                                                                                      \
     X(henon_heiles)                                                                                \
     X(double_pendulum)                                                                             \
+    X(spring_pendulum)                                                                             \
     X(heavy_top)                                                                                   \
     X(cart_pole)                                                                                   \
     X(acrobot)                                                                                     \
