@@ -46,11 +46,11 @@ struct elbow_torque {
     }
 };
 
-struct parameters {
+struct acrobot_parameters {
     double m1, m2, l1, lc1, lc2, i1, i2, gravity, torque;
 };
 
-acrobot_lagrangian lagrangian(const parameters& p) {
+acrobot_lagrangian lagrangian(const acrobot_parameters& p) {
     return {p.m1, p.m2, p.l1, p.lc1, p.lc2, p.i1, p.i2, p.gravity};
 }
 
@@ -74,40 +74,42 @@ model acrobot() {
         return parameter{
             .name = name, .value = v, .unit = unit, .doc = doc, .lower = 0.0, .lower_open = true};
     };
-    const parameter_set<parameters> set{
-        {{&parameters::m1, positive("m1", l0.m1, "kg", "mass of link 1")},
-         {&parameters::m2, positive("m2", l0.m2, "kg", "mass of link 2")},
-         {&parameters::l1, positive("l1", l0.l1, "m", "length of link 1")},
-         {&parameters::lc1, positive("lc1", l0.lc1, "m", "pivot to centre of mass, link 1")},
-         {&parameters::lc2, positive("lc2", l0.lc2, "m", "elbow to centre of mass, link 2")},
-         {&parameters::i1,
+    const parameter_set<acrobot_parameters> set{
+        {{&acrobot_parameters::m1, positive("m1", l0.m1, "kg", "mass of link 1")},
+         {&acrobot_parameters::m2, positive("m2", l0.m2, "kg", "mass of link 2")},
+         {&acrobot_parameters::l1, positive("l1", l0.l1, "m", "length of link 1")},
+         {&acrobot_parameters::lc1,
+          positive("lc1", l0.lc1, "m", "pivot to centre of mass, link 1")},
+         {&acrobot_parameters::lc2,
+          positive("lc2", l0.lc2, "m", "elbow to centre of mass, link 2")},
+         {&acrobot_parameters::i1,
           {.name = "I1",
            .value = l0.i1,
            .unit = "kg m^2",
            .doc = "link 1's moment of inertia about its centre of mass",
            .lower = 0.0}},
-         {&parameters::i2,
+         {&acrobot_parameters::i2,
           {.name = "I2",
            .value = l0.i2,
            .unit = "kg m^2",
            .doc = "link 2's moment of inertia about its centre of mass",
            .lower = 0.0}},
-         {&parameters::gravity,
+         {&acrobot_parameters::gravity,
           {.name = "gravity", .value = l0.g, .unit = "m/s^2", .doc = "gravity g", .lower = 0.0}},
-         {&parameters::torque,
+         {&acrobot_parameters::torque,
           {.name = "torque", .value = 0.0, .unit = "N m", .doc = "constant elbow torque u"}}}};
     set.declare(m);
     m.time = 10.0;
     m.steps = 10000;
     m.ensemble_time = 20.0;
     m.ensemble_steps = 10000;
-    m.make = set.make([](const parameters& p, const start& s) {
+    m.make = set.make([](const acrobot_parameters& p, const start& s) {
         using L = acrobot_lagrangian;
         const auto sys = lagrangian_system<L>(lagrangian(p));
         return detail::controlled_problem<L, elbow_torque>(
             sys, p.torque, detail::general_start(sys, s, vec<2>{1.0, 0.0}, vec<2>(vec<2>::Zero())));
     });
-    m.pose = set.pose([](const parameters& p, std::span<const double> q) {
+    m.pose = set.pose([](const acrobot_parameters& p, std::span<const double> q) {
         const double ex = p.l1 * std::sin(q[0]), ey = -p.l1 * std::cos(q[0]);
         const double l2 = 2.0 * p.lc2; // link 2 drawn uniform: twice lc2
         return std::vector<double>{
@@ -115,7 +117,7 @@ model acrobot() {
     });
     m.controls = {"u [N m]: torque at the elbow, on q2"};
     m.simulation_only = {"torque"};
-    m.control = set.control([](const parameters& p) { // u on q2: f = (0, u)
+    m.control = set.control([](const acrobot_parameters& p) { // u on q2: f = (0, u)
         return std::make_shared<const optimal::input_system<acrobot_lagrangian>>(
             lagrangian(p), optimal::matrix{{0.0}, {1.0}});
     });

@@ -12,7 +12,7 @@ namespace varsym::models::defs {
 
 namespace {
 
-struct parameters {
+struct arm_parameters {
     double gravity, move_time, no_gravity_compensation;
     std::vector<double> masses, lengths, inertias, damping, kp, kd, target;
 };
@@ -34,7 +34,7 @@ struct links {
 /// The links from the lists (where none are given: lengths 1, 0.8, 0.6 for n = 3, inertias 0
 /// each, damping 0.5 each), checked: std::invalid_argument where the lengths are missing for
 /// n != 3 or a list has another count than n.
-links links_of(const parameters& p) {
+links links_of(const arm_parameters& p) {
     const std::size_t n = p.masses.size();
     if (p.lengths.empty() && n != 3)
         throw std::invalid_argument("give the lengths of the " + std::to_string(n) + " links");
@@ -77,45 +77,47 @@ model arm() {
     list_parameter masses =
         positive("masses", {1, 1, 1}, "kg", "the links' end masses, one per link (n of them)");
     masses.sets_dimension = true;
-    const parameter_set<parameters> set{
-        {{&parameters::gravity,
+    const parameter_set<arm_parameters> set{
+        {{&arm_parameters::gravity,
           {.name = "gravity", .value = 9.81, .unit = "m/s^2", .doc = "gravity g", .lower = 0.0}},
-         {&parameters::move_time,
+         {&arm_parameters::move_time,
           {.name = "move_time",
            .value = 2.0,
            .unit = "s",
            .doc = "duration of the minimum-jerk move to the target",
            .lower = 0.0,
            .lower_open = true}},
-         {&parameters::no_gravity_compensation,
+         {&arm_parameters::no_gravity_compensation,
           {.name = "no_gravity_compensation",
            .value = 0.0,
            .doc = "leave gravity out of the controller",
            .lower = 0.0,
            .upper = 1.0,
            .flag = true}}},
-        {{&parameters::masses, masses},
-         {&parameters::lengths,
+        {{&arm_parameters::masses, masses},
+         {&arm_parameters::lengths,
           positive("lengths", {}, "m", "the links' lengths (1, 0.8, 0.6 for n = 3)")},
-         {&parameters::inertias,
+         {&arm_parameters::inertias,
           non_negative("inertias", "kg m^2", "each link's rotational inertia (0 each)")},
-         {&parameters::damping,
+         {&arm_parameters::damping,
           non_negative("damping", "N m s/rad", "viscous damping per joint (0.5 each)")},
-         {&parameters::kp, non_negative("kp", "N m/rad", "proportional gain per joint (100 each)")},
-         {&parameters::kd, non_negative("kd", "N m s/rad", "derivative gain per joint (40 each)")},
-         {&parameters::target,
+         {&arm_parameters::kp,
+          non_negative("kp", "N m/rad", "proportional gain per joint (100 each)")},
+         {&arm_parameters::kd,
+          non_negative("kd", "N m s/rad", "derivative gain per joint (40 each)")},
+         {&arm_parameters::target,
           {.name = "target",
            .unit = "rad",
            .doc = "target joint angles (0.8, 0.5, 0.3 for n = 3, else 0.5 each)"}}}};
     set.declare(m);
     m.dimension =
-        set.dimension([](const parameters& p) { return static_cast<int>(p.masses.size()); });
+        set.dimension([](const arm_parameters& p) { return static_cast<int>(p.masses.size()); });
     m.time = 5.0;
     m.steps = 5000;
     m.ensemble_time = 5.0;
     m.ensemble_steps = 1000;
     m.ensemble_note = "The settling of the move: --grid move_time=0.5:3:11.";
-    m.make = set.make([](const parameters& p, const start& s) {
+    m.make = set.make([](const arm_parameters& p, const start& s) {
         const auto n = p.masses.size();
         const int d = static_cast<int>(n);
         const links body = links_of(p);
@@ -165,7 +167,7 @@ model arm() {
     // and parameters are a simulation's only.
     m.controls = {"tau_i [N m]: the torque at joint i (between links i-1 and i), i = 1 ... n"};
     m.simulation_only = {"move_time", "no_gravity_compensation", "kp", "kd", "target"};
-    m.control = set.control([](const parameters& p) {
+    m.control = set.control([](const arm_parameters& p) {
         const links body = links_of(p);
         const int d = static_cast<int>(p.masses.size());
         const mat<dynamic> b = arm::joint_map(d);

@@ -41,11 +41,11 @@ struct push_on_cart {
     }
 };
 
-struct parameters {
+struct cart_pole_parameters {
     double cart_mass, pole_mass, pole_length, pole_inertia, gravity, push;
 };
 
-cart_pole_lagrangian lagrangian(const parameters& p) {
+cart_pole_lagrangian lagrangian(const cart_pole_parameters& p) {
     return {p.cart_mass, p.pole_mass, p.pole_length, p.pole_inertia, p.gravity};
 }
 
@@ -64,37 +64,37 @@ model cart_pole() {
     m.dim = 2;
     m.coordinates = "x, th";
     const cart_pole_lagrangian l0;
-    const parameter_set<parameters> set{
-        {{&parameters::cart_mass,
+    const parameter_set<cart_pole_parameters> set{
+        {{&cart_pole_parameters::cart_mass,
           {.name = "cart_mass",
            .value = l0.cart,
            .unit = "kg",
            .doc = "mass M of the cart",
            .lower = 0.0,
            .lower_open = true}},
-         {&parameters::pole_mass,
+         {&cart_pole_parameters::pole_mass,
           {.name = "pole_mass",
            .value = l0.pole,
            .unit = "kg",
            .doc = "mass m of the pole",
            .lower = 0.0,
            .lower_open = true}},
-         {&parameters::pole_length,
+         {&cart_pole_parameters::pole_length,
           {.name = "pole_length",
            .value = l0.l,
            .unit = "m",
            .doc = "distance l from the pivot to the pole's centre of mass",
            .lower = 0.0,
            .lower_open = true}},
-         {&parameters::pole_inertia,
+         {&cart_pole_parameters::pole_inertia,
           {.name = "pole_inertia",
            .value = l0.inertia,
            .unit = "kg m^2",
            .doc = "pole's moment of inertia I about its centre of mass",
            .lower = 0.0}},
-         {&parameters::gravity,
+         {&cart_pole_parameters::gravity,
           {.name = "gravity", .value = l0.g, .unit = "m/s^2", .doc = "gravity g", .lower = 0.0}},
-         {&parameters::push,
+         {&cart_pole_parameters::push,
           {.name = "push",
            .value = 0.0,
            .unit = "N",
@@ -105,13 +105,13 @@ model cart_pole() {
     m.ensemble_time = 5.0;
     m.ensemble_steps = 2500;
     m.ensemble_note = "The pole falls over: --event 'q2^2 - 2.4649' (|th| reaches 1.57).";
-    m.make = set.make([](const parameters& p, const start& s) {
+    m.make = set.make([](const cart_pole_parameters& p, const start& s) {
         using L = cart_pole_lagrangian;
         const auto sys = lagrangian_system<L>(lagrangian(p));
         return detail::controlled_problem<L, push_on_cart>(
             sys, p.push, detail::general_start(sys, s, vec<2>{0.0, 0.1}, vec<2>(vec<2>::Zero())));
     });
-    m.pose = set.pose([](const parameters& p, std::span<const double> q) {
+    m.pose = set.pose([](const cart_pole_parameters& p, std::span<const double> q) {
         // The pole drawn uniform: twice the pivot-to-centre length.
         const double l = 2.0 * p.pole_length;
         return std::vector<double>{
@@ -120,7 +120,7 @@ model cart_pole() {
     });
     m.controls = {"u [N]: horizontal push on the cart"};
     m.simulation_only = {"push"};
-    m.control = set.control([](const parameters& p) { // the push on x: f = (u, 0)
+    m.control = set.control([](const cart_pole_parameters& p) { // the push on x: f = (u, 0)
         return std::make_shared<const optimal::input_system<cart_pole_lagrangian>>(
             lagrangian(p), optimal::matrix{{1.0}, {0.0}});
     });

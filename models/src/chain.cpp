@@ -38,7 +38,7 @@ void check_size(int n, const scheme_spec& spec) {
                                     "2000 with it, or simpson/newmark");
 }
 
-struct parameters {
+struct chain_parameters {
     double amplitude, beta, n;
 };
 
@@ -58,12 +58,12 @@ model chain() {
         "  No exact solution, no period.";
     m.dim = 64;
     m.coordinates = "q_1 ... q_n";
-    const parameter_set<parameters> set{
-        {{&parameters::amplitude,
+    const parameter_set<chain_parameters> set{
+        {{&chain_parameters::amplitude,
           {.name = "amplitude", .value = 1.0, .doc = "amplitude A of the initial lowest mode"}},
-         {&parameters::beta,
+         {&chain_parameters::beta,
           {.name = "beta", .value = 1.0, .doc = "quartic coupling beta", .lower = 0.0}},
-         {&parameters::n,
+         {&chain_parameters::n,
           {.name = "n",
            .value = 64,
            .doc = "number of moving masses (the dimension d)",
@@ -72,14 +72,15 @@ model chain() {
            .integer = true,
            .sets_dimension = true}}}};
     set.declare(m);
-    m.dimension = set.dimension([](const parameters& par) { return static_cast<int>(par.n); });
+    m.dimension =
+        set.dimension([](const chain_parameters& par) { return static_cast<int>(par.n); });
     m.time = 100.0;
     m.steps = 1000;
     m.ensemble_time = 100.0;
     m.ensemble_steps = 1000;
     m.ensemble_note = "Energy sharing between modes: --grid amplitude=0.5:2:16; n for all\n"
                       "  members: --set n=16.";
-    m.make = set.make([](const parameters& par, const start& s) {
+    m.make = set.make([](const chain_parameters& par, const start& s) {
         const int n = static_cast<int>(par.n);
         const chain::system sys(n, par.beta);
         phase_state<dynamic> x0 = sys.lowest_mode(par.amplitude);

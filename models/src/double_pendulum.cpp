@@ -10,7 +10,7 @@ namespace varsym::models::defs {
 
 namespace {
 
-struct parameters {
+struct double_pendulum_parameters {
     double m1, m2, l1, l2, g, k;
 };
 
@@ -29,62 +29,62 @@ model double_pendulum() {
     m.dim = 2;
     m.coordinates = "th1, th2";
     const double_pendulum::lagrangian l0;
-    const parameter_set<parameters> set{{{&parameters::m1,
-                                          {.name = "m1",
-                                           .value = l0.m1,
-                                           .unit = "kg",
-                                           .doc = "mass at the end of link 1",
-                                           .lower = 0.0,
-                                           .lower_open = true,
-                                           .option = "masses",
-                                           .option_index = 0}},
-                                         {&parameters::m2,
-                                          {.name = "m2",
-                                           .value = l0.m2,
-                                           .unit = "kg",
-                                           .doc = "mass at the end of link 2",
-                                           .lower = 0.0,
-                                           .lower_open = true,
-                                           .option = "masses",
-                                           .option_index = 1}},
-                                         {&parameters::l1,
-                                          {.name = "l1",
-                                           .value = l0.l1,
-                                           .unit = "m",
-                                           .doc = "length of link 1",
-                                           .lower = 0.0,
-                                           .lower_open = true,
-                                           .option = "lengths",
-                                           .option_index = 0}},
-                                         {&parameters::l2,
-                                          {.name = "l2",
-                                           .value = l0.l2,
-                                           .unit = "m",
-                                           .doc = "length of link 2",
-                                           .lower = 0.0,
-                                           .lower_open = true,
-                                           .option = "lengths",
-                                           .option_index = 1}},
-                                         {&parameters::g,
-                                          {.name = "g",
-                                           .value = l0.g,
-                                           .unit = "m/s^2",
-                                           .doc = "gravity",
-                                           .lower = 0.0,
-                                           .option = "gravity"}},
-                                         {&parameters::k,
-                                          {.name = "k",
-                                           .value = l0.k,
-                                           .unit = "N m/rad",
-                                           .doc = "joint spring stiffness",
-                                           .lower = 0.0,
-                                           .option = "joint-stiffness"}}}};
+    const parameter_set<double_pendulum_parameters> set{{{&double_pendulum_parameters::m1,
+                                                          {.name = "m1",
+                                                           .value = l0.m1,
+                                                           .unit = "kg",
+                                                           .doc = "mass at the end of link 1",
+                                                           .lower = 0.0,
+                                                           .lower_open = true,
+                                                           .option = "masses",
+                                                           .option_index = 0}},
+                                                         {&double_pendulum_parameters::m2,
+                                                          {.name = "m2",
+                                                           .value = l0.m2,
+                                                           .unit = "kg",
+                                                           .doc = "mass at the end of link 2",
+                                                           .lower = 0.0,
+                                                           .lower_open = true,
+                                                           .option = "masses",
+                                                           .option_index = 1}},
+                                                         {&double_pendulum_parameters::l1,
+                                                          {.name = "l1",
+                                                           .value = l0.l1,
+                                                           .unit = "m",
+                                                           .doc = "length of link 1",
+                                                           .lower = 0.0,
+                                                           .lower_open = true,
+                                                           .option = "lengths",
+                                                           .option_index = 0}},
+                                                         {&double_pendulum_parameters::l2,
+                                                          {.name = "l2",
+                                                           .value = l0.l2,
+                                                           .unit = "m",
+                                                           .doc = "length of link 2",
+                                                           .lower = 0.0,
+                                                           .lower_open = true,
+                                                           .option = "lengths",
+                                                           .option_index = 1}},
+                                                         {&double_pendulum_parameters::g,
+                                                          {.name = "g",
+                                                           .value = l0.g,
+                                                           .unit = "m/s^2",
+                                                           .doc = "gravity",
+                                                           .lower = 0.0,
+                                                           .option = "gravity"}},
+                                                         {&double_pendulum_parameters::k,
+                                                          {.name = "k",
+                                                           .value = l0.k,
+                                                           .unit = "N m/rad",
+                                                           .doc = "joint spring stiffness",
+                                                           .lower = 0.0,
+                                                           .option = "joint-stiffness"}}}};
     set.declare(m);
     m.time = 10.0;
     m.steps = 10000;
     m.ensemble_time = 20.0;
     m.ensemble_steps = 10000;
-    m.make = set.make([](const parameters& par, const start& s) {
+    m.make = set.make([](const double_pendulum_parameters& par, const start& s) {
         using L = double_pendulum::lagrangian;
         const auto sys =
             double_pendulum::make_system(L{par.m1, par.m2, par.l1, par.l2, par.g, par.k});

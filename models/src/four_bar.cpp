@@ -12,7 +12,7 @@ using detail::crank_torque_parameter, detail::gravity_parameter, detail::positiv
 
 namespace {
 
-struct parameters {
+struct four_bar_parameters {
     double crank_length, coupler_length, rocker_length, ground_length;
     double crank_mass, coupler_mass, rocker_mass, gravity, torque, project;
 };
@@ -36,31 +36,31 @@ model four_bar() {
     m.coordinates = "th1, th2, th3";
     m.short_start = {1};
     m.short_start_doc = "1 (th1 alone)";
-    const parameter_set<parameters> set{
-        {{&parameters::crank_length,
+    const parameter_set<four_bar_parameters> set{
+        {{&four_bar_parameters::crank_length,
           positive_value("crank_length", p0.a, "m", "crank length a", "lengths", 0)},
-         {&parameters::coupler_length,
+         {&four_bar_parameters::coupler_length,
           positive_value("coupler_length", p0.b, "m", "coupler length b", "lengths", 1)},
-         {&parameters::rocker_length,
+         {&four_bar_parameters::rocker_length,
           positive_value("rocker_length", p0.c, "m", "rocker length c", "lengths", 2)},
-         {&parameters::ground_length,
+         {&four_bar_parameters::ground_length,
           positive_value("ground_length", p0.ground, "m", "ground length d", "lengths", 3)},
-         {&parameters::crank_mass,
+         {&four_bar_parameters::crank_mass,
           positive_value("crank_mass", p0.m1, "kg", "crank mass m1", "masses", 0)},
-         {&parameters::coupler_mass,
+         {&four_bar_parameters::coupler_mass,
           positive_value("coupler_mass", p0.m2, "kg", "coupler mass m2", "masses", 1)},
-         {&parameters::rocker_mass,
+         {&four_bar_parameters::rocker_mass,
           positive_value("rocker_mass", p0.m3, "kg", "rocker mass m3", "masses", 2)},
-         {&parameters::gravity, gravity_parameter(p0.g)},
-         {&parameters::torque, crank_torque_parameter()},
-         {&parameters::project, project_parameter()}}};
+         {&four_bar_parameters::gravity, gravity_parameter(p0.g)},
+         {&four_bar_parameters::torque, crank_torque_parameter()},
+         {&four_bar_parameters::project, project_parameter()}}};
     set.declare(m);
     m.time = 10.0;
     m.steps = 10000;
     m.ensemble_time = 10.0;
     m.ensemble_steps = 2000;
     m.ensemble_note = "The crank's turns: --event 'q1 - 6.2832' (th1 passes 2 pi).";
-    m.make = set.make([](const parameters& par, const start& s) {
+    m.make = set.make([](const four_bar_parameters& par, const start& s) {
         mechanisms::four_bar p;
         p.a = par.crank_length, p.b = par.coupler_length, p.c = par.rocker_length;
         p.ground = par.ground_length;

@@ -10,7 +10,7 @@ namespace varsym::models::defs {
 
 namespace {
 
-struct parameters {
+struct heavy_top_parameters {
     double i1, i3, mgl;
 };
 
@@ -28,34 +28,35 @@ model heavy_top() {
         "  Exact: th(t) in closed form (q_1_exact). Period: the nutation period.";
     m.dim = 3;
     m.coordinates = "th, phi, psi";
-    const parameter_set<parameters> set{{{&parameters::i1,
-                                          {.name = "I1",
-                                           .value = 1.0,
-                                           .unit = "kg m^2",
-                                           .doc = "moment of inertia about a transverse axis",
-                                           .lower = 0.0,
-                                           .lower_open = true}},
-                                         {&parameters::i3,
-                                          {.name = "I3",
-                                           .value = 0.5,
-                                           .unit = "kg m^2",
-                                           .doc = "moment of inertia about the symmetry axis",
-                                           .lower = 0.0,
-                                           .lower_open = true}},
-                                         {&parameters::mgl,
-                                          {.name = "mgl",
-                                           .value = 1.0,
-                                           .unit = "J",
-                                           .doc = "weight times distance to the centre of mass",
-                                           .lower = 0.0,
-                                           .lower_open = true}}}};
+    const parameter_set<heavy_top_parameters> set{
+        {{&heavy_top_parameters::i1,
+          {.name = "I1",
+           .value = 1.0,
+           .unit = "kg m^2",
+           .doc = "moment of inertia about a transverse axis",
+           .lower = 0.0,
+           .lower_open = true}},
+         {&heavy_top_parameters::i3,
+          {.name = "I3",
+           .value = 0.5,
+           .unit = "kg m^2",
+           .doc = "moment of inertia about the symmetry axis",
+           .lower = 0.0,
+           .lower_open = true}},
+         {&heavy_top_parameters::mgl,
+          {.name = "mgl",
+           .value = 1.0,
+           .unit = "J",
+           .doc = "weight times distance to the centre of mass",
+           .lower = 0.0,
+           .lower_open = true}}}};
     set.declare(m);
     m.steps_per_period = 100;
     m.time = 10.0;
     m.steps = 1000;
     m.ensemble_time = 20.0;
     m.ensemble_steps = 2000;
-    m.make = set.make([](const parameters& par, const start& s) {
+    m.make = set.make([](const heavy_top_parameters& par, const start& s) {
         using L = heavy_top::lagrangian;
         const L l{par.i1, par.i3, par.mgl};
         const auto sys = heavy_top::make_system(l);

@@ -10,7 +10,7 @@ namespace varsym::models::defs {
 
 namespace {
 
-struct parameters {
+struct henon_heiles_parameters {
     double energy; ///< NaN: p0 as given
 };
 
@@ -28,18 +28,18 @@ model henon_heiles() {
         "  period. The section x = 0 of an ensemble: vary q0_2 and p0_2 at a fixed energy.";
     m.dim = 2;
     m.coordinates = "x, y";
-    const parameter_set<parameters> set{{{&parameters::energy,
-                                          {.name = "energy",
-                                           .value = 0.125,
-                                           .doc = "energy E, sets p_x >= 0",
-                                           .nan_means = "use p0 as given"}}}};
+    const parameter_set<henon_heiles_parameters> set{{{&henon_heiles_parameters::energy,
+                                                       {.name = "energy",
+                                                        .value = 0.125,
+                                                        .doc = "energy E, sets p_x >= 0",
+                                                        .nan_means = "use p0 as given"}}}};
     set.declare(m);
     m.velocities = false;
     m.time = 200.0;
     m.steps = 4000;
     m.ensemble_time = 1000.0;
     m.ensemble_steps = 20000;
-    m.make = set.make([](const parameters& par, const start& s) {
+    m.make = set.make([](const henon_heiles_parameters& par, const start& s) {
         const auto sys = henon_heiles::make_system();
         vec<2> q{0.0, 0.1}, p{0.0, 0.0};
         if (!s.q0.empty()) q = vec<2>{s.q0[0], s.q0[1]};

@@ -8,7 +8,7 @@ namespace varsym::models::defs {
 
 namespace {
 
-struct parameters {
+struct kepler_parameters {
     double eccentricity, semi_major_axis, mu;
 };
 
@@ -25,32 +25,32 @@ model kepler() {
         "  Noether). Exact solution: yes. Period: the orbital period 2 pi sqrt(a^3/mu).";
     m.dim = 2;
     m.coordinates = "x, y";
-    const parameter_set<parameters> set{{{&parameters::eccentricity,
-                                          {.name = "eccentricity",
-                                           .value = 0.6,
-                                           .doc = "eccentricity e",
-                                           .lower = 0.0,
-                                           .upper = 1.0,
-                                           .upper_open = true}},
-                                         {&parameters::semi_major_axis,
-                                          {.name = "semi_major_axis",
-                                           .value = 1.0,
-                                           .doc = "semi-major axis a",
-                                           .lower = 0.0,
-                                           .lower_open = true}},
-                                         {&parameters::mu,
-                                          {.name = "mu",
-                                           .value = 1.0,
-                                           .doc = "gravitational parameter mu = G (m1 + m2)",
-                                           .lower = 0.0,
-                                           .lower_open = true}}}};
+    const parameter_set<kepler_parameters> set{{{&kepler_parameters::eccentricity,
+                                                 {.name = "eccentricity",
+                                                  .value = 0.6,
+                                                  .doc = "eccentricity e",
+                                                  .lower = 0.0,
+                                                  .upper = 1.0,
+                                                  .upper_open = true}},
+                                                {&kepler_parameters::semi_major_axis,
+                                                 {.name = "semi_major_axis",
+                                                  .value = 1.0,
+                                                  .doc = "semi-major axis a",
+                                                  .lower = 0.0,
+                                                  .lower_open = true}},
+                                                {&kepler_parameters::mu,
+                                                 {.name = "mu",
+                                                  .value = 1.0,
+                                                  .doc = "gravitational parameter mu = G (m1 + m2)",
+                                                  .lower = 0.0,
+                                                  .lower_open = true}}}};
     set.declare(m);
     m.fixed_start = "it starts at pericentre: set the orbit with eccentricity and "
                     "semi_major_axis (--eccentricity, --semi-major-axis) instead of q0/p0/v0";
     m.steps_per_period = 200;
     m.ensemble_time = 10.0 * 2.0 * std::numbers::pi;
     m.ensemble_steps = 2000;
-    m.make = set.make([](const parameters& par, const start&) {
+    m.make = set.make([](const kepler_parameters& par, const start&) {
         const kepler::orbit orbit(par.eccentricity, par.semi_major_axis, par.mu);
         const auto sys = kepler::make_system(par.mu);
         const phase_state<2> x0 = orbit.at(0.0);

@@ -35,7 +35,7 @@ std::vector<std::string> exact_columns(int d) {
     return names;
 }
 
-struct parameters {
+struct oscillator_parameters {
     double dim;
     std::vector<double> mass_matrix, stiffness_matrix; ///< stiffness_matrix empty: the default
 };
@@ -56,8 +56,8 @@ model oscillator() {
         "  Period: the slowest mode's, 2 pi / omega_min.";
     m.dim = 2;
     m.coordinates = "q_1 ... q_d";
-    const parameter_set<parameters> set{
-        {{&parameters::dim,
+    const parameter_set<oscillator_parameters> set{
+        {{&oscillator_parameters::dim,
           {.name = "dim",
            .value = 2,
            .doc = "dimension d",
@@ -65,22 +65,23 @@ model oscillator() {
            .upper = 10000,
            .integer = true,
            .sets_dimension = true}}},
-        {{&parameters::mass_matrix,
+        {{&oscillator_parameters::mass_matrix,
           {.name = "mass_matrix",
            .value = {1.0},
            .doc = "mass matrix M: 1, d or d*d values",
            .option = "mass-matrix"}},
-         {&parameters::stiffness_matrix,
+         {&oscillator_parameters::stiffness_matrix,
           {.name = "stiffness_matrix",
            .doc = "stiffness matrix K: 1, d or d*d values (default above)",
            .option = "stiffness-matrix"}}}};
     set.declare(m);
-    m.dimension = set.dimension([](const parameters& par) { return static_cast<int>(par.dim); });
+    m.dimension =
+        set.dimension([](const oscillator_parameters& par) { return static_cast<int>(par.dim); });
     m.steps_per_period = 50;
     m.ensemble_time = 10.0;
     m.ensemble_steps = 500;
     m.ensemble_note = "Energy exchange between the coupled masses: --grid q0_2=-1:1:21.";
-    m.make = set.make([](const parameters& par, const start& s) {
+    m.make = set.make([](const oscillator_parameters& par, const start& s) {
         const int d = static_cast<int>(par.dim);
         const double w2 = 4.0 * std::numbers::pi * std::numbers::pi;
         const Eigen::MatrixXd mass = square_matrix(par.mass_matrix, d, "mass_matrix");

@@ -23,7 +23,7 @@ struct pendulum_under_torque {
     }
 };
 
-struct parameters {
+struct pendulum_parameters {
     double mass, omega;
 };
 
@@ -40,25 +40,25 @@ model pendulum() {
         "  period 4K(k^2)/omega (one revolution in rotation).";
     m.dim = 1;
     m.coordinates = "q";
-    const parameter_set<parameters> set{{{&parameters::mass,
-                                          {.name = "mass",
-                                           .value = 1.0,
-                                           .unit = "kg m^2",
-                                           .doc = "moment of inertia m",
-                                           .lower = 0.0,
-                                           .lower_open = true}},
-                                         {&parameters::omega,
-                                          {.name = "omega",
-                                           .value = 2.0 * std::numbers::pi,
-                                           .unit = "rad/s",
-                                           .doc = "small-oscillation angular frequency",
-                                           .lower = 0.0,
-                                           .lower_open = true}}}};
+    const parameter_set<pendulum_parameters> set{{{&pendulum_parameters::mass,
+                                                   {.name = "mass",
+                                                    .value = 1.0,
+                                                    .unit = "kg m^2",
+                                                    .doc = "moment of inertia m",
+                                                    .lower = 0.0,
+                                                    .lower_open = true}},
+                                                  {&pendulum_parameters::omega,
+                                                   {.name = "omega",
+                                                    .value = 2.0 * std::numbers::pi,
+                                                    .unit = "rad/s",
+                                                    .doc = "small-oscillation angular frequency",
+                                                    .lower = 0.0,
+                                                    .lower_open = true}}}};
     set.declare(m);
     m.steps_per_period = 50;
     m.ensemble_time = 10.0;
     m.ensemble_steps = 500;
-    m.make = set.make([](const parameters& par, const start& s) {
+    m.make = set.make([](const pendulum_parameters& par, const start& s) {
         const double mass = par.mass, omega = par.omega;
         const double q0 = s.q0.empty() ? std::numbers::pi / 2 : s.q0[0];
         const double p0 = !s.p0.empty() ? s.p0[0] : !s.v0.empty() ? mass * s.v0[0] : 0.0;
@@ -90,7 +90,7 @@ model pendulum() {
         return pr;
     });
     m.controls = {"u [N m]: torque at the pivot"};
-    m.control = set.control([](const parameters& par) {
+    m.control = set.control([](const pendulum_parameters& par) {
         return std::make_shared<const optimal::input_system<pendulum_under_torque>>(
             pendulum_under_torque{par.mass, par.omega}, optimal::matrix{{1.0}});
     });

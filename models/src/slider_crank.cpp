@@ -10,7 +10,7 @@ using detail::crank_torque_parameter, detail::gravity_parameter, detail::positiv
 
 namespace {
 
-struct parameters {
+struct slider_crank_parameters {
     double crank_length, rod_length, rod_mass, slider_mass, crank_inertia, gravity, torque, project;
 };
 
@@ -32,28 +32,28 @@ model slider_crank() {
     m.coordinates = "th, phi, x";
     m.short_start = {1};
     m.short_start_doc = "1 (th alone)";
-    const parameter_set<parameters> set{
-        {{&parameters::crank_length,
+    const parameter_set<slider_crank_parameters> set{
+        {{&slider_crank_parameters::crank_length,
           positive_value("crank_length", p0.r, "m", "crank length r", "lengths", 0)},
-         {&parameters::rod_length,
+         {&slider_crank_parameters::rod_length,
           positive_value("rod_length", p0.l, "m", "rod length l (> r)", "lengths", 1)},
-         {&parameters::rod_mass,
+         {&slider_crank_parameters::rod_mass,
           positive_value("rod_mass", p0.m_rod, "kg", "rod mass m_rod", "masses", 0)},
-         {&parameters::slider_mass,
+         {&slider_crank_parameters::slider_mass,
           positive_value("slider_mass", p0.m_slider, "kg", "slider mass m_slider", "masses", 1)},
-         {&parameters::crank_inertia,
+         {&slider_crank_parameters::crank_inertia,
           positive_value("crank_inertia", p0.j, "kg m^2",
                          "crank's moment of inertia J about its pivot", "inertias", 0)},
-         {&parameters::gravity, gravity_parameter(p0.g)},
-         {&parameters::torque, crank_torque_parameter()},
-         {&parameters::project, project_parameter()}}};
+         {&slider_crank_parameters::gravity, gravity_parameter(p0.g)},
+         {&slider_crank_parameters::torque, crank_torque_parameter()},
+         {&slider_crank_parameters::project, project_parameter()}}};
     set.declare(m);
     m.time = 5.0;
     m.steps = 10000;
     m.ensemble_time = 5.0;
     m.ensemble_steps = 2000;
     m.ensemble_note = "The slider's stroke: --event 'q3 - 1.9' (x passes 1.9 m).";
-    m.make = set.make([](const parameters& par, const start& s) {
+    m.make = set.make([](const slider_crank_parameters& par, const start& s) {
         mechanisms::slider_crank p;
         p.r = par.crank_length, p.l = par.rod_length, p.m_rod = par.rod_mass;
         p.m_slider = par.slider_mass, p.j = par.crank_inertia, p.g = par.gravity;

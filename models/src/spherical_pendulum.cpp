@@ -9,7 +9,7 @@ namespace varsym::models::defs {
 
 namespace {
 
-struct parameters {
+struct spherical_pendulum_parameters {
     double mass, length, gravity, project;
 };
 
@@ -30,20 +30,20 @@ model spherical_pendulum() {
     m.coordinates = "x, y, z";
     m.short_start = {2};
     m.short_start_doc = "2 (th, phi)";
-    const parameter_set<parameters> set{
-        {{&parameters::mass,
+    const parameter_set<spherical_pendulum_parameters> set{
+        {{&spherical_pendulum_parameters::mass,
           detail::positive_value("mass", 1.0, "kg", "mass m of the bob", "masses", 0)},
-         {&parameters::length,
+         {&spherical_pendulum_parameters::length,
           detail::positive_value("length", 1.0, "m", "length l of the rod", "lengths", 0)},
-         {&parameters::gravity, detail::gravity_parameter(9.81)},
-         {&parameters::project, detail::project_parameter()}}};
+         {&spherical_pendulum_parameters::gravity, detail::gravity_parameter(9.81)},
+         {&spherical_pendulum_parameters::project, detail::project_parameter()}}};
     set.declare(m);
     m.time = 10.0;
     m.steps = 2000;
     m.ensemble_time = 10.0;
     m.ensemble_steps = 2000;
     m.ensemble_note = "The bob rises above the pivot: --event 'q3'.";
-    m.make = set.make([](const parameters& par, const start& s) {
+    m.make = set.make([](const spherical_pendulum_parameters& par, const start& s) {
         mechanisms::spherical_pendulum p;
         p.m = par.mass, p.length = par.length, p.g = par.gravity;
         p.validate();

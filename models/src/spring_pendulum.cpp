@@ -10,7 +10,7 @@ namespace varsym::models::defs {
 
 namespace {
 
-struct parameters {
+struct spring_pendulum_parameters {
     double mass, stiffness, rest_length, gravity;
 };
 
@@ -42,29 +42,29 @@ model spring_pendulum() {
         "  0.5 rad, at rest. Conserved: energy. No exact solution, no period.";
     m.dim = 2;
     m.coordinates = "r, th";
-    const parameter_set<parameters> set{
-        {{&parameters::mass,
+    const parameter_set<spring_pendulum_parameters> set{
+        {{&spring_pendulum_parameters::mass,
           {.name = "mass",
            .value = 1.0,
            .unit = "kg",
            .doc = "mass m of the bob",
            .lower = 0.0,
            .lower_open = true}},
-         {&parameters::stiffness,
+         {&spring_pendulum_parameters::stiffness,
           {.name = "stiffness",
            .value = 40.0,
            .unit = "N/m",
            .doc = "spring constant k",
            .lower = 0.0,
            .lower_open = true}},
-         {&parameters::rest_length,
+         {&spring_pendulum_parameters::rest_length,
           {.name = "rest_length",
            .value = 1.0,
            .unit = "m",
            .doc = "the spring's unstretched length l0",
            .lower = 0.0,
            .lower_open = true}},
-         {&parameters::gravity,
+         {&spring_pendulum_parameters::gravity,
           {.name = "gravity", .value = 9.81, .unit = "m/s^2", .doc = "gravity g", .lower = 0.0}}}};
     set.declare(m);
     m.time = 20.0;
@@ -72,7 +72,7 @@ model spring_pendulum() {
     m.ensemble_time = 20.0;
     m.ensemble_steps = 4000;
     m.ensemble_note = "The bob passes under the pivot: --event 'q2'.";
-    m.make = set.make([](const parameters& par, const start& s) {
+    m.make = set.make([](const spring_pendulum_parameters& par, const start& s) {
         const spring_lagrangian l{par.mass, par.stiffness, par.rest_length, par.gravity};
         const lagrangian_system<spring_lagrangian> sys(l);
         const double hanging = par.rest_length + par.mass * par.gravity / par.stiffness;
