@@ -38,10 +38,9 @@ class CMakeBuild(build_ext):
                             "-DVARSYM_BUILD_BENCH=OFF", "-DVARSYM_BUILD_EXAMPLES=OFF",
                             "-DVARSYM_INSTALL=OFF", "-DVARSYM_UNITY_GROUPS=0", *compiler],
                            check=True)
-        # With VARSYM_PIP_TOOL=1 (or an existing build directory with the tool), the optional
-        # varsym._tool too.
-        cache = (build / "CMakeCache.txt").read_text()
-        tool = tool == "ON" or "VARSYM_BUILD_TOOL:BOOL=ON" in cache
+        # varsym._tool too where the build directory has the tool (VARSYM_PIP_TOOL=1 for a new
+        # one).
+        tool = "VARSYM_BUILD_TOOL:BOOL=ON" in (build / "CMakeCache.txt").read_text()
         targets = ["varsym_python"] + (["varsym_python_tool"] if tool else [])
         subprocess.run(["cmake", "--build", str(build), "--target", *targets, "-j",
                         str(os.cpu_count() or 2)], check=True)

@@ -62,8 +62,9 @@ void judge(model_outcome& out) {
         if (out.reach_miss && out.reach_miss->distance < 1e-9 && out.reach_miss->angle < 1e-9) {
             char violation[32];
             std::snprintf(violation, sizeof violation, "%.1e", r.constraint_violation);
-            out.message = std::string(status_name(r.verdict)) + ": the link reaches its target, " +
-                          "but the equations of motion are not met (max |g| " + violation +
+            out.message = std::string(status_name(r.verdict)) + ": " + out.reach_frame +
+                          " reaches its target, but the equations of motion are not met (max |g| " +
+                          violation +
                           "): the target pose is likely at a singular configuration (an arm "
                           "fully stretched), where the pose constraint is degenerate; move the "
                           "target slightly inside the workspace, or make it a terminal cost "
@@ -143,6 +144,7 @@ model_outcome optimize(const models::model& m, std::span<const double> values,
     } else {
         out.result = solve(*tr, request.solver);
     }
+    if (request.solved) request.solved();
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     out.path = tr->unpack(out.result);
     // Our own check, whatever the solver says: the equations, bounds and boundary values, and
@@ -150,6 +152,7 @@ model_outcome optimize(const models::model& m, std::span<const double> values,
     if (out.result.converged()) out.check = check_solution(*tr, out.result, out.path);
     if (request.reach) {
         const reach_request& r = *request.reach;
+        out.reach_frame = r.frame;
         out.reach_miss = models::frame_target_miss(
             *r.robot, r.frame, out.path.q.col(out.path.q.cols() - 1), r.position, r.rotation);
     }

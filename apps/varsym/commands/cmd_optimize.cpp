@@ -172,7 +172,6 @@ void optimize(const optimize_options& o) {
     }
     roles.check();
     install_signal_handlers();
-    set_signal_polling(true, "IPOPT's current iteration finishes");
     request.solver.progress = [&](const optimal::iteration& it) {
         if (!o.quiet)
             std::fprintf(stderr,
@@ -186,9 +185,15 @@ void optimize(const optimize_options& o) {
         request.level = [](int n) { std::fprintf(stderr, "varsym optimize: N = %d\n", n); };
     // The files are made once the problem is known to be solvable (no file left on bad input).
     std::unique_ptr<output_file> states, inputs_file;
-    request.ready = [&] {
+    int sig = 0;          // a signal that stopped the solve
+    request.ready = [&] { // the problem is sound: the files, and signals deferred to the solver
         states = std::make_unique<output_file>(o.output);
         if (!o.controls.empty()) inputs_file = std::make_unique<output_file>(o.controls);
+        set_signal_polling(true, "IPOPT's current iteration finishes");
+    };
+    request.solved = [&] {
+        sig = pending_signal();
+        set_signal_polling(false);
     };
     optimal::model_outcome out;
     try {
@@ -196,8 +201,6 @@ void optimize(const optimize_options& o) {
     } catch (const std::invalid_argument& e) {
         throw usage_error(e.what());
     }
-    const int sig = pending_signal();
-    set_signal_polling(false);
     const optimal::trajectory& path = out.path;
     states->write(node_rows(path));
     states->commit();

@@ -53,9 +53,12 @@ struct model_request {
     solver_options solver;
     /// Called before each refinement level is solved, with its number of steps.
     std::function<void(int)> level;
-    /// Called once the problem is transcribed, before the solve: where a front end makes its
-    /// output files, so that input refused leaves none.
+    /// Called once the problem is transcribed, just before the solve: where a front end makes
+    /// its output files (so that input refused leaves none) and starts deferring signals to the
+    /// solver's iterations.
     std::function<void()> ready;
+    /// Called as soon as the solver returns, before the solution is unpacked and checked.
+    std::function<void()> solved;
 };
 
 /// What the outcome means.
@@ -76,7 +79,8 @@ struct model_outcome {
     /// One line for a verdict other than solved: what went wrong and what to do.
     std::string message;
     double seconds = 0.0; ///< wall time of the solve(s)
-    /// With a reach request: how far the link ends from its target.
+    /// With a reach request: the link, and how far it ends from its target.
+    std::string reach_frame;
     std::optional<models::frame_miss> reach_miss;
     /// max |g| of the answer: varsym's own re-evaluation where the solver converged, else the
     /// solver's.
@@ -86,9 +90,10 @@ struct model_outcome {
 };
 
 /// Solves the optimal control problem of model m at its parameters' values and lists (empty:
-/// defaults). Throws std::invalid_argument, naming the model, for input that cannot be solved:
-/// a model without inputs, a parameter only a simulation uses set away from its default, a
-/// value out of range, an exact Hessian where there is none, a bad IPOPT options file.
+/// defaults). Throws std::invalid_argument for input that cannot be solved: a model without
+/// inputs, a parameter only a simulation uses set away from its default, a value out of range
+/// or data the model or the transcription refuses (these three name the model), an exact
+/// Hessian where there is none, a bad IPOPT options file.
 model_outcome optimize(const models::model& m, std::span<const double> values,
                        const models::lists& lists, model_request request);
 
