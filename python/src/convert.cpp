@@ -34,8 +34,8 @@ void raise_step_failure(const step_failure& e, std::span<const double> q, std::s
     details["q"] = py::array_t<double>(static_cast<py::ssize_t>(q.size()), q.data());
     details["p"] = py::array_t<double>(static_cast<py::ssize_t>(p.size()), p.data());
     details["rows"] = rows;
-    const py::object step_error = py::module_::import("varsym.errors").attr("StepFailure");
-    PyErr_SetObject(step_error.ptr(), py::make_tuple(e.what(), details).ptr());
+    const py::object failure = py::module_::import("varsym.errors").attr("StepFailure");
+    PyErr_SetObject(failure.ptr(), py::make_tuple(e.what(), details).ptr());
     throw py::error_already_set();
 }
 

@@ -92,8 +92,8 @@ TEST(OptimizeService, SolvesAndChecksAsTheSequenceByHand) {
 }
 
 /// The message optimal::optimize refuses the request with ("" if it does not).
-std::string refusal(const models::model& m, const models::lists& lists,
-                    optimal::model_request request) {
+std::string service_refusal(const models::model& m, const models::lists& lists,
+                            optimal::model_request request) {
     try {
         (void)optimal::optimize(m, m.defaults(), lists, std::move(request));
     } catch (const std::invalid_argument& e) {
@@ -113,16 +113,16 @@ TEST(OptimizeService, RefusesWhatItCannotSolve) {
     models::lists gains(arm.lists.size());
     for (std::size_t i = 0; i < arm.lists.size(); ++i)
         if (arm.lists[i].name == "kp") gains[i] = {1.0, 1.0, 1.0};
-    EXPECT_NE(refusal(arm, gains, three).find("kp is a simulation's parameter of arm"),
+    EXPECT_NE(service_refusal(arm, gains, three).find("kp is a simulation's parameter of arm"),
               std::string::npos)
-        << refusal(arm, gains, three);
-    EXPECT_EQ(refusal(arm, {}, three), ""); // negative control: solvable without the gain
-    EXPECT_NE(refusal(models::get("kepler"), {}, swing_up()).find("no control input"),
+        << service_refusal(arm, gains, three);
+    EXPECT_EQ(service_refusal(arm, {}, three), ""); // negative control: solvable without the gain
+    EXPECT_NE(service_refusal(models::get("kepler"), {}, swing_up()).find("no control input"),
               std::string::npos);
     auto invariant = swing_up();
     invariant.problem.cost.invariant = 1.0;
     invariant.solver.hessian = optimal::hessian_kind::exact;
-    EXPECT_NE(refusal(models::get("pendulum"), {}, invariant).find("exact Hessian"),
+    EXPECT_NE(service_refusal(models::get("pendulum"), {}, invariant).find("exact Hessian"),
               std::string::npos);
     EXPECT_THROW((void)optimal::hessian_of("newton"), std::invalid_argument);
     EXPECT_EQ(optimal::hessian_of("limited-memory"), optimal::hessian_kind::limited_memory);

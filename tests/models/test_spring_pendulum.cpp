@@ -20,7 +20,7 @@ struct spring_run {
 
 /// The default spring pendulum (m = 1 kg, k = 40 N/m, l0 = 1 m, g = 9.81) from (r, θ) at rest,
 /// Simpson's scheme at step h.
-spring_run start(double r_offset, double theta, double h) {
+spring_run spring_start(double r_offset, double theta, double h) {
     const models::model& m = models::get("spring-pendulum");
     const auto values = m.defaults();
     spring_run run;
@@ -32,7 +32,7 @@ spring_run start(double r_offset, double theta, double h) {
 
 TEST(SpringPendulum, RadialMotionIsTheExactHarmonicOne) {
     const double eps = 0.1, h = 1e-3, omega_r = std::sqrt(40.0);
-    auto run = start(eps, 0.0, h);
+    auto run = spring_start(eps, 0.0, h);
     run.sim->advance(2000); // t = 2 s, about 2 radial periods
     const double exact = run.r_eq + eps * std::cos(omega_r * 2.0);
     // Simpson's nonlinear scheme is of order 4: at h ω_r = 0.0063 the phase error over 2 s is
@@ -43,7 +43,7 @@ TEST(SpringPendulum, RadialMotionIsTheExactHarmonicOne) {
 
 TEST(SpringPendulum, SmallSwingHasTheLinearizedFrequency) {
     const double theta0 = 1e-3, h = 1e-3;
-    auto run = start(0.0, theta0, h);
+    auto run = spring_start(0.0, theta0, h);
     const double omega = std::sqrt(9.81 / run.r_eq);
     // The first zero of θ after t = 0: a quarter period of the linearized swing.
     double previous = theta0, t_zero = 0.0;

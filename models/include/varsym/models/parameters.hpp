@@ -37,8 +37,8 @@ class parameter_set {
         list_parameter spec;
     };
 
-    parameter_set(std::vector<scalar> scalars, std::vector<list> lists = {})
-        : scalars_(std::move(scalars)), lists_(std::move(lists)) {}
+    parameter_set(std::vector<scalar> declared, std::vector<list> declared_lists = {})
+        : scalars_(std::move(declared)), lists_(std::move(declared_lists)) {}
 
     /// The declarations, in order: what model::parameters and model::lists hold.
     [[nodiscard]] std::vector<parameter> parameters() const {
