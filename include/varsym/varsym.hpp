@@ -1,6 +1,6 @@
 // varsym/varsym.hpp: the core of the varsym library: systems, quadrature and the family's tables,
 // the schemes and their steppers, Newton, the drivers and run state, the diagnostics, and
-// multibody robots (kinematic trees, their recursive dynamics and Lagrangian).
+// multibody robots (kinematic trees, their recursive dynamics and Lagrangian, floating bases).
 // Reference problems with exact solutions are in <varsym/problems.hpp>; the test oracles (the
 // paper's full Newton systems, Lobatto IIIA–IIIB) in varsym/reference/.
 #pragma once
@@ -16,6 +16,7 @@
 #include "varsym/lie/lgvi.hpp"
 #include "varsym/lie/rigid_body.hpp"
 #include "varsym/lie/so3.hpp"
+#include "varsym/multibody/floating.hpp"
 #include "varsym/multibody/lagrangian.hpp"
 #include "varsym/quadrature/rules.hpp"
 #include "varsym/run/observers.hpp"

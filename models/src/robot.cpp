@@ -4,34 +4,25 @@
 // target (optionally with gravity compensation), and constant joint torques. One stepper type
 // with forces and one without serve every robot: nothing is compiled per robot. The model is
 // put together from named parts: its parameters (declared once, read into robot_parameters),
-// its description, its simulation, its controlled system and its limits.
+// its description, its simulation, its controlled system and its limits. A planar base is three
+// coordinates of the tree like the joints; a free base runs in robot_free.cpp.
 #include <cstdio>
 #include <string>
 #include <vector>
 
-#include "simulation_of.hpp"
+#include "robot_parts.hpp"
 #include "varsym/models/parameters.hpp"
-#include "varsym/models/robot.hpp"
 #include "varsym/multibody/lagrangian.hpp"
 #include "varsym/optimal/input_system.hpp"
 #include "varsym/problems/arm.hpp"
-#include "varsym/systems/expression_force.hpp"
 
 namespace varsym::models {
 
 namespace {
 
+using namespace robot_detail;
 using robot = multibody::robot_lagrangian;
 using robot_system = lagrangian_system<robot>;
-/// Damping, the PD controller, and the joint torques typed as expressions (constant torques
-/// are expressions too).
-using robot_force = force_sum<rayleigh_damping<dynamic>, pd_controller<dynamic>, expression_force>;
-
-/// Every robot's parameters.
-struct robot_parameters {
-    double gravity, no_damping, move_time, no_gravity_compensation;
-    std::vector<double> kp, kd, target, torque;
-};
 
 const parameter_set<robot_parameters>& robot_set() {
     using rp = robot_parameters;
@@ -86,11 +77,29 @@ const std::vector<std::string> simulation_only = {
 
 /// The description: name, summary, text, coordinates, run lengths, default start.
 void describe(model& m, const multibody::tree& r) {
-    const int n = r.dof();
+    const std::vector<std::string> names = robot_coordinates(r);
+    const auto n = static_cast<int>(names.size());
+    const int joints = n - base_size(r);
+    const std::string base =
+        r.base == multibody::base_kind::free
+            ? "\n  Its base is free (docs/robots.md): q starts with base_x, base_y, base_z\n"
+              "  [m, world] and the unit quaternion base_qw, base_qx, base_qy, base_qz (world\n"
+              "  from the root link; its rate in v0: qdot = 1/2 q * (0, w_body)), a constraint\n"
+              "  the scheme keeps. The lists kp, kd, target and torque are per joint after the\n"
+              "  base; no gravity compensation. More columns: quaternion_residual (|q|^2 - 1),\n"
+              "  base_vx..vz, base_wx..wz (world), momentum_x..z, angular_momentum_x..z\n"
+              "  (total, about the world origin: conserved without gravity), com_x..z."
+        : r.base == multibody::base_kind::planar
+            ? "\n  Its base is planar (docs/robots.md): q starts with base_x, base_z [m] and the\n"
+              "  pitch base_ry [rad] about y. The lists kp, kd, target and torque are per joint\n"
+              "  after the base; no gravity compensation. More columns: base_vx..vz,\n"
+              "  base_wx..wz (world), momentum_x..z, angular_momentum_x..z (total, about the\n"
+              "  world origin), com_x..z."
+            : "";
     m.name = "urdf";
     m.summary = "a robot read from a URDF file: joint damping, PD control, joint torques";
     m.description =
-        "  The robot " + r.name + " (" + std::to_string(n) +
+        "  The robot " + r.name + " (" + std::to_string(joints) +
         " joints): L = 1/2 qdot' M(q) qdot - V(q) from its links' masses and\n"
         "  inertia tensors, derivatives by the recursive algorithms (docs/robots.md). q are the\n"
         "  joint positions [rad, m] in depth-first order from the root; gravity along -z.\n"
@@ -100,59 +109,56 @@ void describe(model& m, const multibody::tree& r) {
         "  constant joint torques --torque, or torques typed as expressions in t, the joints'\n"
         "  names and NAME_dot. Columns: energy, work (of the forces since t = 0),\n"
         "  energy_balance (energy - E0 - work: the scheme's error), limit_violations (joints\n"
-        "  outside their URDF position limits). Conserved without forces: energy. No period.";
+        "  outside their URDF position limits). Conserved without forces: energy. No period." +
+        base;
     m.dim = n;
     for (int i = 0; i < n; ++i) // the coordinates' joints (mimic joints come after them)
-        m.coordinates += (i ? ", " : "") + r.bodies[static_cast<std::size_t>(i)].name;
+        m.coordinates += (i ? ", " : "") + names[static_cast<std::size_t>(i)];
     m.time = 5.0;
     m.steps = 5000;
     m.ensemble_time = 5.0;
     m.ensemble_steps = 1000;
     m.q0.assign(static_cast<std::size_t>(n), 0.0);
     m.p0 = m.q0;
+    if (r.base == multibody::base_kind::free) m.q0[3] = 1.0; // the identity quaternion
 }
 
 /// The simulation of robot r at parameters p from start s, with the joint torques `typed`.
 problem simulate(const std::shared_ptr<const multibody::tree>& r, const expression_force& typed,
-                 const std::vector<std::string>& joints, const robot_parameters& p,
-                 const start& s) {
+                 const std::vector<std::string>& names, const robot_parameters& p, const start& s) {
+    if (r->base == multibody::base_kind::free) return simulate_free(r, typed, names, p, s);
     const int n = r->dof();
-    auto each = [n](const std::vector<double>& given, const char* name) {
-        return given.empty()
-                   ? vec<dynamic>(vec<dynamic>::Zero(n))
-                   : vec<dynamic>(Eigen::Map<const vec<dynamic>>(
-                         sized(given, static_cast<std::size_t>(n), name, "joint").data(), n));
-    };
+    const int nb = r->base_coordinates(); // a planar base's first, then the joints
     const robot lag(std::make_shared<const multibody::tree>(r->with_gravity(p.gravity)));
     const robot_system sys(lag);
     const phase_state<dynamic> x0 = detail::general_start(
         sys, s, vec<dynamic>(vec<dynamic>::Zero(n)), vec<dynamic>(vec<dynamic>::Zero(n)));
     const vec<dynamic> damping =
         p.no_damping != 0.0 ? vec<dynamic>(vec<dynamic>::Zero(n)) : r->limits().damping;
-    const bool controlled = !p.kp.empty();
-    if (!controlled && !p.kd.empty())
-        throw std::invalid_argument("kd without kp: give the proportional gains too");
-    if (!controlled && !p.target.empty())
-        throw std::invalid_argument("target without kp: the PD controller needs its gains");
-    const vec<dynamic> torque = each(p.torque, "torque");
-    if (!p.torque.empty() && !typed.zero())
-        throw std::invalid_argument("give constant torques or typed ones, not both");
-    const bool forced = controlled || !torque.isZero(0.0) || !damping.isZero(0.0) || !typed.zero();
+    const auto compensation = [lag](pd_controller<dynamic>& pd) { pd.compensate(lag); };
+    robot_forces rf =
+        make_forces(p, typed, damping, x0.q, nb,
+                    nb == 0 ? std::function<void(pd_controller<dynamic>&)>(compensation) : nullptr);
     const double e0 = sys.energy(x0);
-    // Columns: E, the forces' work W (0 without forces), E − E0 − W, joints out of range.
-    auto columns = [sys, e0, r, joints] {
+    // Columns: E, the forces' work W (0 without forces), E − E0 − W, joints out of range; a
+    // planar base's velocity, the momenta and the centre of mass.
+    std::vector<std::string> cols = {"energy", "work", "energy_balance", "limit_violations"};
+    if (nb > 0) cols.insert(cols.end(), base_columns().begin(), base_columns().end());
+    auto columns = [cols, sys, e0, r, names, nb] {
         return detail::column_set{
-            {"energy", "work", "energy_balance", "limit_violations"},
-            [sys, e0, r](double, const phase_state<dynamic>& x, const auto& st, double* out) {
+            cols,
+            [sys, e0, r, nb](double, const phase_state<dynamic>& x, const auto& st, double* out) {
                 out[0] = sys.energy(x);
                 out[1] = st.total_work();
                 out[2] = out[0] - e0 - out[1];
                 out[3] = r->limit_violations(x.q);
+                if (nb > 0)
+                    fill_base(multibody::tree_motion(*r, x.q, sys.velocity(x.q, x.p)), out + 4);
             },
-            joints};
+            names};
     };
     problem pr = detail::make_problem(x0, 0.0, {});
-    if (!forced) {
+    if (!rf.forced) {
         pr.simulate = [sys, x0, columns](const step_options& o) {
             detail::check_general(o);
             return detail::simulate_general(general::stepper<robot>(sys, o.h, o.spec, o.newton), x0,
@@ -160,31 +166,7 @@ problem simulate(const std::shared_ptr<const multibody::tree>& r, const expressi
         };
         return pr;
     }
-    pd_controller<dynamic> pd;
-    pd.kp = mat<dynamic>::Zero(n, n);
-    pd.kd = mat<dynamic>::Zero(n, n);
-    if (controlled) {
-        pd.kp.diagonal() = each(p.kp, "kp");
-        pd.kd.diagonal() = each(p.kd, "kd");
-        arm::minimum_jerk ref{x0.q, p.target.empty() ? x0.q : each(p.target, "target"),
-                              p.move_time};
-        pd.reference = [ref](double t, vec<dynamic>& q, vec<dynamic>& rate) { ref(t, q, rate); };
-        if (p.no_gravity_compensation == 0.0) pd.compensate(lag);
-    }
-    expression_force tau = typed;
-    if (!p.torque.empty()) { // constant torques as expressions of their values (17 digits:
-        std::vector<std::string> c, names; // the same doubles), over neutral names
-        for (double x : p.torque) {
-            char buf[32];
-            std::snprintf(buf, sizeof buf, "%.17g", x);
-            c.emplace_back(buf);
-            names.push_back("q" + std::to_string(names.size() + 1));
-        }
-        tau = expression_force(c, names, {});
-    }
-    const robot_force f(rayleigh_damping<dynamic>::diagonal(damping), std::move(pd),
-                        std::move(tau));
-    pr.simulate = [sys, f, x0, columns](const step_options& o) {
+    pr.simulate = [sys, f = std::move(rf.force), x0, columns](const step_options& o) {
         detail::check_general(o);
         return detail::simulate_general(
             general::stepper<robot, robot_force>(sys, f, o.h, o.spec, o.newton), x0, columns());
@@ -196,6 +178,10 @@ problem simulate(const std::shared_ptr<const multibody::tree>& r, const expressi
 /// is positive, with the URDF's joint damping.
 std::shared_ptr<const optimal::controlled_system>
 control(const std::shared_ptr<const multibody::tree>& r, const robot_parameters& p) {
+    if (r->base == multibody::base_kind::free)
+        throw std::invalid_argument(
+            "optimal control of a robot with a free-floating base is not available yet (the "
+            "transcription does not carry its quaternion's constraint): use base planar or fixed");
     const auto actuated = r->actuated();
     if (actuated.empty())
         throw std::invalid_argument("no joint of " + r->name +
@@ -243,23 +229,23 @@ void limits(const multibody::tree& r, optimal::control_problem& p) {
 model robot_model(std::shared_ptr<const multibody::tree> r,
                   const std::vector<std::string>& torques) {
     if (!r) throw std::invalid_argument("robot_model: no robot");
-    const int n = r->dof();
-    std::vector<std::string> joints; // the coordinates' (mimic joints come after them)
-    for (int i = 0; i < n; ++i)
-        joints.push_back(r->bodies[static_cast<std::size_t>(i)].name);
-    if (!torques.empty() && static_cast<int>(torques.size()) != n)
-        throw std::invalid_argument("the joint torques need " + std::to_string(n) +
+    const std::vector<std::string> names = robot_coordinates(*r); // the model's coordinates
+    const int n = static_cast<int>(names.size()), nb = base_size(*r);
+    if (!torques.empty() && static_cast<int>(torques.size()) != n - nb)
+        throw std::invalid_argument("the joint torques need " + std::to_string(n - nb) +
                                     " expressions (one per joint), got " +
                                     std::to_string(torques.size()));
+    std::vector<std::string> all(static_cast<std::size_t>(nb), "0"); // none on the base
+    all.insert(all.end(), torques.begin(), torques.end());
     // Parsed once here, refusing a bad expression before any run; copied by every problem.
     const expression_force typed =
-        torques.empty() ? expression_force(n) : expression_force(torques, joints, {});
+        torques.empty() ? expression_force(n) : expression_force(all, names, {});
     model m;
     describe(m, *r);
     const auto& set = robot_set();
     set.declare(m);
-    m.make = set.make([r, typed, joints](const robot_parameters& p, const start& s) {
-        return simulate(r, typed, joints, p, s);
+    m.make = set.make([r, typed, names](const robot_parameters& p, const start& s) {
+        return simulate(r, typed, names, p, s);
     });
     m.controls = {"u [N m or N]: the torque (force) at each actuated joint (URDF effort > 0)"};
     m.simulation_only = simulation_only;

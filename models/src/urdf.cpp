@@ -138,7 +138,8 @@ void read_moving(const reader& rd, const robot_data& d, joint_data& j) {
 /// joint's origin and a moving joint's data, into d.order. Returns per joint the moving joint
 /// whose body carries its parent link (−1: the ground). Refuses links the walk does not reach
 /// and a robot without a moving joint.
-std::vector<int> walk(const reader& rd, robot_data& d, const joint_children& children) {
+std::vector<int> walk(const reader& rd, robot_data& d, const joint_children& children,
+                      bool need_joint) {
     struct pending {
         std::size_t joint;
         int mover; // the moving joint whose body carries the joint's parent link
@@ -167,8 +168,8 @@ std::vector<int> walk(const reader& rd, robot_data& d, const joint_children& chi
         rd.fail(d.robot, std::to_string(d.links.size() - reached) +
                              " links are not reachable from the root link " + d.root +
                              " (a closed loop)");
-    if (std::none_of(d.order.begin(), d.order.end(),
-                     [&](std::size_t k) { return d.joints[k].moves(); }))
+    if (need_joint && std::none_of(d.order.begin(), d.order.end(),
+                                   [&](std::size_t k) { return d.joints[k].moves(); }))
         rd.fail(d.robot, "no revolute, continuous or prismatic joint: nothing moves");
     return mover;
 }
@@ -210,7 +211,7 @@ void read_mimics(const reader& rd, robot_data& d, const joint_names& named,
 
 } // namespace
 
-robot_data read_urdf(const reader& rd, const tinyxml2::XMLDocument& doc) {
+robot_data read_urdf(const reader& rd, const tinyxml2::XMLDocument& doc, bool need_joint) {
     robot_data d;
     d.robot = doc.RootElement();
     if (!d.robot || std::string(d.robot->Name()) != "robot")
@@ -222,30 +223,50 @@ robot_data read_urdf(const reader& rd, const tinyxml2::XMLDocument& doc) {
     joint_names named;
     joint_children children;
     read_joints(rd, d, link_order, named, children);
-    const std::vector<int> mover = walk(rd, d, children);
+    const std::vector<int> mover = walk(rd, d, children, need_joint);
     read_mimics(rd, d, named, mover);
     return d;
 }
 
 } // namespace urdf_detail
 
-std::shared_ptr<const multibody::tree> parse_urdf(std::string_view xml, const std::string& source) {
+std::shared_ptr<const multibody::tree> parse_urdf(std::string_view xml, const std::string& source,
+                                                  multibody::base_kind base) {
     const urdf_detail::reader rd(source);
     tinyxml2::XMLDocument doc;
     if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS)
         throw urdf_error(source + ":" + std::to_string(doc.ErrorLineNum()) +
                          ": malformed XML: " + doc.ErrorName());
-    return urdf_detail::build_tree(rd, urdf_detail::read_urdf(rd, doc));
+    const bool fixed = base == multibody::base_kind::fixed;
+    auto tree = urdf_detail::build_tree(rd, urdf_detail::read_urdf(rd, doc, fixed));
+    if (fixed) return tree;
+    try {
+        return std::make_shared<const multibody::tree>(tree->with_base(base));
+    } catch (const std::invalid_argument& e) {
+        throw urdf_error(source + ": " + e.what());
+    }
 }
 
-std::shared_ptr<const multibody::tree> load_urdf(const std::string& path) {
+std::shared_ptr<const multibody::tree> load_urdf(const std::string& path,
+                                                 multibody::base_kind base) {
     std::string text;
     try {
         text = read_input_file(path, max_urdf_bytes, "URDF file");
     } catch (const input_error& e) {
         throw urdf_error(e.what());
     }
-    return parse_urdf(text, path);
+    return parse_urdf(text, path, base);
+}
+
+} // namespace varsym::models
+
+namespace varsym::models {
+
+multibody::base_kind base_of(const std::string& word) {
+    if (word == "fixed") return multibody::base_kind::fixed;
+    if (word == "free") return multibody::base_kind::free;
+    if (word == "planar") return multibody::base_kind::planar;
+    throw std::invalid_argument("the base is fixed, free or planar, not '" + word + "'");
 }
 
 } // namespace varsym::models

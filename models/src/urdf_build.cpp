@@ -47,6 +47,7 @@ void check_finite(const reader& rd, const multibody::tree& m,
 void couple_mimics(const robot_data& d, multibody::tree& m, std::vector<mat6>& inertia,
                    std::vector<std::size_t>& joint, const std::vector<int>& body_of) {
     const std::size_t n = m.bodies.size();
+    if (n == 0) return; // a single link (a free rigid body)
     auto mimics = [&](std::size_t k) { return d.joints[joint[k]].mimic.element != nullptr; };
     std::vector<std::size_t> order; // new index -> old: coordinates, then mimic bodies
     for (const bool second : {false, true})
@@ -92,12 +93,16 @@ std::shared_ptr<multibody::tree> build_tree(const reader& rd, const robot_data& 
         multibody::pose offset;
     };
     std::map<std::string, fixed_to> at;
+    mat6 ground = mat6::Zero(); // the root link and the links fixed to it (a floating base)
     // Link `link` fixed to body `body` at `offset` in that body's frame: a frame, its mass
     // merged into the body (moved into the body's frame).
     auto visit = [&](const std::string& link, int body, const multibody::pose& offset) {
         at[link] = {body, offset};
         m->frames.push_back({link, body, offset});
-        if (body < 0) return;
+        if (body < 0) { // the ground's: a floating base's mass (tree::with_base checks it)
+            ground += moved(d.links.at(link).inertia, offset);
+            return;
+        }
         mat6& sum = inertia[static_cast<std::size_t>(body)];
         const link_data& l = d.links.at(link);
         sum += moved(l.inertia, offset);
@@ -132,6 +137,8 @@ std::shared_ptr<multibody::tree> build_tree(const reader& rd, const robot_data& 
         body_of[k] = child;
         visit(j.child, child, multibody::pose{});
     }
+    unpack(ground, m->root);
+    m->root.name = m->root.link = d.root;
     couple_mimics(d, *m, inertia, body_joint, body_of);
     std::vector<const XMLElement*> joint_element; // per body, its joint's element
     for (std::size_t i = 0; i < m->bodies.size(); ++i) {

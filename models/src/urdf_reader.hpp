@@ -261,7 +261,7 @@ inline mat6 moved(const mat6& i, const multibody::pose& x) {
 }
 
 /// The read phase (urdf.cpp): the robot of a parsed document, checked; throws urdf_error.
-robot_data read_urdf(const reader& rd, const tinyxml2::XMLDocument& doc);
+robot_data read_urdf(const reader& rd, const tinyxml2::XMLDocument& doc, bool need_joint = true);
 /// The build phase (urdf_build.cpp): the tree of a robot read by read_urdf, its bodies the
 /// moving joints depth first (then the mimic ones moved last), fixed joints merged; throws
 /// urdf_error for what overflows a double and for a moving link without mass.

@@ -19,7 +19,14 @@ struct robot {
     std::shared_ptr<const multibody::tree> tree;
     models::model model;
 
+    /// x as the tree's coordinates (refused for a free base: its model's coordinates are a
+    /// position and a quaternion, not the tree's).
     [[nodiscard]] vec<dynamic> vector(const std::vector<double>& x, const char* what) const {
+        if (tree->base == multibody::base_kind::free)
+            throw std::invalid_argument(
+                "mass_matrix, bias, energy and pose take the tree's coordinates: not available "
+                "for a robot with a free base (its results' columns give the base's motion, "
+                "momenta and centre of mass)");
         if (static_cast<int>(x.size()) != tree->dof())
             throw std::invalid_argument(std::string(what) + " needs " +
                                         std::to_string(tree->dof()) +
@@ -42,23 +49,26 @@ std::shared_ptr<const multibody::tree> robot_tree_of(py::handle h) {
 
 void bind_robot(py::module_& m) {
     py::class_<robot>(m, "_Robot")
-        .def(py::init(
-                 [](const std::string& source, bool text, const std::vector<std::string>& torques) {
-                     auto tree = text ? models::parse_urdf(source) : models::load_urdf(source);
-                     return robot{tree, models::robot_model(tree, torques)};
-                 }),
+        .def(py::init([](const std::string& source, bool text,
+                         const std::vector<std::string>& torques, const std::string& base) {
+                 const multibody::base_kind b = models::base_of(base);
+                 auto tree =
+                     text ? models::parse_urdf(source, "<urdf>", b) : models::load_urdf(source, b);
+                 return robot{tree, models::robot_model(tree, torques)};
+             }),
              py::arg("source"), py::arg("text") = false,
-             py::arg("torques") = std::vector<std::string>{})
+             py::arg("torques") = std::vector<std::string>{}, py::arg("base") = "fixed")
+        .def_property_readonly("base",
+                               [](const robot& r) {
+                                   return std::string(
+                                       r.tree->base == multibody::base_kind::free     ? "free"
+                                       : r.tree->base == multibody::base_kind::planar ? "planar"
+                                                                                      : "fixed");
+                               })
         .def_property_readonly("name", [](const robot& r) { return r.tree->name; })
         .def_property_readonly("info", [](const robot& r) { return model_info(r.model); })
-        .def_property_readonly("joints",
-                               [](const robot& r) {
-                                   std::vector<std::string> out;           // the coordinates'
-                                   for (int i = 0; i < r.tree->dof(); ++i) // (not mimic joints)
-                                       out.push_back(
-                                           r.tree->bodies[static_cast<std::size_t>(i)].name);
-                                   return out;
-                               })
+        .def_property_readonly(
+            "joints", [](const robot& r) { return models::robot_coordinates(*r.tree); })
         .def_property_readonly("frames",
                                [](const robot& r) {
                                    std::vector<std::string> out;

@@ -21,28 +21,42 @@ class Robot(Model):
     ``move_time`` s with gravity compensation unless ``no_gravity_compensation`` = 1, and
     constant joint torques ``torque``, or ``torques``: one expression per joint in t, the
     joints' names and their velocities NAME_dot (e.g. ``["5*sin(t)", "0", ...]``). ``limits`` holds the URDF's lower, upper, effort,
-    velocity and damping per joint. A file that cannot be read, or a robot varsym refuses
+    velocity and damping per joint. ``base="free"`` sets the root link free in space (six
+    coordinates base_x, base_y, base_z [m, world] and base_rx, base_ry, base_rz [rad, the
+    chart's XYZ angles] come first; a one-link file without joints is then a free rigid body),
+    ``base="planar"`` free in the x–z plane (base_x, base_z, base_ry); the per-joint lists and
+    ``torques`` then cover the joints after the base, and the results gain the columns
+    base_qw…base_qz, base_vx…, base_wx…, momentum_x…, angular_momentum_x…, com_x… (docs/robots.md).
+    A file that cannot be read, or a robot varsym refuses
     (floating, planar or mimic joints, closed loops, a moving link without inertia, an inertia
     that is not positive definite or breaks the triangle inequality), raises UsageError naming
     the file, line and element (docs/robots.md)."""
 
-    def __init__(self, source=None, *, text=None, torques=None, **parameters):
+    def __init__(self, source=None, *, text=None, torques=None, base=None, **parameters):
         if isinstance(source, Robot):
-            if torques is not None:
-                raise UsageError("torques are fixed when the Robot is read: "
-                                 "Robot(path, torques=[...])")
+            if torques is not None or base is not None:
+                raise UsageError("torques and base are fixed when the Robot is read: "
+                                 "Robot(path, torques=[...], base=...)")
             self._core, parameters = source._core, {**source.parameters, **parameters}
             parameters = {k: v for k, v in parameters.items() if v is not None}
         elif (source is None) == (text is None):
             raise TypeError("Robot(path) or Robot(text=URDF_XML)")
         else:
             typed = [] if torques is None else [str(x) for x in torques]
-            self._core = (_core._Robot(text, True, typed) if text is not None
-                          else _core._Robot(os.fspath(source), False, typed))
+            held = "fixed" if base is None else str(base)
+            if held not in ("fixed", "free", "planar"):
+                raise UsageError(f"base is 'fixed', 'free' or 'planar', not {base!r}")
+            self._core = (_core._Robot(text, True, typed, held) if text is not None
+                          else _core._Robot(os.fspath(source), False, typed, held))
         self._set("urdf", self._core.info, parameters)
         self.joints = list(self._core.joints)
         self.coordinates = self.joints
         self.dim = len(self.joints)
+
+    @property
+    def base(self):
+        """How the root link is held: 'fixed', 'free' or 'planar'."""
+        return self._core.base
 
     @property
     def robot_name(self):

@@ -223,3 +223,50 @@ def test_typed_torques_do_work_that_balances_the_energy():
     with pytest.raises(varsym.UsageError, match="6 expressions"):
         varsym.Robot(path, torques=["1"])
 
+
+
+BODY = """<?xml version="1.0"?>
+<robot name="tumbling_body">
+  <link name="body">
+    <inertial>
+      <origin xyz="0.1 -0.2 0.05" rpy="0.3 0.2 0.1"/>
+      <mass value="2.0"/>
+      <inertia ixx="1.0" ixy="0" ixz="0" iyy="2.0" iyz="0" izz="3.0"/>
+    </inertial>
+  </link>
+</robot>"""
+
+
+def test_a_free_body_keeps_both_momenta_and_its_quaternion():
+    # Noether: in free flight the total momenta are conserved to round-off (|L| ≈ 6 N m s over
+    # 2000 steps: 1e-12); the quaternion stays on its sphere; the body tumbles (its orientation
+    # moves), so the check is not of a body at rest.
+    body = varsym.Robot(text=BODY, base="free", gravity=0)
+    assert body.base == "free"
+    assert body.joints == ["base_x", "base_y", "base_z", "base_qw", "base_qx", "base_qy",
+                           "base_qz"]
+    tr = body.simulate(v0=[0, 0, 0, 0, 0.5, 0.05, 1.0], t_span=20.0, steps=2000,
+                       scheme="gauss", degree=2, every=10)
+    for name in ["angular_momentum_x", "angular_momentum_y", "angular_momentum_z",
+                 "momentum_x", "momentum_y", "momentum_z"]:
+        column = tr[name]
+        assert abs(column - column[0]).max() < 1e-12, name
+    assert abs(tr["angular_momentum_z"][0]) > 1.0
+    assert abs(tr["quaternion_residual"]).max() < 1e-14
+    assert abs(tr["base_qw"] - 1.0).max() > 0.5
+
+
+def test_a_floating_base_is_chosen_when_the_robot_is_read():
+    path = os.path.join(DATA, "ur5_robot.urdf")
+    planar = varsym.Robot(path, base="planar", gravity=0)
+    assert planar.joints[:3] == ["base_x", "base_z", "base_ry"] and planar.dim == 9
+    tr = planar.simulate(torque=[1, -2, 1, 0.5, 0.3, 0.2], t_span=0.5, steps=500, every=50)
+    assert abs(tr["momentum_x"]).max() < 1e-11
+    with pytest.raises(varsym.UsageError, match="fixed', 'free' or 'planar"):
+        varsym.Robot(path, base="sideways")
+    with pytest.raises(varsym.UsageError, match="base are fixed"):
+        varsym.Robot(planar, base="free")
+    with pytest.raises(varsym.UsageError, match="nothing moves"):
+        varsym.Robot(text=BODY)
+    with pytest.raises(varsym.UsageError, match="free base"):
+        varsym.Robot(text=BODY, base="free").mass_matrix([0, 0, 0, 1, 0, 0, 0])

@@ -45,6 +45,8 @@ std::shared_ptr<const models::model> model_of(const converge_options& o) {
     if (o.model == "urdf") return robot_model_of(o.urdf);
     if (!o.urdf.path.empty())
         throw usage_error("--urdf is for --model urdf, not " + shown(o.model));
+    if (o.urdf.base != "fixed")
+        throw usage_error("--base is for --model urdf, not " + shown(o.model));
     if (o.model == "lagrangian") return expression_model_of(o.expression);
     if (!o.expression.lagrangian.empty())
         throw usage_error("--lagrangian is for --model lagrangian, not " + shown(o.model));
@@ -355,8 +357,10 @@ void converge(const converge_options& o, const CLI::App& cmd) {
                               "parameters are --mass, --omega, --q0, --p0");
         if (!o.expression.lagrangian.empty())
             throw usage_error("--lagrangian is for --model lagrangian, not " + shown(o.model));
-        if (!o.urdf.path.empty() || !o.urdf.torques.empty())
-            throw usage_error(std::string(o.urdf.path.empty() ? "--torques" : "--urdf") +
+        if (!o.urdf.path.empty() || !o.urdf.torques.empty() || cmd.count("--base") > 0)
+            throw usage_error(std::string(!o.urdf.path.empty()      ? "--urdf"
+                                          : !o.urdf.torques.empty() ? "--torques"
+                                                                    : "--base") +
                               " is for --model urdf, not " + shown(o.model));
     } else {
         for (const char* opt : {"--mass", "--omega", "--q0", "--p0"})

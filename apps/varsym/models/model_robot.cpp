@@ -38,7 +38,7 @@ std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u,
         if (file != nullptr)
             *file = {std::filesystem::absolute(u.path).lexically_normal().string(),
                      models::content_digest(text)};
-        tree = models::parse_urdf(text, u.path);
+        tree = models::parse_urdf(text, u.path, models::base_of(u.base));
     } catch (const std::invalid_argument& e) { // models::urdf_error, models::input_error
         throw usage_error(std::string("--urdf: ") + e.what());
     }
@@ -55,6 +55,11 @@ std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u,
 void add_urdf_option(CLI::App& cmd, urdf_spec& u) {
     cmd.add_option("--urdf", u.path,
                    "urdf: the robot's URDF file (implies --model urdf; see 'varsym models')");
+    cmd.add_option("--base", u.base,
+                   "urdf: how the root link is held: fixed (bolted to the ground), free (6 "
+                   "coordinates: position and orientation) or planar (x, z, pitch about y)")
+        ->check(CLI::IsMember({"fixed", "free", "planar"}))
+        ->default_str("fixed");
     cmd.add_option("--torques", u.torques,
                    "urdf: joint torques as expressions in t, the joints' names and NAME_dot, "
                    "one per joint, comma-separated [N m or N]");
@@ -80,9 +85,13 @@ model make_robot_model(std::shared_ptr<parameter_options> po) {
         "  joint torques --torque, or --torques typed in t, the joint names and NAME_dot\n"
         "  (e.g. 5*sin(t)). Columns: energy, work, energy_balance (energy - E0 - work),\n"
         "  limit_violations (joints outside their URDF position limits). Start: --q0 (0),\n"
-        "  --v0 (0) or --p0. No period: default --time 5 --steps 5000." +
+        "  --v0 (0) or --p0. No period: default --time 5 --steps 5000.\n"
+        "  --base free or planar sets the root link moving (docs/robots.md): the base's\n"
+        "  coordinates base_x, base_y, base_z, base_rx, base_ry, base_rz come first, the\n"
+        "  lists --kp, --kd, --target, --torque are per joint after them, and columns give\n"
+        "  the base's orientation and velocity and the total momenta." +
         (cut == std::string::npos ? "" : own.substr(cut, own.find("\n  Initial state") - cut));
-    m.options = {"--urdf", "--torques"};
+    m.options = {"--urdf", "--base", "--torques"};
     for (const auto& p : rm.parameters)
         m.options.push_back("--" + p.option_name());
     for (const auto& l : rm.lists)

@@ -40,7 +40,8 @@ void kinematics(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>
     for (int i = 0; i < n; ++i) {
         const auto k = static_cast<std::size_t>(i);
         const body& b = m.bodies[k];
-        const basic_pose<S> placement = b.placement.template cast<S>();
+        basic_pose<S> placement = b.placement.template cast<S>();
+        if (i == m.chart_body()) placement.rotation = w.chart.template cast<S>() * placement.rotation;
         const basic_pose<S> joint =
             b.parent < 0 ? placement : w.x[static_cast<std::size_t>(b.parent)] * placement;
         const vec3_of<S> a = joint.rotation * b.axis.template cast<S>();

@@ -27,6 +27,14 @@ namespace varsym::multibody {
 
 enum class joint_kind { revolute, prismatic };
 
+/// How the root link is held: bolted to the ground (fixed), free in space, or free in the x–z
+/// plane (x, z and the pitch about y: the tree's first coordinates, base_x, base_z, base_ry).
+/// A free base is six virtual joints of the tree (base_dx, base_dy, base_dz along the world's
+/// axes, base_drx, base_dry, base_drz about the base's), the coordinates of a chart that the
+/// free_robot Lagrangian (floating.hpp) centres at each point it evaluates; its model's
+/// coordinates are the position and a unit quaternion.
+enum class base_kind { fixed, free, planar };
+
 /// What bounds a joint (from the URDF's <limit> and <dynamics>): position range, effort,
 /// velocity and viscous damping [N m s/rad or N s/m]. Unbounded: infinite.
 struct joint_limits {
@@ -74,6 +82,18 @@ struct tree {
     std::vector<frame> frames;
     vec3 gravity{0.0, 0.0, -9.81};
     std::vector<mimic> mimics; ///< of bodies dof(), dof() + 1, …
+    base_kind base = base_kind::fixed;
+    /// The root link's name and mass properties (with the links fixed to it merged): the ground
+    /// of a fixed base, what with_base sets moving (its `link`, `mass`, `com`, `inertia`).
+    body root;
+
+    /// The number of the base's coordinates (0, 6 or 3): they come first in q.
+    [[nodiscard]] int base_coordinates() const {
+        return base == base_kind::free ? 6 : base == base_kind::planar ? 3 : 0;
+    }
+    /// The body whose placement turns with the orientation chart of a free base (floating.hpp):
+    /// the first of its rotations; −1 for other bases.
+    [[nodiscard]] int chart_body() const { return base == base_kind::free ? 3 : -1; }
 
     /// The number of coordinates: the bodies but the mimic ones.
     [[nodiscard]] int dof() const { return static_cast<int>(bodies.size() - mimics.size()); }
@@ -145,6 +165,71 @@ struct tree {
         return n;
     }
 
+    /// This tree with its root link set free: `free` prepends three prismatic joints along the
+    /// world's x, y, z (base_dx, base_dy, base_dz) and three revolute ones about the base's x,
+    /// y, z (base_drx, base_dry, base_drz: the orientation is chart · Rx Ry Rz, floating.hpp);
+    /// `planar` prepends base_x, base_z and base_ry. The last of them carries the root link's
+    /// mass; the others are massless, unlimited and unactuated (effort 0). The tree's bodies
+    /// follow, hung from the base; frames fixed to the ground move with it. Throws
+    /// std::invalid_argument for a tree already floating or a root link without mass.
+    [[nodiscard]] tree with_base(base_kind kind) const {
+        if (kind == base_kind::fixed) return *this;
+        if (base != base_kind::fixed)
+            throw std::invalid_argument("the robot " + name + " already has a floating base");
+        if (!(std::isfinite(root.mass) && root.mass > 0.0 && root.com.allFinite() &&
+              root.inertia.allFinite()))
+            throw std::invalid_argument("the root link " + root.link +
+                                        " carries no mass (or an infinite one): a floating base "
+                                        "needs the root link's <inertial> (mass and inertia)");
+        struct virtual_joint {
+            const char* name;
+            joint_kind kind;
+            vec3 axis;
+        };
+        const std::vector<virtual_joint> joints =
+            kind == base_kind::free
+                ? std::vector<virtual_joint>{{"base_dx", joint_kind::prismatic, vec3::UnitX()},
+                                             {"base_dy", joint_kind::prismatic, vec3::UnitY()},
+                                             {"base_dz", joint_kind::prismatic, vec3::UnitZ()},
+                                             {"base_drx", joint_kind::revolute, vec3::UnitX()},
+                                             {"base_dry", joint_kind::revolute, vec3::UnitY()},
+                                             {"base_drz", joint_kind::revolute, vec3::UnitZ()}}
+                : std::vector<virtual_joint>{{"base_x", joint_kind::prismatic, vec3::UnitX()},
+                                             {"base_z", joint_kind::prismatic, vec3::UnitZ()},
+                                             {"base_ry", joint_kind::revolute, vec3::UnitY()}};
+        tree t;
+        t.name = name;
+        t.gravity = gravity;
+        t.base = kind;
+        t.root = root;
+        const int k = static_cast<int>(joints.size());
+        for (int i = 0; i < k; ++i) {
+            body b;
+            b.name = joints[static_cast<std::size_t>(i)].name;
+            b.link = root.link;
+            b.kind = joints[static_cast<std::size_t>(i)].kind;
+            b.axis = joints[static_cast<std::size_t>(i)].axis;
+            b.limits.effort = 0.0; // not actuated
+            if (i == k - 1) {
+                b.mass = root.mass;
+                b.com = root.com;
+                b.inertia = root.inertia;
+            }
+            t.add_body(i - 1, b);
+        }
+        for (body b : bodies) {
+            const int p = b.parent < 0 ? k - 1 : b.parent + k;
+            t.add_body(p, std::move(b));
+        }
+        t.frames = frames;
+        for (frame& f : t.frames)
+            f.body = f.body < 0 ? k - 1 : f.body + k;
+        t.mimics = mimics;
+        for (mimic& c : t.mimics)
+            c.master += k;
+        return t;
+    }
+
     /// Appends body b as the child of body `parent` (−1: the ground), setting b.parent, and
     /// returns its index. Throws std::invalid_argument naming the body unless the parent comes
     /// before it (−1 ≤ parent < the new index).
@@ -211,6 +296,9 @@ struct basic_workspace {
     std::vector<vec6_of<S>> u, alpha;   ///< S_i × v_parent(i) and S_i × a_g
     std::vector<vec6_of<S>> dh, df;     ///< ∂h^c_i/∂q_i and ∂F^c_i/∂q_i
     std::vector<row6_of<S>> r, s_ic, t; ///< per-body rows of the second derivatives
+    /// A free base's chart: the rotation applied at tree::chart_body's placement (floating.hpp;
+    /// the identity for other bases). Set by the Lagrangian before each evaluation.
+    mat3 chart = mat3::Identity();
 
     void resize(int n) {
         const auto k = static_cast<std::size_t>(n);

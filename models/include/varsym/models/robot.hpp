@@ -30,12 +30,18 @@ class urdf_error : public std::invalid_argument {
 /// child's mass properties into the parent exactly; gravity (0, 0, −9.81) m/s². Throws
 /// urdf_error for a missing or malformed file and for what docs/robots.md lists as refused,
 /// and for anything but a regular file of at most max_urdf_bytes (a directory, a FIFO, a device).
-std::shared_ptr<const multibody::tree> load_urdf(const std::string& path);
+/// With a floating `base` (tree::with_base) the root link moves too, and a robot of one link
+/// without joints is taken (a free rigid body); its root link must carry mass.
+std::shared_ptr<const multibody::tree>
+load_urdf(const std::string& path, multibody::base_kind base = multibody::base_kind::fixed);
 /// The longest URDF file load_urdf reads: 256 MiB (a 100 000-link chain takes about 50 MB).
 inline constexpr std::uint64_t max_urdf_bytes = std::uint64_t{256} << 20;
 /// The same from the XML text; `source` names it in messages.
-std::shared_ptr<const multibody::tree> parse_urdf(std::string_view xml,
-                                                  const std::string& source = "<urdf>");
+std::shared_ptr<const multibody::tree>
+parse_urdf(std::string_view xml, const std::string& source = "<urdf>",
+           multibody::base_kind base = multibody::base_kind::fixed);
+/// The base named by `word`: fixed, free or planar; throws std::invalid_argument otherwise.
+multibody::base_kind base_of(const std::string& word);
 
 /// The model `urdf` of the robot r: its parameters gravity (magnitude along −z, m/s²),
 /// no_damping (leave the URDF's joint damping out), move_time and no_gravity_compensation of the
@@ -48,6 +54,11 @@ std::shared_ptr<const multibody::tree> parse_urdf(std::string_view xml,
 /// limits at that row).
 model robot_model(std::shared_ptr<const multibody::tree> r,
                   const std::vector<std::string>& torques = {});
+
+/// The names of the coordinates of robot r's model: its joints (depth first from the root
+/// link; not the mimic joints), after a planar base's base_x, base_z, base_ry or a free base's
+/// base_x, base_y, base_z, base_qw, base_qx, base_qy, base_qz (a unit quaternion).
+std::vector<std::string> robot_coordinates(const multibody::tree& r);
 
 /// The actuated joints of a robot (their indices in q): those whose URDF effort is positive.
 /// robot_model's optimal control has one input per actuated joint, its torque (force),

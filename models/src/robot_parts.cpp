@@ -1,0 +1,115 @@
+// models/src/robot_parts.cpp: the parts of the robot model that robot.cpp (fixed and planar
+// bases) and robot_free.cpp (a free base) share: the forces from the parameters, the coordinates'
+// names, the floating base's columns.
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "robot_parts.hpp"
+#include "varsym/models/parameters.hpp"
+#include "varsym/problems/arm.hpp"
+
+namespace varsym::models {
+
+std::vector<std::string> robot_coordinates(const multibody::tree& r) {
+    std::vector<std::string> out;
+    int first = 0; // the tree's first coordinate that is the model's as it is
+    if (r.base == multibody::base_kind::free) {
+        out = {"base_x", "base_y", "base_z", "base_qw", "base_qx", "base_qy", "base_qz"};
+        first = 6;
+    }
+    for (int i = first; i < r.dof(); ++i) // (mimic joints come after the coordinates)
+        out.push_back(r.bodies[static_cast<std::size_t>(i)].name);
+    return out;
+}
+
+namespace robot_detail {
+
+int base_size(const multibody::tree& r) {
+    return r.base == multibody::base_kind::free ? 7 : r.base_coordinates();
+}
+
+robot_forces make_forces(const robot_parameters& p, const expression_force& typed,
+                         const vec<dynamic>& damping, const vec<dynamic>& q0, int base,
+                         const std::function<void(pd_controller<dynamic>&)>& compensation) {
+    const auto n = static_cast<int>(q0.size());
+    // A list per joint; the base's coordinates take `fill` (0 by default).
+    auto each = [n, base](const std::vector<double>& given, const char* name,
+                          const vec<dynamic>& fill = vec<dynamic>()) {
+        vec<dynamic> out = vec<dynamic>::Zero(n);
+        if (fill.size() == n) out.head(base) = fill.head(base);
+        if (!given.empty())
+            out.tail(n - base) = Eigen::Map<const vec<dynamic>>(
+                models::sized(given, static_cast<std::size_t>(n - base), name, "joint").data(),
+                n - base);
+        return out;
+    };
+    const bool controlled = !p.kp.empty();
+    if (!controlled && !p.kd.empty())
+        throw std::invalid_argument("kd without kp: give the proportional gains too");
+    if (!controlled && !p.target.empty())
+        throw std::invalid_argument("target without kp: the PD controller needs its gains");
+    const vec<dynamic> torque = each(p.torque, "torque");
+    if (!p.torque.empty() && !typed.zero())
+        throw std::invalid_argument("give constant torques or typed ones, not both");
+    pd_controller<dynamic> pd;
+    pd.kp = mat<dynamic>::Zero(n, n);
+    pd.kd = mat<dynamic>::Zero(n, n);
+    if (controlled) {
+        pd.kp.diagonal() = each(p.kp, "kp");
+        pd.kd.diagonal() = each(p.kd, "kd");
+        arm::minimum_jerk ref{q0, p.target.empty() ? q0 : each(p.target, "target", q0),
+                              p.move_time};
+        pd.reference = [ref](double t, vec<dynamic>& q, vec<dynamic>& rate) { ref(t, q, rate); };
+        if (p.no_gravity_compensation == 0.0 && compensation) compensation(pd);
+    }
+    expression_force tau = typed;
+    if (!p.torque.empty()) { // constant torques as expressions of their values (17 digits:
+        std::vector<std::string> c, names; // the same doubles), over neutral names
+        for (int i = 0; i < base; ++i) {   // none on a floating base
+            c.emplace_back("0");
+            names.push_back("q" + std::to_string(names.size() + 1));
+        }
+        for (double x : p.torque) {
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "%.17g", x);
+            c.emplace_back(buf);
+            names.push_back("q" + std::to_string(names.size() + 1));
+        }
+        tau = expression_force(c, names, {});
+    }
+    const bool forced = controlled || !torque.isZero(0.0) || !damping.isZero(0.0) || !typed.zero();
+    return {
+        robot_force(rayleigh_damping<dynamic>::diagonal(damping), std::move(pd), std::move(tau)),
+        forced};
+}
+
+const std::vector<std::string>& base_columns() {
+    static const std::vector<std::string> names = {"base_vx",
+                                                   "base_vy",
+                                                   "base_vz",
+                                                   "base_wx",
+                                                   "base_wy",
+                                                   "base_wz",
+                                                   "momentum_x",
+                                                   "momentum_y",
+                                                   "momentum_z",
+                                                   "angular_momentum_x",
+                                                   "angular_momentum_y",
+                                                   "angular_momentum_z",
+                                                   "com_x",
+                                                   "com_y",
+                                                   "com_z"};
+    return names;
+}
+
+void fill_base(const multibody::base_motion& b, double* out) {
+    for (const multibody::vec3* v :
+         {&b.velocity, &b.angular_velocity, &b.momentum, &b.angular_momentum, &b.centre_of_mass})
+        for (int i = 0; i < 3; ++i)
+            *out++ = (*v)(i);
+}
+
+} // namespace robot_detail
+
+} // namespace varsym::models
