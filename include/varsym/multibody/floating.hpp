@@ -18,8 +18,15 @@
 // (so the spatial algebra keeps its precision far from the origin; L adds M g·x, the potential's
 // part the move leaves out), the base's coordinates c = 0 and their rates ċ = (ẋ, ω). The chain
 // rule through the chart's maps φ(u) (the XYZ angles of R(û₀)ᵀR(û)) and φ̇(u, u̇) = E(φ)⁻¹ W u̇
-// gives L's derivatives in (x, u, θ); the maps' first and second derivatives at the point are
-// taken by automatic differentiation (autodiff/second_order.hpp: 8 variables).
+// gives L's derivatives in (x, u, θ). The maps at the point, by hand: with P δ = Im(conj(û) ⊗ δ)
+// and the rotation vector θ = 2 Im(conj(û) ⊗ (u + δ))/|u + δ| = (2/n)(1 − û·δ/n) P δ + O(δ³)
+// (n = |u|), the XYZ angles are, by the Baker–Campbell–Hausdorff formula,
+//   φ = θ − ½ (θ_y θ_z, −θ_x θ_z, θ_x θ_y) + O(δ³),   A = ∂φ/∂u = (2/n) P;                  (Q3)
+// their rates φ̇ = E(φ)⁻¹ ω = (1 + E₁(φ) + E₂(φ)) ω + O(φ³) with
+//   E₁(φ) ω = (−φ₃ ω_y, φ₃ ω_x, −φ₂ ω_x),  E₂(φ) ω = (½(φ₂² − φ₃²) ω_x, −½ φ₃² ω_y, φ₂ φ₃ ω_y),
+//   (Q4)
+// and ω = 2 B(u, u̇)/|u|², B bilinear; their second derivatives follow by the product rule (Q5).
+// tests/multibody/test_floating.cpp checks the whole against AD of a second implementation.
 //
 // Why a quaternion: world rotations act on (x, u) linearly (x ↦ Qx, u ↦ q_Q ⊗ u) and leave g
 // and L (without gravity) invariant, so the Galerkin discrete Lagrangians are invariant and the
@@ -27,6 +34,7 @@
 // conserve the linear momentum; no Euler-angle singularity (docs/robots.md).
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -34,42 +42,10 @@
 
 #include <Eigen/Geometry>
 
-#include "varsym/autodiff/second_order.hpp"
 #include "varsym/multibody/algorithms.hpp"
 #include "varsym/systems/lagrangian.hpp"
 
 namespace varsym::multibody {
-
-/// The chart's maps at u (and u̇) about the unit quaternion u0 (Q2): φ, the XYZ angles of
-/// R(u0)ᵀ R(û), and φ̇ = E(φ)⁻¹ W(u) u̇ (E: ω = E(φ) φ̇ for R = Rx Ry Rz(φ)). Any scalar T.
-template <class T>
-void chart_maps(const Eigen::Quaterniond& u0, const Eigen::Matrix<T, 4, 1>& u,
-                const Eigen::Matrix<T, 4, 1>& ud, Eigen::Matrix<T, 3, 1>& phi,
-                Eigen::Matrix<T, 3, 1>& phid) {
-    using std::asin, std::atan2, std::cos, std::sin, std::sqrt;
-    const T n2 = u.squaredNorm();
-    const T n = sqrt(n2);
-    // r = conj(u0) ⊗ û, (w, x, y, z).
-    const T w = u(0) / n, x = u(1) / n, y = u(2) / n, z = u(3) / n;
-    const double a = u0.w(), b = -u0.x(), c = -u0.y(), d = -u0.z();
-    const T rw = a * w - b * x - c * y - d * z;
-    const T rx = a * x + b * w + c * z - d * y;
-    const T ry = a * y - b * z + c * w + d * x;
-    const T rz = a * z + b * y - c * x + d * w;
-    const T m02 = 2.0 * (rx * rz + rw * ry), m12 = 2.0 * (ry * rz - rw * rx);
-    const T m22 = 1.0 - 2.0 * (rx * rx + ry * ry), m01 = 2.0 * (rx * ry - rw * rz);
-    const T m00 = 1.0 - 2.0 * (ry * ry + rz * rz);
-    phi(0) = atan2(-m12, m22);
-    phi(1) = asin(m02);
-    phi(2) = atan2(-m01, m00);
-    // ω = 2 Im(ū ⊗ u̇)/|u|² = 2 (w v̇ − ẇ v − v × v̇)/|u|² (Q1).
-    const Eigen::Matrix<T, 3, 1> v(u(1), u(2), u(3)), vd(ud(1), ud(2), ud(3));
-    const Eigen::Matrix<T, 3, 1> om = (2.0 / n2) * (u(0) * vd - ud(0) * v - v.cross(vd));
-    const T cb = cos(phi(1)), sb = sin(phi(1)), cc = cos(phi(2)), sc = sin(phi(2));
-    phid(0) = (cc * om(0) - sc * om(1)) / cb;
-    phid(1) = sc * om(0) + cc * om(1);
-    phid(2) = om(2) - sb * phid(0);
-}
 
 /// The motion of a floating robot: its root link's pose and velocity, and the whole robot's
 /// momenta (world frame; the angular momentum about the world's origin) and centre of mass.
@@ -150,7 +126,7 @@ class free_robot {
         chart(q, v, s);
         size(t, false);
         const double value = lagrangian_gradient(*m_, s.w, s.c, s.cd, s.t.lq, s.t.lv);
-        maps<ad::first_order<8>>(q, v, s);
+        maps(q, v, s, false);
         first(q, v, s, t);
         t.value = value + tail(q, v);
     }
@@ -163,7 +139,7 @@ class free_robot {
         size(t, true);
         const double value =
             lagrangian_derivatives(*m_, s.w, s.c, s.cd, s.t.lq, s.t.lv, s.t.lqq, s.t.lqv, s.t.lvv);
-        maps<ad::second_order<8>>(q, v, s);
+        maps(q, v, s, true);
         first(q, v, s, t);
         second(q, v, s, t);
         t.value = value + tail(q, v);
@@ -227,40 +203,91 @@ class free_robot {
         return mass_ * m_->gravity.dot(q.head<3>()) + 0.5 * kappa_ * r * r;
     }
 
-    /// The chart's maps' derivatives at (u, u̇) by forward-mode AD over the scalar T.
-    template <class T>
-    void maps(const vec<dynamic>& q, const vec<dynamic>& v, scratch& s) const {
-        constexpr bool second_order = !std::is_same_v<T, ad::first_order<8>>;
-        Eigen::Matrix<T, 4, 1> u, ud;
-        for (int i = 0; i < 4; ++i) {
-            if constexpr (second_order) {
-                u(i) = ad::variable<8>(q(3 + i), i);
-                ud(i) = ad::variable<8>(v(3 + i), 4 + i);
-            } else {
-                u(i) = T(q(3 + i), 8, i);
-                ud(i) = T(v(3 + i), 8, 4 + i);
-            }
-        }
-        Eigen::Matrix<T, 3, 1> phi, phid;
-        chart_maps<T>(s.u0, u, ud, phi, phid);
+    /// The chart's maps' derivatives at (u, u̇) (Q3)–(Q5), second ones where `second`.
+    static void maps(const vec<dynamic>& q, const vec<dynamic>& v, scratch& s, bool second) {
+        const Eigen::Vector4d u = q.segment<4>(3), ud = v.segment<4>(3);
+        const double n2 = u.squaredNorm(), n = std::sqrt(n2);
+        const Eigen::Vector4d uh = u / n;
+        // P δ = Im(conj(û) ⊗ δ), A = ∂φ/∂u = (2/n) P (Q3).
+        Eigen::Matrix<double, 3, 4> p;
+        p.col(0) = -uh.tail<3>();
+        p.rightCols<3>() = uh(0) * mat3::Identity() - skew(vec3(uh.tail<3>()));
+        s.a = (2.0 / n) * p;
+        // ω = 2 f B, f = 1/|u|², B_i = uᵀ S_i u̇ (Q1): ∂B_i/∂u = S_i u̇, ∂B_i/∂u̇ = S_iᵀ u.
+        const Eigen::Matrix4d* sm = bilinear();
+        Eigen::Matrix<double, 3, 4> bu, bd; // ∂B/∂u, ∂B/∂u̇ (rows)
+        vec3 b;
         for (int i = 0; i < 3; ++i) {
-            if constexpr (second_order) {
-                Eigen::Matrix<double, 8, 1> g;
-                Eigen::Matrix<double, 8, 8> h;
-                ad::unpack<8>(phi(i), g, h);
-                s.a.row(i) = g.head<4>().transpose();
-                s.hphi[i] = h.topLeftCorner<4, 4>();
-                ad::unpack<8>(phid(i), g, h);
-                s.b.row(i) = g.head<4>().transpose();
-                s.d.row(i) = g.tail<4>().transpose();
-                s.hrate[i] = h.topLeftCorner<4, 4>();
-                s.hmixed[i] = h.topRightCorner<4, 4>();
-            } else {
-                s.a.row(i) = phi(i).derivatives().template head<4>().transpose();
-                s.b.row(i) = phid(i).derivatives().template head<4>().transpose();
-                s.d.row(i) = phid(i).derivatives().template tail<4>().transpose();
-            }
+            bu.row(i) = (sm[i] * ud).transpose();
+            bd.row(i) = (sm[i].transpose() * u).transpose();
+            b(i) = bd.row(i).dot(ud);
         }
+        const double f = 1.0 / n2;
+        const Eigen::Vector4d df = (-2.0 / (n2 * n2)) * u;
+        const vec3 om = 2.0 * f * b;
+        Eigen::Matrix<double, 3, 4> wu; // ∂ω/∂u
+        for (int i = 0; i < 3; ++i)
+            wu.row(i) = 2.0 * (b(i) * df.transpose() + f * bu.row(i));
+        s.d = 2.0 * f * bd; // ∂φ̇/∂u̇ = ∂ω/∂u̇ = W(u)
+        // φ̇ = (1 + E₁(φ) + E₂(φ)) ω (Q4): ∂φ̇/∂u = ∂ω/∂u + J₁(ω) A.
+        mat3 j1 = mat3::Zero();
+        j1(0, 2) = -om(1);
+        j1(1, 2) = om(0);
+        j1(2, 1) = -om(0);
+        s.b = wu + j1 * s.a;
+        if (!second) return;
+        const Eigen::Matrix4d d2f = (-2.0 / (n2 * n2)) * Eigen::Matrix4d::Identity() +
+                                    (8.0 / (n2 * n2 * n2)) * u * u.transpose();
+        // ∂²φ_i/∂u² (Q3): −(2/n²)(û P_i + P_iᵀ ûᵀ) − ½ ∂²c_i(Aδ), c = (θ_y θ_z, −θ_x θ_z, θ_x θ_y).
+        auto sym = [](const Eigen::RowVector4d& x, const Eigen::RowVector4d& y) {
+            return Eigen::Matrix4d(x.transpose() * y + y.transpose() * x);
+        };
+        for (int i = 0; i < 3; ++i)
+            s.hphi[i] = (-2.0 / n2) *
+                        Eigen::Matrix4d(uh * p.row(i) + p.row(i).transpose() * uh.transpose());
+        s.hphi[0] -= 0.5 * sym(s.a.row(1), s.a.row(2));
+        s.hphi[1] += 0.5 * sym(s.a.row(0), s.a.row(2));
+        s.hphi[2] -= 0.5 * sym(s.a.row(0), s.a.row(1));
+        // ∂²φ̇_i/∂u² = ∂²ω_i/∂u² + Σ_j J₁_ij ∂²φ_j/∂u² + Aᵀ M_i ∂ω/∂u + (·)ᵀ + Aᵀ G_i A (Q5), with
+        // M_i = ∂²(E₁ω)_i/∂φ∂ω and G_i = ∂²(E₂ω)_i/∂φ²; the mixed ones ∂²ω_i/∂u∂u̇ + Aᵀ M_i W.
+        mat3 m[3] = {mat3::Zero(), mat3::Zero(), mat3::Zero()};
+        m[0](2, 1) = -1.0; // (E₁ω)₀ = −φ₃ ω_y
+        m[1](2, 0) = 1.0;  // (E₁ω)₁ = φ₃ ω_x
+        m[2](1, 0) = -1.0; // (E₁ω)₂ = −φ₂ ω_x
+        mat3 g[3] = {mat3::Zero(), mat3::Zero(), mat3::Zero()};
+        g[0](1, 1) = om(0); // (E₂ω)₀ = ½ (φ₂² − φ₃²) ω_x
+        g[0](2, 2) = -om(0);
+        g[1](2, 2) = -om(1);             // (E₂ω)₁ = −½ φ₃² ω_y
+        g[2](1, 2) = g[2](2, 1) = om(1); // (E₂ω)₂ = φ₂ φ₃ ω_y
+        for (int i = 0; i < 3; ++i) {
+            const Eigen::Vector4d bui = bu.row(i).transpose();
+            Eigen::Matrix4d h = 2.0 * (b(i) * d2f + df * bui.transpose() + bui * df.transpose());
+            for (int j = 0; j < 3; ++j)
+                h += j1(i, j) * s.hphi[j];
+            const Eigen::Matrix4d cross = s.a.transpose() * m[i] * wu;
+            h += cross + cross.transpose() + s.a.transpose() * g[i] * s.a;
+            s.hrate[i] = h;
+            s.hmixed[i] = 2.0 * (df * bd.row(i) + f * sm[i]) + s.a.transpose() * m[i] * s.d;
+        }
+    }
+
+    /// S_i with Im(ū ⊗ u̇)_i = uᵀ S_i u̇, u = (w, v): w v̇ − ẇ v − v × v̇.
+    static const Eigen::Matrix4d* bilinear() {
+        static const auto make = [] {
+            std::array<Eigen::Matrix4d, 3> out;
+            for (int i = 0; i < 3; ++i) {
+                Eigen::Matrix4d& m = out[static_cast<std::size_t>(i)];
+                m.setZero();
+                const int j = (i + 1) % 3, k = (i + 2) % 3;
+                m(0, 1 + i) = 1.0;      // w v̇_i
+                m(1 + i, 0) = -1.0;     // −ẇ v_i
+                m(1 + j, 1 + k) = -1.0; // −(v_j v̇_k − v_k v̇_j)
+                m(1 + k, 1 + j) = 1.0;
+            }
+            return out;
+        };
+        static const std::array<Eigen::Matrix4d, 3> s = make();
+        return s.data();
     }
 
     /// ∂L/∂q, ∂L/∂q̇ by the chain rule: x and θ as they are, u through the maps.
