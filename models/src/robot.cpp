@@ -20,7 +20,14 @@ namespace varsym::models {
 
 namespace {
 
-using namespace robot_detail;
+using robot_detail::base_columns;
+using robot_detail::base_size;
+using robot_detail::fill_base;
+using robot_detail::make_forces;
+using robot_detail::robot_force;
+using robot_detail::robot_forces;
+using robot_detail::robot_parameters;
+using robot_detail::simulate_free;
 using robot = multibody::robot_lagrangian;
 using robot_system = lagrangian_system<robot>;
 
@@ -174,14 +181,19 @@ problem simulate(const std::shared_ptr<const multibody::tree>& r, const expressi
     return pr;
 }
 
+/// Optimal control keeps to fixed bases (its transcription has no floating base yet).
+void refuse_floating(const multibody::tree& r) {
+    if (r.base != multibody::base_kind::fixed)
+        throw std::invalid_argument(
+            "optimal control of a robot with a floating base is not available yet: read the "
+            "robot with base fixed");
+}
+
 /// The controlled system: the torques (forces) of the actuated joints, those whose URDF effort
 /// is positive, with the URDF's joint damping.
 std::shared_ptr<const optimal::controlled_system>
 control(const std::shared_ptr<const multibody::tree>& r, const robot_parameters& p) {
-    if (r->base == multibody::base_kind::free)
-        throw std::invalid_argument(
-            "optimal control of a robot with a free-floating base is not available yet (the "
-            "transcription does not carry its quaternion's constraint): use base planar or fixed");
+    refuse_floating(*r);
     const auto actuated = r->actuated();
     if (actuated.empty())
         throw std::invalid_argument("no joint of " + r->name +
@@ -203,6 +215,7 @@ control(const std::shared_ptr<const multibody::tree>& r, const robot_parameters&
 /// velocity limits (a URDF velocity of 0: none) bound q and q̇, each where the problem leaves
 /// them unbounded.
 void limits(const multibody::tree& r, optimal::control_problem& p) {
+    refuse_floating(r);
     const auto unbounded = [](const vec<dynamic>& lo, const vec<dynamic>& hi) {
         return (lo.array() == -optimal::unbounded).all() &&
                (hi.array() == optimal::unbounded).all();
@@ -256,7 +269,11 @@ model robot_model(std::shared_ptr<const multibody::tree> r,
 }
 
 std::vector<int> actuated_joints(const multibody::tree& r) {
-    return r.actuated();
+    std::vector<int> out = r.actuated();      // the tree's coordinates; a free base's model has
+    if (r.base == multibody::base_kind::free) // one more (the quaternion) before the joints
+        for (int& i : out)
+            ++i;
+    return out;
 }
 
 const model& robot_options() {

@@ -67,8 +67,8 @@ void bind_robot(py::module_& m) {
                                })
         .def_property_readonly("name", [](const robot& r) { return r.tree->name; })
         .def_property_readonly("info", [](const robot& r) { return model_info(r.model); })
-        .def_property_readonly(
-            "joints", [](const robot& r) { return models::robot_coordinates(*r.tree); })
+        .def_property_readonly("joints",
+                               [](const robot& r) { return models::robot_coordinates(*r.tree); })
         .def_property_readonly("frames",
                                [](const robot& r) {
                                    std::vector<std::string> out;
@@ -78,7 +78,17 @@ void bind_robot(py::module_& m) {
                                })
         .def_property_readonly("limits",
                                [](const robot& r) {
-                                   const multibody::tree::limit_vectors l = r.tree->limits();
+                                   multibody::tree::limit_vectors l = r.tree->limits();
+                                   if (r.tree->base == multibody::base_kind::free) {
+                                       // The model's coordinates: the base's seven (unbounded,
+                                       // unactuated; the tree's six virtual ones) and the joints.
+                                       for (vec<dynamic>* v : {&l.lower, &l.upper, &l.effort,
+                                                               &l.velocity, &l.damping}) {
+                                           vec<dynamic> grown(v->size() + 1);
+                                           grown << v->head(6), (*v)(0), v->tail(v->size() - 6);
+                                           *v = grown;
+                                       }
+                                   }
                                    py::dict out;
                                    out["lower"] = to_array(l.lower);
                                    out["upper"] = to_array(l.upper);

@@ -21,12 +21,13 @@ class Robot(Model):
     ``move_time`` s with gravity compensation unless ``no_gravity_compensation`` = 1, and
     constant joint torques ``torque``, or ``torques``: one expression per joint in t, the
     joints' names and their velocities NAME_dot (e.g. ``["5*sin(t)", "0", ...]``). ``limits`` holds the URDF's lower, upper, effort,
-    velocity and damping per joint. ``base="free"`` sets the root link free in space (six
-    coordinates base_x, base_y, base_z [m, world] and base_rx, base_ry, base_rz [rad, the
-    chart's XYZ angles] come first; a one-link file without joints is then a free rigid body),
+    velocity and damping per coordinate. ``base="free"`` sets the root link free in space (its
+    coordinates base_x, base_y, base_z [m, world] and the unit quaternion base_qw, base_qx,
+    base_qy, base_qz come first; a one-link file without joints is then a free rigid body),
     ``base="planar"`` free in the x–z plane (base_x, base_z, base_ry); the per-joint lists and
     ``torques`` then cover the joints after the base, and the results gain the columns
-    base_qw…base_qz, base_vx…, base_wx…, momentum_x…, angular_momentum_x…, com_x… (docs/robots.md).
+    base_vx…, base_wx…, momentum_x…, angular_momentum_x…, com_x… (and quaternion_residual)
+    (docs/robots.md). ``optimize`` takes fixed bases only.
     A file that cannot be read, or a robot varsym refuses
     (floating, planar or mimic joints, closed loops, a moving link without inertia, an inertia
     that is not positive definite or breaks the triangle inequality), raises UsageError naming
@@ -101,7 +102,9 @@ class Robot(Model):
         return self._core.ensemble(*args)
 
     def __repr__(self):
-        return f"varsym.Robot({self._core.name!r}, {self.dim} joints)"
+        if self.base == "fixed":
+            return f"varsym.Robot({self._core.name!r}, {self.dim} joints)"
+        return f"varsym.Robot({self._core.name!r}, {self.base} base, {self.dim} coordinates)"
 
 
 def _list(x):

@@ -270,3 +270,10 @@ def test_a_floating_base_is_chosen_when_the_robot_is_read():
         varsym.Robot(text=BODY)
     with pytest.raises(varsym.UsageError, match="free base"):
         varsym.Robot(text=BODY, base="free").mass_matrix([0, 0, 0, 1, 0, 0, 0])
+    free = varsym.Robot(path, base="free")
+    assert all(len(v) == free.dim == 13 for v in free.limits.values())
+    assert list(free.limits["effort"][:7]) == [0.0] * 7  # the base is not actuated
+    for robot in (free, planar):  # optimal control takes fixed bases only
+        with pytest.raises(varsym.UsageError, match="floating base"):
+            varsym.optimize(robot, time=1.0, q_start=[0.0] * robot.dim,
+                            q_end=[0.0] * robot.dim, steps=10)

@@ -45,7 +45,7 @@ std::shared_ptr<const models::model> model_of(const converge_options& o) {
     if (o.model == "urdf") return robot_model_of(o.urdf);
     if (!o.urdf.path.empty())
         throw usage_error("--urdf is for --model urdf, not " + shown(o.model));
-    if (o.urdf.base != "fixed")
+    if (!o.urdf.base.empty())
         throw usage_error("--base is for --model urdf, not " + shown(o.model));
     if (o.model == "lagrangian") return expression_model_of(o.expression);
     if (!o.expression.lagrangian.empty())

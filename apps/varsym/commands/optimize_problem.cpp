@@ -234,7 +234,7 @@ std::shared_ptr<const models::model> optimize_model(const optimize_options& o,
                                                            "actuated joints' torques)")
                                              : "--model " + o.model));
     if (o.model == "urdf") {
-        auto robot = robot_model_of(urdf_spec{o.urdf, ""});
+        auto robot = robot_model_of(urdf_spec{o.urdf, "", ""});
         values = o.parameters->values(*robot);
         return robot;
     }

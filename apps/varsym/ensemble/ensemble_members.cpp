@@ -294,7 +294,8 @@ ensemble_model find_ensemble_model(const member_run_options& given) {
         checkpoint::input_file file;
         ensemble_model m = make_registry_ensemble(robot_model_of(o.urdf, &file));
         m.identity = "urdf file=[" + file.path + "] " + file.digest + " torques=[" +
-                     o.urdf.torques + "]" + (o.urdf.base == "fixed" ? "" : " base=" + o.urdf.base);
+                     o.urdf.torques + "]" +
+                     (o.urdf.base.empty() || o.urdf.base == "fixed" ? "" : " base=" + o.urdf.base);
         std::replace_if(
             m.identity.begin(), m.identity.end(), [](char c) { return c == '\n' || c == '\r'; },
             ' ');
@@ -302,7 +303,7 @@ ensemble_model find_ensemble_model(const member_run_options& given) {
     }
     if (!o.urdf.path.empty())
         throw usage_error("--urdf is for --model urdf, not " + shown(o.model));
-    if (o.urdf.base != "fixed")
+    if (!o.urdf.base.empty())
         throw usage_error("--base is for --model urdf, not " + shown(o.model));
     if (o.model == "lagrangian") {
         ensemble_model m = make_registry_ensemble(expression_model_of(o.expression));

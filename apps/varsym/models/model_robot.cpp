@@ -38,7 +38,7 @@ std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u,
         if (file != nullptr)
             *file = {std::filesystem::absolute(u.path).lexically_normal().string(),
                      models::content_digest(text)};
-        tree = models::parse_urdf(text, u.path, models::base_of(u.base));
+        tree = models::parse_urdf(text, u.path, models::base_of(u.base.empty() ? "fixed" : u.base));
     } catch (const std::invalid_argument& e) { // models::urdf_error, models::input_error
         throw usage_error(std::string("--urdf: ") + e.what());
     }
@@ -56,8 +56,8 @@ void add_urdf_option(CLI::App& cmd, urdf_spec& u) {
     cmd.add_option("--urdf", u.path,
                    "urdf: the robot's URDF file (implies --model urdf; see 'varsym models')");
     cmd.add_option("--base", u.base,
-                   "urdf: how the root link is held: fixed (bolted to the ground), free (6 "
-                   "coordinates: position and orientation) or planar (x, z, pitch about y)")
+                   "urdf: how the root link is held: fixed (bolted to the ground), free "
+                   "(position and a unit quaternion) or planar (x, z, pitch about y)")
         ->check(CLI::IsMember({"fixed", "free", "planar"}))
         ->default_str("fixed");
     cmd.add_option("--torques", u.torques,
@@ -87,9 +87,10 @@ model make_robot_model(std::shared_ptr<parameter_options> po) {
         "  limit_violations (joints outside their URDF position limits). Start: --q0 (0),\n"
         "  --v0 (0) or --p0. No period: default --time 5 --steps 5000.\n"
         "  --base free or planar sets the root link moving (docs/robots.md): the base's\n"
-        "  coordinates base_x, base_y, base_z, base_rx, base_ry, base_rz come first, the\n"
-        "  lists --kp, --kd, --target, --torque are per joint after them, and columns give\n"
-        "  the base's orientation and velocity and the total momenta." +
+        "  coordinates come first (free: base_x, base_y, base_z and the unit quaternion\n"
+        "  base_qw, base_qx, base_qy, base_qz; planar: base_x, base_z, base_ry), the lists\n"
+        "  --kp, --kd, --target, --torque are per joint after them, and columns give the\n"
+        "  base's velocity, the total momenta and the centre of mass." +
         (cut == std::string::npos ? "" : own.substr(cut, own.find("\n  Initial state") - cut));
     m.options = {"--urdf", "--base", "--torques"};
     for (const auto& p : rm.parameters)

@@ -72,7 +72,7 @@ model make_robot_model(std::shared_ptr<class parameter_options> po = nullptr);
 /// --urdf FILE and --torques EXPR,... as given.
 struct urdf_spec {
     std::string path, torques;
-    std::string base = "fixed"; ///< --base: fixed, free or planar
+    std::string base; ///< --base: fixed, free or planar (empty: not given, fixed)
 };
 /// The model of the URDF file and typed torques (usage_error naming --urdf or --torques). With
 /// `file`, also the URDF's absolute path and the digest of the bytes read (what a checkpoint or
