@@ -7,6 +7,7 @@
 
 #include "varsym/autodiff/reverse.hpp"
 #include "varsym/autodiff/second_order.hpp"
+#include "varsym/contact/stepper.hpp"
 #include "varsym/diagnostics/chaos.hpp"
 #include "varsym/diagnostics/convergence.hpp"
 #include "varsym/diagnostics/error_norms.hpp"

@@ -22,6 +22,10 @@ namespace {
 
 using robot_detail::base_columns;
 using robot_detail::base_size;
+using robot_detail::contact_columns;
+using robot_detail::contact_of;
+using robot_detail::fill_contact;
+using robot_detail::simulate_robot;
 using robot_detail::fill_base;
 using robot_detail::make_forces;
 using robot_detail::robot_force;
@@ -60,7 +64,31 @@ const parameter_set<robot_parameters>& robot_set() {
            .doc = "leave gravity out of the PD controller",
            .lower = 0.0,
            .upper = 1.0,
-           .flag = true}}},
+           .flag = true}},
+         {&rp::contact,
+          {.name = "contact",
+           .value = 0.0,
+           .doc = "hard contact of the links' <collision> shapes with the ground (docs/contact.md)",
+           .lower = 0.0,
+           .upper = 1.0,
+           .flag = true}},
+         {&rp::friction,
+          {.name = "friction",
+           .value = 1.0,
+           .doc = "Coulomb friction coefficient of the ground (with contact)",
+           .lower = 0.0}},
+         {&rp::ground_height,
+          {.name = "ground_height",
+           .value = 0.0,
+           .unit = "m",
+           .doc = "the ground's height at x = 0 (with contact)"}},
+         {&rp::ground_slope,
+          {.name = "ground_slope",
+           .value = 0.0,
+           .unit = "rad",
+           .doc = "the ground's slope, rising along +x (with contact)",
+           .lower = -1.5,
+           .upper = 1.5}}},
         {{&rp::kp,
           {.name = "kp",
            .unit = "N m/rad",
@@ -80,7 +108,8 @@ const parameter_set<robot_parameters>& robot_set() {
 
 /// The parameters only a simulation uses: the controller's and the constant torques.
 const std::vector<std::string> simulation_only = {
-    "move_time", "no_gravity_compensation", "kp", "kd", "target", "torque"};
+    "move_time", "no_gravity_compensation", "kp", "kd", "target", "torque",
+    "contact", "friction", "ground_height", "ground_slope"};
 
 /// The description: name, summary, text, coordinates, run lengths, default start.
 void describe(model& m, const multibody::tree& r) {
@@ -116,7 +145,13 @@ void describe(model& m, const multibody::tree& r) {
         "  constant joint torques --torque, or torques typed as expressions in t, the joints'\n"
         "  names and NAME_dot. Columns: energy, work (of the forces since t = 0),\n"
         "  energy_balance (energy - E0 - work: the scheme's error), limit_violations (joints\n"
-        "  outside their URDF position limits). Conserved without forces: energy. No period." +
+        "  outside their URDF position limits). Conserved without forces: energy. No period.\n"
+        "  Contact (--contact, docs/contact.md): the links' <collision> spheres, boxes,\n"
+        "  cylinders and capsules touch the ground z = ground_height + x tan(ground_slope),\n"
+        "  hard (no penetration, inelastic) with Coulomb friction (--friction) on the exact\n"
+        "  cone, inside the step; meshes are refused. More columns: contacts, normal_impulse\n"
+        "  and friction_impulse (sums over the contacts in the last step [N s]), penetration\n"
+        "  [m], contact_work [J] (included in work)." +
         base;
     m.dim = n;
     for (int i = 0; i < n; ++i) // the coordinates' joints (mimic joints come after them)
@@ -147,36 +182,41 @@ problem simulate(const std::shared_ptr<const multibody::tree>& r, const expressi
         make_forces(p, typed, damping, x0.q, nb,
                     nb == 0 ? std::function<void(pd_controller<dynamic>&)>(compensation) : nullptr);
     const double e0 = sys.energy(x0);
-    // Columns: E, the forces' work W (0 without forces), E − E0 − W, joints out of range; a
-    // planar base's velocity, the momenta and the centre of mass.
+    const robot_detail::robot_contact touch = contact_of(p, r, x0.q);
+    // Columns: E, the forces' work W (0 without forces; with contact's), E − E0 − W, joints out
+    // of range; a planar base's velocity, the momenta and the centre of mass; the contacts.
     std::vector<std::string> cols = {"energy", "work", "energy_balance", "limit_violations"};
     if (nb > 0) cols.insert(cols.end(), base_columns().begin(), base_columns().end());
-    auto columns = [cols, sys, e0, r, names, nb] {
+    const int at = static_cast<int>(cols.size());
+    if (touch.on) cols.insert(cols.end(), contact_columns().begin(), contact_columns().end());
+    auto columns = [cols, sys, e0, r, names, nb, at] {
         return detail::column_set{
             cols,
-            [sys, e0, r, nb](double, const phase_state<dynamic>& x, const auto& st, double* out) {
+            [sys, e0, r, nb, at](double, const phase_state<dynamic>& x, const auto& st,
+                                 double* out) {
                 out[0] = sys.energy(x);
                 out[1] = st.total_work();
                 out[2] = out[0] - e0 - out[1];
                 out[3] = r->limit_violations(x.q);
                 if (nb > 0)
                     fill_base(multibody::tree_motion(*r, x.q, sys.velocity(x.q, x.p)), out + 4);
+                fill_contact(st, out + at);
             },
             names};
     };
     problem pr = detail::make_problem(x0, 0.0, {});
     if (!rf.forced) {
-        pr.simulate = [sys, x0, columns](const step_options& o) {
+        pr.simulate = [sys, x0, columns, touch, r](const step_options& o) {
             detail::check_general(o);
-            return detail::simulate_general(general::stepper<robot>(sys, o.h, o.spec, o.newton), x0,
-                                            columns());
+            return simulate_robot(general::stepper<robot>(sys, o.h, o.spec, o.newton), touch, r,
+                                  x0, columns());
         };
         return pr;
     }
-    pr.simulate = [sys, f = std::move(rf.force), x0, columns](const step_options& o) {
+    pr.simulate = [sys, f = std::move(rf.force), x0, columns, touch, r](const step_options& o) {
         detail::check_general(o);
-        return detail::simulate_general(
-            general::stepper<robot, robot_force>(sys, f, o.h, o.spec, o.newton), x0, columns());
+        return simulate_robot(general::stepper<robot, robot_force>(sys, f, o.h, o.spec, o.newton),
+                              touch, r, x0, columns());
     };
     return pr;
 }

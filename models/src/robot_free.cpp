@@ -66,6 +66,8 @@ problem simulate_free(const std::shared_ptr<const multibody::tree>& r,
     std::vector<std::string> cols = {"energy", "work", "energy_balance", "limit_violations",
                                      "quaternion_residual"};
     cols.insert(cols.end(), base_columns().begin(), base_columns().end());
+    const robot_contact touch = contact_of(p, r, x0.q);
+    if (touch.on) cols.insert(cols.end(), contact_columns().begin(), contact_columns().end());
     auto columns = [cols, sys, e0, r, names] {
         return detail::column_set{
             cols,
@@ -82,26 +84,28 @@ problem simulate_free(const std::shared_ptr<const multibody::tree>& r,
                 out[3] = outside;
                 out[4] = x.q.segment<4>(3).squaredNorm() - 1.0;
                 fill_base(sys.lagrangian().motion(x.q, sys.velocity(x.q, x.p)), out + 5);
+                fill_contact(st, out + 20);
             },
             names};
     };
     problem pr = detail::make_problem(x0, 0.0, {});
     if (!rf.forced) {
-        pr.simulate = [sys, c, x0, columns](const step_options& o) {
+        pr.simulate = [sys, c, x0, columns, touch, r](const step_options& o) {
             detail::check_general(o);
-            return detail::simulate_general(
-                general::constrained_stepper<multibody::free_robot, unit_quaternion>(
-                    sys, c, o.h, o.spec, o.newton),
-                x0, columns());
+            return simulate_robot(general::constrained_stepper<multibody::free_robot,
+                                                               unit_quaternion>(sys, c, o.h,
+                                                                                o.spec, o.newton),
+                                  touch, r, x0, columns());
         };
         return pr;
     }
-    pr.simulate = [sys, c, f = std::move(rf.force), x0, columns](const step_options& o) {
+    pr.simulate = [sys, c, f = std::move(rf.force), x0, columns, touch,
+                   r](const step_options& o) {
         detail::check_general(o);
-        return detail::simulate_general(
+        return simulate_robot(
             general::constrained_stepper<multibody::free_robot, unit_quaternion, robot_force>(
                 sys, c, f, o.h, o.spec, o.newton),
-            x0, columns());
+            touch, r, x0, columns());
     };
     return pr;
 }

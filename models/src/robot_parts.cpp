@@ -103,6 +103,43 @@ const std::vector<std::string>& base_columns() {
     return names;
 }
 
+robot_contact contact_of(const robot_parameters& p, const std::shared_ptr<const multibody::tree>& r,
+                         const vec<dynamic>& q0) {
+    robot_contact out;
+    if (p.contact == 0.0) {
+        if (p.friction != 1.0 || p.ground_height != 0.0 || p.ground_slope != 0.0)
+            throw std::invalid_argument("friction, ground_height and ground_slope describe "
+                                        "contact: give contact too (--contact)");
+        return out;
+    }
+    if (contact::contact_points(*r).empty()) // (refuses a mesh, naming its link)
+        throw std::invalid_argument("contact needs collision shapes, and no moving link of " +
+                                    r->name + " has a <collision>: add spheres or boxes");
+    out.on = true;
+    out.world = {contact::ground(p.ground_height, p.ground_slope, p.friction)};
+    contact::robot_kinematics kin(r);
+    kin.at(q0);
+    for (const contact::contact_point& c : contact::contact_points(*r)) {
+        const double gap = out.world[0].normal.dot(kin.pose(c.body).point(c.point)) - c.radius -
+                           out.world[0].offset;
+        if (gap < -1e-9) {
+            char buf[200];
+            std::snprintf(buf, sizeof buf,
+                          "link %s starts %.3g m below the ground: raise the start (base_z)",
+                          c.link.c_str(), -gap);
+            throw std::invalid_argument(buf);
+        }
+    }
+    return out;
+}
+
+const std::vector<std::string>& contact_columns() {
+    static const std::vector<std::string> names = {"contacts", "normal_impulse",
+                                                   "friction_impulse", "penetration",
+                                                   "contact_work"};
+    return names;
+}
+
 void fill_base(const multibody::base_motion& b, double* out) {
     for (const multibody::vec3* v :
          {&b.velocity, &b.angular_velocity, &b.momentum, &b.angular_momentum, &b.centre_of_mass})

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "simulation_of.hpp"
+#include "varsym/contact/stepper.hpp"
 #include "varsym/models/robot.hpp"
 #include "varsym/multibody/floating.hpp"
 #include "varsym/systems/expression_force.hpp"
@@ -17,6 +18,7 @@ namespace varsym::models::robot_detail {
 /// Every robot's parameters.
 struct robot_parameters {
     double gravity, no_damping, move_time, no_gravity_compensation;
+    double contact, friction, ground_height, ground_slope;
     std::vector<double> kp, kd, target, torque;
 };
 
@@ -44,6 +46,44 @@ robot_forces make_forces(const robot_parameters& p, const expression_force& type
 /// momentum_x…z, angular_momentum_x…z (about the world's origin), com_x…z.
 const std::vector<std::string>& base_columns();
 void fill_base(const multibody::base_motion& b, double* out);
+
+/// The contact of parameters p (contact, friction, ground_height, ground_slope) for robot r:
+/// off, or on with the ground plane, checked: r has collision shapes (no mesh; the message names
+/// the link), the ground's parameters are not given without contact, and the start q0 (the
+/// model's coordinates) is not below the ground by more than 1e-9 m.
+struct robot_contact {
+    bool on = false;
+    std::vector<contact::half_space> world;
+};
+robot_contact contact_of(const robot_parameters& p, const std::shared_ptr<const multibody::tree>& r,
+                         const vec<dynamic>& q0);
+
+/// The contact columns (after all others): contacts (with a normal impulse in the last step),
+/// normal_impulse and friction_impulse (their sums over the contacts in the last step [N s]),
+/// penetration (the largest at the step's end [m]) and contact_work (since t = 0 [J]).
+const std::vector<std::string>& contact_columns();
+template <class St>
+void fill_contact(const St& st, double* out) {
+    if constexpr (requires { st.last_contact(); }) {
+        const contact::contact_report& c = st.last_contact();
+        out[0] = c.active;
+        out[1] = c.normal;
+        out[2] = c.friction;
+        out[3] = c.penetration;
+        out[4] = st.contact_work();
+    }
+}
+
+/// The simulation of stepper s from x0, in the contact step when c is on.
+template <class S, class Fill>
+std::unique_ptr<simulation> simulate_robot(S s, const robot_contact& c,
+                                           const std::shared_ptr<const multibody::tree>& r,
+                                           const phase_state<dynamic>& x0,
+                                           detail::column_set<Fill> cols) {
+    if (!c.on) return detail::simulate_general(std::move(s), x0, std::move(cols));
+    return detail::simulate_general(contact::contact_stepper<S>(std::move(s), r, c.world), x0,
+                                    std::move(cols));
+}
 
 /// The simulation of a robot with a free base (robot_free.cpp).
 problem simulate_free(const std::shared_ptr<const multibody::tree>& r,

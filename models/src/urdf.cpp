@@ -5,7 +5,8 @@
 // names the element and its line, and it prints nothing itself (urdfdom logs its own errors
 // through console_bridge and builds a model varsym would then have to walk again). Only
 // <robot>'s direct <link> and <joint> children are read: <transmission> (whose <joint> elements
-// are not joints), <gazebo>, <material>, visuals, collisions and unknown tags are ignored. What
+// are not joints), <gazebo>, <material>, visuals and unknown tags are ignored; the links'
+// <collision> shapes are kept for contact (urdf_reader.hpp, collisions). What
 // is refused: docs/robots.md.
 #include <algorithm>
 #include <cerrno>

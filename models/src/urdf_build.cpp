@@ -150,6 +150,12 @@ std::shared_ptr<multibody::tree> build_tree(const reader& rd, const robot_data& 
         joint_element.push_back(d.joints[body_joint[i]].element);
     }
     check_finite(rd, *m, joint_element);
+    for (const multibody::frame& f : m->frames) // the links' shapes, where the links went
+        for (multibody::collision_shape s : rd.collisions(d.links.at(f.name).element, f.name)) {
+            s.body = f.body;
+            s.offset = f.offset * s.offset;
+            m->collisions.push_back(std::move(s));
+        }
     try {
         m->check();
     } catch (const std::invalid_argument& e) { // not expected after the checks above

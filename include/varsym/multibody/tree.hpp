@@ -67,6 +67,20 @@ struct frame {
     pose offset; ///< in the body's frame
 };
 
+/// A collision shape (URDF <collision>) fixed to a body (−1: the ground), in its shape frame at
+/// `offset` in the body's frame. sphere: radius size(0); box: side lengths size; cylinder and
+/// capsule: radius size(0) and length size(1) along the shape frame's z (a capsule's length
+/// between its end spheres' centres); mesh: its file (`mesh`, not read: contact refuses it).
+enum class shape_kind { sphere, box, cylinder, capsule, mesh };
+struct collision_shape {
+    std::string link; ///< the URDF link it belongs to
+    int body = -1;
+    pose offset;
+    shape_kind kind = shape_kind::sphere;
+    vec3 size = vec3::Zero(); ///< [m]
+    std::string mesh;         ///< a mesh's filename
+};
+
 /// A mimic joint's coupling: its position is multiplier · q_master + offset [rad or m].
 struct mimic {
     int master = 0; ///< the coordinate it follows (a body below dof())
@@ -82,6 +96,7 @@ struct tree {
     std::vector<frame> frames;
     vec3 gravity{0.0, 0.0, -9.81};
     std::vector<mimic> mimics; ///< of bodies dof(), dof() + 1, …
+    std::vector<collision_shape> collisions; ///< the links' <collision> shapes
     base_kind base = base_kind::fixed;
     /// The root link's name and mass properties (with the links fixed to it merged): the ground
     /// of a fixed base, what with_base sets moving (its `link`, `mass`, `com`, `inertia`).
@@ -224,6 +239,9 @@ struct tree {
         t.frames = frames;
         for (frame& f : t.frames)
             f.body = f.body < 0 ? k - 1 : f.body + k;
+        t.collisions = collisions;
+        for (collision_shape& c : t.collisions)
+            c.body = c.body < 0 ? k - 1 : c.body + k;
         t.mimics = mimics;
         for (mimic& c : t.mimics)
             c.master += k;

@@ -1,0 +1,107 @@
+#!/usr/bin/env bash
+# tests/cli/contact_test.sh VARSYM: robots touching the ground (--contact) through run, against
+# closed forms: a dropped ball rests at its radius and never sinks, a sliding box stops at
+# v0²/(2μg), a box on an incline below its friction angle does not creep; the contact columns,
+# a killed and resumed run, and every refusal (exit 2, one line, nothing written).
+data=$(realpath "$(dirname "$0")/../data/urdf")
+source "$(dirname "$0")/lib.sh" "$@"
+ball=$data/contact_ball.urdf
+box=$data/contact_box.urdf
+# column FILE NAME ROW: the value of a column in a data row ("last": the last one).
+column() {
+  awk -F, -v name="$2" -v row="$3" 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == name) c = i; next }
+    c { v = $c; n = NR - 1; if (row != "last" && n == row) { print v; exit } }
+    END { if (row == "last" && c) print v }' "$1"
+}
+# largest FILE NAME: the largest value of a column.
+largest() {
+  awk -F, -v name="$2" 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == name) c = i; m = -1e300; next }
+    c && $c > m { m = $c } END { if (c && NR > 1) printf "%.6g", m }' "$1"
+}
+
+# --- a ball dropped from 0.3 m: rests at z = r = 0.1, never below -------------------------------
+"$VARSYM" run --urdf "$ball" --base free --contact --q0 0,0,0.4,1,0,0,0 --scheme gauss \
+  --degree 2 --time 1 --steps 1000 --every 10 -o drop.csv 2> drop.err && ok || bad "drop: $(cat drop.err)"
+head -1 drop.csv | grep -q ',com_z,contacts,normal_impulse,friction_impulse,penetration,contact_work$' &&
+  ok || bad "drop columns: $(head -1 drop.csv)"
+z=$(column drop.csv q_base_z last)
+between 0.099999999 "$z" 0.100000001 && ok || bad "drop: rests at z = $z, not 0.1"
+p=$(largest drop.csv penetration)
+lt "$p" 1e-12 && ok || bad "drop: penetration $p m"
+c=$(column drop.csv contacts last)
+[ "$c" = 1 ] && ok || bad "drop: $c contacts at rest, not 1"
+# The impulse per step at rest is m g h = 9.81e-3 N s; the impact took m g 0.3 = 2.943 J, less
+# the resting state's 1/2 m (g h/2)^2 = 1.2e-5 J (its end momentum, before the next impulse:
+# docs/contact.md).
+n=$(column drop.csv normal_impulse last)
+between 0.009809999 "$n" 0.009810001 && ok || bad "drop: normal impulse $n N s at rest"
+w=$(column drop.csv contact_work last)
+between -2.942988 "$w" -2.942987 && ok || bad "drop: contact work $w J, not -m g 0.3"
+b=$(largest drop.csv energy_balance)
+lt "$b" 1e-12 && ok || bad "drop: energy balance $b J"
+
+# --- a box sliding at 2 m/s with mu = 0.5 stops after v0^2/(2 mu g) = 0.407747 m ------------------
+"$VARSYM" run --urdf "$box" --base free --contact --friction 0.5 --q0 0,0,0.1,1,0,0,0 \
+  --v0 2,0,0,0,0,0,0 --scheme gauss --degree 2 --time 0.6 --steps 600 --every 600 -o slide.csv \
+  2> slide.err && ok || bad "slide: $(cat slide.err)"
+x=$(column slide.csv q_base_x last)
+between 0.407745 "$x" 0.407749 && ok || bad "slide: stopped at $x m, not 0.407747"
+# Negative control: friction 0.25 slides twice as far (within the run: 0.6 s at 2 m/s max).
+"$VARSYM" run --urdf "$box" --base free --contact --friction 0.25 --q0 0,0,0.1,1,0,0,0 \
+  --v0 2,0,0,0,0,0,0 --time 0.6 --steps 600 --every 600 -o slide2.csv 2> slide2.err &&
+  ok || bad "slide 0.25: $(cat slide2.err)"
+x2=$(column slide2.csv q_base_x last)
+between 0.7 "$x2" 0.82 && ok || bad "slide 0.25: at $x2 m"
+
+# --- on a planar base: the box dropped onto an incline below its friction angle sticks ----------
+# The ground rises at 0.3 rad (tan 0.3 = 0.31 < mu = 1); the box (pitched to lie flat) starts
+# 1 mm above it and, after landing, does not creep: base_x moves by less than 1e-6 m in 4 s.
+"$VARSYM" run --urdf "$box" --base planar --contact --ground-slope 0.3 \
+  --q0 -0.0298475,0.096489,-0.3 --time 5 --steps 5000 --every 1000 -o incline.csv 2> incline.err &&
+  ok || bad "incline: $(cat incline.err)"
+x1=$(column incline.csv q_base_x 2) # t = 1 s: landed
+x5=$(column incline.csv q_base_x last)
+d=$(awk -v a="$x1" -v b="$x5" 'BEGIN { d = a - b; if (d < 0) d = -d; printf "%.6g", d }')
+lt "$d" 1e-6 && ok || bad "incline: crept $d m (from $x1 to $x5)"
+
+# --- killed and resumed: byte-identical to a run that never stopped -----------------------------
+# A box thrown spinning onto the ground, 4000 steps (about 1 s in contact at 150-300 us a step),
+# a checkpoint every 200; SIGKILL after 0.2 s, then resumed (and killed again) until it ends.
+args=(run --urdf "$box" --base free --contact --friction 0.5 --q0 0,0,0.15,1,0,0,0
+      --v0 1,0,0,0,0.3,0.2,0 --time 2 --steps 4000 --every 10 -o box.csv --checkpoint box.ckpt
+      --checkpoint-every 200)
+mkdir -p straight killed
+(cd straight && "$VARSYM" "${args[@]}" 2> err.txt) || bad "uninterrupted box: $(cat straight/err.txt)"
+(
+  cd killed || exit 1
+  rc=1
+  for attempt in $(seq 1 60); do
+    if [ -e box.ckpt ]; then "$VARSYM" run --resume box.ckpt 2>> err.txt &
+    else rm -f box.csv.part; "$VARSYM" "${args[@]}" 2>> err.txt & fi
+    pid=$!
+    sleep 0.2
+    kill -9 "$pid" 2> /dev/null
+    { wait "$pid"; } 2> /dev/null
+    rc=$?
+    [ "$rc" -eq 137 ] || break
+    echo killed >> kills.txt
+  done
+  exit "$rc"
+) && cmp -s straight/box.csv killed/box.csv && ok ||
+  bad "killed and resumed box differs from the straight run: $(cat killed/err.txt)"
+[ -s killed/kills.txt ] && ok || bad "the box run was never killed: it ended within 0.2 s"
+
+# --- refusals --------------------------------------------------------------------------------------
+expect_error 2 "negative friction" "friction" run --urdf "$box" --base free --contact \
+  --friction -0.5 --q0 0,0,0.1,1,0,0,0 -o out.csv
+expect_error 2 "friction without contact" "give contact too" run --urdf "$box" --base free \
+  --friction 0.5 --q0 0,0,0.1,1,0,0,0 -o out.csv
+expect_error 2 "a start below the ground" "below the ground" run --urdf "$box" --base free \
+  --contact --q0 0,0,0.05,1,0,0,0 -o out.csv
+expect_error 2 "contact of a mesh" "link shoulder_link" run --urdf "$data/ur5_robot.urdf" --contact \
+  -o out.csv
+sed 's|<sphere radius="0.1"/>|<sphere radius="-0.1"/>|' "$ball" > bad_ball.urdf
+expect_error 2 "a negative radius" "positive radius" run --urdf bad_ball.urdf --base free \
+  --contact --q0 0,0,0.4,1,0,0,0 -o out.csv
+expect_error 2 "contact for the pendulum" "contact" run --model pendulum --contact -o out.csv
+finish
