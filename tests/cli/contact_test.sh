@@ -91,6 +91,37 @@ mkdir -p straight killed
   bad "killed and resumed box differs from the straight run: $(cat killed/err.txt)"
 [ -s killed/kills.txt ] && ok || bad "the box run was never killed: it ended within 0.2 s"
 
+# --- a real quadruped (Unitree A1, tests/data/urdf/a1.urdf): standing and dropped ---------------
+# A free base and 12 joints under joint PD control (kp 80, kd 2) holding a crouch, its four
+# sphere feet on the ground. It stands still: over the last 4 of 10 s the base moves less than
+# 1e-6 m (measured 1.6e-7 m), the four feet carry M g h = 13.741 kg g h a step, and no foot sinks.
+a1=$data/a1.urdf
+legs=0,0.8,-1.5,0,0.8,-1.5,0,0.8,-1.5,0,0.8,-1.5
+pd=(--kp 80,80,80,80,80,80,80,80,80,80,80,80 --kd 2,2,2,2,2,2,2,2,2,2,2,2 --target $legs)
+"$VARSYM" run --urdf "$a1" --base free --contact --q0 0,0,0.3135,1,0,0,0,$legs "${pd[@]}" \
+  --time 10 --steps 10000 --every 1000 -o stand.csv 2> stand.err && ok || bad "A1 standing: $(cat stand.err)"
+for c in q_base_x q_base_y q_base_z; do
+  a=$(column stand.csv $c 7) # t = 6 s
+  b=$(column stand.csv $c last)
+  d=$(awk -v a="$a" -v b="$b" 'BEGIN { d = a - b; if (d < 0) d = -d; printf "%.6g", d }')
+  lt "$d" 1e-6 && ok || bad "A1 standing: $c moved $d m from t = 6 to 10 s"
+done
+c=$(column stand.csv contacts last)
+[ "$c" = 4 ] && ok || bad "A1 standing on $c feet"
+n=$(column stand.csv normal_impulse last)
+between 0.1347991 "$n" 0.1347993 && ok || bad "A1 standing: normal impulse $n N s, not M g h"
+p=$(largest stand.csv penetration)
+lt "$p" 1e-12 && ok || bad "A1 standing: penetration $p m"
+# Dropped from 0.3 m higher: lands on its feet, never sinks, and settles to its stance height.
+"$VARSYM" run --urdf "$a1" --base free --contact --q0 0,0,0.6135,1,0,0,0,$legs "${pd[@]}" \
+  --time 2 --steps 2000 --every 20 -o a1drop.csv 2> a1drop.err && ok || bad "A1 dropped: $(cat a1drop.err)"
+p=$(largest a1drop.csv penetration)
+lt "$p" 1e-12 && ok || bad "A1 dropped: penetration $p m"
+z=$(column a1drop.csv q_base_z last)
+between 0.300 "$z" 0.310 && ok || bad "A1 dropped: base at $z m after 2 s"
+c=$(column a1drop.csv contacts last)
+[ "$c" = 4 ] && ok || bad "A1 dropped: on $c feet after 2 s"
+
 # --- refusals --------------------------------------------------------------------------------------
 expect_error 2 "negative friction" "friction" run --urdf "$box" --base free --contact \
   --friction -0.5 --q0 0,0,0.1,1,0,0,0 -o out.csv
