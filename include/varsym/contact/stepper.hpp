@@ -21,7 +21,9 @@
 // complementarity problem is solved by the interior-point method (cone_solver.hpp), the step is
 // taken again with the new impulses, until the gaps and slips at its end agree with their
 // linearisation to `tolerance` [m]. The contacts solved for are the pairs whose gap is below
-// the free step's largest point motion; a pair found below zero at the end joins them.
+// the free step's largest point motion and the last step's; a pair found below zero at the end
+// joins them. Warm start: the last step's impulses are the first iterate, and S is taken at the
+// step with them (two linearisations a step for a robot standing: the A1's 4.0 fell to 2.0).
 //
 // The contact's work over a step is the change in E − W (W the forces' work) that the impulses
 // make, against the same step taken without them; total_work() includes it, so E − E₀ − W
@@ -104,20 +106,41 @@ class contact_stepper : public Inner {
         Inner::step_jacobian(from, out);
     }
 
+    /// The inner stepper's history, then the last step's contacts and impulses (4 numbers a
+    /// contact: the warm start), their count, the contact's work with its carry and the last
+    /// step's report: a resumed run takes the steps the straight one would have.
     void save_history(std::vector<double>& out) const {
         Inner::save_history(out);
+        for (std::size_t i = 0; i < warm_pairs_.size(); ++i) {
+            out.push_back(warm_pairs_[i]);
+            for (int j = 0; j < 3; ++j)
+                out.push_back(warm_lambda_(3 * static_cast<Eigen::Index>(i) + j));
+        }
+        out.push_back(static_cast<double>(warm_pairs_.size()));
         out.insert(out.end(), {work_, carry_, double(last_.active), last_.normal,
                                last_.friction, last_.penetration, last_.work});
     }
     void restore_history(const phase_state<dim>& x, const std::vector<double>& in) {
         last_ = {};
         work_ = carry_ = 0.0;
-        if (in.size() < history_size) {
+        warm_pairs_.clear();
+        const std::size_t fixed = history_size + 1;
+        const auto count =
+            in.size() >= fixed ? static_cast<std::size_t>(in[in.size() - fixed]) : 0U;
+        if (in.size() < fixed || in.size() < fixed + 4 * count) {
             Inner::restore_history(x, in);
             return;
         }
+        const auto warm = in.end() - static_cast<std::ptrdiff_t>(fixed + 4 * count);
+        Inner::restore_history(x, std::vector<double>(in.begin(), warm));
+        warm_lambda_.resize(3 * static_cast<Eigen::Index>(count));
+        for (std::size_t i = 0; i < count; ++i) {
+            warm_pairs_.push_back(static_cast<int>(warm[static_cast<std::ptrdiff_t>(4 * i)]));
+            for (int j = 0; j < 3; ++j)
+                warm_lambda_(3 * static_cast<Eigen::Index>(i) + j) =
+                    warm[static_cast<std::ptrdiff_t>(4 * i) + 1 + j];
+        }
         const auto split = in.end() - history_size;
-        Inner::restore_history(x, std::vector<double>(in.begin(), split));
         work_ = split[0];
         carry_ = split[1];
         last_.active = static_cast<int>(split[2]);
@@ -172,6 +195,8 @@ class contact_stepper : public Inner {
     std::string failure_;
     // Scratch.
     std::vector<pair_state> active_;
+    std::vector<int> warm_pairs_; // the last step's contacts and their impulses
+    Eigen::VectorXd warm_lambda_;
     phase_state<dim> from_, y_;
     double saved_t_ = 0.0, saved_work_ = 0.0, saved_carry_ = 0.0;
     compensated_update<dim> saved_sum_;
@@ -239,6 +264,7 @@ newton_report contact_stepper<Inner>::step(phase_state<dim>& x) {
     for (int c = 0; c < pairs(); ++c)
         lowest = std::min(lowest, gap(c));
     if (!(lowest < 0.0)) {
+        warm_pairs_.clear();
         x = y_;
         return rep;
     }
@@ -257,15 +283,41 @@ newton_report contact_stepper<Inner>::step(phase_state<dim>& x) {
     for (int c = 0; c < pairs(); ++c)
         if (end_gap[static_cast<std::size_t>(c)] < reach) active_.push_back({c, {}, {}});
 
-    // S = ∂q_{j+1}/∂p_j of the free step, kept for the step's linearisations (Newton's method
-    // with its Jacobian frozen: the impulses change S by O(h λ), which the iteration absorbs).
-    Inner::step_jacobian(from_, sj_);
+    for (std::size_t i = 0; i < warm_pairs_.size(); ++i) // the last step's contacts join
+        if (std::none_of(active_.begin(), active_.end(),
+                         [&](const pair_state& a) { return a.pair == warm_pairs_[i]; }))
+            active_.push_back({warm_pairs_[i], {}, {}});
+    // S = ∂q_{j+1}/∂p_j, kept for the step's linearisations (Newton's method with its Jacobian
+    // frozen: the impulses change S by O(h λ), which the iteration absorbs): at the step with
+    // the last step's impulses where there were any (warm: usually one more linearisation
+    // converges), else at the free step.
     const int d = kin_.dimension();
-    s_ = sj_.block(0, d, d, d);
     Eigen::VectorXd lambda, values, predicted;
     cone_problem prob;
     bool fresh = true; // the active set changed: J's rows, λ extended by zeros
     newton_report total = rep;
+    if (warm_pairs_.empty()) {
+        Inner::step_jacobian(from_, sj_);
+    } else {
+        kin_.at(from_.q);
+        rows(true, jac_, nullptr);
+        lambda.setZero(jac_.rows());
+        for (std::size_t i = 0; i < active_.size(); ++i)
+            for (std::size_t j = 0; j < warm_pairs_.size(); ++j)
+                if (active_[i].pair == warm_pairs_[j])
+                    lambda.segment<3>(3 * static_cast<Eigen::Index>(i)) =
+                        warm_lambda_.segment<3>(3 * static_cast<Eigen::Index>(j));
+        fresh = false;
+        if (!take(y_, lambda, total)) {
+            restore();
+            total.converged = false;
+            return total;
+        }
+        phase_state<dim> kicked = from_;
+        kicked.p.noalias() += jac_.transpose() * lambda;
+        Inner::step_jacobian(kicked, sj_);
+    }
+    s_ = sj_.block(0, d, d, d);
     for (int it = 1;; ++it) {
         if (fresh) {
             kin_.at(from_.q);
@@ -304,6 +356,10 @@ newton_report contact_stepper<Inner>::step(phase_state<dim>& x) {
                 carry_ += std::abs(work_) >= std::abs(last_.work) ? (work_ - sum) + last_.work
                                                                    : (last_.work - sum) + work_;
                 work_ = sum;
+                warm_pairs_.clear();
+                for (const pair_state& a : active_)
+                    warm_pairs_.push_back(a.pair);
+                warm_lambda_ = lambda;
                 x = y_;
                 total.converged = true;
                 return total;
