@@ -122,6 +122,16 @@ between 0.300 "$z" 0.310 && ok || bad "A1 dropped: base at $z m after 2 s"
 c=$(column a1drop.csv contacts last)
 [ "$c" = 4 ] && ok || bad "A1 dropped: on $c feet after 2 s"
 
+# --- an ensemble of drops from four heights: each rests at its radius ----------------------------
+rm -f ens.csv ens.csv.journal
+"$VARSYM" ensemble --urdf "$ball" --base free --set contact=1 --set friction=0.3 \
+  --q0 0 0 0.4 1 0 0 0 --grid q0_3=0.3:0.6:4 --time 0.5 --steps 500 --no-indicators -o ens.csv \
+  2> ens.err && ok || bad "ensemble: $(cat ens.err)"
+rested=$(awk -F, 'NR > 1 && $3 == "completed" && ($8 - 0.1 < 1e-9 && 0.1 - $8 < 1e-9) { n++ } END { print n + 0 }' ens.csv)
+[ "$rested" = 4 ] && ok || bad "ensemble: $rested of 4 drops rest at z = 0.1: $(cut -d, -f1-8 ens.csv)"
+expect_error 2 "indicators with contact" "--no-indicators" ensemble --urdf "$ball" --base free \
+  --set contact=1 --q0 0 0 0.4 1 0 0 0 --grid q0_3=0.3:0.6:4 -o out.csv
+
 # --- refusals --------------------------------------------------------------------------------------
 expect_error 2 "negative friction" "friction" run --urdf "$box" --base free --contact \
   --friction -0.5 --q0 0,0,0.1,1,0,0,0 -o out.csv

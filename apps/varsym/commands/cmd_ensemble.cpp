@@ -1,11 +1,13 @@
 // apps/varsym/commands/cmd_ensemble.cpp: `varsym ensemble`, one model run from many initial states
 // or parameter sets (a grid or a CSV file), on every core and, built with MPI, across processes:
 // one CSV row per member in member order, resumable after a kill, and a heat map.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -89,6 +91,14 @@ void run_ensemble(const ensemble_options& o) {
     const member_set set = make_member_set(o.run.members, model);
     ensemble_setup setup = make_setup(o.run, model, set.size);
     setup.plan.indicators = !o.no_indicators;
+    // A contact step has no tangent map (its impulses switch on and off): refused up front
+    // rather than every member invalid.
+    bool contact = std::find(set.keys.begin(), set.keys.end(), "contact") != set.keys.end();
+    for (const std::string& s : o.run.members.set)
+        if (s.rfind("contact=", 0) == 0) contact = contact || std::atof(s.c_str() + 8) != 0.0;
+    if (contact && !o.no_indicators)
+        throw usage_error("with contact a step has no tangent map for lyapunov and mean_megno: "
+                          "give --no-indicators");
     // Ctrl-C: the members in flight stop after their current step (member_plan::stop), are
     // not written, and run again on resume.
     setup.plan.stop = &stop_flag();
