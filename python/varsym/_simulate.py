@@ -122,6 +122,12 @@ class Model:
         event_time, cause (why a member failed or was invalid). ``event``: an expression in
         q1..qd, p1..pd and t (as the tool's ``--event``) whose change of sign stops a member
         (status "event", at ``event_time``, located to O(h²))."""
+        contact = self.parameters.get("contact") or (
+            parameters is not None and "contact" in parameters
+            and bool(np.any(np.asarray(parameters["contact"], dtype=float) != 0)))
+        if contact and indicators:
+            raise UsageError("with contact a step has no tangent map for lyapunov and "
+                             "mean_megno: give indicators=False")
         values, q0, p0 = _member_arrays("ensemble", parameters, self.parameters,
                                         [p["name"] for p in self.info["parameters"]], q0, p0,
                                         self.dim)

@@ -33,3 +33,18 @@ def test_contact_parameters_without_contact_are_refused():
     with pytest.raises(varsym.UsageError, match="give contact too"):
         varsym.simulate(varsym.Robot(BALL, base="free", friction=0.3), t_span=(0.0, 1.0),
                         steps=10, q0=[0, 0, 0.4, 1, 0, 0, 0])
+
+
+def test_an_ensemble_of_drops_rests_and_needs_no_indicators():
+    robot = varsym.Robot(BALL, base="free", contact=1)
+    q0 = np.tile([0.0, 0.0, 0.4, 1.0, 0.0, 0.0, 0.0], (3, 1))
+    q0[:, 2] = [0.3, 0.4, 0.5]
+    with pytest.raises(varsym.UsageError, match="indicators=False"):
+        robot.ensemble(q0=q0, t_span=0.5, steps=500)
+    members = robot.ensemble(q0=q0, t_span=0.5, steps=500, indicators=False)
+    assert list(members["status"]) == ["completed"] * 3
+    assert np.allclose(members["q"][:, 2], 0.1, atol=1e-9)  # each at rest at its radius
+    # The stepper steps the same way.
+    stepper = varsym.Stepper(robot, 1e-3, q0=[0, 0, 0.4, 1, 0, 0, 0])
+    stepper.step(1000)
+    assert stepper.q[2] == pytest.approx(0.1, abs=1e-9)
