@@ -102,14 +102,19 @@ const parameter_set<robot_parameters>& robot_set() {
          {&rp::target,
           {.name = "target", .unit = "rad", .doc = "PD target joint positions (the start)"}},
          {&rp::torque,
-          {.name = "torque", .unit = "N m", .doc = "constant joint torques (0 each)"}}}};
+          {.name = "torque", .unit = "N m", .doc = "constant joint torques (0 each)"}},
+         {&rp::boxes,
+          {.name = "boxes",
+           .unit = "m",
+           .doc = "static boxes on the ground (with contact): centre x, y, z and sides, six "
+                  "numbers a box"}}}};
     return set;
 }
 
 /// The parameters only a simulation uses: the controller's and the constant torques.
 const std::vector<std::string> simulation_only = {
     "move_time", "no_gravity_compensation", "kp", "kd", "target", "torque",
-    "contact", "friction", "ground_height", "ground_slope"};
+    "contact", "friction", "ground_height", "ground_slope", "boxes"};
 
 /// The description: name, summary, text, coordinates, run lengths, default start.
 void describe(model& m, const multibody::tree& r) {
@@ -149,7 +154,8 @@ void describe(model& m, const multibody::tree& r) {
         "  Contact (--contact, docs/contact.md): the links' <collision> spheres, boxes,\n"
         "  cylinders and capsules touch the ground z = ground_height + x tan(ground_slope),\n"
         "  hard (no penetration, inelastic) with Coulomb friction (--friction) on the exact\n"
-        "  cone, inside the step; meshes are refused. More columns: contacts, normal_impulse\n"
+        "  cone, inside the step, and the static boxes --boxes (x,y,z,sx,sy,sz each, axis-\n"
+        "  aligned); meshes are refused. More columns: contacts, normal_impulse\n"
         "  and friction_impulse (sums over the contacts in the last step [N s]), penetration\n"
         "  [m], contact_work [J] (included in work)." +
         base;

@@ -107,9 +107,10 @@ robot_contact contact_of(const robot_parameters& p, const std::shared_ptr<const 
                          const vec<dynamic>& q0) {
     robot_contact out;
     if (p.contact == 0.0) {
-        if (p.friction != 1.0 || p.ground_height != 0.0 || p.ground_slope != 0.0)
-            throw std::invalid_argument("friction, ground_height and ground_slope describe "
-                                        "contact: give contact too (--contact)");
+        if (p.friction != 1.0 || p.ground_height != 0.0 || p.ground_slope != 0.0 ||
+            !p.boxes.empty())
+            throw std::invalid_argument("friction, ground_height, ground_slope and boxes describe "
+                                        "contact: give contact too");
         return out;
     }
     if (contact::contact_points(*r).empty()) // (refuses a mesh, naming its link)
@@ -117,19 +118,31 @@ robot_contact contact_of(const robot_parameters& p, const std::shared_ptr<const 
                                     r->name + " has a <collision>: add spheres or boxes");
     out.on = true;
     out.world = {contact::ground(p.ground_height, p.ground_slope, p.friction)};
+    if (p.boxes.size() % 6 != 0)
+        throw std::invalid_argument("boxes needs six numbers a box (centre x, y, z and sides), "
+                                    "got " + std::to_string(p.boxes.size()));
+    for (std::size_t i = 0; i < p.boxes.size(); i += 6) {
+        const multibody::vec3 c(p.boxes[i], p.boxes[i + 1], p.boxes[i + 2]);
+        const multibody::vec3 sides(p.boxes[i + 3], p.boxes[i + 4], p.boxes[i + 5]);
+        const std::string name = "box " + std::to_string(i / 6 + 1);
+        if (!(sides.minCoeff() > 0.0) || !sides.allFinite() || !c.allFinite())
+            throw std::invalid_argument(name + " of boxes needs positive finite sides");
+        out.world.push_back(contact::static_box(c, sides, p.friction, name));
+    }
     contact::robot_kinematics kin(r);
     kin.at(q0);
-    for (const contact::contact_point& c : contact::contact_points(*r)) {
-        const double gap = out.world[0].normal.dot(kin.pose(c.body).point(c.point)) - c.radius -
-                           out.world[0].offset;
-        if (gap < -1e-9) {
-            char buf[200];
-            std::snprintf(buf, sizeof buf,
-                          "link %s starts %.3g m below the ground: raise the start (base_z)",
-                          c.link.c_str(), -gap);
-            throw std::invalid_argument(buf);
+    for (const contact::contact_point& c : contact::contact_points(*r))
+        for (const contact::obstacle& w : out.world) {
+            multibody::vec3 n;
+            const double gap = w.distance(kin.pose(c.body).point(c.point), n) - c.radius;
+            if (gap < -1e-9) {
+                char buf[200];
+                std::snprintf(buf, sizeof buf,
+                              "link %s starts %.3g m inside the %s: raise the start (base_z)",
+                              c.link.c_str(), -gap, w.name == "ground" ? "ground" : w.name.c_str());
+                throw std::invalid_argument(buf);
+            }
         }
-    }
     return out;
 }
 

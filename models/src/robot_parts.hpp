@@ -19,7 +19,7 @@ namespace varsym::models::robot_detail {
 struct robot_parameters {
     double gravity, no_damping, move_time, no_gravity_compensation;
     double contact, friction, ground_height, ground_slope;
-    std::vector<double> kp, kd, target, torque;
+    std::vector<double> kp, kd, target, torque, boxes;
 };
 
 /// Damping, the PD controller, and the joint torques typed as expressions (constant torques
@@ -47,13 +47,14 @@ robot_forces make_forces(const robot_parameters& p, const expression_force& type
 const std::vector<std::string>& base_columns();
 void fill_base(const multibody::base_motion& b, double* out);
 
-/// The contact of parameters p (contact, friction, ground_height, ground_slope) for robot r:
-/// off, or on with the ground plane, checked: r has collision shapes (no mesh; the message names
-/// the link), the ground's parameters are not given without contact, and the start q0 (the
-/// model's coordinates) is not below the ground by more than 1e-9 m.
+/// The contact of parameters p (contact, friction, ground_height, ground_slope, boxes) for robot
+/// r: off, or on with the ground plane and the static boxes (six numbers each: centre x, y, z
+/// and sides [m]), checked: r has collision shapes (no mesh; the message names the link), the
+/// world's parameters are not given without contact, every box has positive sides, and the
+/// start q0 (the model's coordinates) is not inside the ground or a box by more than 1e-9 m.
 struct robot_contact {
     bool on = false;
-    std::vector<contact::half_space> world;
+    std::vector<contact::obstacle> world;
 };
 robot_contact contact_of(const robot_parameters& p, const std::shared_ptr<const multibody::tree>& r,
                          const vec<dynamic>& q0);

@@ -132,12 +132,25 @@ rested=$(awk -F, 'NR > 1 && $3 == "completed" && ($8 - 0.1 < 1e-9 && 0.1 - $8 < 
 expect_error 2 "indicators with contact" "--no-indicators" ensemble --urdf "$ball" --base free \
   --set contact=1 --q0 0 0 0.4 1 0 0 0 --grid q0_3=0.3:0.6:4 -o out.csv
 
+# --- a step: the ball dropped onto a static box (x 1..3, 0.2 m high) rests on it at 0.2 + r ------
+"$VARSYM" run --urdf "$ball" --base free --contact --boxes 2,0,0.1,2,2,0.2 \
+  --q0 1.5,0,0.5,1,0,0,0 --time 1 --steps 1000 --every 1000 -o step.csv 2> step.err &&
+  ok || bad "step: $(cat step.err)"
+z=$(column step.csv q_base_z last)
+between 0.299999999 "$z" 0.300000001 && ok || bad "step: the ball rests at z = $z, not 0.3"
+expect_error 2 "boxes of five numbers" "six numbers a box" run --urdf "$ball" --base free \
+  --contact --boxes 2,0,0.1,2,2 --q0 0,0,0.4,1,0,0,0 -o out.csv
+expect_error 2 "a flat box" "positive finite sides" run --urdf "$ball" --base free --contact \
+  --boxes 2,0,0.1,2,0,0.2 --q0 0,0,0.4,1,0,0,0 -o out.csv
+expect_error 2 "a start inside a box" "inside the box 1" run --urdf "$ball" --base free \
+  --contact --boxes 0,0,0.1,2,2,0.2 --q0 0,0,0.15,1,0,0,0 -o out.csv
+
 # --- refusals --------------------------------------------------------------------------------------
 expect_error 2 "negative friction" "friction" run --urdf "$box" --base free --contact \
   --friction -0.5 --q0 0,0,0.1,1,0,0,0 -o out.csv
 expect_error 2 "friction without contact" "give contact too" run --urdf "$box" --base free \
   --friction 0.5 --q0 0,0,0.1,1,0,0,0 -o out.csv
-expect_error 2 "a start below the ground" "below the ground" run --urdf "$box" --base free \
+expect_error 2 "a start below the ground" "inside the ground" run --urdf "$box" --base free \
   --contact --q0 0,0,0.05,1,0,0,0 -o out.csv
 expect_error 2 "contact of a mesh" "link shoulder_link" run --urdf "$data/ur5_robot.urdf" --contact \
   -o out.csv

@@ -101,10 +101,34 @@ TEST(ContactGeometry, PointJacobiansMatchDifferences) {
     expect_jacobians(varsym::multibody::base_kind::free, free);
 }
 
+TEST(ContactGeometry, ABoxsDistanceAndNormal) {
+    // A box of sides (2, 1, 0.5) at (1, 0, 0.25): its faces x = 0, 2; y = ±0.5; z = 0, 0.5.
+    const auto b = varsym::contact::static_box(vec3(1.0, 0.0, 0.25), vec3(2.0, 1.0, 0.5), 0.5,
+                                               "step");
+    vec3 n;
+    EXPECT_NEAR(b.distance(vec3(1.5, 0.2, 0.8), n), 0.3, 1e-15); // above its top
+    EXPECT_EQ(n, vec3::UnitZ());
+    EXPECT_NEAR(b.distance(vec3(2.3, 0.9, 0.25), n), 0.5, 1e-15); // by an edge: √(0.3² + 0.4²)
+    EXPECT_LT((n - vec3(0.6, 0.8, 0.0)).norm(), 1e-15);
+    EXPECT_NEAR(b.distance(vec3(1.9, 0.0, 0.3), n), -0.1, 1e-15); // inside, nearest x = 2
+    EXPECT_EQ(n, vec3::UnitX());
+    // The normal is the distance's gradient (central differences) outside, edges included.
+    for (const vec3& p : {vec3(2.3, 0.9, 0.25), vec3(-0.2, -0.7, 0.9), vec3(0.5, 0.1, 0.6)}) {
+        b.distance(p, n);
+        vec3 g, unused;
+        for (int k = 0; k < 3; ++k) {
+            const vec3 e = 1e-6 * vec3::Unit(k);
+            g(k) = (b.distance(p + e, unused) - b.distance(p - e, unused)) / 2e-6;
+        }
+        EXPECT_LT((g - n).norm(), 1e-8) << p.transpose();
+    }
+}
+
 TEST(ContactGeometry, TheGroundsSlopeTiltsItsNormal) {
     const auto g = varsym::contact::ground(0.1, 0.3, 0.5);
     // The plane z = 0.1 + x tan 0.3 contains (1, 0, 0.1 + tan 0.3): its gap is 0.
-    EXPECT_NEAR(g.normal.dot(vec3(1.0, 0.0, 0.1 + std::tan(0.3))) - g.offset, 0.0, 1e-15);
+    vec3 n;
+    EXPECT_NEAR(g.distance(vec3(1.0, 0.0, 0.1 + std::tan(0.3)), n), 0.0, 1e-15);
     EXPECT_NEAR(g.normal.norm(), 1.0, 1e-15);
     EXPECT_GT(g.normal.z(), 0.0);
 }

@@ -209,6 +209,12 @@ inline cone_result solve_cone(const cone_problem& p, const cone_options& o = {})
         const double alpha = std::min(1.0, 0.99 * longest(v, y, dv));
         v += alpha * dv;
     }
+    // Purification: a contact whose impulse moves its own gap less than the gap stays open is
+    // inactive (γ = 0, b = 0). The central path leaves γ ~ s ~ √tolerance on a contact that
+    // touches without pressing (a ball at rest against a wall); those impulses would push.
+    if (out.converged)
+        for (int i = 0; i < k; ++i)
+            if (a(3 * i, 3 * i) * v(3 * i) < v(3 * k + i)) v.segment<3>(3 * i).setZero();
     out.lambda = g * v.head(3 * k);
     out.values = p.c + p.a * out.lambda;
     return out;

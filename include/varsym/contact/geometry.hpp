@@ -1,8 +1,9 @@
 // varsym/contact/geometry.hpp: what touches and what it touches. A robot's collision shapes
 // (tree::collisions, from the URDF's <collision>) become contact points fixed to its bodies,
-// each with a radius; the world is a set of half-spaces n·x ≥ offset (a ground plane, its
-// height and slope) with a friction coefficient each. Every pair of a point and a half-space is a
-// potential contact; its gap is φ = n·P − r − offset [m].
+// each with a radius; the world is a set of obstacles, each with a friction coefficient: the
+// half-space n·x ≥ offset (a ground plane, its height and slope) and static boxes (steps,
+// tables). Every pair of a point and an obstacle is a potential contact; its gap is
+// φ = dist(P) − r [m], dist the obstacle's signed distance (n·P − offset for the plane).
 //
 // Shapes: a sphere is its centre with its radius, a capsule its two end spheres (exact against a
 // plane: the lowest point of a segment is an end), a box its eight corners (exact against a
@@ -42,21 +43,62 @@ struct contact_point {
     std::string link; ///< the URDF link whose shape it is
 };
 
-/// The half-space n·x ≥ offset [m] (n a unit vector: the outward normal of the surface).
-struct half_space {
-    vec3 normal = vec3::UnitZ();
-    double offset = 0.0;
-    double friction = 1.0; ///< Coulomb's μ ≥ 0
+/// What the robot touches, with Coulomb's μ ≥ 0: the half-space n·x ≥ offset [m] (n a unit
+/// vector, the surface's outward normal: the ground) or a static box (its centre and half
+/// sides [m], axis-aligned: a step, a table). distance() is the signed distance of a point
+/// (negative inside) and its gradient, the outward normal there; a box's is continuous outside
+/// it (the normal turns round its edges and corners) and takes the nearest face inside.
+struct obstacle {
+    enum class shape { half_space, box };
+    shape kind = shape::half_space;
+    vec3 normal = vec3::UnitZ(); ///< a half-space's
+    double offset = 0.0;         ///< a half-space's
+    vec3 centre = vec3::Zero();  ///< a box's
+    vec3 half = vec3::Zero();    ///< a box's half sides
+    double friction = 1.0;
     std::string name = "ground";
+
+    double distance(const vec3& p, vec3& n) const {
+        if (kind == shape::half_space) {
+            n = normal;
+            return normal.dot(p) - offset;
+        }
+        const vec3 d = p - centre;
+        const vec3 q = d.cwiseAbs() - half;
+        const vec3 sign = d.unaryExpr([](double v) { return v < 0.0 ? -1.0 : 1.0; });
+        if (q.maxCoeff() > 0.0) { // outside: to the nearest point of the box
+            const vec3 out = q.cwiseMax(0.0);
+            const double r = out.norm();
+            n = sign.cwiseProduct(out) / r;
+            return r;
+        }
+        Eigen::Index k = 0; // inside: through the nearest face
+        const double depth = q.maxCoeff(&k);
+        n = vec3::Zero();
+        n(k) = sign(k);
+        return depth;
+    }
 };
+using half_space = obstacle;
 
 /// The ground: the plane z = height + x tan(slope) (rising along +x for slope > 0 [rad]).
-inline half_space ground(double height, double slope, double friction) {
-    half_space g;
+inline obstacle ground(double height, double slope, double friction) {
+    obstacle g;
     g.normal = vec3(-std::sin(slope), 0.0, std::cos(slope));
     g.offset = height * std::cos(slope);
     g.friction = friction;
     return g;
+}
+
+/// A static box with centre c and sides `sides` [m], axis-aligned.
+inline obstacle static_box(const vec3& c, const vec3& sides, double friction, std::string name) {
+    obstacle b;
+    b.kind = obstacle::shape::box;
+    b.centre = c;
+    b.half = 0.5 * sides;
+    b.friction = friction;
+    b.name = std::move(name);
+    return b;
 }
 
 /// Two unit tangents t1, t2 with (t1, t2, n) right-handed.

@@ -68,12 +68,12 @@ class contact_stepper : public Inner {
     static constexpr int dim = Inner::dim;
 
     contact_stepper(Inner inner, std::shared_ptr<const multibody::tree> t,
-                    std::vector<half_space> world, contact_options o = {})
+                    std::vector<obstacle> world, contact_options o = {})
         : Inner(std::move(inner)), kin_(t), points_(contact_points(*t)), world_(std::move(world)),
           opt_(o) {
         if (kin_.dimension() != this->system().dimension())
             throw std::invalid_argument("contact: the robot's coordinates are not the system's");
-        for (const half_space& w : world_)
+        for (const obstacle& w : world_)
             if (!(w.friction >= 0.0 && std::isfinite(w.friction)))
                 throw std::invalid_argument("the friction coefficient of " + w.name +
                                             " must be finite and >= 0");
@@ -153,20 +153,21 @@ class contact_stepper : public Inner {
   private:
     struct pair_state {
         int pair;
-        vec3 friction_point; ///< F in its body's frame
-        vec3 start;          ///< F(q_j) in the world
+        vec3 friction_point = vec3::Zero(); ///< F in its body's frame
+        vec3 start = vec3::Zero();          ///< F(q_j) in the world
+        vec3 t1 = vec3::UnitX(), t2 = vec3::UnitY(); ///< the tangents at q_j
     };
     [[nodiscard]] const contact_point& point(int c) const {
         return points_[static_cast<std::size_t>(c) / world_.size()];
     }
-    [[nodiscard]] const half_space& plane(int c) const {
+    [[nodiscard]] const obstacle& plane(int c) const {
         return world_[static_cast<std::size_t>(c) % world_.size()];
     }
     /// φ of pair c at the last kinematics.
     [[nodiscard]] double gap(int c) const {
         const contact_point& p = point(c);
-        const half_space& w = plane(c);
-        return w.normal.dot(kin_.pose(p.body).point(p.point)) - p.radius - w.offset;
+        vec3 n;
+        return plane(c).distance(kin_.pose(p.body).point(p.point), n) - p.radius;
     }
     // The inner stepper's running sums, kept across trial steps.
     void save() {
@@ -188,7 +189,7 @@ class contact_stepper : public Inner {
 
     robot_kinematics kin_;
     std::vector<contact_point> points_;
-    std::vector<half_space> world_;
+    std::vector<obstacle> world_;
     contact_options opt_;
     contact_report last_;
     double work_ = 0.0, carry_ = 0.0;
@@ -213,25 +214,25 @@ void contact_stepper<Inner>::rows(bool start, Eigen::MatrixXd& m, Eigen::VectorX
     for (int i = 0; i < k; ++i) {
         pair_state& a = active_[static_cast<std::size_t>(i)];
         const contact_point& p = point(a.pair);
-        const half_space& w = plane(a.pair);
-        vec3 t1, t2;
-        tangents(w.normal, t1, t2);
         const multibody::pose body = kin_.pose(p.body);
         const vec3 centre = body.point(p.point);
-        if (start) { // the material point at the contact
-            a.start = centre - p.radius * w.normal;
+        vec3 n;
+        const double distance = plane(a.pair).distance(centre, n);
+        if (start) { // the material point at the contact, and the tangent plane there
+            tangents(n, a.t1, a.t2);
+            a.start = centre - p.radius * n;
             a.friction_point = body.rotation.transpose() * (a.start - body.origin);
         }
         kin_.jacobian(p.body, centre, dp_);
-        m.row(3 * i) = w.normal.transpose() * dp_;
+        m.row(3 * i) = n.transpose() * dp_;
         const vec3 f = body.point(a.friction_point);
         kin_.jacobian(p.body, f, dp_);
-        m.row(3 * i + 1) = t1.transpose() * dp_;
-        m.row(3 * i + 2) = t2.transpose() * dp_;
+        m.row(3 * i + 1) = a.t1.transpose() * dp_;
+        m.row(3 * i + 2) = a.t2.transpose() * dp_;
         if (!values) continue;
-        (*values)(3 * i) = w.normal.dot(centre) - p.radius - w.offset;
-        (*values)(3 * i + 1) = t1.dot(f - a.start);
-        (*values)(3 * i + 2) = t2.dot(f - a.start);
+        (*values)(3 * i) = distance - p.radius;
+        (*values)(3 * i + 1) = a.t1.dot(f - a.start);
+        (*values)(3 * i + 2) = a.t2.dot(f - a.start);
     }
 }
 
@@ -281,12 +282,12 @@ newton_report contact_stepper<Inner>::step(phase_state<dim>& x) {
         reach = std::max(reach, (kin_.pose(points_[i].body).point(points_[i].point) - end[i]).norm());
     active_.clear();
     for (int c = 0; c < pairs(); ++c)
-        if (end_gap[static_cast<std::size_t>(c)] < reach) active_.push_back({c, {}, {}});
+        if (end_gap[static_cast<std::size_t>(c)] < reach) active_.push_back({c});
 
     for (std::size_t i = 0; i < warm_pairs_.size(); ++i) // the last step's contacts join
         if (std::none_of(active_.begin(), active_.end(),
                          [&](const pair_state& a) { return a.pair == warm_pairs_[i]; }))
-            active_.push_back({warm_pairs_[i], {}, {}});
+            active_.push_back({warm_pairs_[i]});
     // S = ∂q_{j+1}/∂p_j, kept for the step's linearisations (Newton's method with its Jacobian
     // frozen: the impulses change S by O(h λ), which the iteration absorbs): at the step with
     // the last step's impulses where there were any (warm: usually one more linearisation
@@ -337,7 +338,7 @@ newton_report contact_stepper<Inner>::step(phase_state<dim>& x) {
             for (int c = 0; c < pairs(); ++c)
                 if (gap(c) < 0.0 && std::none_of(active_.begin(), active_.end(),
                                                  [c](const pair_state& a) { return a.pair == c; }))
-                    active_.push_back({c, {}, {}});
+                    active_.push_back({c});
             if (active_.size() == before) {
                 const int k = static_cast<int>(active_.size());
                 last_.iterations = it;
