@@ -14,7 +14,7 @@ OUT ?= out
 VARSYM = $(BUILD_DIR)/apps/varsym/varsym
 
 .PHONY: all deps configure build tool python python-tool run test install san-configure test-sanitize \
-  test-sanitize-cli fuzz bench bench-optimal bench-robots soak clean
+  test-sanitize-cli fuzz bench bench-optimal bench-robots bench-contact soak clean
 
 all: build
 
@@ -127,6 +127,16 @@ bench-robots: deps
 	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -Wno-dev >/dev/null
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_bench_robots
 	$(BUILD_DIR)/bench/varsym_bench_robots $(ROBOT_BENCH)
+
+# Hard contact with Coulomb friction against MuJoCo (bench/bench_contact.cpp): a box on an
+# incline, a dropped ball, the A1 quadruped standing and dropped under PD, a tumbling box; one
+# markdown table. CONTACT_ROUNDS: interleaved rounds of the A1's timed runs.
+CONTACT_ROUNDS ?= 5
+bench-contact: deps
+	@bash scripts/install-deps.sh libmujoco-dev
+	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -Wno-dev >/dev/null
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_bench_contact
+	$(BUILD_DIR)/bench/varsym_bench_contact $(CONTACT_ROUNDS)
 
 soak: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target varsym_soak
