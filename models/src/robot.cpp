@@ -24,14 +24,14 @@ using robot_detail::base_columns;
 using robot_detail::base_size;
 using robot_detail::contact_columns;
 using robot_detail::contact_of;
-using robot_detail::fill_contact;
-using robot_detail::simulate_robot;
 using robot_detail::fill_base;
+using robot_detail::fill_contact;
 using robot_detail::make_forces;
 using robot_detail::robot_force;
 using robot_detail::robot_forces;
 using robot_detail::robot_parameters;
 using robot_detail::simulate_free;
+using robot_detail::simulate_robot;
 using robot = multibody::robot_lagrangian;
 using robot_system = lagrangian_system<robot>;
 
@@ -75,8 +75,9 @@ const parameter_set<robot_parameters>& robot_set() {
          {&rp::friction,
           {.name = "friction",
            .value = 1.0,
-           .doc = "Coulomb friction coefficient of the ground (with contact)",
-           .lower = 0.0}},
+           .doc = "Coulomb friction coefficient of the ground and the boxes (with contact)",
+           .lower = 0.0,
+           .upper = 1000.0}},
          {&rp::ground_height,
           {.name = "ground_height",
            .value = 0.0,
@@ -101,8 +102,7 @@ const parameter_set<robot_parameters>& robot_set() {
            .lower = 0.0}},
          {&rp::target,
           {.name = "target", .unit = "rad", .doc = "PD target joint positions (the start)"}},
-         {&rp::torque,
-          {.name = "torque", .unit = "N m", .doc = "constant joint torques (0 each)"}},
+         {&rp::torque, {.name = "torque", .unit = "N m", .doc = "constant joint torques (0 each)"}},
          {&rp::boxes,
           {.name = "boxes",
            .unit = "m",
@@ -111,10 +111,11 @@ const parameter_set<robot_parameters>& robot_set() {
     return set;
 }
 
-/// The parameters only a simulation uses: the controller's and the constant torques.
+/// The parameters only a simulation uses: the controller's, the constant torques and contact's
+/// (optimal control's transcription has no contact).
 const std::vector<std::string> simulation_only = {
-    "move_time", "no_gravity_compensation", "kp", "kd", "target", "torque",
-    "contact", "friction", "ground_height", "ground_slope", "boxes"};
+    "move_time", "no_gravity_compensation", "kp",           "kd",   "target", "torque", "contact",
+    "friction",  "ground_height",           "ground_slope", "boxes"};
 
 /// The description: name, summary, text, coordinates, run lengths, default start.
 void describe(model& m, const multibody::tree& r) {
@@ -214,8 +215,8 @@ problem simulate(const std::shared_ptr<const multibody::tree>& r, const expressi
     if (!rf.forced) {
         pr.simulate = [sys, x0, columns, touch, r](const step_options& o) {
             detail::check_general(o);
-            return simulate_robot(general::stepper<robot>(sys, o.h, o.spec, o.newton), touch, r,
-                                  x0, columns());
+            return simulate_robot(general::stepper<robot>(sys, o.h, o.spec, o.newton), touch, r, x0,
+                                  columns());
         };
         return pr;
     }

@@ -67,11 +67,12 @@ problem simulate_free(const std::shared_ptr<const multibody::tree>& r,
                                      "quaternion_residual"};
     cols.insert(cols.end(), base_columns().begin(), base_columns().end());
     const robot_contact touch = contact_of(p, r, x0.q);
+    const int at = static_cast<int>(cols.size());
     if (touch.on) cols.insert(cols.end(), contact_columns().begin(), contact_columns().end());
-    auto columns = [cols, sys, e0, r, names] {
+    auto columns = [cols, sys, e0, r, names, at] {
         return detail::column_set{
             cols,
-            [sys, e0, r](double, const phase_state<dynamic>& x, const auto& st, double* out) {
+            [sys, e0, r, at](double, const phase_state<dynamic>& x, const auto& st, double* out) {
                 out[0] = sys.energy(x);
                 out[1] = st.total_work();
                 out[2] = out[0] - e0 - out[1];
@@ -84,7 +85,7 @@ problem simulate_free(const std::shared_ptr<const multibody::tree>& r,
                 out[3] = outside;
                 out[4] = x.q.segment<4>(3).squaredNorm() - 1.0;
                 fill_base(sys.lagrangian().motion(x.q, sys.velocity(x.q, x.p)), out + 5);
-                fill_contact(st, out + 20);
+                fill_contact(st, out + at);
             },
             names};
     };
@@ -92,15 +93,14 @@ problem simulate_free(const std::shared_ptr<const multibody::tree>& r,
     if (!rf.forced) {
         pr.simulate = [sys, c, x0, columns, touch, r](const step_options& o) {
             detail::check_general(o);
-            return simulate_robot(general::constrained_stepper<multibody::free_robot,
-                                                               unit_quaternion>(sys, c, o.h,
-                                                                                o.spec, o.newton),
-                                  touch, r, x0, columns());
+            return simulate_robot(
+                general::constrained_stepper<multibody::free_robot, unit_quaternion>(
+                    sys, c, o.h, o.spec, o.newton),
+                touch, r, x0, columns());
         };
         return pr;
     }
-    pr.simulate = [sys, c, f = std::move(rf.force), x0, columns, touch,
-                   r](const step_options& o) {
+    pr.simulate = [sys, c, f = std::move(rf.force), x0, columns, touch, r](const step_options& o) {
         detail::check_general(o);
         return simulate_robot(
             general::constrained_stepper<multibody::free_robot, unit_quaternion, robot_force>(

@@ -1,6 +1,6 @@
 // models/src/robot_parts.cpp: the parts of the robot model that robot.cpp (fixed and planar
 // bases) and robot_free.cpp (a free base) share: the forces from the parameters, the coordinates'
-// names, the floating base's columns.
+// names, the floating base's columns, and contact's world and columns.
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -120,7 +120,8 @@ robot_contact contact_of(const robot_parameters& p, const std::shared_ptr<const 
     out.world = {contact::ground(p.ground_height, p.ground_slope, p.friction)};
     if (p.boxes.size() % 6 != 0)
         throw std::invalid_argument("boxes needs six numbers a box (centre x, y, z and sides), "
-                                    "got " + std::to_string(p.boxes.size()));
+                                    "got " +
+                                    std::to_string(p.boxes.size()));
     for (std::size_t i = 0; i < p.boxes.size(); i += 6) {
         const multibody::vec3 c(p.boxes[i], p.boxes[i + 1], p.boxes[i + 2]);
         const multibody::vec3 sides(p.boxes[i + 3], p.boxes[i + 4], p.boxes[i + 5]);
@@ -137,9 +138,11 @@ robot_contact contact_of(const robot_parameters& p, const std::shared_ptr<const 
             const double gap = w.distance(kin.pose(c.body).point(c.point), n) - c.radius;
             if (gap < -1e-9) {
                 char buf[200];
-                std::snprintf(buf, sizeof buf,
-                              "link %s starts %.3g m inside the %s: raise the start (base_z)",
-                              c.link.c_str(), -gap, w.name == "ground" ? "ground" : w.name.c_str());
+                std::snprintf(buf, sizeof buf, "link %s starts %.3g m inside the %s: %s",
+                              c.link.c_str(), -gap, w.name.c_str(),
+                              r->base == multibody::base_kind::fixed
+                                  ? "move the joints' start, the ground or the boxes"
+                                  : "raise the start (base_z)");
                 throw std::invalid_argument(buf);
             }
         }
@@ -147,9 +150,8 @@ robot_contact contact_of(const robot_parameters& p, const std::shared_ptr<const 
 }
 
 const std::vector<std::string>& contact_columns() {
-    static const std::vector<std::string> names = {"contacts", "normal_impulse",
-                                                   "friction_impulse", "penetration",
-                                                   "contact_work"};
+    static const std::vector<std::string> names = {"contacts", "normal_impulse", "friction_impulse",
+                                                   "penetration", "contact_work"};
     return names;
 }
 

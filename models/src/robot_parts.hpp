@@ -77,10 +77,9 @@ void fill_contact(const St& st, double* out) {
 
 /// The simulation of stepper s from x0, in the contact step when c is on.
 template <class S, class Fill>
-std::unique_ptr<simulation> simulate_robot(S s, const robot_contact& c,
-                                           const std::shared_ptr<const multibody::tree>& r,
-                                           const phase_state<dynamic>& x0,
-                                           detail::column_set<Fill> cols) {
+std::unique_ptr<simulation>
+simulate_robot(S s, const robot_contact& c, const std::shared_ptr<const multibody::tree>& r,
+               const phase_state<dynamic>& x0, detail::column_set<Fill> cols) {
     if (!c.on) return detail::simulate_general(std::move(s), x0, std::move(cols));
     return detail::simulate_general(contact::contact_stepper<S>(std::move(s), r, c.world), x0,
                                     std::move(cols));

@@ -207,48 +207,57 @@ class reader {
                          "moments or m c c at its <origin> exceed 1.8e308)");
     }
 
-    /// A link's <collision> shapes in its frame, checked: a <geometry> of one sphere, box,
-    /// cylinder, capsule or mesh, with positive finite sizes.
+    /// A link's <collision> shapes in its frame. Read leniently: a shape the reader cannot take
+    /// (no shape, an unknown one, a size that is not positive and finite) is kept with its
+    /// `problem` (file, line, what), which contact refuses (contact/geometry.hpp); without
+    /// contact, collisions are not used.
     std::vector<multibody::collision_shape> collisions(const XMLElement* link,
                                                        const std::string& name) const {
         std::vector<multibody::collision_shape> out;
         for (const XMLElement* c = link->FirstChildElement("collision"); c;
              c = c->NextSiblingElement("collision")) {
-            const XMLElement* g = c->FirstChildElement("geometry");
-            const XMLElement* e = g ? g->FirstChildElement() : nullptr;
-            if (!e) fail(g ? g : c, "link " + name + ": a <collision> without a shape in <geometry>");
             multibody::collision_shape s;
             s.link = name;
-            s.offset = origin(c);
-            const std::string kind = e->Name();
-            auto positive = [&](const char* attr) {
-                const double v = number(e, attr, std::nan(""));
-                if (!(v > 0.0))
-                    fail(e, "link " + name + ": <" + kind + "> needs a positive " + attr);
-                return v;
-            };
-            if (kind == "sphere") {
-                s.size(0) = positive("radius");
-            } else if (kind == "box") {
-                s.kind = multibody::shape_kind::box;
-                s.size = numbers(e, "size", 3, vec3::Constant(std::nan("")));
-                if (!(s.size.minCoeff() > 0.0))
-                    fail(e, "link " + name + ": <box> needs size=\"x y z\" with positive sides");
-            } else if (kind == "cylinder" || kind == "capsule") {
-                s.kind = kind == "capsule" ? multibody::shape_kind::capsule
-                                           : multibody::shape_kind::cylinder;
-                s.size(0) = positive("radius");
-                s.size(1) = positive("length");
-            } else if (kind == "mesh") {
-                s.kind = multibody::shape_kind::mesh;
-                s.mesh = attribute(e, "filename", false);
-            } else {
-                fail(e, "link " + name + ": unknown collision shape <" + kind +
-                            "> (sphere, box, cylinder, capsule or mesh)");
+            try {
+                read_shape(c, name, s);
+            } catch (const urdf_error& e) {
+                s.problem = e.what();
             }
-            out.push_back(s);
+            out.push_back(std::move(s));
         }
         return out;
+    }
+    void read_shape(const XMLElement* c, const std::string& name,
+                    multibody::collision_shape& s) const {
+        const XMLElement* g = c->FirstChildElement("geometry");
+        const XMLElement* e = g ? g->FirstChildElement() : nullptr;
+        if (!e) fail(g ? g : c, "link " + name + ": a <collision> without a shape in <geometry>");
+        s.offset = origin(c);
+        const std::string kind = e->Name();
+        auto positive = [&](const char* attr) {
+            const double v = number(e, attr, std::nan(""));
+            if (!(v > 0.0)) fail(e, "link " + name + ": <" + kind + "> needs a positive " + attr);
+            return v;
+        };
+        if (kind == "sphere") {
+            s.size(0) = positive("radius");
+        } else if (kind == "box") {
+            s.kind = multibody::shape_kind::box;
+            s.size = numbers(e, "size", 3, vec3::Constant(std::nan("")));
+            if (!(s.size.minCoeff() > 0.0))
+                fail(e, "link " + name + ": <box> needs size=\"x y z\" with positive sides");
+        } else if (kind == "cylinder" || kind == "capsule") {
+            s.kind = kind == "capsule" ? multibody::shape_kind::capsule
+                                       : multibody::shape_kind::cylinder;
+            s.size(0) = positive("radius");
+            s.size(1) = positive("length");
+        } else if (kind == "mesh") {
+            s.kind = multibody::shape_kind::mesh;
+            s.mesh = attribute(e, "filename", false);
+        } else {
+            fail(e, "link " + name + ": unknown collision shape <" + kind +
+                        "> (sphere, box, cylinder, capsule or mesh)");
+        }
     }
 
     void check_inertia(const XMLElement* e, const std::string& name, double m,

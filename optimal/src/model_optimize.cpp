@@ -34,9 +34,13 @@ namespace {
 void refuse_simulation_only(const models::model& m, std::span<const double> values,
                             const models::lists& lists) {
     auto refuse = [&](const std::string& name) {
-        throw std::invalid_argument(name + " is a simulation's parameter of " + m.name +
-                                    "; optimize computes the inputs (bound them with "
-                                    "max_control)");
+        const bool contact = name == "contact" || name == "friction" || name == "ground_height" ||
+                             name == "ground_slope" || name == "boxes";
+        throw std::invalid_argument(
+            name + " is a simulation's parameter of " + m.name +
+            (contact ? ": optimal control has no contact (its transcription keeps to motions in "
+                       "free space)"
+                     : "; optimize computes the inputs (bound them with max_control)"));
     };
     for (const std::string& only : m.simulation_only) {
         for (std::size_t i = 0; i < m.parameters.size() && i < values.size(); ++i)

@@ -157,5 +157,10 @@ expect_error 2 "contact of a mesh" "link shoulder_link" run --urdf "$data/ur5_ro
 sed 's|<sphere radius="0.1"/>|<sphere radius="-0.1"/>|' "$ball" > bad_ball.urdf
 expect_error 2 "a negative radius" "positive radius" run --urdf bad_ball.urdf --base free \
   --contact --q0 0,0,0.4,1,0,0,0 -o out.csv
+# Without contact the collision shapes are not used: a bad one does not stop a run.
+"$VARSYM" run --urdf bad_ball.urdf --base free --time 0.01 --steps 10 -o free.csv 2> free.err &&
+  ok || bad "a bad <collision> refused without contact: $(cat free.err)"
+expect_error 2 "infinite friction" "friction" run --urdf "$ball" --base free --contact \
+  --friction inf --q0 0,0,0.4,1,0,0,0 -o out.csv
 expect_error 2 "contact for the pendulum" "contact" run --model pendulum --contact -o out.csv
 finish

@@ -2,6 +2,7 @@
 // model's coordinates, against central differences of the positions.
 #include <cmath>
 #include <memory>
+#include <numbers>
 
 #include <gtest/gtest.h>
 
@@ -52,7 +53,8 @@ TEST(ContactGeometry, ShapesBecomePoints) {
     m.collisions.push_back({"arm", 0, {}, shape_kind::capsule, vec3(0.1, 0.2, 0.0), ""});
     EXPECT_EQ(contact_points(m).size(), 1U + 32U + 2U);
     // A cylinder's rim points lie on the circumscribed polygon's circle, r / cos(π/16).
-    EXPECT_NEAR(contact_points(m)[1].point.head<2>().norm(), 0.1 / std::cos(M_PI / 16), 1e-15);
+    EXPECT_NEAR(contact_points(m)[1].point.head<2>().norm(), 0.1 / std::cos(std::numbers::pi / 16),
+                1e-15);
     m.collisions.push_back({"arm", 0, {}, shape_kind::mesh, vec3::Zero(), "arm.stl"});
     try {
         (void)contact_points(m);
@@ -103,8 +105,8 @@ TEST(ContactGeometry, PointJacobiansMatchDifferences) {
 
 TEST(ContactGeometry, ABoxsDistanceAndNormal) {
     // A box of sides (2, 1, 0.5) at (1, 0, 0.25): its faces x = 0, 2; y = ±0.5; z = 0, 0.5.
-    const auto b = varsym::contact::static_box(vec3(1.0, 0.0, 0.25), vec3(2.0, 1.0, 0.5), 0.5,
-                                               "step");
+    const auto b =
+        varsym::contact::static_box(vec3(1.0, 0.0, 0.25), vec3(2.0, 1.0, 0.5), 0.5, "step");
     vec3 n;
     EXPECT_NEAR(b.distance(vec3(1.5, 0.2, 0.8), n), 0.3, 1e-15); // above its top
     EXPECT_EQ(n, vec3::UnitZ());

@@ -22,7 +22,8 @@ namespace {
 using namespace varsym;
 using multibody::mat3;
 using multibody::vec3;
-using inner_stepper = general::constrained_stepper<multibody::free_robot, multibody::unit_quaternion>;
+using inner_stepper =
+    general::constrained_stepper<multibody::free_robot, multibody::unit_quaternion>;
 using touching = contact::contact_stepper<inner_stepper>;
 constexpr double g0 = 9.81;
 
@@ -81,8 +82,12 @@ multibody::collision_shape box() {
 multibody::collision_shape ball() {
     return {"", -1, {}, multibody::shape_kind::sphere, vec3(radius, 0.0, 0.0), ""};
 }
-mat3 cube_inertia() { return vec3::Constant(side * side / 6.0).asDiagonal(); }
-mat3 ball_inertia() { return vec3::Constant(0.4 * radius * radius).asDiagonal(); }
+mat3 cube_inertia() {
+    return vec3::Constant(side * side / 6.0).asDiagonal();
+}
+mat3 ball_inertia() {
+    return vec3::Constant(0.4 * radius * radius).asDiagonal();
+}
 
 /// The box resting on the incline of `slope` (rotated by −slope about y), at rest.
 vec<dynamic> on_incline(double slope) {
@@ -132,8 +137,8 @@ TEST(Contact, ABoxSlidesDownASteeperInclineAtTheCoulombAcceleration) {
     // error halves with h (measured 2.02e-3 and 1.01e-3 m/s at h = 1 and 0.5 ms).
     const double slope = 0.6, mu = 0.5, a = g0 * (std::sin(slope) - mu * std::cos(slope));
     double error[2];
-    const vec3 down(-std::cos(slope), 0.0, -std::sin(slope)), normal(-std::sin(slope), 0.0,
-                                                                      std::cos(slope));
+    const vec3 down(-std::cos(slope), 0.0, -std::sin(slope)),
+        normal(-std::sin(slope), 0.0, std::cos(slope));
     for (const int i : {0, 1}) {
         const double h = i == 0 ? 1e-3 : 5e-4;
         scene s(box(), cube_inertia(), slope, mu, on_incline(slope), vec<dynamic>::Zero(7), h);
@@ -162,8 +167,8 @@ TEST(Contact, ASlidingBallEndsRollingAtFiveSeventhsOfItsSpeed) {
     EXPECT_LE(s.run(1.0), 1e-12);
     const vec<dynamic> rate = s.velocity();
     const auto motion = s.sys.lagrangian().motion(s.x.q, rate);
-    // The speed: within a step's worth of friction's deceleration μ g h = 2e-3 (measured 1.4e-5).
-    EXPECT_NEAR(rate(0), 5.0 / 7.0 * v0, mu * g0 * h);
+    // The speed: O(h) off 5/7 v0 (the step's impulses), measured 1.4e-5 m/s at h = 1 ms.
+    EXPECT_NEAR(rate(0), 5.0 / 7.0 * v0, 1.5e-4);
     // Rolling without slip: the contact point's material point does not slide over a step,
     // v h = r sin(ω h), so ω r = v (1 + (ωh)²/6 + …): 4.9e-5 m/s at ω = 14.3 rad/s.
     const double omega = motion.angular_velocity.y();
@@ -215,6 +220,39 @@ TEST(Contact, ABallLandsOnAStepAndStopsAtAWall) {
     EXPECT_NEAR(wall.x.q(0), 1.0 - radius, 1e-7);
     EXPECT_NEAR(wall.velocity()(0), 0.0, 1e-7);
     EXPECT_NEAR(wall.x.q(2), radius, 1e-9);
+}
+
+TEST(Contact, AResumedStepperTakesTheSameSteps) {
+    // The history (the warm start, the contact's work, the last report) carries a run across a
+    // checkpoint: 300 steps straight, and 150 + a copy restored from the saved history + 150.
+    vec<dynamic> q = vec<dynamic>::Zero(7), v = vec<dynamic>::Zero(7);
+    q(2) = side / 2 + 0.01;
+    q(3) = 1.0;
+    v(0) = 1.0;
+    v(5) = 0.4;
+    scene straight(box(), cube_inertia(), 0.0, 0.5, q, v, 1e-3);
+    straight.run(0.3);
+    scene first(box(), cube_inertia(), 0.0, 0.5, q, v, 1e-3);
+    first.run(0.15);
+    std::vector<double> history;
+    first.stepper.save_history(history);
+    scene second(box(), cube_inertia(), 0.0, 0.5, q, v, 1e-3);
+    second.stepper.summation().restore(first.x, first.stepper.summation().carry_q(),
+                                       first.stepper.summation().carry_p());
+    second.stepper.restore_history(first.x, history);
+    second.stepper.set_time(first.stepper.time());
+    second.x = first.x;
+    second.run(0.15);
+    EXPECT_EQ(second.x.q, straight.x.q);
+    EXPECT_EQ(second.x.p, straight.x.p);
+    EXPECT_EQ(second.stepper.contact_work(), straight.stepper.contact_work());
+    // A history this stepper did not write is refused, not misread.
+    ASSERT_GE(history.size(), 10U);
+    std::vector<double> short_one{1.0, 2.0, 3.0}, counted = history, untagged = history;
+    counted[history.size() - 10] = 1e9; // more contacts than numbers
+    untagged[history.size() - 9] = 0.0; // not the tag
+    for (const auto* bad : {&short_one, &counted, &untagged})
+        EXPECT_THROW(second.stepper.restore_history(first.x, *bad), std::invalid_argument);
 }
 
 TEST(Contact, WithoutFrictionTheBoxDoesNotStop) {

@@ -91,8 +91,8 @@ void run_ensemble(const ensemble_options& o) {
     const member_set set = make_member_set(o.run.members, model);
     ensemble_setup setup = make_setup(o.run, model, set.size);
     setup.plan.indicators = !o.no_indicators;
-    // A contact step has no tangent map (its impulses switch on and off): refused up front
-    // rather than every member invalid.
+    // A contact step has no tangent map (its impulses switch on and off): the indicators are
+    // refused for the whole ensemble, before any member runs.
     bool contact = std::find(set.keys.begin(), set.keys.end(), "contact") != set.keys.end();
     for (const std::string& s : o.run.members.set)
         if (s.rfind("contact=", 0) == 0) contact = contact || std::atof(s.c_str() + 8) != 0.0;

@@ -142,9 +142,13 @@ void optimize(const optimize_options& o) {
                               " (see 'varsym models')");
         for (std::string only : m.simulation_only)
             if (std::replace(only.begin(), only.end(), '_', '-'); only == name)
-                throw usage_error("--" + name + " is a simulation's parameter of " + m.name +
-                                  "; optimize computes the inputs (bound them with "
-                                  "--max-control)");
+                throw usage_error(
+                    "--" + name + " is a simulation's parameter of " + m.name +
+                    (name == "contact" || name == "friction" || name == "ground-height" ||
+                             name == "ground-slope" || name == "boxes"
+                         ? ": optimal control has no contact (its transcription keeps to "
+                           "motions in free space)"
+                         : "; optimize computes the inputs (bound them with --max-control)"));
     }
     const models::lists lists = o.parameters->lists(m);
     optimal::model_request request = request_of(o, m, values, lists);

@@ -7,7 +7,8 @@
 // of the step's gap φ_i [m] and the slip d_i ∈ R² [m] (its contact point's tangential
 // displacement over the step), affine in λ = (γ_1, b_1, …): (φ_i, d_i) = c_i + A_i λ. Wanted:
 //   φ_i ≥ 0,  γ_i ≥ 0,  γ_i φ_i = 0                                  (non-penetration)  (C1)
-//   (μ_i γ_i, b_i) ∈ K,  (η_i, d_i) ∈ K,  (μγ, b)ᵀ(η, d) = 0           (Coulomb, max. dissipation) (C2)
+//   (μ_i γ_i, b_i) ∈ K,  (η_i, d_i) ∈ K,  (μγ, b)ᵀ(η, d) = 0           (Coulomb, max. dissipation)
+//   (C2)
 // with K = {(z₀, z₁) : z₀ ≥ |z₁|} the second-order cone: sticking (d = 0, |b| ≤ μγ) or sliding
 // (b = −μγ d/|d|, η = |d|). The central path relaxes the complementarities to γs = κ and
 // z∘w = κe (Jordan product z∘w = (zᵀw, z₀w₁ + w₀z₁), e = (1, 0)) with a slack s = φ > 0;
@@ -23,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include <Eigen/Dense>
 
@@ -46,12 +48,14 @@ struct cone_result {
     Eigen::VectorXd values; ///< (φ_i, d_i) = c + A λ [m]
     int iterations = 0;
     bool converged = false;
+    std::string failure; ///< why it stopped unconverged, where it can say
 };
 
 namespace cone_detail {
 
 /// The largest α ≤ ∞ keeping (z₀ + α a₀, z₁ + α a₁) inside K, for z inside it.
-inline double cone_step(double z0, const Eigen::Vector2d& z1, double a0, const Eigen::Vector2d& a1) {
+inline double cone_step(double z0, const Eigen::Vector2d& z1, double a0,
+                        const Eigen::Vector2d& a1) {
     const double qa = a0 * a0 - a1.squaredNorm(), qb = z0 * a0 - z1.dot(a1),
                  qc = z0 * z0 - z1.squaredNorm();
     double best = std::numeric_limits<double>::infinity();
@@ -168,12 +172,12 @@ inline cone_result solve_cone(const cone_problem& p, const cone_options& o = {})
                 if (dx(j) < 0.0) alpha = std::min(alpha, -x(j) / dx(j));
             const double mu = p.mu(i);
             if (mu <= 0.0) continue;
-            alpha = std::min(alpha, cone_detail::cone_step(mu * x(3 * i), x.segment<2>(3 * i + 1),
-                                                           mu * dx(3 * i),
-                                                           dx.segment<2>(3 * i + 1)));
-            alpha = std::min(alpha,
-                             cone_detail::cone_step(x(4 * k + i), phi.segment<2>(3 * i + 1),
-                                                    dx(4 * k + i), dphi.segment<2>(3 * i + 1)));
+            alpha =
+                std::min(alpha, cone_detail::cone_step(mu * x(3 * i), x.segment<2>(3 * i + 1),
+                                                       mu * dx(3 * i), dx.segment<2>(3 * i + 1)));
+            alpha =
+                std::min(alpha, cone_detail::cone_step(x(4 * k + i), phi.segment<2>(3 * i + 1),
+                                                       dx(4 * k + i), dphi.segment<2>(3 * i + 1)));
         }
         return alpha;
     };
@@ -189,14 +193,22 @@ inline cone_result solve_cone(const cone_problem& p, const cone_options& o = {})
             worst = std::max(worst, r.segment<2>(3 * k + 2 * i).lpNorm<Eigen::Infinity>());
         }
         out.iterations = it;
-        if (worst <= tol && std::isfinite(m)) {
+        if (!r.allFinite() || !std::isfinite(m)) {
+            out.failure = "met a value that is not finite (an infinite friction or gap?)";
+            break;
+        }
+        if (worst <= tol) {
             out.converged = true;
             break;
         }
+        out.iterations = it + 1;
         jacobian(v, y);
         lu.compute(jac);
         da = lu.solve(-r); // the affine (predictor) direction
-        if (!da.allFinite()) break;
+        if (!da.allFinite()) {
+            out.failure = "met a singular system (a value that is not finite?)";
+            break;
+        }
         const double alpha_aff = std::min(1.0, longest(v, y, da));
         trial = v + alpha_aff * da;
         phi_trial.noalias() = c + a * trial.head(3 * k);
@@ -205,7 +217,10 @@ inline cone_result solve_cone(const cone_problem& p, const cone_options& o = {})
         const double sigma = std::clamp(std::pow(std::max(m_aff, 0.0) / m, 3), 0.0, 1.0);
         residual(v, y, sigma * m, r);
         dv = lu.solve(-r);
-        if (!dv.allFinite()) break;
+        if (!dv.allFinite()) {
+            out.failure = "met a singular system (a value that is not finite?)";
+            break;
+        }
         const double alpha = std::min(1.0, 0.99 * longest(v, y, dv));
         v += alpha * dv;
     }

@@ -22,6 +22,7 @@
 
 #include <cmath>
 #include <memory>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -109,16 +110,20 @@ inline void tangents(const vec3& n, vec3& t1, vec3& t2) {
 }
 
 /// The contact points of a tree's moving shapes (those fixed to the ground are the world's, not
-/// the robot's, and left out). Throws std::invalid_argument for a mesh, naming its link.
+/// the robot's, and left out). Throws std::invalid_argument for a mesh, naming its link, and for
+/// a shape the URDF reader could not take (collision_shape::problem).
 inline std::vector<contact_point> contact_points(const multibody::tree& t) {
     std::vector<contact_point> out;
     for (const multibody::collision_shape& s : t.collisions) {
         if (s.body < 0) continue;
+        if (!s.problem.empty()) throw std::invalid_argument(s.problem);
         auto add = [&](const vec3& local, double radius) {
             out.push_back({s.body, s.offset.point(local), radius, s.link});
         };
         switch (s.kind) {
-        case multibody::shape_kind::sphere: add(vec3::Zero(), s.size(0)); break;
+        case multibody::shape_kind::sphere:
+            add(vec3::Zero(), s.size(0));
+            break;
         case multibody::shape_kind::capsule:
             for (const double z : {-0.5, 0.5})
                 add(vec3(0.0, 0.0, z * s.size(1)), s.size(0));
@@ -131,10 +136,10 @@ inline std::vector<contact_point> contact_points(const multibody::tree& t) {
             break;
         case multibody::shape_kind::cylinder: {
             const int n = 16;
-            const double r = s.size(0) / std::cos(M_PI / n);
+            const double r = s.size(0) / std::cos(std::numbers::pi / n);
             for (const double z : {-0.5, 0.5})
                 for (int k = 0; k < n; ++k) {
-                    const double a = 2.0 * M_PI * k / n;
+                    const double a = 2.0 * std::numbers::pi * k / n;
                     add(vec3(r * std::cos(a), r * std::sin(a), z * s.size(1)), 0.0);
                 }
             break;
@@ -193,7 +198,8 @@ class robot_kinematics {
     }
 
     /// ∂P/∂q (3 × d) of the point of body b now at world position `p`.
-    void jacobian(int b, const vec3& p, Eigen::Ref<Eigen::Matrix<double, 3, Eigen::Dynamic>> out) const {
+    void jacobian(int b, const vec3& p,
+                  Eigen::Ref<Eigen::Matrix<double, 3, Eigen::Dynamic>> out) const {
         out.setZero();
         const bool free = t_->base == multibody::base_kind::free;
         const vec3 local = p - x_; // in the chart, the origin is at x

@@ -70,7 +70,8 @@ struct frame {
 /// A collision shape (URDF <collision>) fixed to a body (−1: the ground), in its shape frame at
 /// `offset` in the body's frame. sphere: radius size(0); box: side lengths size; cylinder and
 /// capsule: radius size(0) and length size(1) along the shape frame's z (a capsule's length
-/// between its end spheres' centres); mesh: its file (`mesh`, not read: contact refuses it).
+/// between its end spheres' centres); mesh: its file (`mesh`, not read: contact refuses it). A
+/// shape the URDF reader could not take keeps the reason in `problem`.
 enum class shape_kind { sphere, box, cylinder, capsule, mesh };
 struct collision_shape {
     std::string link; ///< the URDF link it belongs to
@@ -78,7 +79,8 @@ struct collision_shape {
     pose offset;
     shape_kind kind = shape_kind::sphere;
     vec3 size = vec3::Zero(); ///< [m]
-    std::string mesh;         ///< a mesh's filename
+    std::string mesh{};       ///< a mesh's filename
+    std::string problem{};    ///< why the reader could not take it (contact refuses it)
 };
 
 /// A mimic joint's coupling: its position is multiplier · q_master + offset [rad or m].
@@ -95,7 +97,7 @@ struct tree {
     std::vector<body> bodies;
     std::vector<frame> frames;
     vec3 gravity{0.0, 0.0, -9.81};
-    std::vector<mimic> mimics; ///< of bodies dof(), dof() + 1, …
+    std::vector<mimic> mimics;               ///< of bodies dof(), dof() + 1, …
     std::vector<collision_shape> collisions; ///< the links' <collision> shapes
     base_kind base = base_kind::fixed;
     /// The root link's name and mass properties (with the links fixed to it merged): the ground

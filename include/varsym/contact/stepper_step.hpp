@@ -1,0 +1,300 @@
+// varsym/contact/stepper_step.hpp: the contact step of contact_stepper (stepper.hpp): the free
+// step, the linearisations with the interior-point solve, the warm start, the report and the
+// checkpoint's history. Included by stepper.hpp.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace varsym::contact {
+
+/// Rows of J (at the start, `start` true: the material points and tangents are set there) or G
+/// (at the end) for the active pairs at the last kinematics, and the gaps and slips there.
+template <class Inner>
+void contact_stepper<Inner>::rows(bool start, Eigen::MatrixXd& m, Eigen::VectorXd* values) {
+    const int k = static_cast<int>(active_.size()), d = kin_.dimension();
+    m.resize(3 * k, d);
+    if (values) values->resize(3 * k);
+    dp_.resize(3, d);
+    for (int i = 0; i < k; ++i) {
+        pair_state& a = active_[static_cast<std::size_t>(i)];
+        const contact_point& p = point(a.pair);
+        const multibody::pose body = kin_.pose(p.body);
+        const vec3 centre = body.point(p.point);
+        vec3 n;
+        const double distance = plane(a.pair).distance(centre, n);
+        if (start) { // the material point at the contact, and the tangent plane there
+            tangents(n, a.t1, a.t2);
+            a.start = centre - p.radius * n;
+            a.friction_point = body.rotation.transpose() * (a.start - body.origin);
+        }
+        kin_.jacobian(p.body, centre, dp_);
+        m.row(3 * i) = n.transpose() * dp_;
+        const vec3 f = body.point(a.friction_point);
+        kin_.jacobian(p.body, f, dp_);
+        m.row(3 * i + 1) = a.t1.transpose() * dp_;
+        m.row(3 * i + 2) = a.t2.transpose() * dp_;
+        if (!values) continue;
+        (*values)(3 * i) = distance - p.radius;
+        (*values)(3 * i + 1) = a.t1.dot(f - a.start);
+        (*values)(3 * i + 2) = a.t2.dot(f - a.start);
+    }
+}
+
+/// The step from from_ with impulses λ into y, the inner stepper's running sums as before it.
+template <class Inner>
+bool contact_stepper<Inner>::take(phase_state<dim>& y, const Eigen::VectorXd& lambda,
+                                  newton_report& rep) {
+    restore();
+    y = from_;
+    y.p.noalias() += jac_.transpose() * lambda;
+    const newton_report r = Inner::step(y);
+    rep.iterations += r.iterations;
+    rep.residual = r.residual;
+    return r.converged;
+}
+
+template <class Inner>
+newton_report contact_stepper<Inner>::step(phase_state<dim>& x) {
+    failure_.clear();
+    from_ = x;
+    save();
+    y_ = x;
+    newton_report rep = Inner::step(y_);
+    last_ = {};
+    if (!rep.converged) return rep;
+    // The free step's end: if no gap is negative, λ = 0 solves (K2).
+    kin_.at(y_.q);
+    std::vector<double> end_gap(static_cast<std::size_t>(pairs()));
+    double lowest = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < pairs(); ++c)
+        lowest = std::min(lowest, end_gap[static_cast<std::size_t>(c)] = gap(c));
+    if (!(lowest < 0.0)) {
+        warm_pairs_.clear();
+        x = y_;
+        return rep;
+    }
+    // The pairs solved for: those closer at the end than the farthest a point moved.
+    std::vector<vec3> end(points_.size());
+    for (std::size_t i = 0; i < points_.size(); ++i)
+        end[i] = kin_.pose(points_[i].body).point(points_[i].point);
+    kin_.at(from_.q);
+    double reach = 0.0;
+    for (std::size_t i = 0; i < points_.size(); ++i)
+        reach =
+            std::max(reach, (kin_.pose(points_[i].body).point(points_[i].point) - end[i]).norm());
+    active_.clear();
+    for (int c = 0; c < pairs(); ++c)
+        if (end_gap[static_cast<std::size_t>(c)] < reach) active_.push_back({c});
+    newton_report total = rep;
+    if (!warm_pairs_.empty()) { // from the last step's contacts and impulses
+        const std::vector<pair_state> cold = active_;
+        for (const int pair : warm_pairs_)
+            if (std::none_of(active_.begin(), active_.end(),
+                             [pair](const pair_state& a) { return a.pair == pair; }))
+                active_.push_back({pair});
+        if (solve(true, total)) {
+            finish(x);
+            return total;
+        }
+        // Cold again: the free step, whose Jacobian the linearisation starts from.
+        active_ = cold;
+        failure_.clear();
+        restore();
+        y_ = from_;
+        if (!Inner::step(y_).converged) {
+            restore();
+            total.converged = false;
+            return total;
+        }
+    }
+    if (solve(false, total)) {
+        finish(x);
+        return total;
+    }
+    restore();
+    total.converged = false;
+    return total;
+}
+
+/// Newton's method on λ (stepper.hpp): with `warm`, from the last step's impulses, S taken at
+/// the step they give; else from λ = 0, S of the free step (the last inner step taken). True
+/// when converged: y_ and lambda_ are then the step's.
+template <class Inner>
+bool contact_stepper<Inner>::solve(bool warm, newton_report& total) {
+    const int d = kin_.dimension();
+    kin_.at(from_.q);
+    rows(true, jac_, nullptr);
+    lambda_.setZero(jac_.rows());
+    if (warm) {
+        for (std::size_t i = 0; i < active_.size(); ++i)
+            for (std::size_t j = 0; j < warm_pairs_.size(); ++j)
+                if (active_[i].pair == warm_pairs_[j])
+                    lambda_.segment<3>(3 * static_cast<Eigen::Index>(i)) =
+                        warm_lambda_.segment<3>(3 * static_cast<Eigen::Index>(j));
+        if (!take(y_, lambda_, total)) return false;
+        phase_state<dim> kicked = from_;
+        kicked.p.noalias() += jac_.transpose() * lambda_;
+        Inner::step_jacobian(kicked, sj_);
+    } else {
+        Inner::step_jacobian(from_, sj_);
+    }
+    s_ = sj_.block(0, d, d, d);
+    predicted_.resize(0);
+    cone_problem prob;
+    for (int it = 1;; ++it) {
+        kin_.at(y_.q);
+        rows(false, g_, &values_);
+        const bool known = predicted_.size() == values_.size();
+        if (known && (values_ - predicted_).lpNorm<Eigen::Infinity>() <= opt_.tolerance) {
+            // Converged for these pairs: does any other sink?
+            const std::size_t before = active_.size();
+            for (int c = 0; c < pairs(); ++c)
+                if (gap(c) < 0.0 && std::none_of(active_.begin(), active_.end(),
+                                                 [c](const pair_state& a) { return a.pair == c; }))
+                    active_.push_back({c});
+            if (active_.size() == before) {
+                last_.iterations = it;
+                return true;
+            }
+            // It joins, with λ = 0: J's rows again, the step (y_) unchanged.
+            kin_.at(from_.q);
+            rows(true, jac_, nullptr);
+            const Eigen::Index had = lambda_.size();
+            lambda_.conservativeResize(jac_.rows());
+            lambda_.tail(jac_.rows() - had).setZero();
+            predicted_.resize(0);
+            continue;
+        }
+        if (it > opt_.max_iterations) {
+            failure_ =
+                "the contact impulses did not converge in " + std::to_string(opt_.max_iterations) +
+                " linearisations (" +
+                (known ? "gaps and slips off their linearisation by " +
+                             std::to_string((values_ - predicted_).lpNorm<Eigen::Infinity>()) + " m"
+                       : std::string("the set of contacts was still growing")) +
+                "): try a smaller step";
+            return false;
+        }
+        prob.a.noalias() = g_ * s_ * jac_.transpose();
+        prob.c = values_ - prob.a * lambda_;
+        const int k = static_cast<int>(active_.size());
+        prob.mu.resize(k);
+        for (int i = 0; i < k; ++i)
+            prob.mu(i) = plane(active_[static_cast<std::size_t>(i)].pair).friction;
+        cone_options co;
+        co.tolerance = 0.1 * opt_.tolerance;
+        const cone_result r = solve_cone(prob, co);
+        if (!r.converged) {
+            failure_ = "the contact problem's interior-point solve " +
+                       (r.failure.empty()
+                            ? "did not converge in " + std::to_string(r.iterations) + " iterations"
+                            : r.failure);
+            return false;
+        }
+        lambda_ = r.lambda;
+        predicted_ = r.values;
+        if (!take(y_, lambda_, total)) return false;
+    }
+}
+
+/// The converged step: its report, the contact's work (the kick's change of the energy at q_j,
+/// E(q_j, p_j + Jᵀλ) − E(q_j, p_j): the inner step from the kicked state accounts for the
+/// rest, its forces' work and its own error), the warm start's pairs (those that pressed).
+template <class Inner>
+void contact_stepper<Inner>::finish(phase_state<dim>& x) {
+    kin_.at(y_.q);
+    double low = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < pairs(); ++c)
+        low = std::min(low, gap(c));
+    last_.penetration = std::max(0.0, -low);
+    const int k = static_cast<int>(active_.size());
+    double gamma_max = 0.0;
+    for (int i = 0; i < k; ++i)
+        gamma_max = std::max(gamma_max, lambda_(3 * i));
+    warm_pairs_.clear();
+    std::vector<Eigen::Index> pressing;
+    for (int i = 0; i < k; ++i) {
+        last_.normal += lambda_(3 * i);
+        last_.friction += lambda_.segment<2>(3 * i + 1).norm();
+        if (!(lambda_(3 * i) > 1e-9 * gamma_max)) continue;
+        ++last_.active;
+        warm_pairs_.push_back(active_[static_cast<std::size_t>(i)].pair);
+        pressing.push_back(i);
+    }
+    warm_lambda_.resize(3 * static_cast<Eigen::Index>(pressing.size()));
+    for (std::size_t j = 0; j < pressing.size(); ++j)
+        warm_lambda_.segment<3>(3 * static_cast<Eigen::Index>(j)) =
+            lambda_.segment<3>(3 * pressing[j]);
+    phase_state<dim> kicked = from_;
+    kicked.p.noalias() += jac_.transpose() * lambda_;
+    last_.work = this->system().energy(kicked) - this->system().energy(from_);
+    const double sum = work_ + last_.work; // Neumaier's compensated sum
+    carry_ += std::abs(work_) >= std::abs(last_.work) ? (work_ - sum) + last_.work
+                                                      : (last_.work - sum) + work_;
+    work_ = sum;
+    x = y_;
+}
+
+template <class Inner>
+void contact_stepper<Inner>::save_history(std::vector<double>& out) const {
+    Inner::save_history(out);
+    for (std::size_t i = 0; i < warm_pairs_.size(); ++i) {
+        out.push_back(warm_pairs_[i]);
+        for (int j = 0; j < 3; ++j)
+            out.push_back(warm_lambda_(3 * static_cast<Eigen::Index>(i) + j));
+    }
+    out.insert(out.end(), {static_cast<double>(warm_pairs_.size()), history_tag, work_, carry_,
+                           static_cast<double>(last_.active), last_.normal, last_.friction,
+                           last_.penetration, last_.work, static_cast<double>(last_.iterations)});
+}
+
+template <class Inner>
+void contact_stepper<Inner>::restore_history(const phase_state<dim>& x,
+                                             const std::vector<double>& in) {
+    last_ = {};
+    work_ = carry_ = 0.0;
+    warm_pairs_.clear();
+    if (in.empty()) {
+        Inner::restore_history(x, in);
+        return;
+    }
+    const std::size_t tail = fixed_size + 2; // count, tag, the fixed part
+    const auto bad = [] {
+        return std::invalid_argument("the saved history is not a contact step's (its layout: "
+                                     "the stepper's, 4 numbers a contact, their count, a tag, "
+                                     "8 numbers): was it saved by a run with contact?");
+    };
+    if (in.size() < tail || in[in.size() - fixed_size - 1] != history_tag) throw bad();
+    const double count = in[in.size() - tail];
+    if (!(count >= 0.0 && count == std::floor(count) &&
+          4.0 * count <= static_cast<double>(in.size() - tail)))
+        throw bad();
+    const auto n = static_cast<std::size_t>(count);
+    const auto warm = in.end() - static_cast<std::ptrdiff_t>(tail + 4 * n);
+    warm_lambda_.resize(3 * static_cast<Eigen::Index>(n));
+    for (std::size_t i = 0; i < n; ++i) {
+        const double pair = warm[static_cast<std::ptrdiff_t>(4 * i)];
+        if (!(pair >= 0.0 && pair < pairs() && pair == std::floor(pair))) throw bad();
+        warm_pairs_.push_back(static_cast<int>(pair));
+        for (int j = 0; j < 3; ++j)
+            warm_lambda_(3 * static_cast<Eigen::Index>(i) + j) =
+                warm[static_cast<std::ptrdiff_t>(4 * i) + 1 + j];
+    }
+    Inner::restore_history(x, std::vector<double>(in.begin(), warm));
+    const auto fixed = in.end() - fixed_size;
+    work_ = fixed[0];
+    carry_ = fixed[1];
+    last_.active = static_cast<int>(fixed[2]);
+    last_.normal = fixed[3];
+    last_.friction = fixed[4];
+    last_.penetration = fixed[5];
+    last_.work = fixed[6];
+    last_.iterations = static_cast<int>(fixed[7]);
+}
+
+} // namespace varsym::contact
