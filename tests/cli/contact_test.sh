@@ -145,6 +145,18 @@ expect_error 2 "a flat box" "positive finite sides" run --urdf "$ball" --base fr
 expect_error 2 "a start inside a box" "inside the box 1" run --urdf "$ball" --base free \
   --contact --boxes 0,0,0.1,2,2,0.2 --q0 0,0,0.15,1,0,0,0 -o out.csv
 
+# --- a fixed base: a pendulum (tests/data/urdf/pendulum.urdf, 0.5 m) with a ball of 0.05 m at its
+# bob, released at 1.5 rad above a ground at z = -0.45: it swings down, hits the ground and
+# rests on it where 0.5 cos(th) + 0.05 = 0.45, th = acos(0.8) = 0.6435011 rad.
+awk '{ print } /<link name="bob">/ { print "    <collision><origin xyz=\"0 0 -0.5\"/><geometry><sphere radius=\"0.05\"/></geometry></collision>" }' \
+  "$data/pendulum.urdf" > bob.urdf
+"$VARSYM" run --urdf bob.urdf --contact --ground-height -0.45 --q0 1.5 --time 2 --steps 2000 \
+  --every 100 -o bob.csv 2> bob.err && ok || bad "pendulum on the ground: $(cat bob.err)"
+th=$(column bob.csv q_th last)
+between 0.643501 "$th" 0.643502 && ok || bad "pendulum: rests at $th rad, not acos(0.8)"
+expect_error 2 "a fixed base starting in the ground" "move the joints' start" run --urdf bob.urdf \
+  --contact --ground-height -0.45 --q0 0 -o out.csv
+
 # --- refusals --------------------------------------------------------------------------------------
 expect_error 2 "negative friction" "friction" run --urdf "$box" --base free --contact \
   --friction -0.5 --q0 0,0,0.1,1,0,0,0 -o out.csv

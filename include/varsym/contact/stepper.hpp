@@ -6,10 +6,12 @@
 // contact impulses enter it as a discrete Lagrange–d'Alembert impulse at the step's start:
 //   p_j + J(q_j)ᵀ λ + D₁L_d(q_j, q_{j+1}) = 0,   p_{j+1} = D₂L_d(q_j, q_{j+1}),          (K1)
 // with J's rows per contact i the normal n·∂P_i/∂q and the tangents t·∂F_i/∂q (P_i the point
-// that defines the gap, F_i the body's material point at the contact at q_j), and λ = (γ_i, b_i)
+// that defines the gap, F_i the body's material point at the contact where it begins: at q_j,
+// or where the free step's path meets the obstacle), and λ = (γ_i, b_i)
 // solving, at the step's end,
 //   φ_i(q_{j+1}) ≥ 0 ⊥ γ_i ≥ 0,  (μγ_i, b_i) ∈ K ⊥ (η_i, d_i) ∈ K,                         (K2)
-// d_i = T(F_i(q_{j+1}) − F_i(q_j)) the slip over the step (cone_solver.hpp): the gap at the end
+// d_i = T(F_i(q_{j+1}) − F_i(q_c)) the slip since the contact began (q_c: q_j, or the onset
+// in the step, stepper_step.hpp) (cone_solver.hpp): the gap at the end
 // of every step is non-negative, impacts are inelastic (the normal velocity is removed, not
 // reversed), friction sticks inside the cone and slides on its boundary against the slip
 // (maximal dissipation). As Dojo's integrator (Howell et al. 2022) with J taken at q_j.
@@ -75,7 +77,7 @@ class contact_stepper : public Inner {
     contact_stepper(Inner inner, std::shared_ptr<const multibody::tree> t,
                     std::vector<obstacle> world, contact_options o = {})
         : Inner(std::move(inner)), kin_(t), points_(contact_points(*t)), world_(std::move(world)),
-          opt_(o) {
+          opt_(o), onset_kin_(t) {
         if (kin_.dimension() != this->system().dimension())
             throw std::invalid_argument("contact: the robot's coordinates are not the system's");
         for (const obstacle& w : world_)
@@ -154,6 +156,7 @@ class contact_stepper : public Inner {
     void rows(bool start, Eigen::MatrixXd& m, Eigen::VectorXd* values);
     bool take(phase_state<dim>& y, const Eigen::VectorXd& lambda, newton_report& rep);
     bool solve(bool warm, newton_report& total);
+    double onset(int c);
     void finish(phase_state<dim>& x);
 
     robot_kinematics kin_;
@@ -171,6 +174,9 @@ class contact_stepper : public Inner {
     double saved_t_ = 0.0, saved_t_step_ = 0.0, saved_last_work_ = 0.0, saved_work_ = 0.0,
            saved_carry_ = 0.0;
     Eigen::VectorXd lambda_, values_, predicted_;
+    std::vector<double> start_gap_, end_gap_; // every pair's gap at q_j and the free step's end
+    Eigen::VectorXd q_free_, q_onset_;
+    robot_kinematics onset_kin_;
     compensated_update<dim> saved_sum_;
     Eigen::MatrixXd jac_, g_, sj_, s_;
     Eigen::Matrix<double, 3, Eigen::Dynamic> dp_;

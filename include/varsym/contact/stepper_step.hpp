@@ -27,10 +27,20 @@ void contact_stepper<Inner>::rows(bool start, Eigen::MatrixXd& m, Eigen::VectorX
         const vec3 centre = body.point(p.point);
         vec3 n;
         const double distance = plane(a.pair).distance(centre, n);
-        if (start) { // the material point at the contact, and the tangent plane there
-            tangents(n, a.t1, a.t2);
-            a.start = centre - p.radius * n;
-            a.friction_point = body.rotation.transpose() * (a.start - body.origin);
+        if (start) { // the material point at the contact's onset, and its tangent plane
+            const double tau = onset(a.pair);
+            multibody::pose at = body;
+            vec3 c = centre, normal = n;
+            if (tau > 0.0) { // a contact that begins in the step: where the free path meets it
+                q_onset_ = from_.q + tau * (q_free_ - from_.q);
+                onset_kin_.at(q_onset_);
+                at = onset_kin_.pose(p.body);
+                c = at.point(p.point);
+                plane(a.pair).distance(c, normal);
+            }
+            tangents(normal, a.t1, a.t2);
+            a.start = c - p.radius * normal;
+            a.friction_point = at.rotation.transpose() * (a.start - at.origin);
         }
         kin_.jacobian(p.body, centre, dp_);
         m.row(3 * i) = n.transpose() * dp_;
@@ -43,6 +53,36 @@ void contact_stepper<Inner>::rows(bool start, Eigen::MatrixXd& m, Eigen::VectorX
         (*values)(3 * i + 1) = a.t1.dot(f - a.start);
         (*values)(3 * i + 2) = a.t2.dot(f - a.start);
     }
+}
+
+/// Where on the free step's path q_j + τ (q_free − q_j) pair c's contact begins, τ ∈ [0, 1]: 0
+/// for a contact closed at the step's start; else the last point of the path found still open
+/// (φ ≥ 0) by regula falsi on the gap from the bracket [0, 1]. The slip is measured from there,
+/// so that a contact made within a step does not count the approach before it: a body stopped at
+/// its impact does not slip. (From a point already inside, stopping at φ = 0 would slip back,
+/// which high friction can jam: no impulse in the cone stops it, as in Painlevé's paradox.)
+template <class Inner>
+double contact_stepper<Inner>::onset(int c) {
+    const auto k = static_cast<std::size_t>(c);
+    double lo = 0.0, hi = 1.0, glo = start_gap_[k], ghi = end_gap_[k];
+    if (!(glo > 0.0) || !(ghi < 0.0)) return 0.0;
+    const contact_point& p = point(c);
+    vec3 n;
+    for (int i = 0; i < 4; ++i) {
+        const double tau = lo + (hi - lo) * glo / (glo - ghi);
+        q_onset_ = from_.q + tau * (q_free_ - from_.q);
+        onset_kin_.at(q_onset_);
+        const double g = plane(c).distance(onset_kin_.pose(p.body).point(p.point), n) - p.radius;
+        if (g >= 0.0) {
+            lo = tau;
+            glo = g;
+        } else {
+            hi = tau;
+            ghi = g;
+        }
+        if (glo <= 1e-3 * opt_.tolerance) break;
+    }
+    return lo;
 }
 
 /// The step from from_ with impulses λ into y, the inner stepper's running sums as before it.
@@ -69,27 +109,31 @@ newton_report contact_stepper<Inner>::step(phase_state<dim>& x) {
     if (!rep.converged) return rep;
     // The free step's end: if no gap is negative, λ = 0 solves (K2).
     kin_.at(y_.q);
-    std::vector<double> end_gap(static_cast<std::size_t>(pairs()));
+    end_gap_.resize(static_cast<std::size_t>(pairs()));
     double lowest = std::numeric_limits<double>::infinity();
     for (int c = 0; c < pairs(); ++c)
-        lowest = std::min(lowest, end_gap[static_cast<std::size_t>(c)] = gap(c));
+        lowest = std::min(lowest, end_gap_[static_cast<std::size_t>(c)] = gap(c));
     if (!(lowest < 0.0)) {
         warm_pairs_.clear();
         x = y_;
         return rep;
     }
+    q_free_ = y_.q;
     // The pairs solved for: those closer at the end than the farthest a point moved.
     std::vector<vec3> end(points_.size());
     for (std::size_t i = 0; i < points_.size(); ++i)
         end[i] = kin_.pose(points_[i].body).point(points_[i].point);
     kin_.at(from_.q);
+    start_gap_.resize(static_cast<std::size_t>(pairs()));
+    for (int c = 0; c < pairs(); ++c)
+        start_gap_[static_cast<std::size_t>(c)] = gap(c);
     double reach = 0.0;
     for (std::size_t i = 0; i < points_.size(); ++i)
         reach =
             std::max(reach, (kin_.pose(points_[i].body).point(points_[i].point) - end[i]).norm());
     active_.clear();
     for (int c = 0; c < pairs(); ++c)
-        if (end_gap[static_cast<std::size_t>(c)] < reach) active_.push_back({c});
+        if (end_gap_[static_cast<std::size_t>(c)] < reach) active_.push_back({c});
     newton_report total = rep;
     if (!warm_pairs_.empty()) { // from the last step's contacts and impulses
         const std::vector<pair_state> cold = active_;
@@ -146,6 +190,7 @@ bool contact_stepper<Inner>::solve(bool warm, newton_report& total) {
     s_ = sj_.block(0, d, d, d);
     predicted_.resize(0);
     cone_problem prob;
+    bool stalled = false;
     for (int it = 1;; ++it) {
         kin_.at(y_.q);
         rows(false, g_, &values_);
@@ -174,9 +219,11 @@ bool contact_stepper<Inner>::solve(bool warm, newton_report& total) {
             failure_ =
                 "the contact impulses did not converge in " + std::to_string(opt_.max_iterations) +
                 " linearisations (" +
-                (known ? "gaps and slips off their linearisation by " +
-                             std::to_string((values_ - predicted_).lpNorm<Eigen::Infinity>()) + " m"
-                       : std::string("the set of contacts was still growing")) +
+                (stalled ? std::string("the interior point stalled on the last one")
+                 : known
+                     ? "gaps and slips off their linearisation by " +
+                           std::to_string((values_ - predicted_).lpNorm<Eigen::Infinity>()) + " m"
+                     : std::string("the set of contacts was still growing")) +
                 "): try a smaller step";
             return false;
         }
@@ -189,15 +236,19 @@ bool contact_stepper<Inner>::solve(bool warm, newton_report& total) {
         cone_options co;
         co.tolerance = 0.1 * opt_.tolerance;
         const cone_result r = solve_cone(prob, co);
-        if (!r.converged) {
-            failure_ = "the contact problem's interior-point solve " +
-                       (r.failure.empty()
-                            ? "did not converge in " + std::to_string(r.iterations) + " iterations"
-                            : r.failure);
+        if (!r.converged && !r.failure.empty()) {
+            failure_ = "the contact problem's interior-point solve " + r.failure;
             return false;
         }
+        // An interior point that stalls (a linearisation with no exact solution: a body stopping
+        // at its impact, the gap's and the slip's rows taken where the free step ended) gives
+        // its last iterate, and the step is linearised again where it leads.
         lambda_ = r.lambda;
-        predicted_ = r.values;
+        if (r.converged)
+            predicted_ = r.values;
+        else
+            predicted_.resize(0);
+        stalled = !r.converged;
         if (!take(y_, lambda_, total)) return false;
     }
 }
@@ -270,11 +321,11 @@ void contact_stepper<Inner>::restore_history(const phase_state<dim>& x,
                                      "8 numbers): was it saved by a run with contact?");
     };
     if (in.size() < tail || in[in.size() - fixed_size - 1] != history_tag) throw bad();
-    const double count = in[in.size() - tail];
-    if (!(count >= 0.0 && count == std::floor(count) &&
-          4.0 * count <= static_cast<double>(in.size() - tail)))
+    const double stored = in[in.size() - tail];
+    if (!(stored >= 0.0 && stored == std::floor(stored) &&
+          4.0 * stored <= static_cast<double>(in.size() - tail)))
         throw bad();
-    const auto n = static_cast<std::size_t>(count);
+    const auto n = static_cast<std::size_t>(stored);
     const auto warm = in.end() - static_cast<std::ptrdiff_t>(tail + 4 * n);
     warm_lambda_.resize(3 * static_cast<Eigen::Index>(n));
     for (std::size_t i = 0; i < n; ++i) {
