@@ -109,6 +109,7 @@ bench: configure
 	$(BUILD_DIR)/bench/varsym_bench_family --benchmark_min_time=0.2
 	bash bench/compilers.sh 5
 	@$(MAKE) --no-print-directory bench-robots
+	@$(MAKE) --no-print-directory bench-contact
 	@$(MAKE) --no-print-directory bench-optimal
 
 # Optimal control: time, iterations and accuracy per second (bench/bench_optimal.cpp), and of
