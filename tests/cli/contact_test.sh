@@ -70,26 +70,7 @@ lt "$d" 1e-6 && ok || bad "incline: crept $d m (from $x1 to $x5)"
 args=(run --urdf "$box" --base free --contact --friction 0.5 --q0 0,0,0.15,1,0,0,0
       --v0 1,0,0,0,0.3,0.2,0 --time 2 --steps 4000 --every 10 -o box.csv --checkpoint box.ckpt
       --checkpoint-every 200)
-mkdir -p straight killed
-(cd straight && "$VARSYM" "${args[@]}" 2> err.txt) || bad "uninterrupted box: $(cat straight/err.txt)"
-(
-  cd killed || exit 1
-  rc=1
-  for attempt in $(seq 1 60); do
-    if [ -e box.ckpt ]; then "$VARSYM" run --resume box.ckpt 2>> err.txt &
-    else rm -f box.csv.part; "$VARSYM" "${args[@]}" 2>> err.txt & fi
-    pid=$!
-    sleep 0.2
-    kill -9 "$pid" 2> /dev/null
-    { wait "$pid"; } 2> /dev/null
-    rc=$?
-    [ "$rc" -eq 137 ] || break
-    echo killed >> kills.txt
-  done
-  exit "$rc"
-) && cmp -s straight/box.csv killed/box.csv && ok ||
-  bad "killed and resumed box differs from the straight run: $(cat killed/err.txt)"
-[ -s killed/kills.txt ] && ok || bad "the box run was never killed: it ended within 0.2 s"
+kill_and_resume box box.ckpt box.csv "${args[@]}"
 
 # --- a real quadruped (Unitree A1, tests/data/urdf/a1.urdf): standing and dropped ---------------
 # A free base and 12 joints under joint PD control (kp 80, kd 2) holding a crouch, its four

@@ -87,27 +87,7 @@ awk '$1 == "fitted" { exit !($2 > 3.9 && $2 < 4.1) }' conv.txt && ok ||
 args=(run --urdf "$PWD/body.urdf" --base free --gravity 0 --v0 0,0,0,0,0.5,0.05,1.0
       --time 600 --steps 60000 --every 100 -o tumble.csv --checkpoint tumble.ckpt
       --checkpoint-every 1000)
-mkdir -p straight killed
-(cd straight && "$VARSYM" "${args[@]}" 2> err.txt) || bad "uninterrupted tumble: $(cat straight/err.txt)"
-(
-  cd killed || exit 1
-  rc=1
-  for attempt in $(seq 1 60); do
-    if [ -e tumble.ckpt ]; then "$VARSYM" run --resume tumble.ckpt 2>> err.txt &
-    else rm -f tumble.csv.part; "$VARSYM" "${args[@]}" 2>> err.txt & fi
-    pid=$!
-    sleep 0.2
-    kill -9 "$pid" 2> /dev/null
-    { wait "$pid"; } 2> /dev/null
-    rc=$?
-    [ "$rc" -eq 137 ] || break
-    echo killed >> kills.txt
-  done
-  exit "$rc"
-) && cmp -s straight/tumble.csv killed/tumble.csv && ok ||
-  bad "killed and resumed tumble differs from the straight run: $(cat killed/err.txt)"
-# Not vacuous: the run was killed at least once (it takes about 2 s, a kill comes at 0.2 s).
-[ -s killed/kills.txt ] && ok || bad "the tumble was never killed: it ended within 0.2 s"
+kill_and_resume tumble tumble.ckpt tumble.csv "${args[@]}"
 
 # --- refusals -----------------------------------------------------------------------------------
 expect_error 2 "--base for the pendulum" "--base is a parameter of --model urdf" \

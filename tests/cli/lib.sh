@@ -75,6 +75,35 @@ expect_error() {
   ok
 }
 
+# kill_and_resume NAME CKPT CSV ARGS...: runs `VARSYM ARGS` (which writes CSV with checkpoint
+# CKPT) once straight in ./straight and once in ./killed, killed with SIGKILL every 0.2 s and
+# resumed from CKPT until it ends; checks that both CSVs are byte-identical and (not vacuous)
+# that the run was killed at least once.
+kill_and_resume() {
+  local name=$1 ckpt=$2 csv=$3
+  shift 3
+  mkdir -p straight killed
+  (cd straight && "$VARSYM" "$@" 2> err.txt) || bad "uninterrupted $name: $(cat straight/err.txt)"
+  (
+    cd killed || exit 1
+    rc=1
+    for attempt in $(seq 1 60); do
+      if [ -e "$ckpt" ]; then "$VARSYM" run --resume "$ckpt" 2>> err.txt &
+      else rm -f "$csv.part"; "$VARSYM" "$@" 2>> err.txt & fi
+      pid=$!
+      sleep 0.2
+      kill -9 "$pid" 2> /dev/null
+      { wait "$pid"; } 2> /dev/null
+      rc=$?
+      [ "$rc" -eq 137 ] || break
+      echo killed >> kills.txt
+    done
+    exit "$rc"
+  ) && cmp -s "straight/$csv" "killed/$csv" && ok ||
+    bad "killed and resumed $name differs from the straight run: $(cat killed/err.txt)"
+  [ -s killed/kills.txt ] && ok || bad "the $name run was never killed: it ended within 0.2 s"
+}
+
 # finish: the summary line; the script's status is whether every check passed, or 77 (skipped)
 # when every check that ran passed but a part could not run.
 finish() {
