@@ -113,7 +113,9 @@ robot_contact contact_of(const robot_parameters& p, const std::shared_ptr<const 
                                         "contact: give contact too");
         return out;
     }
-    if (contact::contact_points(*r).empty()) // (refuses a mesh, naming its link)
+    const std::vector<contact::contact_point> points =
+        contact::contact_points(*r); // (refuses a mesh, naming its link)
+    if (points.empty())
         throw std::invalid_argument("contact needs collision shapes, and no moving link of " +
                                     r->name + " has a <collision>: add spheres or boxes");
     out.on = true;
@@ -132,7 +134,7 @@ robot_contact contact_of(const robot_parameters& p, const std::shared_ptr<const 
     }
     contact::robot_kinematics kin(r);
     kin.at(q0);
-    for (const contact::contact_point& c : contact::contact_points(*r))
+    for (const contact::contact_point& c : points)
         for (const contact::obstacle& w : out.world) {
             multibody::vec3 n;
             const double gap = w.distance(kin.pose(c.body).point(c.point), n) - c.radius;
