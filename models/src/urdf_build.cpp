@@ -156,6 +156,13 @@ std::shared_ptr<multibody::tree> build_tree(const reader& rd, const robot_data& 
             s.offset = f.offset * s.offset;
             m->collisions.push_back(std::move(s));
         }
+    const auto colours = rd.materials(d.robot);
+    for (const multibody::frame& f : m->frames)
+        for (multibody::visual_shape s : rd.visuals(d.links.at(f.name).element, f.name, colours)) {
+            s.body = f.body;
+            s.offset = f.offset * s.offset;
+            m->visuals.push_back(std::move(s));
+        }
     try {
         m->check();
     } catch (const std::invalid_argument& e) { // not expected after the checks above

@@ -7,11 +7,14 @@
 // why: docs/robots.md.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -227,11 +230,62 @@ class reader {
         }
         return out;
     }
+    /// A link's <visual> shapes in its frame, read as leniently, with their colours: a
+    /// <material> with its own <color rgba>, or one named at the top of the file (`named`).
+    std::vector<multibody::visual_shape>
+    visuals(const XMLElement* link, const std::string& name,
+            const std::map<std::string, std::array<double, 4>>& named) const {
+        std::vector<multibody::visual_shape> out;
+        for (const XMLElement* c = link->FirstChildElement("visual"); c;
+             c = c->NextSiblingElement("visual")) {
+            multibody::visual_shape s;
+            s.link = name;
+            try {
+                read_shape(c, name, s);
+                if (const XMLElement* m = c->FirstChildElement("material")) {
+                    const auto it = named.find(attribute(m, "name", false));
+                    if (const auto rgba = colour(m))
+                        s.rgba = *rgba;
+                    else if (it != named.end())
+                        s.rgba = it->second;
+                }
+            } catch (const urdf_error& e) {
+                s.problem = e.what();
+            }
+            out.push_back(std::move(s));
+        }
+        return out;
+    }
+    /// The colours of the materials named under <robot>.
+    std::map<std::string, std::array<double, 4>> materials(const XMLElement* robot) const {
+        std::map<std::string, std::array<double, 4>> out;
+        for (const XMLElement* m = robot->FirstChildElement("material"); m;
+             m = m->NextSiblingElement("material"))
+            if (const auto rgba = colour(m)) out[attribute(m, "name", false)] = *rgba;
+        return out;
+    }
+    /// A <material>'s <color rgba="r g b a">, each clamped to [0, 1]; none without one.
+    std::optional<std::array<double, 4>> colour(const XMLElement* m) const {
+        const XMLElement* c = m->FirstChildElement("color");
+        if (!c || !c->Attribute("rgba")) return std::nullopt;
+        try { // a colour that cannot be read is no colour: drawn only
+            const Eigen::VectorXd v = numbers(c, "rgba", 4, Eigen::VectorXd::Constant(4, 1.0));
+            std::array<double, 4> out{};
+            for (int i = 0; i < 4; ++i)
+                out[static_cast<std::size_t>(i)] =
+                    std::isfinite(v(i)) ? std::clamp(v(i), 0.0, 1.0) : 1.0;
+            return out;
+        } catch (const urdf_error&) {
+            return std::nullopt;
+        }
+    }
     void read_shape(const XMLElement* c, const std::string& name,
                     multibody::collision_shape& s) const {
         const XMLElement* g = c->FirstChildElement("geometry");
         const XMLElement* e = g ? g->FirstChildElement() : nullptr;
-        if (!e) fail(g ? g : c, "link " + name + ": a <collision> without a shape in <geometry>");
+        if (!e)
+            fail(g ? g : c,
+                 "link " + name + ": a <" + c->Name() + "> without a shape in <geometry>");
         s.offset = origin(c);
         const std::string kind = e->Name();
         auto positive = [&](const char* attr) {
@@ -254,6 +308,7 @@ class reader {
         } else if (kind == "mesh") {
             s.kind = multibody::shape_kind::mesh;
             s.mesh = attribute(e, "filename", false);
+            s.size = numbers(e, "scale", 3, vec3::Ones()); // drawn only: its scale
         } else {
             fail(e, "link " + name + ": unknown collision shape <" + kind +
                         "> (sphere, box, cylinder, capsule or mesh)");

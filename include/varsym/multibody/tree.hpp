@@ -15,6 +15,7 @@
 // rotational inertia about it [kg m²].
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -83,6 +84,13 @@ struct collision_shape {
     std::string problem{};    ///< why the reader could not take it (contact refuses it)
 };
 
+/// A visual shape (URDF <visual>): a collision_shape (a mesh's `size` is its scale) and its
+/// material's colour, r, g, b, a in [0, 1] (a < 0: the URDF gave none). Drawn only
+/// (models/animation.hpp), never simulated.
+struct visual_shape : collision_shape {
+    std::array<double, 4> rgba{0.7, 0.7, 0.7, -1.0};
+};
+
 /// A mimic joint's coupling: its position is multiplier · q_master + offset [rad or m].
 struct mimic {
     int master = 0; ///< the coordinate it follows (a body below dof())
@@ -99,6 +107,7 @@ struct tree {
     vec3 gravity{0.0, 0.0, -9.81};
     std::vector<mimic> mimics;               ///< of bodies dof(), dof() + 1, …
     std::vector<collision_shape> collisions; ///< the links' <collision> shapes
+    std::vector<visual_shape> visuals;       ///< the links' <visual> shapes
     base_kind base = base_kind::fixed;
     /// The root link's name and mass properties (with the links fixed to it merged): the ground
     /// of a fixed base, what with_base sets moving (its `link`, `mass`, `com`, `inertia`).
@@ -243,6 +252,9 @@ struct tree {
             f.body = f.body < 0 ? k - 1 : f.body + k;
         t.collisions = collisions;
         for (collision_shape& c : t.collisions)
+            c.body = c.body < 0 ? k - 1 : c.body + k;
+        t.visuals = visuals;
+        for (visual_shape& c : t.visuals)
             c.body = c.body < 0 ? k - 1 : c.body + k;
         t.mimics = mimics;
         for (mimic& c : t.mimics)
