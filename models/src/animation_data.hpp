@@ -1,0 +1,60 @@
+// models/src/animation_data.hpp: what an animation page holds (animation.cpp gathers it,
+// animation_shapes.cpp finds the shapes and meshes, animation_page.cpp writes the page).
+#pragma once
+
+#include <array>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "varsym/models/animation.hpp"
+
+namespace varsym::models::animation_detail {
+
+/// One drawn shape, fixed to a body (−1: the ground) at `offset` in its frame.
+struct shape_record {
+    int body = -1;
+    int page_body = 0; ///< the page's index of its body (0: the ground)
+    std::string kind;  ///< box, sphere, cylinder, capsule, mesh
+    Eigen::Vector3d size = Eigen::Vector3d::Zero(); ///< as collision_shape; a mesh's scale
+    multibody::pose offset;
+    std::array<double, 4> rgba{0.7, 0.7, 0.7, -1.0}; ///< a < 0: the mesh's own colours
+    int mesh = -1;                                   ///< into scene_shapes::meshes
+};
+
+/// A mesh file embedded in the page.
+struct mesh_record {
+    std::string format; ///< stl, obj, dae
+    std::string bytes;
+};
+
+struct scene_shapes {
+    std::vector<shape_record> shapes;
+    std::vector<mesh_record> meshes;
+    double extent = 0.0; ///< the largest shape's half size [m], for the camera
+};
+
+/// The shapes of robot r: its <visual> shapes with their meshes read, and capsules for each
+/// body none of whose shapes can be drawn; what is missing is said in `warnings`.
+scene_shapes collect_shapes(const multibody::tree& r, const animation_options& options,
+                            std::vector<std::string>& warnings);
+
+struct page_data {
+    std::string title;
+    std::vector<std::string> names;
+    std::size_t bodies = 0;
+    std::vector<double> times;
+    std::vector<float> poses;  ///< per frame, per drawn body: x, y, z, qx, qy, qz, qw
+    std::vector<float> values; ///< per frame, the coordinates
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    double radius = 1.0;
+    std::vector<std::string> warnings;
+    scene_shapes shapes;
+};
+
+/// Writes the HTML page, with three.js and its loaders read from directory `three`.
+void write_page(std::ostream& out, const page_data& page, const std::string& three);
+
+} // namespace varsym::models::animation_detail
