@@ -168,6 +168,16 @@ void optimize(const optimize_options& o) {
     roles.add("--ipopt-options", o.ipopt_options);
     roles.add_output("--output", o.output);
     if (!o.controls.empty()) roles.add("--controls", o.controls);
+    if (!o.animate.empty()) {
+        if (o.urdf.empty() || m.name != "urdf")
+            throw usage_error("--animate draws a URDF robot (--urdf FILE); " + m.name +
+                              " is not drawn");
+        if (o.animate == "-" || kind_of(o.animate) == file_kind::directory)
+            throw usage_error("--animate needs a file name for the HTML page, such as motion.html");
+        roles.add("--animate", o.animate);
+        roles.add("--animate's temporary file", o.animate + ".tmp");
+        animation_check(o.animate);
+    }
     check_ipopt_options(o.ipopt_options, roles);
     file_roles others = roles;
     if (!o.plot.empty()) {
@@ -213,6 +223,8 @@ void optimize(const optimize_options& o) {
         inputs_file->commit();
     }
     if (!o.plot.empty()) render_figure(optimize_plot(m, values, lists, path), o.plot, others);
+    if (!o.animate.empty())
+        write_optimal_animation(path, o.urdf, o.animate, o.animate_fps, o.mesh_path, o.quiet);
     const optimal::nlp_result& r = out.result;
     std::fprintf(stderr,
                  "varsym optimize: %s (%s) after %d iterations in %.3g s: cost %.12g, "
@@ -352,6 +364,19 @@ void add_optimize_command(CLI::App& app, action& todo) {
                     "Picture of the motion, .png or .svg: the coordinates, the controls and a "
                     "strip of poses (data and gnuplot script kept beside it); repeat for both "
                     "formats");
+    auto* animate = cmd->add_option(
+        "--animate", o->animate,
+        "urdf: also write the optimal motion as a 3-D animation, one self-contained "
+        "HTML page that any browser opens offline (docs/robots.md)");
+    cmd->add_option("--animate-fps", o->animate_fps,
+                    "Frames per second of --animate, on the steps' polynomials (0: the nodes)")
+        ->transform(non_negative_number)
+        ->capture_default_str()
+        ->needs(animate);
+    cmd->add_option("--mesh-path", o->mesh_path,
+                    "Directories where --animate looks for the URDF's meshes first: "
+                    "package://PKG/PATH is DIR/PKG/PATH or DIR/PATH")
+        ->needs(animate);
     cmd->add_flag("--quiet", o->quiet, "No progress line per iteration");
     cmd->add_option("--ipopt-options", o->ipopt_options,
                     "IPOPT options file (IPOPT's ipopt.opt format: 'name value' lines), read "

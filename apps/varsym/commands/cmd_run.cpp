@@ -56,6 +56,12 @@ void check_files(const run_setup& s, const std::string& config, const std::strin
     }
     if (!config.empty()) roles.add("--config", config);
     roles.add("--urdf", urdf);
+    if (!s.animate.empty()) {
+        if (s.animate == "-" || kind_of(s.animate) == file_kind::directory)
+            throw usage_error("--animate needs a file name for the HTML page, such as motion.html");
+        roles.add("--animate", s.animate);
+        roles.add("--animate's temporary file", s.animate + ".tmp");
+    }
     roles.check();
     if (s.checkpoint.empty() || s.resume) return;
     // A new run with --checkpoint CK.
@@ -117,6 +123,15 @@ void run(run_options& o, const CLI::App& cmd, const run_context& ctx) {
     const auto it = std::find_if(o.models.begin(), o.models.end(),
                                  [&](const model& m) { return m.name == o.model; });
     check_model_options(o.models, *it, cmd);
+    if (it->name != "urdf")
+        for (const char* opt : {"--animate", "--animate-fps", "--mesh-path"})
+            if (cmd.count(opt) > 0)
+                throw usage_error(std::string(opt) + " draws a URDF robot (--urdf FILE); --model " +
+                                  it->name + " is not drawn");
+    if (!o.setup.animate.empty() && (!o.setup.checkpoint.empty() || ctx.resume))
+        throw usage_error("--animate keeps its frames in memory, which a resumed run would "
+                          "not have: drop --checkpoint, or animate the finished CSV with "
+                          "'varsym animate'");
     o.setup.spec = make_spec(o.scheme);
     o.setup.scheme_given = cmd.count("--scheme") + cmd.count("--degree") > 0;
     o.setup.by_time = cmd.count("--time") > 0;
@@ -263,6 +278,21 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
                     "|E-E0|/|E0| passes this bound; 0: never. Default: 100 (h omega)^order at "
                     "the start, between 0.01 and 0.5")
         ->transform(non_negative_number);
+    auto* animate = cmd->add_option(
+        "--animate", s.animate,
+        "urdf: also write the robot's motion as a 3-D animation, one self-contained HTML page "
+        "that any browser opens offline (docs/robots.md)");
+    cmd->add_option("--animate-fps", s.animate_fps,
+                    "Frames per second of simulated time that --animate keeps (linear "
+                    "interpolation between them); 0 keeps every step")
+        ->transform(non_negative_number)
+        ->capture_default_str()
+        ->needs(animate);
+    cmd->add_option("--mesh-path", s.mesh_path,
+                    "Directories where --animate looks for the URDF's meshes first: "
+                    "package://PKG/PATH is DIR/PKG/PATH or DIR/PATH (then beside the URDF and "
+                    "in its parent directories)")
+        ->needs(animate);
     cmd->add_flag("--stats", s.stats, "Print Newton iteration statistics to standard error");
     cmd->add_flag("--quiet,-q", s.quiet,
                   "No progress line (shown on standard error when it is a terminal, never on "

@@ -39,6 +39,8 @@ void add_ensemble_command(CLI::App& app, action& todo);
 void add_section_command(CLI::App& app, action& todo);
 /// `varsym optimize`: optimal control of a model with inputs (cmd_optimize.cpp).
 void add_optimize_command(CLI::App& app, action& todo);
+/// `varsym animate`: a robot's motion from a CSV file as a 3-D animation page (cmd_animate.cpp).
+void add_animate_command(CLI::App& app, action& todo);
 /// `varsym paper table1|figure1|figure2`: reproduce the paper (cmd_paper.cpp).
 void add_paper_command(CLI::App& app, action& todo);
 

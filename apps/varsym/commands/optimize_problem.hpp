@@ -31,6 +31,9 @@ struct optimize_options {
     int max_iterations = 3000, refine = 0;
     std::string output, controls, config, ipopt_options;
     std::vector<std::string> plot;
+    std::string animate;                ///< --animate FILE: the robot's motion as an HTML page
+    double animate_fps = 60.0;          ///< --animate-fps
+    std::vector<std::string> mesh_path; ///< --mesh-path
     bool quiet = false;
     std::shared_ptr<parameter_options> parameters = std::make_shared<parameter_options>();
     std::string urdf; ///< --urdf FILE: the model `urdf`

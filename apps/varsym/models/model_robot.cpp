@@ -9,6 +9,7 @@
 #include "models/model_run.hpp"
 #include "models/registry_models.hpp"
 #include "options/expression_options.hpp"
+#include "varsym/models/animation.hpp"
 #include "varsym/models/input_file.hpp"
 #include "varsym/models/robot.hpp"
 
@@ -26,8 +27,8 @@ void check_resumed_input(const checkpoint& ck, const checkpoint::input_file& now
                           now.digest + " now); restore it, or start a new run");
 }
 
-std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u,
-                                                    checkpoint::input_file* file) {
+std::shared_ptr<const multibody::tree> robot_tree_of(const urdf_spec& u,
+                                                     checkpoint::input_file* file) {
     if (u.path.empty())
         throw usage_error("--model urdf needs --urdf FILE, the robot's URDF description");
     std::shared_ptr<const multibody::tree> tree;
@@ -42,6 +43,16 @@ std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u,
     } catch (const std::invalid_argument& e) { // models::urdf_error, models::input_error
         throw usage_error(std::string("--urdf: ") + e.what());
     }
+    return tree;
+}
+
+std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u,
+                                                    checkpoint::input_file* file) {
+    return robot_model_of(u, robot_tree_of(u, file));
+}
+
+std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u,
+                                                    std::shared_ptr<const multibody::tree> tree) {
     const std::vector<std::string> torques =
         u.torques.empty() ? std::vector<std::string>{}
                           : split_list(u.torques, "--torques", "5*sin(t),0,-2*elbow_joint_dot");
@@ -101,10 +112,25 @@ model make_robot_model(std::shared_ptr<parameter_options> po) {
     m.run = [spec, po](const run_setup& s) {
         run_setup with_file = s;
         checkpoint::input_file file;
-        const auto robot = robot_model_of(*spec, &file);
+        const auto tree = robot_tree_of(*spec, &file);
+        const auto robot = robot_model_of(*spec, tree);
         if (s.resume) check_resumed_input(*s.resume, file);
         with_file.inputs = {file};
-        run_model(*robot, with_file, po->values(*robot), po->lists(*robot));
+        if (s.animate.empty()) {
+            run_model(*robot, with_file, po->values(*robot), po->lists(*robot));
+            return;
+        }
+        animation_check(s.animate); // three.js is there, before the run
+        with_file.frames = std::make_shared<frame_recorder>();
+        with_file.frames->every = s.animate_fps > 0.0 ? 1.0 / s.animate_fps : 0.0;
+        with_file.frames->width = static_cast<int>(models::robot_coordinates(*tree).size());
+        try {
+            run_model(*robot, with_file, po->values(*robot), po->lists(*robot));
+        } catch (...) { // a failed or stopped run: the frames it reached
+            write_animation_of(tree, *with_file.frames, *spec, s, true);
+            throw;
+        }
+        write_animation_of(tree, *with_file.frames, *spec, s, false);
     };
     return m;
 }

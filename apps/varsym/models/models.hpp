@@ -2,17 +2,43 @@
 // descriptions for `varsym models`, and how each runs.
 #pragma once
 
+#include <cmath>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "options/cli_common.hpp"
 #include "output/checkpoint.hpp"
 #include "varsym/models/model.hpp"
+#include "varsym/multibody/tree.hpp"
 #include "varsym/schemes/scheme_kind.hpp"
 
+namespace varsym::optimal {
+struct trajectory;
+}
+
 namespace varsym::cli {
+
+/// The frames of `varsym run --animate`: the coordinates (the first `width` state values) at
+/// the first state at or after each multiple of `every` seconds of simulated time from the
+/// start (models::animation_rows' rule), and the last state.
+struct frame_recorder {
+    double every = 0.0;
+    int width = 0;
+    std::vector<double> t, q;
+    double next = 0.0; ///< the time of the next frame due
+    [[nodiscard]] bool due(double time) const { return t.empty() || time >= next - 1e-9 * every; }
+    void add(double time, const std::vector<double>& state) {
+        if (every > 0.0)
+            next =
+                (t.empty() ? time : t.front()) +
+                (std::floor((time - (t.empty() ? time : t.front())) / every + 1e-6) + 1.0) * every;
+        t.push_back(time);
+        q.insert(q.end(), state.begin(), state.begin() + width);
+    }
+};
 
 /// What `varsym run` resolved from its model-independent options.
 struct run_setup {
@@ -37,6 +63,10 @@ struct run_setup {
     std::shared_ptr<const cli::checkpoint> resume; ///< the checkpoint a resumed run continues
     std::vector<checkpoint::input_file> inputs;    ///< the model's files, kept in checkpoints
     bool scheme_given = false; ///< --scheme or --degree was set (the rigid bodies refuse them)
+    std::string animate;       ///< --animate FILE: the robot's motion as an HTML page
+    double animate_fps = 60.0; ///< --animate-fps
+    std::vector<std::string> mesh_path;     ///< --mesh-path
+    std::shared_ptr<frame_recorder> frames; ///< set by the model that draws the animation
     /// The model's own integrator where it is not `spec` (the rigid bodies: "lgvi-4"; from
     /// models::problem::integrator).
     std::string method;
@@ -79,6 +109,33 @@ struct urdf_spec {
 /// an ensemble journal records).
 std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u,
                                                     checkpoint::input_file* file = nullptr);
+/// The robot of --urdf and --base alone (usage_error naming --urdf), and its model.
+std::shared_ptr<const multibody::tree> robot_tree_of(const urdf_spec& u,
+                                                     checkpoint::input_file* file = nullptr);
+std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u,
+                                                    std::shared_ptr<const multibody::tree> tree);
+/// Refuses --animate where three.js is missing (usage_error saying how to install it).
+void animation_check(const std::string& path);
+/// Writes robot `tree`'s motion (t, q: rows × coordinates) to the animation page `path`,
+/// meshes found from `urdf` and `mesh_path`, and says so on standard error (cmd_animate.cpp).
+void write_animation(std::shared_ptr<const multibody::tree> tree, std::span<const double> t,
+                     const Eigen::MatrixXd& q, const std::string& urdf, const std::string& path,
+                     double fps, const std::vector<std::string>& mesh_path, bool quiet);
+/// `optimize --animate`: the optimal motion on its steps' polynomials at `fps` frames per
+/// second (0: its nodes) as the animation page `page` (cmd_animate.cpp).
+void write_optimal_animation(const optimal::trajectory& path, const std::string& urdf,
+                             const std::string& page, double fps,
+                             const std::vector<std::string>& mesh_path, bool quiet);
+/// Headless Chromium's path (usage_error saying how to install it where it is missing), and a
+/// PNG of animation page `page` with the robot at the last of `times`, faint at the others
+/// (output/snapshot.cpp).
+std::string find_chromium();
+void take_snapshot(const std::string& page, const std::string& png,
+                   const std::vector<double>& times);
+/// Writes the page of --animate from the recorded frames and says so on standard error (a
+/// run that `stopped` says the page ends where it stopped); warnings go there too.
+void write_animation_of(std::shared_ptr<const multibody::tree> tree, const frame_recorder& f,
+                        const urdf_spec& u, const run_setup& s, bool stopped);
 /// Refuses to resume the run of `ck` with the input `now` unless ck recorded that very file with
 /// the same digest (usage_error saying which and what to do).
 void check_resumed_input(const checkpoint& ck, const checkpoint::input_file& now);

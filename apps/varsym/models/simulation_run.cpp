@@ -42,11 +42,20 @@ void stream_simulation(const run_setup& s, const run_plan& plan, models::simulat
     const double omega0 = resolved_frequency(sim.highest_frequency(), plan.period);
     log.set_energy_reference(sim.watched_energy(), omega0,
                              energy_watch_bound(s, sim.conserves_energy(), plan.h, omega0));
+    /// Keeps the current state as a frame of the animation, if one is due (--animate).
+    auto frame = [&](bool last) {
+        frame_recorder* f = s.frames.get();
+        if (f == nullptr || !(last ? f->t.back() < sim.time() : f->due(sim.time()))) return;
+        models::evaluated(sim,
+                          [&] { sim.state_values(std::span<double>(extra).first(state.size())); });
+        f->add(sim.time(), extra);
+    };
     if (const checkpoint* ck = log.resumed()) {
         sim.restore(ck->state());
     } else {
         row(0);
     }
+    frame(false);
     set_signal_polling(true);
     try {
         sim.advance(plan.steps, [&] {
@@ -55,6 +64,7 @@ void stream_simulation(const run_setup& s, const run_plan& plan, models::simulat
                 j, sim.time(), row(j),
                 [&] { return models::evaluated(sim, [&] { return sim.watched_energy(); }); },
                 [&] { return save_state(sim.save()); }, sim.stats());
+            frame(false);
             return false;
         });
     } catch (const step_failure& e) {
@@ -62,6 +72,7 @@ void stream_simulation(const run_setup& s, const run_plan& plan, models::simulat
         log.fail(e, save_state(sim.save()), sim.stats(), sim.highest_frequency());
     }
     set_signal_polling(false);
+    frame(true);
     log.finish(save_state(sim.save()), sim.stats());
 }
 

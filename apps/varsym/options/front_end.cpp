@@ -117,6 +117,7 @@ front_end::front_end()
     add_paper_command(app_, todo_);
     add_stability_command(app_, todo_);
     add_optimize_command(app_, todo_);
+    add_animate_command(app_, todo_);
 }
 
 int front_end::parse(std::vector<std::string> args) {
