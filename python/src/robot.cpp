@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
+#include "varsym/models/animation.hpp"
 #include "varsym/models/robot.hpp"
 #include "varsym/multibody/algorithms.hpp"
 
@@ -136,6 +137,34 @@ void bind_robot(py::module_& m) {
                 return to_array(out);
             },
             py::arg("frame"), py::arg("q"))
+        .def(
+            "animate",
+            [](const robot& r, const std::vector<double>& t,
+               py::array_t<double, py::array::c_style | py::array::forcecast> q,
+               const std::string& path, const std::string& urdf,
+               const std::vector<std::string>& mesh_path, double fps, const std::string& title) {
+                if (q.ndim() != 2) throw std::invalid_argument("q must be a rows x d array");
+                const Eigen::MatrixXd rows = Eigen::Map<
+                    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+                    q.data(), q.shape(0), q.shape(1));
+                models::animation_options o;
+                o.urdf = urdf;
+                o.mesh_path = mesh_path;
+                o.fps = fps;
+                o.title = title;
+                models::animation_report rep;
+                {
+                    py::gil_scoped_release unlocked;
+                    rep = models::write_animation(r.tree, t, rows, path, o);
+                }
+                py::dict out;
+                out["frames"] = rep.frames;
+                out["bytes"] = rep.bytes;
+                out["warnings"] = rep.warnings;
+                return out;
+            },
+            py::arg("t"), py::arg("q"), py::arg("path"), py::arg("urdf"), py::arg("mesh_path"),
+            py::arg("fps"), py::arg("title"))
         .def(
             "prepare",
             [](const robot& r, const std::vector<double>& values, const std::vector<double>& q0,

@@ -111,6 +111,17 @@ class OptimalControl:
         return (f"<OptimalControl {self.model}: {self.status}, cost {self.cost:.10g}, "
                 f"N = {len(self.t) - 1}, {self.iterations} iterations, closure {self.closure:.1e}>")
 
+    def animate(self, path, *, mesh_path=(), title=None):
+        """Writes the optimal motion of a Robot as a 3-D animation page (Robot.animate), its
+        nodes as frames (the page interpolates between them). Returns a dict: frames, bytes,
+        warnings."""
+        robot = getattr(self, "_robot", None)
+        if robot is None:
+            from .errors import UsageError  # noqa: PLC0415
+            raise UsageError(f"animate draws a URDF robot; {self.model} is not one")
+        return robot.animate(path, self.t, self.q, fps=0.0, mesh_path=mesh_path,
+                             title=title or f"{robot.robot_name}: optimal motion")
+
     def plot(self, path=None):
         """A figure of the coordinates over time and the controls at the quadrature points
         (matplotlib); saved to ``path`` (.png, .svg, .pdf) if given. Returns the figure."""
@@ -255,6 +266,7 @@ def optimize(model, *, time, q_start, q_end=None, v_start=None, v_end=None, step
     m_inputs = raw["u"].shape[1] if raw["u"].ndim == 2 else 1
     out = OptimalControl(raw, name, coordinates,
                          names or [f"u{j + 1}" for j in range(m_inputs)])
+    out._robot = model if hasattr(model, "animate") else None
     if raw["interrupted"]:
         raise Interrupted(f"optimize interrupted after {out.iterations} iterations; the last "
                           "iterate is in .partial", partial=out)

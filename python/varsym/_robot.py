@@ -39,6 +39,7 @@ class Robot(Model):
                 raise UsageError("torques and base are fixed when the Robot is read: "
                                  "Robot(path, torques=[...], base=...)")
             self._core, parameters = source._core, {**source.parameters, **parameters}
+            self._urdf = source._urdf
             parameters = {k: v for k, v in parameters.items() if v is not None}
         elif (source is None) == (text is None):
             raise TypeError("Robot(path) or Robot(text=URDF_XML)")
@@ -49,6 +50,7 @@ class Robot(Model):
                 raise UsageError(f"base is 'fixed', 'free' or 'planar', not {base!r}")
             self._core = (_core._Robot(text, True, typed, held) if text is not None
                           else _core._Robot(os.fspath(source), False, typed, held))
+            self._urdf = None if text is not None else os.fspath(source)
         self._set("urdf", self._core.info, parameters)
         self.joints = list(self._core.joints)
         self.coordinates = self.joints
@@ -94,6 +96,30 @@ class Robot(Model):
     def pose(self, link, q):
         """The 4×4 homogeneous transform of link ``link``'s frame in the world at q."""
         return self._core.pose(link, _list(q))
+
+    def animate(self, path, t, q, *, fps=60.0, mesh_path=(), title=None):
+        """Writes the motion through rows ``q`` (len(t) × the robot's coordinates) at times
+        ``t`` as a 3-D animation: one self-contained HTML page that any browser opens offline
+        (docs/robots.md). Meshes are found beside the URDF file and in ``mesh_path``
+        directories (package://PKG/PATH as DIR/PKG/PATH or DIR/PATH); a link whose mesh is
+        missing is drawn as capsules, with a warning (``warnings.warn`` and on the page).
+        ``fps``: frames kept per second of the motion's time (0: every row). Returns a dict:
+        frames, bytes, warnings."""
+        import warnings  # noqa: PLC0415
+
+        q = np.asarray(q, dtype=float)
+        if q.ndim == 1:
+            q = q[:, None]
+        try:
+            out = dict(self._core.animate(np.asarray(t, dtype=float).ravel().tolist(), q,
+                                          os.fspath(path), self._urdf or "",
+                                          [os.fspath(d) for d in mesh_path], float(fps),
+                                          title or ""))
+        except ValueError as e:
+            raise UsageError(str(e)) from None
+        for w in out["warnings"]:
+            warnings.warn(w, stacklevel=2)
+        return out
 
     def _prepare(self, values, q0, p0, v0, lists):
         return self._core.prepare(values, q0, p0, v0, lists)

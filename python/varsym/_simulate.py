@@ -323,8 +323,10 @@ class Stepper:
         return tr
 
     def _trajectory(self, t, q, p, cols, names, index, n):
-        return Trajectory(t[:n], q[:n], p[:n], {k: cols[:n, i] for i, k in enumerate(names)},
-                          self.coordinates, lambda: index()[:n])
+        tr = Trajectory(t[:n], q[:n], p[:n], {k: cols[:n, i] for i, k in enumerate(names)},
+                        self.coordinates, lambda: index()[:n])
+        tr.model = self.model  # the Model that made it (None for a bare Lagrangian)
+        return tr
 
     def tangent_map(self):
         """The 2d × 2d Jacobian ∂(q_{j+1}, p_{j+1})/∂(q_j, p_j) of the next step (symplectic:

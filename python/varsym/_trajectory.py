@@ -27,6 +27,19 @@ class Trajectory:
         self.q_exact = self._stack("q", "_exact")
         self.p_exact = self._stack("p", "_exact")
 
+    def animate(self, path, robot=None, *, fps=60.0, mesh_path=(), title=None):
+        """Writes this motion as a 3-D animation page (Robot.animate): ``robot`` is the Robot
+        that made it (the default where this trajectory came from Robot.simulate or a Stepper
+        of one). Returns a dict: frames, bytes, warnings."""
+        from ._robot import Robot  # noqa: PLC0415
+        from .errors import UsageError  # noqa: PLC0415
+
+        robot = robot if robot is not None else getattr(self, "model", None)
+        if not isinstance(robot, Robot):
+            raise UsageError("animate draws a URDF robot: tr.animate(path, robot=Robot(...)) "
+                             "for a trajectory that did not come from one")
+        return robot.animate(path, self.t, self.q, fps=fps, mesh_path=mesh_path, title=title)
+
     @property
     def step(self):
         """The step index j of each row (made when first asked for: it costs memory)."""
