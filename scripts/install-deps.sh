@@ -20,6 +20,8 @@ packages=(
   python3-numpy python3-pytest python3-sympy python3-matplotlib # its tests and examples
   python3-tqdm                                                  # its progress bars
   python3-pip python3-setuptools python3-wheel python3-venv     # pip install . (docs/python.md)
+  libjs-three               # three.js, inlined into --animate's pages (docs/robots.md)
+  chromium                  # headless: the animation pages' browser tests, --snapshot
 )
 packages+=("$@")            # more for one target: make fuzz adds clang and libclang-rt-14-dev
 
