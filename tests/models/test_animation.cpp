@@ -95,7 +95,9 @@ TEST(AnimationRows, FrameNIsTheFirstRowAtOrAfterNOverFpsAndZeroKeepsAll) {
     for (std::size_t n = 0; n < kept.size(); ++n) {
         const double due = static_cast<double>(n) / 60.0;
         EXPECT_GE(t[kept[n]], due - 1e-12) << n;
-        if (kept[n] > 0) EXPECT_LT(t[kept[n] - 1], due) << n; // the first such row
+        if (kept[n] > 0) {
+            EXPECT_LT(t[kept[n] - 1], due) << n; // the first such row
+        }
     }
     EXPECT_EQ(kept.back(), 1000u);
     EXPECT_EQ(models::animation_rows(t, 0.0).size(), t.size());
