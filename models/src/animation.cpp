@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -73,10 +74,14 @@ void check_rows(const multibody::tree& r, std::span<const double> t, const Eigen
                                     " q; robot " + r.name + " needs one row of " +
                                     std::to_string(d) + " coordinates per time");
     if (t.empty()) throw std::invalid_argument("the motion has no rows");
+    const bool free = r.base == multibody::base_kind::free;
     for (std::size_t k = 0; k < t.size(); ++k) {
         if (!std::isfinite(t[k]) || !q.row(static_cast<Eigen::Index>(k)).allFinite())
             throw std::invalid_argument("row " + std::to_string(k) +
                                         " of the motion is not finite: nothing to draw there");
+        if (free && q.row(static_cast<Eigen::Index>(k)).segment(3, 4).norm() == 0.0)
+            throw std::invalid_argument("row " + std::to_string(k) +
+                                        " of the motion has a zero base quaternion");
         if (k > 0 && t[k] < t[k - 1])
             throw std::invalid_argument("the motion's times decrease at row " + std::to_string(k));
     }
@@ -90,6 +95,8 @@ animation_report write_animation(std::shared_ptr<const multibody::tree> r,
                                  const std::vector<std::string>& names) {
     if (!r) throw std::invalid_argument("write_animation: no robot");
     check_rows(*r, t, q);
+    if (!(options.fps >= 0.0) || !std::isfinite(options.fps))
+        throw std::invalid_argument("fps must be a finite number >= 0 (0 keeps every row)");
     const std::vector<std::string> coords = robot_coordinates(*r);
     if (!names.empty() && names.size() != coords.size())
         throw std::invalid_argument("write_animation: " + std::to_string(names.size()) +
@@ -130,6 +137,28 @@ animation_report write_animation(std::shared_ptr<const multibody::tree> r,
             values.push_back(static_cast<float>(qk(i)));
     }
     if (!(lo.array() <= hi.array()).all()) lo = hi = Eigen::Vector3d::Zero();
+    std::vector<float> touch;
+    std::vector<std::uint32_t> touches;
+    if (!options.world.empty()) {
+        const std::vector<contact::contact_point> points = contact::contact_points(*r);
+        for (std::size_t k : rows) {
+            kin.at(q.row(static_cast<Eigen::Index>(k)).transpose());
+            std::uint32_t n = 0;
+            for (const contact::contact_point& c : points) {
+                const Eigen::Vector3d x = kin.pose(c.body).point(c.point);
+                for (const contact::obstacle& w : options.world) {
+                    Eigen::Vector3d normal;
+                    if (w.distance(x, normal) - c.radius > 1e-6) continue;
+                    const Eigen::Vector3d at = x - c.radius * normal; // on the surface
+                    for (double v : {at.x(), at.y(), at.z()})
+                        touch.push_back(static_cast<float>(v));
+                    ++n;
+                    break;
+                }
+            }
+            touches.push_back(n);
+        }
+    }
 
     page_data page;
     page.title = options.title.empty() ? r->name : options.title;
@@ -142,6 +171,9 @@ animation_report write_animation(std::shared_ptr<const multibody::tree> r,
     page.radius = std::max((hi - lo).norm() / 2 + shapes.extent, 0.2);
     page.warnings = report.warnings;
     page.shapes = std::move(shapes);
+    page.world = options.world;
+    page.touch = std::move(touch);
+    page.touches = std::move(touches);
 
     const fs::path out(path);
     std::error_code ec;

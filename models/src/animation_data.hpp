@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -52,6 +53,9 @@ struct page_data {
     double radius = 1.0;
     std::vector<std::string> warnings;
     scene_shapes shapes;
+    std::vector<contact::obstacle> world; ///< drawn
+    std::vector<float> touch;             ///< the contact points of every frame: x, y, z
+    std::vector<std::uint32_t> touches;   ///< per frame, how many
 };
 
 /// Writes the HTML page, with three.js and its loaders read from directory `three`.

@@ -78,10 +78,12 @@ std::string html_text(const std::string& s) {
     return out;
 }
 
+/// The script `file`, marked data-varsym="NAME" (its file name's stem).
 void inline_script(std::ostream& out, const std::filesystem::path& file) {
     std::ifstream f(file, std::ios::binary);
     if (!f) throw animation_error("cannot read three.js's '" + file.string() + "'");
-    out << "<script>\n" << f.rdbuf() << "\n</script>\n";
+    out << "<script data-varsym=\"" << file.stem().string() << "\">\n"
+        << f.rdbuf() << "\n</script>\n";
 }
 
 } // namespace
@@ -145,7 +147,21 @@ void write_page(std::ostream& out, const page_data& page, const std::string& thr
         out << (i ? ",\n" : "") << "{\"f\":\"" << m.format << "\",\"d\":\""
             << base64(m.bytes.data(), m.bytes.size()) << "\"}";
     }
-    out << "],\n\"t\":\"" << base64(page.times.data(), page.times.size() * sizeof(double))
+    out << "],\n\"obstacles\":[";
+    for (std::size_t i = 0; i < page.world.size(); ++i) {
+        const contact::obstacle& w = page.world[i];
+        out << (i ? "," : "");
+        if (w.kind == contact::obstacle::shape::half_space)
+            out << "{\"k\":\"plane\",\"n\":" << numbers(w.normal) << ",\"d\":" << number(w.offset)
+                << "}";
+        else
+            out << "{\"k\":\"box\",\"c\":" << numbers(w.centre)
+                << ",\"s\":" << numbers(Eigen::Vector3d(2 * w.half)) << "}";
+    }
+    out << "],\n\"touch\":\"" << base64(page.touch.data(), page.touch.size() * sizeof(float))
+        << "\",\n\"touches\":\""
+        << base64(page.touches.data(), page.touches.size() * sizeof(std::uint32_t));
+    out << "\",\n\"t\":\"" << base64(page.times.data(), page.times.size() * sizeof(double))
         << "\",\n\"poses\":\"" << base64(page.poses.data(), page.poses.size() * sizeof(float))
         << "\",\n\"q\":\"" << base64(page.values.data(), page.values.size() * sizeof(float))
         << "\"}\n</script>\n<script>\n"

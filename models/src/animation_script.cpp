@@ -5,6 +5,8 @@
 // cam=EX,EY,EZ,TX,TY,TZ (the camera's position and target, world frame, m), fov=DEGREES,
 // flat=1 (unlit colours, no grid: the browser tests), ui=0 (no panel, bar or warnings: a
 // snapshot), ghosts=T1,T2,... (the robot also drawn at those times, fainter: a strip of poses).
+// With contact, the ground (the grid on it) and the static boxes are drawn, and each frame's
+// contact points as red dots.
 // When the first frame is drawn, the body gets data-ready="1".
 namespace varsym::models::animation_detail {
 
@@ -21,7 +23,7 @@ html, body { margin: 0; height: 100%; overflow: hidden; background: #f4f5f7;
 #joints td.v { text-align: right; }
 #warnings { position: absolute; top: 8px; right: 8px; max-width: 45%; background: #fff3cd;
   border: 1px solid #e0c36a; padding: 6px 10px; border-radius: 6px; max-height: 40%;
-  overflow: auto; }
+  overflow: auto; font-size: 12px; word-break: break-all; }
 #warnings:empty { display: none; }
 #bar { position: absolute; left: 0; right: 0; bottom: 0; display: flex; gap: 10px;
   align-items: center; padding: 8px; background: rgba(255,255,255,0.85); }
@@ -48,12 +50,20 @@ const char* viewer_script() {
   const flat = hash.get('flat') === '1';
   if (hash.get('ui') === '0') document.body.classList.add('bare');
 
+  // The warnings: the first shown, the others behind a click.
   const warn = document.getElementById('warnings');
-  for (const w of data.warnings) {
+  data.warnings.forEach(function (w, i) {
     const d = document.createElement('div');
     d.textContent = '\u26a0 ' + w;
-    warn.appendChild(d);
-  }
+    if (i === 1 && data.warnings.length > 2) {
+      const more = document.createElement('details');
+      const summary = document.createElement('summary');
+      summary.textContent = (data.warnings.length - 1) + ' more warnings';
+      more.appendChild(summary);
+      warn.appendChild(more);
+    }
+    (warn.lastChild && warn.lastChild.tagName === 'DETAILS' ? warn.lastChild : warn).appendChild(d);
+  });
 
   const renderer = new THREE.WebGLRenderer({antialias: !flat, preserveDrawingBuffer: true});
   renderer.setPixelRatio(window.devicePixelRatio || 1);
@@ -88,7 +98,19 @@ const char* viewer_script() {
     const grid = new THREE.GridHelper(40 * step, 40, 0x9098a0, 0xc8ccd0);
     grid.rotation.x = Math.PI / 2;
     grid.position.set(Math.round(C.x / step) * step, Math.round(C.y / step) * step, 0);
-    scene.add(grid);
+    const floor = new THREE.Group(); // the grid at z = 0, or on the contact's ground
+    floor.add(grid);
+    const plane = data.obstacles.find(function (w) { return w.k === 'plane'; });
+    if (plane) {
+      const n = new THREE.Vector3().fromArray(plane.n);
+      floor.quaternion.setFromUnitVectors(new THREE.Vector3(0, 0, 1), n);
+      floor.position.copy(n.multiplyScalar(plane.d));
+      const ground = new THREE.Mesh(new THREE.PlaneBufferGeometry(40 * step, 40 * step),
+          material([0.75, 0.8, 0.72, 0.45], 1));
+      ground.position.copy(grid.position);
+      floor.add(ground);
+    }
+    scene.add(floor);
     scene.add(new THREE.AxesHelper(Math.min(0.3, R / 3)));
   }
 
@@ -147,7 +169,7 @@ const char* viewer_script() {
       o = new THREE.Group();
     }
     const g = new THREE.Group();
-    o.scale.set(s.s[0], s.s[1], s.s[2]);
+    o.scale.multiply(new THREE.Vector3(s.s[0], s.s[1], s.s[2])); // after COLLADA's <unit>
     g.add(o);
     return g;
   }
@@ -195,6 +217,28 @@ const char* viewer_script() {
   }
 
   const main = robot(1);
+  // The static boxes the robot touches, and its contact points at each frame (red).
+  for (const w of data.obstacles) {
+    if (w.k !== 'box') continue;
+    const box = new THREE.Mesh(new THREE.BoxBufferGeometry(w.s[0], w.s[1], w.s[2]),
+        material([0.6, 0.55, 0.5, 0.7], 1));
+    box.position.fromArray(w.c);
+    scene.add(box);
+  }
+  const TC = new Uint32Array(bytes(data.touches).buffer);
+  const TP = new Float32Array(bytes(data.touch).buffer);
+  const first = new Uint32Array(TC.length + 1);
+  for (let k = 0; k < TC.length; k++) first[k + 1] = first[k] + TC[k];
+  const dots = [], dot = new THREE.SphereBufferGeometry(Math.max(0.006, R / 90), 12, 8);
+  const red = new THREE.MeshBasicMaterial({color: 0xd62728});
+  function touching(k) {
+    const n = k < TC.length ? TC[k] : 0;
+    while (dots.length < n) { const d = new THREE.Mesh(dot, red); scene.add(d); dots.push(d); }
+    for (let i = 0; i < dots.length; i++) {
+      dots[i].visible = i < n;
+      if (i < n) dots[i].position.fromArray(TP, 3 * (first[k] + i));
+    }
+  }
   for (const g of (hash.get('ghosts') || '').split(',').filter(function (x) { return x !== ''; })) {
     const t = Number(g);
     if (Number.isFinite(t)) pose(robot(0.35), t);
@@ -226,6 +270,7 @@ const char* viewer_script() {
   const playButton = document.getElementById('play');
   function show() {
     const [k, k2, a] = pose(main, time);
+    touching(a < 0.5 ? k : k2);
     timeText.textContent = 't = ' + time.toFixed(3) + ' s of ' + t1.toFixed(3) + ' s';
     for (let i = 0; i < nq; i++)
       cells[i].textContent = (Q[k * nq + i] + a * (Q[k2 * nq + i] - Q[k * nq + i])).toFixed(4);

@@ -98,7 +98,9 @@ scene_shapes collect_shapes(const multibody::tree& r, const animation_options& o
                             std::vector<std::string>& warnings) {
     scene_shapes out;
     const auto nb = r.bodies.size();
-    std::vector<char> shown(nb, 0); // a body with a shape that can be drawn
+    // Per body, its <visual> shapes and those drawn: a body with one that cannot be drawn (a
+    // link whose mesh is missing, beside a fixed link's sphere) or with none gets the capsules.
+    std::vector<int> shapes(nb, 0), shown(nb, 0);
     std::vector<std::array<double, 4>> colour(nb, {1.0, 0.6, 0.1, 1.0}); // the capsules'
     std::map<std::string, int> mesh_id;                                  // by the file found
     for (const multibody::visual_shape& v : r.visuals) {
@@ -107,6 +109,7 @@ scene_shapes collect_shapes(const multibody::tree& r, const animation_options& o
         const std::string fallback = v.body >= 0
                                          ? "drawn as capsules from its joint to its children's"
                                          : "not drawn (it is fixed to the ground)";
+        if (v.body >= 0) ++shapes[b];
         if (!v.problem.empty()) {
             warnings.push_back(v.problem + ": " + fallback);
             continue;
@@ -169,9 +172,9 @@ scene_shapes collect_shapes(const multibody::tree& r, const animation_options& o
                      : v.kind == multibody::shape_kind::sphere  ? "sphere"
                      : v.kind == multibody::shape_kind::capsule ? "capsule"
                                                                 : "cylinder";
-            out.extent = std::max(out.extent, half_size(v));
+            out.extent = std::max(out.extent, v.offset.origin.norm() + half_size(v));
         }
-        if (v.body >= 0) shown[b] = 1;
+        if (v.body >= 0) ++shown[b];
         out.shapes.push_back(std::move(s));
     }
     // The bodies left without a shape: capsules from the joint to the children's joints (or to
@@ -191,7 +194,7 @@ scene_shapes collect_shapes(const multibody::tree& r, const animation_options& o
     }
     const double radius = std::clamp(0.06 * longest, 0.005, 0.04);
     for (std::size_t b = static_cast<std::size_t>(first); b < nb; ++b) {
-        if (shown[b]) continue;
+        if (shapes[b] > 0 && shown[b] == shapes[b]) continue;
         const int body = static_cast<int>(b);
         shape_record joint;
         joint.body = body;
@@ -200,8 +203,10 @@ scene_shapes collect_shapes(const multibody::tree& r, const animation_options& o
         joint.rgba = colour[b];
         out.shapes.push_back(joint);
         for (const Eigen::Vector3d& e : ends[b])
-            if (e.norm() > 1e-9)
+            if (e.norm() > 1e-9) {
                 out.shapes.push_back(capsule(body, Eigen::Vector3d::Zero(), e, radius, colour[b]));
+                out.extent = std::max(out.extent, e.norm() + radius);
+            }
     }
     out.extent = std::max(out.extent, 1.3 * radius);
     return out;

@@ -337,4 +337,11 @@ const model& robot_options() {
     return m;
 }
 
+std::vector<contact::obstacle> robot_obstacles(std::shared_ptr<const multibody::tree> r,
+                                               std::span<const double> values, const lists& given,
+                                               const Eigen::VectorXd& q0) {
+    if (!r) throw std::invalid_argument("robot_obstacles: no robot");
+    return contact_of(robot_set().read(values, given), r, q0).world;
+}
+
 } // namespace varsym::models

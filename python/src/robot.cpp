@@ -142,7 +142,8 @@ void bind_robot(py::module_& m) {
             [](const robot& r, const std::vector<double>& t,
                py::array_t<double, py::array::c_style | py::array::forcecast> q,
                const std::string& path, const std::string& urdf,
-               const std::vector<std::string>& mesh_path, double fps, const std::string& title) {
+               const std::vector<std::string>& mesh_path, double fps, const std::string& title,
+               const std::vector<double>& values, const models::lists& lists) {
                 if (q.ndim() != 2) throw std::invalid_argument("q must be a rows x d array");
                 const Eigen::MatrixXd rows = Eigen::Map<
                     const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
@@ -152,6 +153,9 @@ void bind_robot(py::module_& m) {
                 o.mesh_path = mesh_path;
                 o.fps = fps;
                 o.title = title;
+                if (!values.empty() && rows.rows() > 0) // what a contact simulation touches
+                    o.world =
+                        models::robot_obstacles(r.tree, values, lists, rows.row(0).transpose());
                 models::animation_report rep;
                 {
                     py::gil_scoped_release unlocked;
@@ -164,7 +168,7 @@ void bind_robot(py::module_& m) {
                 return out;
             },
             py::arg("t"), py::arg("q"), py::arg("path"), py::arg("urdf"), py::arg("mesh_path"),
-            py::arg("fps"), py::arg("title"))
+            py::arg("fps"), py::arg("title"), py::arg("values"), py::arg("lists"))
         .def(
             "prepare",
             [](const robot& r, const std::vector<double>& values, const std::vector<double>& q0,

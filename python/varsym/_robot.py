@@ -103,10 +103,13 @@ class Robot(Model):
         (docs/robots.md). Meshes are found beside the URDF file and in ``mesh_path``
         directories (package://PKG/PATH as DIR/PKG/PATH or DIR/PATH); a link whose mesh is
         missing is drawn as capsules, with a warning (``warnings.warn`` and on the page).
-        ``fps``: frames kept per second of the motion's time (0: every row). Returns a dict:
-        frames, bytes, warnings."""
+        ``fps``: frames kept per second of the motion's time (0: every row). With
+        ``contact=1`` the ground and boxes are drawn, and each frame's contact points. Returns
+        a dict: frames, bytes, warnings."""
         import warnings  # noqa: PLC0415
 
+        if isinstance(mesh_path, (str, bytes, os.PathLike)):
+            mesh_path = [mesh_path]  # one directory, not its characters
         q = np.asarray(q, dtype=float)
         if q.ndim == 1:
             q = q[:, None]
@@ -114,7 +117,7 @@ class Robot(Model):
             out = dict(self._core.animate(np.asarray(t, dtype=float).ravel().tolist(), q,
                                           os.fspath(path), self._urdf or "",
                                           [os.fspath(d) for d in mesh_path], float(fps),
-                                          title or ""))
+                                          title or "", self._values(), self._lists()))
         except ValueError as e:
             raise UsageError(str(e)) from None
         for w in out["warnings"]:

@@ -66,12 +66,13 @@ grep -q "^varsym: wrote arm.html (1001 frames" arm.err && ok || bad "report: $(c
 grep -q "warning: link l3: mesh 'package://missing_pkg/meshes/tool.stl' not found" arm.err &&
   ok || bad "missing-mesh warning: $(cat arm.err)"
 [ "$(frames arm.html)" = 1001 ] && ok || bad "frames: $(frames arm.html), not 1001"
-grep -q 'REVISION="111"' arm.html && grep -q 'loaders/STLLoader.js' arm.html && ok ||
+grep -q 'REVISION="111"' arm.html && grep -q 'data-varsym="STLLoader"' arm.html && ok ||
   bad "three.js r111 and its STL loader are not inlined"
-grep -q 'loaders/ColladaLoader.js\|loaders/OBJLoader.js' arm.html && bad "loaders inlined that no mesh needs" || ok
+grep -q 'data-varsym="ColladaLoader"\|data-varsym="OBJLoader"' arm.html && bad "loaders inlined that no mesh needs" || ok
 grep -q '"k":"mesh"' arm.html && grep -q '"k":"capsule"' arm.html && ok ||
   bad "the page lacks the mesh or the fallback capsules"
-grep -q 'https\?://' <(grep -o '<script src=[^>]*>' arm.html) && bad "the page loads a script" || ok
+[ "$(grep -c '<script src' arm.html)" = 0 ] && [ "$(grep -c '<script data-varsym=' arm.html)" = 3 ] && ok ||
+  bad "the page's scripts are not three, OrbitControls and STLLoader inlined"
 between 800000 "$(size arm.html)" 2000000 && ok || bad "page size $(size arm.html) B"
 cmp -s arm.urdf arm.urdf.orig && ok || bad "the URDF changed"
 
@@ -86,6 +87,15 @@ start=$(date +%s.%N)
 echo "10^5 steps with --animate: $(frames long.html) frames, $(size long.html) B, $(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.2f", b - a }') s"
 between 1150 "$(frames long.html)" 1250 && ok || bad "20 s at 60 fps: $(frames long.html) frames"
 lt "$(size long.html)" 3000000 && ok || bad "20 s page: $(size long.html) B"
+
+# --- contact: the ground drawn, and the contact points of each frame -----------------------------
+"$VARSYM" run --urdf "$data/contact_ball.urdf" --base free --contact --q0 0,0,0.4,1,0,0,0 \
+  --time 1 --steps 1000 -o ball.csv --animate ball.html 2> ball.err && ok || bad "ball: $(cat ball.err)"
+grep -q '"obstacles":\[{"k":"plane","n":\[-\?0,0,1\],"d":0}\]' ball.html && ok ||
+  bad "the ground is not in the ball's page"
+touches=$(grep -o '"touches":"[^"]*"' ball.html | cut -d'"' -f4 | base64 -d | od -An -tu4 | tr -s ' \n' ' ')
+[ "$(echo $touches | awk '{ print $1 }')" = 0 ] && [ "$(echo $touches | awk '{ print $NF }')" = 1 ] &&
+  ok || bad "the ball's contact points per frame: $touches (in the air first, then one)"
 
 # --- varsym animate: the same page from the CSV ---------------------------------------------------
 "$VARSYM" animate --urdf arm.urdf --input arm.csv --output again.html --fps 0 2> again.err && ok ||

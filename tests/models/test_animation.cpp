@@ -82,8 +82,13 @@ TEST(AnimationVisuals, ColoursNamedInlineAndNoneAndTheMeshScaleAreRead) {
     EXPECT_EQ(r->visuals[2].rgba[2], 0.4); // its own
     EXPECT_EQ(r->visuals[2].size, Eigen::Vector3d(2, 2, 2));
     // A visual that cannot be read is kept with its problem, the robot is still read.
-    const auto bad = models::parse_urdf(urdf_test::robot(""), "r.urdf");
-    EXPECT_TRUE(bad->visuals.empty());
+    std::string broken = arm_urdf;
+    const std::string box = "<box size=\"0.5 0.1 0.1\"/>";
+    broken.replace(broken.find(box), box.size(), "<box size=\"0.5 -1 0.1\"/>");
+    const auto bad = models::parse_urdf(broken, "arm.urdf");
+    ASSERT_EQ(bad->visuals.size(), 3u);
+    EXPECT_NE(bad->visuals[1].problem.find("positive sides"), std::string::npos)
+        << bad->visuals[1].problem;
 }
 
 TEST(AnimationRows, FrameNIsTheFirstRowAtOrAfterNOverFpsAndZeroKeepsAll) {
@@ -122,7 +127,7 @@ TEST_F(AnimationTest, PosesInThePageAreForwardKinematicsAndTheMeshIsFoundOnTheSe
     EXPECT_EQ(rep.bytes, page.size());
     EXPECT_FALSE(fs::exists(dir / "a.html.tmp"));
     EXPECT_NE(page.find("\"f\":\"stl\""), std::string::npos);
-    EXPECT_NE(page.find("loaders/STLLoader.js"), std::string::npos); // its loader inlined
+    EXPECT_NE(page.find("data-varsym=\"STLLoader\""), std::string::npos); // its loader inlined
     EXPECT_NE(page.find("\"bodies\":2"), std::string::npos);
     const auto raw = field(page, "poses");
     ASSERT_EQ(raw.size(), 3u * 2 * 7 * sizeof(float));
@@ -152,9 +157,9 @@ TEST_F(AnimationTest, AMissingMeshIsWarnedAboutAndItsLinkDrawnAsCapsules) {
               std::string::npos)
         << rep.warnings[0];
     const std::string page = slurp(dir / "b.html");
-    EXPECT_NE(page.find("\"k\":\"capsule\""), std::string::npos);    // l2: joint to its centre
-    EXPECT_EQ(page.find("loaders/STLLoader.js"), std::string::npos); // no mesh, no loader
-    EXPECT_NE(page.find("part.stl' not found"), std::string::npos);  // on the page too
+    EXPECT_NE(page.find("\"k\":\"capsule\""), std::string::npos);         // l2: joint to its centre
+    EXPECT_EQ(page.find("data-varsym=\"STLLoader\""), std::string::npos); // no mesh, no loader
+    EXPECT_NE(page.find("part.stl' not found"), std::string::npos);       // on the page too
 }
 
 TEST_F(AnimationTest, BadRowsAndTheUrdfAsThePageAreRefusedAndNothingIsWritten) {

@@ -2,6 +2,7 @@
 // `varsym run` or `varsym optimize` as a 3-D animation page (models/animation.hpp), and what
 // `run --animate` and `optimize --animate` share: the check that three.js is there and the
 // writing of the page with its report on standard error.
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -41,8 +42,10 @@ void report(const models::animation_report& r, const std::string& path, bool qui
 
 void write_animation(std::shared_ptr<const multibody::tree> tree, std::span<const double> t,
                      const Eigen::MatrixXd& q, const std::string& urdf, const std::string& path,
-                     double fps, const std::vector<std::string>& mesh_path, bool quiet) {
+                     double fps, const std::vector<std::string>& mesh_path, bool quiet,
+                     std::vector<contact::obstacle> world) {
     models::animation_options o;
+    o.world = std::move(world);
     o.urdf = urdf;
     o.mesh_path = mesh_path;
     o.fps = fps;
@@ -79,7 +82,8 @@ void write_optimal_animation(const optimal::trajectory& path, const std::string&
 }
 
 void write_animation_of(std::shared_ptr<const multibody::tree> tree, const frame_recorder& f,
-                        const urdf_spec& u, const run_setup& s, bool stopped) {
+                        const urdf_spec& u, const run_setup& s, bool stopped,
+                        std::vector<contact::obstacle> world) {
     if (f.t.empty()) return;
     const auto rows = static_cast<Eigen::Index>(f.t.size());
     const Eigen::MatrixXd q =
@@ -87,7 +91,8 @@ void write_animation_of(std::shared_ptr<const multibody::tree> tree, const frame
     if (stopped)
         std::fprintf(stderr, "varsym: the animation ends where the run stopped, t = %.6g s\n",
                      f.t.back());
-    write_animation(std::move(tree), f.t, q, u.path, s.animate, 0.0, s.mesh_path, s.quiet);
+    write_animation(std::move(tree), f.t, q, u.path, s.animate, 0.0, s.mesh_path, s.quiet,
+                    std::move(world));
 }
 
 namespace {
@@ -105,11 +110,20 @@ void read_motion(const std::string& path, const std::vector<std::string>& names,
                  std::vector<double>& t, Eigen::MatrixXd& q) {
     std::ifstream in(path);
     if (!in) throw usage_error("--input: cannot read '" + path + "'");
+    // Cells trimmed of spaces, a CR (a file from Windows) and double quotes.
+    auto cells = [](const std::string& text) {
+        std::vector<std::string> out;
+        std::stringstream ss(text);
+        for (std::string cell; std::getline(ss, cell, ',');) {
+            const auto a = cell.find_first_not_of(" \t\r\"");
+            const auto b = cell.find_last_not_of(" \t\r\"");
+            out.push_back(a == std::string::npos ? "" : cell.substr(a, b - a + 1));
+        }
+        return out;
+    };
     std::string line;
     if (!std::getline(in, line)) throw usage_error("--input: '" + path + "' is empty");
-    std::vector<std::string> header;
-    for (std::stringstream ss(line); std::getline(ss, line, ',');)
-        header.push_back(line);
+    const std::vector<std::string> header = cells(line);
     // A coordinate's column: q_NAME (run), qI (optimize, from 1), q_I, or q for one coordinate.
     auto column = [&](const std::vector<std::string>& names_of, const std::string& shown) {
         for (const std::string& name : names_of)
@@ -129,23 +143,27 @@ void read_motion(const std::string& path, const std::vector<std::string>& names,
         cq.push_back(column(candidates, "q_" + names[i]));
     }
     std::vector<double> values, row;
-    std::size_t rows = 0;
+    std::size_t rows = 0, number = 1;
     for (std::string text; std::getline(in, text);) {
-        if (text.empty()) continue;
+        ++number;
+        if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
         row.clear();
-        std::stringstream ss(text);
-        for (std::string cell; std::getline(ss, cell, ',');) {
+        for (const std::string& cell : cells(text)) {
             char* end = nullptr;
             const double v = std::strtod(cell.c_str(), &end);
-            row.push_back(end != cell.c_str() ? v : std::nan(""));
+            row.push_back(!cell.empty() && *end == '\0' ? v : std::nan(""));
         }
         if (row.size() != header.size())
-            throw usage_error("--input: row " + std::to_string(rows + 2) + " of '" + path +
+            throw usage_error("--input: line " + std::to_string(number) + " of '" + path +
                               "' has " + std::to_string(row.size()) + " values for " +
                               std::to_string(header.size()) + " columns");
         t.push_back(row[static_cast<std::size_t>(ct)]);
-        for (int c : cq)
+        for (int c : cq) {
             values.push_back(row[static_cast<std::size_t>(c)]);
+            if (!std::isfinite(values.back()) || !std::isfinite(t.back()))
+                throw usage_error("--input: line " + std::to_string(number) + " of '" + path +
+                                  "' has a value that is not a finite number in t or q");
+        }
         ++rows;
     }
     if (rows == 0) throw usage_error("--input: '" + path + "' has no rows");
@@ -167,8 +185,8 @@ void animate(const animate_options& o) {
     roles.add("--output", o.output);
     roles.add("--output's temporary file", o.output + ".tmp");
     roles.check();
-    if (kind_of(o.output) == file_kind::directory)
-        throw usage_error("--output '" + o.output + "' is a directory: name the HTML page");
+    if (o.output == "-" || kind_of(o.output) == file_kind::directory)
+        throw usage_error("--output '" + o.output + "' is not a file name: name the HTML page");
     animation_check(o.output);
     const auto tree = robot_tree_of(o.urdf);
     std::vector<double> t;

@@ -11,6 +11,7 @@
 
 #include "options/cli_common.hpp"
 #include "output/checkpoint.hpp"
+#include "varsym/contact/geometry.hpp"
 #include "varsym/models/model.hpp"
 #include "varsym/multibody/tree.hpp"
 #include "varsym/schemes/scheme_kind.hpp"
@@ -120,7 +121,8 @@ void animation_check(const std::string& path);
 /// meshes found from `urdf` and `mesh_path`, and says so on standard error (cmd_animate.cpp).
 void write_animation(std::shared_ptr<const multibody::tree> tree, std::span<const double> t,
                      const Eigen::MatrixXd& q, const std::string& urdf, const std::string& path,
-                     double fps, const std::vector<std::string>& mesh_path, bool quiet);
+                     double fps, const std::vector<std::string>& mesh_path, bool quiet,
+                     std::vector<contact::obstacle> world = {});
 /// `optimize --animate`: the optimal motion on its steps' polynomials at `fps` frames per
 /// second (0: its nodes) as the animation page `page` (cmd_animate.cpp).
 void write_optimal_animation(const optimal::trajectory& path, const std::string& urdf,
@@ -133,9 +135,11 @@ std::string find_chromium();
 void take_snapshot(const std::string& page, const std::string& png,
                    const std::vector<double>& times);
 /// Writes the page of --animate from the recorded frames and says so on standard error (a
-/// run that `stopped` says the page ends where it stopped); warnings go there too.
+/// run that `stopped` says the page ends where it stopped); warnings go there too. `world`:
+/// what the robot touches (models::robot_obstacles), drawn with the contact points.
 void write_animation_of(std::shared_ptr<const multibody::tree> tree, const frame_recorder& f,
-                        const urdf_spec& u, const run_setup& s, bool stopped);
+                        const urdf_spec& u, const run_setup& s, bool stopped,
+                        std::vector<contact::obstacle> world);
 /// Refuses to resume the run of `ck` with the input `now` unless ck recorded that very file with
 /// the same digest (usage_error saying which and what to do).
 void check_resumed_input(const checkpoint& ck, const checkpoint::input_file& now);

@@ -60,15 +60,16 @@ void stream_simulation(const run_setup& s, const run_plan& plan, models::simulat
     try {
         sim.advance(plan.steps, [&] {
             const std::size_t j = sim.step();
+            frame(false); // before a signal or the energy watch can stop the run
             log.after_step(
                 j, sim.time(), row(j),
                 [&] { return models::evaluated(sim, [&] { return sim.watched_energy(); }); },
                 [&] { return save_state(sim.save()); }, sim.stats());
-            frame(false);
             return false;
         });
     } catch (const step_failure& e) {
         set_signal_polling(false);
+        frame(true); // the last good state
         log.fail(e, save_state(sim.save()), sim.stats(), sim.highest_frequency());
     }
     set_signal_polling(false);

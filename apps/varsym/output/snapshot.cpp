@@ -3,8 +3,10 @@
 // serves both. Chromium is run directly (no shell), with a scratch profile, and stopped after
 // two minutes.
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -42,6 +44,21 @@ std::string find_chromium() {
                       "PATH: apt-get install chromium");
 }
 
+/// file:// and the absolute path, percent-encoded but for unreserved characters and '/'.
+std::string file_url(const std::string& path) {
+    std::string out = "file://";
+    for (const unsigned char c : fs::absolute(path).lexically_normal().string()) {
+        if (std::isalnum(c) || c == '/' || c == '-' || c == '_' || c == '.' || c == '~') {
+            out += static_cast<char>(c);
+        } else {
+            char buf[4];
+            std::snprintf(buf, sizeof buf, "%%%02X", c);
+            out += buf;
+        }
+    }
+    return out;
+}
+
 void take_snapshot(const std::string& page, const std::string& png,
                    const std::vector<double>& times) {
     const std::string exe = find_chromium();
@@ -55,6 +72,9 @@ void take_snapshot(const std::string& page, const std::string& png,
     if (::mkdtemp(profile) == nullptr)
         throw std::runtime_error(std::string("--snapshot: cannot make a scratch directory: ") +
                                  std::strerror(errno));
+    // Chromium writes into the scratch directory; the picture is then copied to PNG.tmp.png,
+    // created exclusively, and renamed.
+    const std::string shot = std::string(profile) + "/shot.png";
     const std::string tmp = png + ".tmp.png";
     std::vector<std::string> args = {exe,
                                      "--headless=new",
@@ -69,8 +89,8 @@ void take_snapshot(const std::string& page, const std::string& png,
                                      std::string("--user-data-dir=") + profile,
                                      "--window-size=1200,800",
                                      "--virtual-time-budget=5000",
-                                     "--screenshot=" + fs::absolute(tmp).string(),
-                                     "file://" + fs::absolute(page).string() + hash};
+                                     "--screenshot=" + shot,
+                                     file_url(page) + hash};
     std::vector<char*> argv;
     for (std::string& a : args)
         argv.push_back(a.data());
@@ -95,15 +115,18 @@ void take_snapshot(const std::string& page, const std::string& png,
         }
     }
     std::error_code ec;
+    const bool drawn = rc == 0 && done && fs::is_regular_file(shot) && fs::file_size(shot, ec) > 0;
+    const bool copied = drawn && fs::copy_file(shot, tmp, fs::copy_options::skip_existing, ec);
     fs::remove_all(profile, ec);
-    if (rc != 0 || !done || !fs::exists(tmp) || fs::file_size(tmp, ec) == 0) {
-        fs::remove(tmp, ec);
+    if (!drawn)
         throw std::runtime_error("--snapshot: Chromium (" + exe + ") " +
                                  (rc != 0 ? "could not be started"
                                   : !done ? "took more than two minutes"
                                           : "wrote no picture") +
                                  "; the page " + page + " is written");
-    }
+    if (!copied)
+        throw std::runtime_error("--snapshot: cannot write '" + tmp + "'" +
+                                 (fs::exists(tmp, ec) ? ": it exists (move it away)" : ""));
     fs::rename(tmp, png, ec);
     if (ec) throw std::runtime_error("--snapshot: cannot write '" + png + "': " + ec.message());
 }

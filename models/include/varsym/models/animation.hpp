@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include "varsym/contact/geometry.hpp"
 #include "varsym/multibody/tree.hpp"
 
 namespace varsym::models {
@@ -28,12 +29,15 @@ struct animation_options {
     /// More directories for meshes, searched first: a `package://PKG/PATH` mesh is DIR/PKG/PATH
     /// or DIR/PATH, a relative one DIR/NAME.
     std::vector<std::string> mesh_path;
-    /// Frames kept per second of simulated time (rows closer than 1/fps to the last kept one are
-    /// left out; the first and last rows are always kept); 0 keeps every row.
+    /// Frames kept per second of simulated time: frame n is the first row at or after
+    /// t0 + n/fps, and the last row is kept too; 0 keeps every row.
     double fps = 60.0;
     std::string title;    ///< shown on the page (default: the robot's name)
     std::string three_js; ///< three.js's directory (default: find_three_js())
     std::size_t max_mesh_bytes = std::size_t{64} << 20; ///< larger meshes are not embedded
+    /// What the robot touches (robot_obstacles): drawn, and each frame's contact points (the
+    /// robot's <collision> points within 1e-6 m of an obstacle) shown as red dots.
+    std::vector<contact::obstacle> world;
 };
 
 /// What write_animation did.

@@ -7,11 +7,13 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "varsym/contact/geometry.hpp"
 #include "varsym/models/model.hpp"
 #include "varsym/multibody/tree.hpp"
 #include "varsym/optimal/end_function.hpp"
@@ -92,6 +94,15 @@ struct frame_miss {
 frame_miss frame_target_miss(const multibody::tree& r, const std::string& frame,
                              const Eigen::VectorXd& q, const Eigen::Vector3d& position,
                              const std::optional<Eigen::Matrix3d>& rotation = std::nullopt);
+
+/// What robot r touches in robot_model's simulation at parameter `values` and `given` lists
+/// (in robot_model(r).parameters' and lists' order): the ground and the static boxes, or none
+/// without contact; for drawing them (animation_options::world). q0: a state of the motion (the
+/// model's coordinates), checked as the simulation checks its start. Throws
+/// std::invalid_argument as the simulation would.
+std::vector<contact::obstacle> robot_obstacles(std::shared_ptr<const multibody::tree> r,
+                                               std::span<const double> values, const lists& given,
+                                               const Eigen::VectorXd& q0);
 
 /// The parameters and lists that robot_model gives every robot (a one-joint robot's model), for
 /// a front end that declares its options before it reads a URDF file.
