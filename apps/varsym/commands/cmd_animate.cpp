@@ -28,11 +28,11 @@ void animation_check(const std::string& path) {
 namespace {
 
 void report(const models::animation_report& r, const std::string& path, bool quiet) {
-    for (std::size_t i = 0; i < r.warnings.size() && i < 3; ++i)
-        std::fprintf(stderr, "varsym: warning: %s\n", r.warnings[i].c_str());
-    if (r.warnings.size() > 3)
-        std::fprintf(stderr, "varsym: warning: %zu more (listed on the page)\n",
-                     r.warnings.size() - 3);
+    if (!r.warnings.empty())
+        std::fprintf(stderr, "varsym: warning: %s\n", r.warnings.front().c_str());
+    if (r.warnings.size() > 1)
+        std::fprintf(stderr, "varsym: warning: %zu more warnings, listed on the page\n",
+                     r.warnings.size() - 1);
     if (!quiet)
         std::fprintf(stderr, "varsym: wrote %s (%zu frames, %.2f MB)\n", path.c_str(), r.frames,
                      static_cast<double>(r.bytes) / 1e6);
