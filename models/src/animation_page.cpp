@@ -65,10 +65,14 @@ std::string number(double v) {
 
 template <class V>
 std::string numbers(const V& v) {
+    // Appended piece by piece: GCC 12 sees a false -Wstringop-overflow in "," + number(…).
     std::string out = "[";
-    for (int i = 0; i < static_cast<int>(v.size()); ++i)
-        out += (i ? "," : "") + number(v[static_cast<std::size_t>(i)]);
-    return out + "]";
+    for (int i = 0; i < static_cast<int>(v.size()); ++i) {
+        if (i > 0) out += ',';
+        out += number(v[static_cast<std::size_t>(i)]);
+    }
+    out += ']';
+    return out;
 }
 
 std::string html_text(const std::string& s) {

@@ -136,7 +136,7 @@ scene_shapes collect_shapes(const multibody::tree& r, const animation_options& o
             if (!found) {
                 std::string where;
                 for (std::size_t i = 0; i < places.size() && i < 3; ++i)
-                    where += (i ? ", " : "") + places[i].string();
+                    where.append(i ? ", " : "").append(places[i].string());
                 if (places.size() > 3) where += ", ...";
                 warnings.push_back("link " + v.link + ": mesh '" + v.mesh + "' not found" +
                                    (where.empty() ? "" : " (looked for " + where + ")") + "; " +

@@ -66,7 +66,7 @@ void take_snapshot(const std::string& page, const std::string& png,
     if (times.size() > 1) {
         hash += "&ghosts=";
         for (std::size_t i = 0; i + 1 < times.size(); ++i)
-            hash += (i ? "," : "") + std::to_string(times[i]);
+            hash.append(i ? "," : "").append(std::to_string(times[i]));
     }
     char profile[] = "/tmp/varsym-chromium-XXXXXX";
     if (::mkdtemp(profile) == nullptr)
