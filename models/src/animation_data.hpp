@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <ostream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -53,10 +54,24 @@ struct page_data {
     double radius = 1.0;
     std::vector<std::string> warnings;
     scene_shapes shapes;
-    std::vector<contact::obstacle> world; ///< drawn
-    std::vector<float> touch;             ///< the contact points of every frame: x, y, z
-    std::vector<std::uint32_t> touches;   ///< per frame, how many
+    std::vector<contact::obstacle> world;    ///< drawn
+    std::vector<float> touch;                ///< the contact points of every frame: x, y, z
+    std::vector<std::uint32_t> touches;      ///< per frame, how many
+    double floor = 0.0;                      ///< the grid's height where no plane is in `world`
+    std::string note;                        ///< a line under the title (a figure's scale)
+    std::vector<float> arrows;               ///< the contact forces of every frame: point, force
+    std::vector<std::uint32_t> arrow_counts; ///< per frame, how many (or none at all)
+    double arrow_scale = 0.0;                ///< an arrow's length per newton [m/N]
 };
+
+/// Throws std::invalid_argument where the motion has no rows, a value that is not finite or
+/// times that decrease.
+void check_motion(std::span<const double> t, const Eigen::MatrixXd& q);
+
+/// Writes the page to `path` (through PATH.tmp, created exclusively, then renamed; never over
+/// the URDF or a mesh directory of `options`) and returns its size; throws animation_error.
+std::uintmax_t save_page(const page_data& page, const std::string& path,
+                         const animation_options& options, const std::string& three);
 
 /// Writes the HTML page, with three.js and its loaders read from directory `three`.
 void write_page(std::ostream& out, const page_data& page, const std::string& three);

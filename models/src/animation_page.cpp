@@ -97,6 +97,12 @@ void write_page(std::ostream& out, const page_data& page, const std::string& thr
     const fs::path dir(three);
     const fs::path lib = fs::is_regular_file(dir / "three.min.js") ? dir / "three.min.js"
                                                                    : dir / "build" / "three.min.js";
+    std::string note; // appended piece by piece: GCC 12 -O2 warns on "…" + std::string
+    if (!page.note.empty()) {
+        note += "<div id=\"note\">";
+        note += html_text(page.note);
+        note += "</div>";
+    }
     out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
         << "<meta name=\"generator\" content=\"varsym " << VARSYM_VERSION_MAJOR << '.'
         << VARSYM_VERSION_MINOR << '.' << VARSYM_VERSION_PATCH << "\">\n"
@@ -104,7 +110,7 @@ void write_page(std::ostream& out, const page_data& page, const std::string& thr
         << "<title>" << html_text(page.title) << "</title>\n<style>" << viewer_style()
         << "</style>\n</head>\n<body>\n"
         << "<div id=\"view\"></div>\n"
-        << "<div id=\"panel\"><div id=\"title\">" << html_text(page.title) << "</div>"
+        << "<div id=\"panel\"><div id=\"title\">" << html_text(page.title) << "</div>" << note
         << "<div id=\"time\"></div><table id=\"joints\"></table></div>\n"
         << "<div id=\"warnings\"></div>\n"
         << "<div id=\"bar\"><button id=\"play\" title=\"play or pause (space)\">pause</button>"
@@ -133,7 +139,7 @@ void write_page(std::ostream& out, const page_data& page, const std::string& thr
         out << (i ? "," : "") << quoted(page.names[i]);
     out << "],\n\"bodies\":" << page.bodies << ",\n\"frames\":" << page.times.size()
         << ",\n\"centre\":" << numbers(page.centre) << ",\"radius\":" << number(page.radius)
-        << ",\n\"warnings\":[";
+        << ",\"floor\":" << number(page.floor) << ",\n\"warnings\":[";
     for (std::size_t i = 0; i < page.warnings.size(); ++i)
         out << (i ? ",\n" : "") << quoted(page.warnings[i]);
     out << "],\n\"shapes\":[";
@@ -164,7 +170,11 @@ void write_page(std::ostream& out, const page_data& page, const std::string& thr
     }
     out << "],\n\"touch\":\"" << base64(page.touch.data(), page.touch.size() * sizeof(float))
         << "\",\n\"touches\":\""
-        << base64(page.touches.data(), page.touches.size() * sizeof(std::uint32_t));
+        << base64(page.touches.data(), page.touches.size() * sizeof(std::uint32_t))
+        << "\",\n\"arrowScale\":" << number(page.arrow_scale) << ",\n\"arrows\":\""
+        << base64(page.arrows.data(), page.arrows.size() * sizeof(float))
+        << "\",\n\"arrowCounts\":\""
+        << base64(page.arrow_counts.data(), page.arrow_counts.size() * sizeof(std::uint32_t));
     out << "\",\n\"t\":\"" << base64(page.times.data(), page.times.size() * sizeof(double))
         << "\",\n\"poses\":\"" << base64(page.poses.data(), page.poses.size() * sizeof(float))
         << "\",\n\"q\":\"" << base64(page.values.data(), page.values.size() * sizeof(float))

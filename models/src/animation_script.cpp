@@ -18,6 +18,7 @@ html, body { margin: 0; height: 100%; overflow: hidden; background: #f4f5f7;
 #panel { position: absolute; top: 8px; left: 8px; background: rgba(255,255,255,0.85);
   padding: 6px 10px; border-radius: 6px; max-height: 70%; overflow: auto; }
 #title { font-weight: 600; }
+#note { font-size: 85%; color: #555; max-width: 22em; }
 #time { font-variant-numeric: tabular-nums; margin: 2px 0 4px; }
 #joints td { padding: 0 6px 0 0; font-variant-numeric: tabular-nums; }
 #joints td.v { text-align: right; }
@@ -98,7 +99,8 @@ const char* viewer_script() {
     const grid = new THREE.GridHelper(40 * step, 40, 0x9098a0, 0xc8ccd0);
     grid.rotation.x = Math.PI / 2;
     grid.position.set(Math.round(C.x / step) * step, Math.round(C.y / step) * step, 0);
-    const floor = new THREE.Group(); // the grid at z = 0, or on the contact's ground
+    const floor = new THREE.Group(); // the grid at z = floor, or on the contact's ground
+    floor.position.z = data.floor;
     floor.add(grid);
     const plane = data.obstacles.find(function (w) { return w.k === 'plane'; });
     if (plane) {
@@ -239,6 +241,31 @@ const char* viewer_script() {
       if (i < n) dots[i].position.fromArray(TP, 3 * (first[k] + i));
     }
   }
+  // The contact forces of each frame (run --animate): arrows from their points, of length the
+  // force times data.arrowScale [m/N].
+  const AC = new Uint32Array(bytes(data.arrowCounts).buffer);
+  const AF = new Float32Array(bytes(data.arrows).buffer);
+  const afirst = new Uint32Array(AC.length + 1);
+  for (let k = 0; k < AC.length; k++) afirst[k + 1] = afirst[k] + AC[k];
+  const arrows = [];
+  function pushing(k) {
+    const n = k < AC.length ? AC[k] : 0;
+    while (arrows.length < n) {
+      const a = new THREE.ArrowHelper(new THREE.Vector3(0, 0, 1), new THREE.Vector3(), 1, 0x1f5fd0);
+      scene.add(a);
+      arrows.push(a);
+    }
+    for (let i = 0; i < arrows.length; i++) {
+      const o = 6 * (afirst[k] + i);
+      const f = i < n ? new THREE.Vector3(AF[o + 3], AF[o + 4], AF[o + 5]) : null;
+      const len = f ? f.length() * data.arrowScale : 0;
+      arrows[i].visible = len > 0;
+      if (!(len > 0)) continue;
+      arrows[i].position.set(AF[o], AF[o + 1], AF[o + 2]);
+      arrows[i].setDirection(f.normalize());
+      arrows[i].setLength(len, Math.min(0.25 * len, R / 12), Math.min(0.12 * len, R / 25));
+    }
+  }
   for (const g of (hash.get('ghosts') || '').split(',').filter(function (x) { return x !== ''; })) {
     const t = Number(g);
     if (Number.isFinite(t)) pose(robot(0.35), t);
@@ -271,6 +298,7 @@ const char* viewer_script() {
   function show() {
     const [k, k2, a] = pose(main, time);
     touching(a < 0.5 ? k : k2);
+    pushing(a < 0.5 ? k : k2);
     timeText.textContent = 't = ' + time.toFixed(3) + ' s of ' + t1.toFixed(3) + ' s';
     for (let i = 0; i < nq; i++)
       cells[i].textContent = (Q[k * nq + i] + a * (Q[k2 * nq + i] - Q[k * nq + i])).toFixed(4);

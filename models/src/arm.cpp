@@ -165,6 +165,11 @@ model arm() {
     // Optimal control: the joint torques tau (one per joint, on the joint angles phi = B th:
     // the generalized force B^T tau), with the joints' damping B^T C B; the controller's lists
     // and parameters are a simulation's only.
+    m.drawing = set.drawing([](const arm_parameters& p) {
+        links_of(p); // the model's own checks and messages (n != 3 needs the lengths)
+        return planar_links_figure(per_link(p.lengths, p.masses.size(), "lengths", {1.0, 0.8, 0.6}),
+                                   p.masses);
+    });
     m.controls = {"tau_i [N m]: the torque at joint i (between links i-1 and i), i = 1 ... n"};
     m.simulation_only = {"move_time", "no_gravity_compensation", "kp", "kd", "target"};
     m.control = set.control([](const arm_parameters& p) {

@@ -101,6 +101,9 @@ model double_pendulum() {
                                    }});
         });
     });
+    m.drawing = set.drawing([](const double_pendulum_parameters& par) {
+        return planar_links_figure({par.l1, par.l2}, {par.m1, par.m2});
+    });
     return m;
 }
 

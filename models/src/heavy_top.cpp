@@ -87,6 +87,13 @@ model heavy_top() {
         pr.no_period = no_period;
         return pr;
     });
+    m.drawing = set.drawing([](const heavy_top_parameters& par) {
+        // Only mgl is given, not l: the centre of mass is drawn 1 m up the symmetry axis.
+        figure f = rigid_figure(Eigen::Vector3d(par.i1, par.i1, par.i3).asDiagonal(),
+                                Eigen::Vector3d(0.0, 0.0, 1.0));
+        f.scale = "drawn with its centre of mass 1 m from the pivot (mgl sets only the product)";
+        return f;
+    });
     return m;
 }
 

@@ -181,6 +181,15 @@ model make_rigid(const std::string& name, const std::string& summary,
         pr.simulate = [r](const step_options& o) { return detail::simulate_rigid(r, o); };
         return pr;
     });
+    m.drawing = set.drawing([gravity](const rigid_parameters& par) {
+        const lie::vec3 c = gravity && par.com.size() == 3
+                                ? lie::vec3(par.com[0], par.com[1], par.com[2])
+                                : lie::vec3::Zero();
+        figure f = rigid_figure(inertia_of(par.inertia), c);
+        if (c.norm() == 0.0)
+            f.scale = "drawn as the box of uniform density with its inertia, 1 m long";
+        return f;
+    });
     return m;
 }
 

@@ -55,6 +55,12 @@ class simulation_of final : public simulation {
         return {r_.x.p.data(), static_cast<std::size_t>(r_.x.p.size())};
     }
     [[nodiscard]] const std::vector<std::string>& columns() const override { return cols_.names; }
+    [[nodiscard]] std::span<const double> contact_impulses() const override {
+        if constexpr (requires { s_.last_impulses(); })
+            return s_.last_impulses();
+        else
+            return {};
+    }
     [[nodiscard]] std::vector<std::string> state_columns() const override {
         if (cols_.coordinates.empty()) return simulation::state_columns();
         std::vector<std::string> names;

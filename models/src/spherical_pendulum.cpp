@@ -2,6 +2,8 @@
 // constraint |x| = l (problems/mechanisms.hpp), run by the general engine.
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 #include "constrained_of.hpp"
 #include "varsym/models/parameters.hpp"
 
@@ -62,6 +64,27 @@ model spherical_pendulum() {
             detail::column_set{{"spin"}, [](const phase_state<3>& x, double* out) {
                                    out[0] = mechanisms::spherical_pendulum::spin(x);
                                }});
+    });
+    m.drawing = set.drawing([](const spherical_pendulum_parameters& par) {
+        // One body at the pivot, its z along the rod to the bob at q.
+        using namespace figure_colour;
+        const double l = par.length;
+        figure f;
+        f.coordinates = 3;
+        f.parts = {figure_solid("sphere", 0, Eigen::Vector3d(0.04 * l, 0, 0),
+                                Eigen::Vector3d::Zero(), rod),
+                   figure_solid("cylinder", 0, Eigen::Vector3d(0.015 * l, l, 0),
+                                Eigen::Vector3d(0, 0, l / 2), rod),
+                   figure_solid("sphere", 0, Eigen::Vector3d(0.08 * l, 0, 0),
+                                Eigen::Vector3d(0, 0, l), red)};
+        f.place = [](std::span<const double> q, std::span<multibody::pose> poses) {
+            const Eigen::Vector3d x(q[0], q[1], q[2]);
+            poses[0].origin.setZero();
+            poses[0].rotation =
+                Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), x).toRotationMatrix();
+        };
+        f.floor = -1.1 * l;
+        return f;
     });
     return m;
 }

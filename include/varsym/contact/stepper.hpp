@@ -87,6 +87,11 @@ class contact_stepper : public Inner {
     }
 
     [[nodiscard]] const contact_report& last_contact() const { return last_; }
+    /// The last step's pressing contacts, six numbers each in the world frame: the contact
+    /// point [m] (at q_j, or where the contact began within the step) and the impulse
+    /// γ n + b₁ t₁ + b₂ t₂ on the robot [N s] (n = t₁ × t₂, the normal there). Empty after a
+    /// step without contact and after a restore; a failed step leaves the last good one's.
+    [[nodiscard]] const std::vector<double>& last_impulses() const { return impulses_; }
     [[nodiscard]] double contact_work() const { return work_ + carry_; }
     [[nodiscard]] double total_work() const { return Inner::total_work() + contact_work(); }
     [[nodiscard]] int pairs() const { return static_cast<int>(points_.size() * world_.size()); }
@@ -164,6 +169,7 @@ class contact_stepper : public Inner {
     std::vector<obstacle> world_;
     contact_options opt_;
     contact_report last_;
+    std::vector<double> impulses_; // last_impulses()
     double work_ = 0.0, carry_ = 0.0;
     std::string failure_;
     // Scratch.

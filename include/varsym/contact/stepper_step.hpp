@@ -115,6 +115,7 @@ newton_report contact_stepper<Inner>::step(phase_state<dim>& x) {
         lowest = std::min(lowest, end_gap_[static_cast<std::size_t>(c)] = gap(c));
     if (!(lowest < 0.0)) {
         warm_pairs_.clear();
+        impulses_.clear();
         x = y_;
         return rep;
     }
@@ -268,6 +269,7 @@ void contact_stepper<Inner>::finish(phase_state<dim>& x) {
     for (int i = 0; i < k; ++i)
         gamma_max = std::max(gamma_max, lambda_(3 * i));
     warm_pairs_.clear();
+    impulses_.clear();
     std::vector<Eigen::Index> pressing;
     for (int i = 0; i < k; ++i) {
         last_.normal += lambda_(3 * i);
@@ -278,9 +280,15 @@ void contact_stepper<Inner>::finish(phase_state<dim>& x) {
         pressing.push_back(i);
     }
     warm_lambda_.resize(3 * static_cast<Eigen::Index>(pressing.size()));
-    for (std::size_t j = 0; j < pressing.size(); ++j)
-        warm_lambda_.segment<3>(3 * static_cast<Eigen::Index>(j)) =
-            lambda_.segment<3>(3 * pressing[j]);
+    for (std::size_t j = 0; j < pressing.size(); ++j) {
+        const Eigen::Index i = pressing[j];
+        warm_lambda_.segment<3>(3 * static_cast<Eigen::Index>(j)) = lambda_.segment<3>(3 * i);
+        const pair_state& a = active_[static_cast<std::size_t>(i)]; // n = t₁ × t₂ (tangents())
+        const vec3 l = lambda_(3 * i) * a.t1.cross(a.t2) + lambda_(3 * i + 1) * a.t1 +
+                       lambda_(3 * i + 2) * a.t2;
+        impulses_.insert(impulses_.end(),
+                         {a.start.x(), a.start.y(), a.start.z(), l.x(), l.y(), l.z()});
+    }
     phase_state<dim> kicked = from_;
     kicked.p.noalias() += jac_.transpose() * lambda_;
     last_.work = this->system().energy(kicked) - this->system().energy(from_);
@@ -308,6 +316,7 @@ template <class Inner>
 void contact_stepper<Inner>::restore_history(const phase_state<dim>& x,
                                              const std::vector<double>& in) {
     last_ = {};
+    impulses_.clear();
     work_ = carry_ = 0.0;
     warm_pairs_.clear();
     if (in.empty()) {

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "varsym/contact/geometry.hpp"
+#include "varsym/models/figure.hpp"
 #include "varsym/multibody/tree.hpp"
 
 namespace varsym::models {
@@ -38,6 +39,10 @@ struct animation_options {
     /// What the robot touches (robot_obstacles): drawn, and each frame's contact points (the
     /// robot's <collision> points within 1e-6 m of an obstacle) shown as red dots.
     std::vector<contact::obstacle> world;
+    /// Per row of the motion (or none), the contact forces to draw as arrows from their points:
+    /// six numbers each, the point [m] and the force [N] in the world frame. The arrows share one
+    /// scale, the largest force a third of the scene's radius, which the page states.
+    std::vector<std::vector<double>> forces;
 };
 
 /// What write_animation did.
@@ -63,6 +68,14 @@ class animation_error : public std::runtime_error {
 animation_report write_animation(std::shared_ptr<const multibody::tree> r,
                                  std::span<const double> t, const Eigen::MatrixXd& q,
                                  const std::string& path, const animation_options& options = {},
+                                 const std::vector<std::string>& names = {});
+
+/// Writes the motion of a built-in model drawn as figure f (model::drawing) through the rows
+/// (t[k], q.row(k)) of its coordinates to `path`, as above; `names` labels q's columns (empty:
+/// q1, q2, ...). The options' urdf, mesh_path, world and forces are a robot's and must be empty.
+animation_report write_animation(const figure& f, std::span<const double> t,
+                                 const Eigen::MatrixXd& q, const std::string& path,
+                                 const animation_options& options = {},
                                  const std::vector<std::string>& names = {});
 
 /// The directory holding three.min.js: $VARSYM_THREE_JS, else Debian's libjs-three

@@ -17,6 +17,7 @@
 #include <string_view>
 #include <vector>
 
+#include "varsym/models/figure.hpp"
 #include "varsym/models/simulation.hpp"
 
 namespace varsym::optimal {
@@ -170,6 +171,10 @@ struct model {
     std::function<std::vector<double>(std::span<const double>, const models::lists&,
                                       std::span<const double>)>
         pose;
+    /// Where the model is a body or linkage to watch in 3-D (`varsym run --animate`, Python's
+    /// Trajectory.animate): its figure at the parameters' values (models/figure.hpp). May be
+    /// null.
+    std::function<figure(std::span<const double>, const models::lists&)> drawing;
 
     /// Whether the model has control inputs (`controls` declared): an optimisation applies.
     [[nodiscard]] bool has_inputs() const { return !controls.empty(); }

@@ -113,6 +113,13 @@ class parameter_set {
             [set = *this, f = std::move(f)](std::span<const double> v, const models::lists& l,
                                             optimal::control_problem& p) { f(set.read(v, l), p); };
     }
+    /// model::drawing from f(const P&) -> the 3-D figure.
+    template <class F>
+    [[nodiscard]] auto drawing(F f) const {
+        return [set = *this, f = std::move(f)](std::span<const double> v, const models::lists& l) {
+            return f(set.read(v, l));
+        };
+    }
     /// model::pose from f(const P&, std::span<const double> q) -> the polyline.
     template <class F>
     [[nodiscard]] auto pose(F f) const {

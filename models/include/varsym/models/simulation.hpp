@@ -69,6 +69,10 @@ class simulation {
     /// Omega_1..Omega_3) and the current values, written to `out` from its start.
     [[nodiscard]] virtual std::vector<std::string> state_columns() const;
     virtual void state_values(std::span<double> out) const;
+    /// A robot in contact: the last step's pressing contacts, six numbers each in the world
+    /// frame, the contact point [m] and the impulse on the robot [N s] (its force times h).
+    /// Empty otherwise.
+    [[nodiscard]] virtual std::span<const double> contact_impulses() const { return {}; }
     /// The model's own columns (energy, conserved quantities, exact solution) and their values at
     /// the current state: as many as columns() names, written to `out` from its start.
     [[nodiscard]] virtual const std::vector<std::string>& columns() const = 0;
