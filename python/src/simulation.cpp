@@ -14,6 +14,7 @@
 
 #include "bindings.hpp"
 #include "interruptible.hpp"
+#include "varsym/models/animation.hpp"
 #include "varsym/models/event.hpp"
 #include "varsym/models/expression.hpp"
 #include "varsym/models/model.hpp"
@@ -185,7 +186,8 @@ py::dict model_info(const models::model& mod) {
                     py::arg("steps_per_period") = mod.steps_per_period, py::arg("time") = mod.time,
                     py::arg("steps") = mod.steps, py::arg("ensemble_time") = mod.ensemble_time,
                     py::arg("ensemble_steps") = mod.ensemble_steps,
-                    py::arg("integrator_note") = mod.integrator_note);
+                    py::arg("integrator_note") = mod.integrator_note,
+                    py::arg("drawn") = static_cast<bool>(mod.drawing));
 }
 
 void bind_simulation(py::module_& m) {
@@ -297,6 +299,37 @@ void bind_simulation(py::module_& m) {
         },
         py::arg("name"), py::arg("values"), py::arg("lists"),
         "Each parameter against its range (ValueError naming it), before anything is sized.");
+    m.def(
+        "animate_model",
+        [](const std::string& name, const std::vector<double>& values, const models::lists& lists,
+           const std::vector<double>& t,
+           py::array_t<double, py::array::c_style | py::array::forcecast> q,
+           const std::string& path, double fps, const std::string& title,
+           const std::vector<std::string>& names) {
+            const models::model& mod = models::get(name);
+            if (!mod.drawing) throw std::invalid_argument(name + " has no 3-D figure");
+            if (q.ndim() != 2) throw std::invalid_argument("q must be a rows x d array");
+            const Eigen::MatrixXd rows = Eigen::Map<
+                const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+                q.data(), q.shape(0), q.shape(1));
+            models::animation_options o;
+            o.fps = fps;
+            o.title = title.empty() ? name : title;
+            const models::figure f = mod.drawing(values, lists);
+            models::animation_report rep;
+            {
+                py::gil_scoped_release unlocked;
+                rep = models::write_animation(f, t, rows, path, o, names);
+            }
+            py::dict out;
+            out["frames"] = rep.frames;
+            out["bytes"] = rep.bytes;
+            out["warnings"] = rep.warnings;
+            return out;
+        },
+        py::arg("name"), py::arg("values"), py::arg("lists"), py::arg("t"), py::arg("q"),
+        py::arg("path"), py::arg("fps"), py::arg("title"), py::arg("names"),
+        "Model `name`'s motion (t, q) as its 3-D animation page (models/animation.hpp).");
     m.def(
         "prepare",
         [](const std::string& name, const std::vector<double>& values,

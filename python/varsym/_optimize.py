@@ -112,15 +112,20 @@ class OptimalControl:
                 f"N = {len(self.t) - 1}, {self.iterations} iterations, closure {self.closure:.1e}>")
 
     def animate(self, path, *, mesh_path=(), title=None):
-        """Writes the optimal motion of a Robot as a 3-D animation page (Robot.animate), its
-        nodes as frames (the page interpolates between them). Returns a dict: frames, bytes,
-        warnings."""
+        """Writes the optimal motion of a Robot (Robot.animate) or of a built-in model with a
+        figure (the arm; Model.animate) as a 3-D animation page, its nodes as frames (the page
+        interpolates between them). Returns a dict: frames, bytes, warnings."""
         robot = getattr(self, "_robot", None)
+        if isinstance(robot, Robot):
+            return robot.animate(path, self.t, self.q, fps=0.0, mesh_path=mesh_path,
+                                 title=title or f"{robot.robot_name}: optimal motion")
         if robot is None:
-            from .errors import UsageError  # noqa: PLC0415
-            raise UsageError(f"animate draws a URDF robot; {self.model} is not one")
-        return robot.animate(path, self.t, self.q, fps=0.0, mesh_path=mesh_path,
-                             title=title or f"{robot.robot_name}: optimal motion")
+            raise UsageError(f"animate draws a URDF robot or a built-in model; {self.model} "
+                             "is neither")
+        if mesh_path:
+            raise UsageError(f"mesh_path finds a URDF robot's meshes; {self.model} has none")
+        return robot.animate(path, self.t, self.q, fps=0.0,
+                             title=title or f"{self.model}: optimal motion")
 
     def plot(self, path=None):
         """A figure of the coordinates over time and the controls at the quadrature points
@@ -266,7 +271,8 @@ def optimize(model, *, time, q_start, q_end=None, v_start=None, v_end=None, step
     m_inputs = raw["u"].shape[1] if raw["u"].ndim == 2 else 1
     out = OptimalControl(raw, name, coordinates,
                          names or [f"u{j + 1}" for j in range(m_inputs)])
-    out._robot = model if hasattr(model, "animate") else None
+    # What animate draws: the Robot or the built-in Model (at these parameters) that moved.
+    out._robot = None if isinstance(model, Lagrangian) else m
     if raw["interrupted"]:
         raise Interrupted(f"optimize interrupted after {out.iterations} iterations; the last "
                           "iterate is in .partial", partial=out)

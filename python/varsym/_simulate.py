@@ -5,6 +5,7 @@ tqdm bar."""
 
 import difflib
 import math
+import os
 import sys
 
 import numpy as np
@@ -100,6 +101,28 @@ class Model:
 
     def _lists(self):
         return [self.parameters[p["name"]] or [] for p in self.info["lists"]]
+
+    def animate(self, path, t, q, *, fps=60.0, title=None):
+        """Writes the motion through rows ``q`` (len(t) × d coordinates, a rigid body's
+        z-x-z Euler angles) at times ``t`` as a 3-D animation: one self-contained HTML page
+        that any browser opens offline (docs/robots.md). The models drawn are those whose
+        ``info["drawn"]`` is true (the heavy top, top, 3-D pendulum, rigid body, spherical and
+        double pendulums, the arm). ``fps``: frames kept per second of the motion's time (0:
+        every row). Returns a dict: frames, bytes, warnings."""
+        if not self.info.get("drawn"):
+            drawn = ", ".join(n for n, m in _REGISTRY.items() if m.get("drawn"))
+            raise UsageError(f"{self.name} has no 3-D figure; the models drawn: {drawn}, and "
+                             f"URDF robots (varsym.Robot)")
+        q = np.asarray(q, dtype=float)
+        if q.ndim == 1:
+            q = q[:, None]
+        try:
+            return dict(_core.animate_model(self.name, self._values(), self._lists(),
+                                            np.asarray(t, dtype=float).ravel().tolist(), q,
+                                            os.fspath(path), float(fps), title or "",
+                                            list(self.coordinates)))
+        except ValueError as e:
+            raise UsageError(str(e)) from None
 
     def stepper(self, h, scheme=None, degree=None, q0=None, p0=None, v0=None,
                 iteration="automatic", max_energy_error=None):

@@ -28,17 +28,25 @@ class Trajectory:
         self.p_exact = self._stack("p", "_exact")
 
     def animate(self, path, robot=None, *, fps=60.0, mesh_path=(), title=None):
-        """Writes this motion as a 3-D animation page (Robot.animate): ``robot`` is the Robot
-        that made it (the default where this trajectory came from Robot.simulate or a Stepper
-        of one). Returns a dict: frames, bytes, warnings."""
+        """Writes this motion as a 3-D animation page (Robot.animate, Model.animate): ``robot``
+        is the Robot that made it (the default where this trajectory came from Robot.simulate
+        or a Stepper of one); a built-in model's trajectory is drawn as the model's figure.
+        Returns a dict: frames, bytes, warnings."""
         from ._robot import Robot  # noqa: PLC0415
+        from ._simulate import Model  # noqa: PLC0415
         from .errors import UsageError  # noqa: PLC0415
 
         robot = robot if robot is not None else getattr(self, "model", None)
-        if not isinstance(robot, Robot):
-            raise UsageError("animate draws a URDF robot: tr.animate(path, robot=Robot(...)) "
-                             "for a trajectory that did not come from one")
-        return robot.animate(path, self.t, self.q, fps=fps, mesh_path=mesh_path, title=title)
+        if isinstance(robot, Robot):
+            return robot.animate(path, self.t, self.q, fps=fps, mesh_path=mesh_path,
+                                 title=title)
+        if isinstance(robot, Model):
+            if mesh_path:
+                raise UsageError("mesh_path finds a URDF robot's meshes; "
+                                 f"{robot.name} has none")
+            return robot.animate(path, self.t, self.q, fps=fps, title=title)
+        raise UsageError("animate draws a URDF robot or a built-in model: tr.animate(path, "
+                         "robot=Robot(...)) for a trajectory that did not come from one")
 
     @property
     def step(self):

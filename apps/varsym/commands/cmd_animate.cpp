@@ -25,6 +25,43 @@ void animation_check(const std::string& path) {
     }
 }
 
+void add_animation_roles(file_roles& roles, const std::string& option, const std::string& page) {
+    if (page == "-" || kind_of(page) == file_kind::directory)
+        throw usage_error(option + " '" + page +
+                          "' is not a file name: name the HTML page, such as motion.html");
+    roles.add(option, page);
+    roles.add(option + "'s temporary file", page + ".tmp");
+}
+
+std::string drawn_models(bool with_inputs) {
+    std::string s = "--animate draws a URDF robot (--urdf FILE) and the models ";
+    bool first = true;
+    for (const models::model& m : models::registry())
+        if (m.drawing && (!with_inputs || m.has_inputs())) {
+            if (!first) s += ", ";
+            s += m.name;
+            first = false;
+        }
+    return s;
+}
+
+std::vector<std::string> coordinate_names(const models::model& m, int d) {
+    std::vector<std::string> names;
+    std::stringstream list(m.coordinates);
+    for (std::string name; std::getline(list, name, ',');) {
+        const auto a = name.find_first_not_of(' ');
+        names.push_back(a == std::string::npos ? "" : name.substr(a));
+    }
+    if (static_cast<int>(names.size()) == d) return names;
+    names.clear(); // "th_1 ... th_n": numbered
+    for (int i = 1; i <= d; ++i) {
+        std::string name("q_"); // appended: GCC 12 -O2 warns on "q_" + std::string
+        name += std::to_string(i);
+        names.push_back(name);
+    }
+    return names;
+}
+
 namespace {
 
 void report(const models::animation_report& r, const std::string& path, bool quiet) {
@@ -43,9 +80,11 @@ void report(const models::animation_report& r, const std::string& path, bool qui
 void write_animation(std::shared_ptr<const multibody::tree> tree, std::span<const double> t,
                      const Eigen::MatrixXd& q, const std::string& urdf, const std::string& path,
                      double fps, const std::vector<std::string>& mesh_path, bool quiet,
-                     std::vector<contact::obstacle> world) {
+                     std::vector<contact::obstacle> world,
+                     std::vector<std::vector<double>> forces) {
     models::animation_options o;
     o.world = std::move(world);
+    o.forces = std::move(forces);
     o.urdf = urdf;
     o.mesh_path = mesh_path;
     o.fps = fps;
@@ -58,10 +97,29 @@ void write_animation(std::shared_ptr<const multibody::tree> tree, std::span<cons
     }
 }
 
-void write_optimal_animation(const optimal::trajectory& path, const std::string& urdf,
-                             const std::string& page, double fps,
+void write_figure_animation(const models::model& m, std::span<const double> values,
+                            const models::lists& lists, std::span<const double> t,
+                            const Eigen::MatrixXd& q, const std::string& path, double fps,
+                            bool quiet, const std::string& title) {
+    models::animation_options o;
+    o.fps = fps;
+    o.title = title;
+    try {
+        const models::figure f = m.drawing(values, lists);
+        report(models::write_animation(f, t, q, path, o,
+                                       coordinate_names(m, static_cast<int>(q.cols()))),
+               path, quiet);
+    } catch (const std::invalid_argument& e) {
+        throw usage_error(std::string("--animate: ") + e.what());
+    } catch (const models::animation_error& e) {
+        throw std::runtime_error(std::string("--animate: ") + e.what());
+    }
+}
+
+void write_optimal_animation(const optimal::trajectory& path, const models::model& m,
+                             std::span<const double> values, const models::lists& lists,
+                             const std::string& urdf, const std::string& page, double fps,
                              const std::vector<std::string>& mesh_path, bool quiet) {
-    const auto tree = robot_tree_of(urdf_spec{urdf, "", ""});
     const double end = path.node_times(path.node_times.size() - 1);
     std::vector<double> t;
     if (fps > 0.0)
@@ -78,21 +136,45 @@ void write_optimal_animation(const optimal::trajectory& path, const std::string&
         else
             q.row(row) = path.q.col(row).transpose();
     }
-    write_animation(tree, t, q, urdf, page, 0.0, mesh_path, quiet);
+    if (urdf.empty())
+        write_figure_animation(m, values, lists, t, q, page, 0.0, quiet,
+                               m.name + ": optimal motion");
+    else
+        write_animation(robot_tree_of(urdf_spec{urdf, "", ""}), t, q, urdf, page, 0.0, mesh_path,
+                        quiet);
 }
 
-void write_animation_of(std::shared_ptr<const multibody::tree> tree, const frame_recorder& f,
-                        const urdf_spec& u, const run_setup& s, bool stopped,
-                        std::vector<contact::obstacle> world) {
-    if (f.t.empty()) return;
-    const auto rows = static_cast<Eigen::Index>(f.t.size());
-    const Eigen::MatrixXd q =
-        Eigen::Map<const Eigen::MatrixXd>(f.q.data(), f.width, rows).transpose();
-    if (stopped)
-        std::fprintf(stderr, "varsym: the animation ends where the run stopped, t = %.6g s\n",
-                     f.t.back());
-    write_animation(std::move(tree), f.t, q, u.path, s.animate, 0.0, s.mesh_path, s.quiet,
-                    std::move(world));
+void run_animated(const run_setup& s, int width, bool coordinates,
+                  const std::function<void(const run_setup&)>& run,
+                  const std::function<void(const frame_recorder&, const Eigen::MatrixXd&)>& write) {
+    animation_check(s.animate); // three.js is there, before the run
+    run_setup with = s;
+    with.frames = std::make_shared<frame_recorder>();
+    with.frames->every = s.animate_fps > 0.0 ? 1.0 / s.animate_fps : 0.0;
+    with.frames->width = width;
+    with.frames->coordinates = coordinates;
+    auto page = [&](bool stopped) {
+        const frame_recorder& f = *with.frames;
+        if (f.t.empty()) return;
+        const auto rows = static_cast<Eigen::Index>(f.t.size());
+        const Eigen::MatrixXd q =
+            Eigen::Map<const Eigen::MatrixXd>(f.q.data(), f.width, rows).transpose();
+        if (stopped)
+            std::fprintf(stderr, "varsym: the animation ends where the run stopped, t = %.6g s\n",
+                         f.t.back());
+        write(f, q);
+    };
+    try {
+        run(with);
+    } catch (...) { // a failed or stopped run: the frames it reached
+        try {
+            page(true);
+        } catch (const std::exception& e) { // the run's own error is the one to report
+            std::fprintf(stderr, "varsym: warning: no animation page: %s\n", e.what());
+        }
+        throw;
+    }
+    page(false);
 }
 
 namespace {
@@ -182,11 +264,8 @@ void animate(const animate_options& o) {
     }
     roles.add("--urdf", o.urdf.path);
     roles.add("--input", o.input);
-    roles.add("--output", o.output);
-    roles.add("--output's temporary file", o.output + ".tmp");
+    add_animation_roles(roles, "--output", o.output);
     roles.check();
-    if (o.output == "-" || kind_of(o.output) == file_kind::directory)
-        throw usage_error("--output '" + o.output + "' is not a file name: name the HTML page");
     animation_check(o.output);
     const auto tree = robot_tree_of(o.urdf);
     std::vector<double> t;

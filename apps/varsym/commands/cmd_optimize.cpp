@@ -169,13 +169,12 @@ void optimize(const optimize_options& o) {
     roles.add_output("--output", o.output);
     if (!o.controls.empty()) roles.add("--controls", o.controls);
     if (!o.animate.empty()) {
-        if (o.urdf.empty() || m.name != "urdf")
-            throw usage_error("--animate draws a URDF robot (--urdf FILE); " + m.name +
-                              " is not drawn");
-        if (o.animate == "-" || kind_of(o.animate) == file_kind::directory)
-            throw usage_error("--animate needs a file name for the HTML page, such as motion.html");
-        roles.add("--animate", o.animate);
-        roles.add("--animate's temporary file", o.animate + ".tmp");
+        if (m.name != "urdf" && !m.drawing)
+            throw usage_error("--animate: " + m.name + " has no 3-D figure; " + drawn_models(true));
+        if (m.name != "urdf" && !o.mesh_path.empty())
+            throw usage_error("--mesh-path finds a URDF robot's meshes (--urdf FILE); " + m.name +
+                              " has none");
+        add_animation_roles(roles, "--animate", o.animate);
         animation_check(o.animate);
     }
     check_ipopt_options(o.ipopt_options, roles);
@@ -224,7 +223,8 @@ void optimize(const optimize_options& o) {
     }
     if (!o.plot.empty()) render_figure(optimize_plot(m, values, lists, path), o.plot, others);
     if (!o.animate.empty())
-        write_optimal_animation(path, o.urdf, o.animate, o.animate_fps, o.mesh_path, o.quiet);
+        write_optimal_animation(path, m, values, lists, m.name == "urdf" ? o.urdf : "", o.animate,
+                                o.animate_fps, o.mesh_path, o.quiet);
     const optimal::nlp_result& r = out.result;
     std::fprintf(stderr,
                  "varsym optimize: %s (%s) after %d iterations in %.3g s: cost %.12g, "
@@ -366,7 +366,7 @@ void add_optimize_command(CLI::App& app, action& todo) {
                     "formats");
     auto* animate = cmd->add_option(
         "--animate", o->animate,
-        "urdf: also write the optimal motion as a 3-D animation, one self-contained "
+        "urdf, arm: also write the optimal motion as a 3-D animation, one self-contained "
         "HTML page that any browser opens offline (docs/robots.md)");
     cmd->add_option("--animate-fps", o->animate_fps,
                     "Frames per second of --animate, on the steps' polynomials (0: the nodes)")

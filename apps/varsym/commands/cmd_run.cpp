@@ -56,12 +56,7 @@ void check_files(const run_setup& s, const std::string& config, const std::strin
     }
     if (!config.empty()) roles.add("--config", config);
     roles.add("--urdf", urdf);
-    if (!s.animate.empty()) {
-        if (s.animate == "-" || kind_of(s.animate) == file_kind::directory)
-            throw usage_error("--animate needs a file name for the HTML page, such as motion.html");
-        roles.add("--animate", s.animate);
-        roles.add("--animate's temporary file", s.animate + ".tmp");
-    }
+    if (!s.animate.empty()) add_animation_roles(roles, "--animate", s.animate);
     roles.check();
     if (s.checkpoint.empty() || s.resume) return;
     // A new run with --checkpoint CK.
@@ -123,11 +118,15 @@ void run(run_options& o, const CLI::App& cmd, const run_context& ctx) {
     const auto it = std::find_if(o.models.begin(), o.models.end(),
                                  [&](const model& m) { return m.name == o.model; });
     check_model_options(o.models, *it, cmd);
-    if (it->name != "urdf")
-        for (const char* opt : {"--animate", "--animate-fps", "--mesh-path"})
-            if (cmd.count(opt) > 0)
-                throw usage_error(std::string(opt) + " draws a URDF robot (--urdf FILE); --model " +
-                                  it->name + " is not drawn");
+    if (it->name != "urdf") {
+        if (cmd.count("--mesh-path") > 0)
+            throw usage_error("--mesh-path finds a URDF robot's meshes (--urdf FILE); --model " +
+                              it->name + " has none");
+        const models::model* drawn = models::find(it->name);
+        if (cmd.count("--animate") > 0 && (drawn == nullptr || !drawn->drawing))
+            throw usage_error("--animate: --model " + it->name + " has no 3-D figure; " +
+                              drawn_models());
+    }
     if (!o.setup.animate.empty() && (!o.setup.checkpoint.empty() || ctx.resume))
         throw usage_error("--animate keeps its frames in memory, which a resumed run would "
                           "not have: drop --checkpoint, or animate the finished CSV with "
@@ -280,8 +279,9 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
         ->transform(non_negative_number);
     auto* animate = cmd->add_option(
         "--animate", s.animate,
-        "urdf: also write the robot's motion as a 3-D animation, one self-contained HTML page "
-        "that any browser opens offline (docs/robots.md)");
+        "urdf, arm, double-pendulum, heavy-top, top, pendulum-3d, rigid-body, "
+        "spherical-pendulum: also write the motion as a 3-D animation, one self-contained HTML "
+        "page that any browser opens offline (docs/robots.md)");
     cmd->add_option("--animate-fps", s.animate_fps,
                     "Frames per second of simulated time that --animate keeps (linear "
                     "interpolation between them); 0 keeps every step")

@@ -121,31 +121,16 @@ model make_robot_model(std::shared_ptr<parameter_options> po) {
             run_model(*robot, with_file, po->values(*robot), po->lists(*robot));
             return;
         }
-        animation_check(s.animate); // three.js is there, before the run
-        with_file.frames = std::make_shared<frame_recorder>();
-        with_file.frames->every = s.animate_fps > 0.0 ? 1.0 / s.animate_fps : 0.0;
-        with_file.frames->width = static_cast<int>(models::robot_coordinates(*tree).size());
         const std::vector<double> values = po->values(*robot);
         const models::lists lists = po->lists(*robot);
-        auto write = [&](bool stopped) {
-            const frame_recorder& f = *with_file.frames;
-            if (f.t.empty()) return;
-            const Eigen::VectorXd q0 =
-                Eigen::Map<const Eigen::VectorXd>(f.q.data(), f.width); // the first frame
-            write_animation_of(tree, f, *spec, s, stopped,
-                               models::robot_obstacles(tree, values, lists, q0));
-        };
-        try {
-            run_model(*robot, with_file, values, lists);
-        } catch (...) { // a failed or stopped run: the frames it reached
-            try {
-                write(true);
-            } catch (const std::exception& e) { // the run's own error is the one to report
-                std::fprintf(stderr, "varsym: warning: no animation page: %s\n", e.what());
-            }
-            throw;
-        }
-        write(false);
+        run_animated(
+            with_file, static_cast<int>(models::robot_coordinates(*tree).size()), false,
+            [&](const run_setup& r) { run_model(*robot, r, values, lists); },
+            [&](const frame_recorder& f, const Eigen::MatrixXd& q) {
+                write_animation(tree, f.t, q, spec->path, s.animate, 0.0, s.mesh_path, s.quiet,
+                                models::robot_obstacles(tree, values, lists, q.row(0).transpose()),
+                                f.forces);
+            });
     };
     return m;
 }

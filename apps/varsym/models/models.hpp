@@ -22,16 +22,23 @@ struct trajectory;
 
 namespace varsym::cli {
 
-/// The frames of `varsym run --animate`: the coordinates (the first `width` state values) at
-/// the first state at or after each multiple of `every` seconds of simulated time from the
-/// start (models::animation_rows' rule), and the last state.
+class file_roles;
+
+/// The frames of `varsym run --animate`: the coordinates (the first `width` state values, or
+/// simulation::q where `coordinates` is set) at the first state at or after each multiple of
+/// `every` seconds of simulated time from the start (models::animation_rows' rule), and the
+/// last state.
 struct frame_recorder {
     double every = 0.0;
     int width = 0;
+    bool coordinates = false; ///< record q (a built-in model's figure takes its coordinates)
+    /// Per frame, the contact forces of the step that ended there (a robot in contact): six
+    /// numbers each, the point [m] and the force [N] (the impulse over h), in the world frame.
+    std::vector<std::vector<double>> forces;
     std::vector<double> t, q;
     double next = 0.0; ///< the time of the next frame due
     [[nodiscard]] bool due(double time) const { return t.empty() || time >= next - 1e-9 * every; }
-    void add(double time, const std::vector<double>& state) {
+    void add(double time, std::span<const double> state) {
         if (every > 0.0)
             next =
                 (t.empty() ? time : t.front()) +
@@ -117,16 +124,40 @@ std::shared_ptr<const models::model> robot_model_of(const urdf_spec& u,
                                                     std::shared_ptr<const multibody::tree> tree);
 /// Refuses --animate where three.js is missing (usage_error saying how to install it).
 void animation_check(const std::string& path);
+/// Refuses `option`'s page name where it is "-" or a directory, and adds the page and its
+/// PAGE.tmp to `roles` (cmd_animate.cpp).
+void add_animation_roles(file_roles& roles, const std::string& option, const std::string& page);
+/// "--animate draws a URDF robot (--urdf FILE) and the models heavy-top, ...": for refusals;
+/// `with_inputs`: only those an optimisation applies to.
+std::string drawn_models(bool with_inputs = false);
+/// Model m's coordinates' names, d of them ("th", "phi", ...; q_1..q_d where its `coordinates`
+/// text does not list d names).
+std::vector<std::string> coordinate_names(const models::model& m, int d);
+/// Writes the motion (t, q) of built-in model m (its `drawing` at values and lists) to the
+/// animation page `path`, and says so on standard error.
+void write_figure_animation(const models::model& m, std::span<const double> values,
+                            const models::lists& lists, std::span<const double> t,
+                            const Eigen::MatrixXd& q, const std::string& path, double fps,
+                            bool quiet, const std::string& title);
+/// A run with --animate: `run` with s's frames recorded (`width` values, simulation::q where
+/// `coordinates` is set), then `write` of the page from them, also where the run failed or
+/// was stopped (the page ends there and says so; the run's own error is rethrown).
+void run_animated(const run_setup& s, int width, bool coordinates,
+                  const std::function<void(const run_setup&)>& run,
+                  const std::function<void(const frame_recorder&, const Eigen::MatrixXd&)>& write);
 /// Writes robot `tree`'s motion (t, q: rows × coordinates) to the animation page `path`,
 /// meshes found from `urdf` and `mesh_path`, and says so on standard error (cmd_animate.cpp).
 void write_animation(std::shared_ptr<const multibody::tree> tree, std::span<const double> t,
                      const Eigen::MatrixXd& q, const std::string& urdf, const std::string& path,
                      double fps, const std::vector<std::string>& mesh_path, bool quiet,
-                     std::vector<contact::obstacle> world = {});
+                     std::vector<contact::obstacle> world = {},
+                     std::vector<std::vector<double>> forces = {});
 /// `optimize --animate`: the optimal motion on its steps' polynomials at `fps` frames per
-/// second (0: its nodes) as the animation page `page` (cmd_animate.cpp).
-void write_optimal_animation(const optimal::trajectory& path, const std::string& urdf,
-                             const std::string& page, double fps,
+/// second (0: its nodes) as the animation page `page`: of the robot of `urdf`, or where that is
+/// empty of model m's figure at values and lists (cmd_animate.cpp).
+void write_optimal_animation(const optimal::trajectory& path, const models::model& m,
+                             std::span<const double> values, const models::lists& lists,
+                             const std::string& urdf, const std::string& page, double fps,
                              const std::vector<std::string>& mesh_path, bool quiet);
 /// Headless Chromium's path (usage_error saying how to install it where it is missing), and a
 /// PNG of animation page `page` with the robot at the last of `times`, faint at the others
@@ -134,12 +165,6 @@ void write_optimal_animation(const optimal::trajectory& path, const std::string&
 std::string find_chromium();
 void take_snapshot(const std::string& page, const std::string& png,
                    const std::vector<double>& times);
-/// Writes the page of --animate from the recorded frames and says so on standard error (a
-/// run that `stopped` says the page ends where it stopped); warnings go there too. `world`:
-/// what the robot touches (models::robot_obstacles), drawn with the contact points.
-void write_animation_of(std::shared_ptr<const multibody::tree> tree, const frame_recorder& f,
-                        const urdf_spec& u, const run_setup& s, bool stopped,
-                        std::vector<contact::obstacle> world);
 /// Refuses to resume the run of `ck` with the input `now` unless ck recorded that very file with
 /// the same digest (usage_error saying which and what to do).
 void check_resumed_input(const checkpoint& ck, const checkpoint::input_file& now);

@@ -250,7 +250,19 @@ model make_registry_model(const models::model& rm, std::shared_ptr<parameter_opt
         m.options.push_back("--" + l.option_name());
     m.add_options = [](CLI::App&) {}; // all at once: parameter_options::add
     m.run = [&rm, po](const run_setup& setup) {
-        run_model(rm, setup, po->values(rm), po->lists(rm));
+        const std::vector<double> values = po->values(rm);
+        const models::lists lists = po->lists(rm);
+        if (setup.animate.empty()) {
+            run_model(rm, setup, values, lists);
+            return;
+        }
+        const int d = rm.dimension_at(values, lists);
+        run_animated(
+            setup, d, true, [&](const run_setup& r) { run_model(rm, r, values, lists); },
+            [&](const frame_recorder& f, const Eigen::MatrixXd& q) {
+                write_figure_animation(rm, values, lists, f.t, q, setup.animate, 0.0, setup.quiet,
+                                       rm.name);
+            });
     };
     return m;
 }

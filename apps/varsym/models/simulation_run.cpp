@@ -46,9 +46,18 @@ void stream_simulation(const run_setup& s, const run_plan& plan, models::simulat
     auto frame = [&](bool last) {
         frame_recorder* f = s.frames.get();
         if (f == nullptr || !(last ? f->t.back() < sim.time() : f->due(sim.time()))) return;
+        if (f->coordinates) {
+            f->add(sim.time(), sim.q());
+            return;
+        }
         models::evaluated(sim,
                           [&] { sim.state_values(std::span<double>(extra).first(state.size())); });
         f->add(sim.time(), extra);
+        const std::span<const double> kicks = sim.contact_impulses();
+        std::vector<double>& forces = f->forces.emplace_back(kicks.begin(), kicks.end());
+        for (std::size_t i = 0; i < forces.size(); i += 6)
+            for (std::size_t j = 3; j < 6; ++j)
+                forces[i + j] /= sim.step_size(); // the impulse over the step: its mean force
     };
     if (const checkpoint* ck = log.resumed()) {
         sim.restore(ck->state());
