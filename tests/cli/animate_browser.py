@@ -144,7 +144,34 @@ def main():
         check(moved > 20 and off > 10,
               f"negative control: link 1 moved {moved:.0f} px from t = 0 to 1; the t = 1 shot is "
               f"{off:.0f} px from where t = 0 would put it")
+    pendulum(exe, work, cam)
     return 1 if failures else 0
+
+
+def pendulum(exe, work, cam):
+    """A built-in model's figure: the spherical pendulum's red bob where its CSV's q (x, y, z)
+    puts it, projected by the same camera."""
+    import matplotlib.image  # noqa: PLC0415
+    rows = {round(float(r["t"]), 9): r for r in csv.DictReader(open(f"{work}/pend.csv"))}
+    page = "file://" + os.path.abspath(f"{work}/pend.html")
+    seen = []
+    for t in (0.0, 0.5, 1.0):
+        out = f"{work}/pend_{t}.png"
+        browser(exe, work, f"{page}#t={t}&flat=1&ui=0&fov={FOV}&cam={cam}", out)
+        if not os.path.exists(out):
+            check(False, f"pendulum screenshot at t = {t}")
+            continue
+        r = rows[round(t, 9)]
+        px, py = project([float(r["q_1"]), float(r["q_2"]), float(r["q_3"])])
+        n, x, y = pixels(matplotlib.image.imread(out), (0.85, 0.15, 0.15), tol=0.03)
+        miss = math.hypot(x - px, y - py)
+        seen.append((px, py))
+        check(n > 200 and miss < 3.0,
+              f"t = {t}: the spherical pendulum's bob: {n} pixels, centroid ({x:.1f}, {y:.1f}) "
+              f"vs q ({px:.1f}, {py:.1f}): {miss:.2f} px apart")
+    if len(seen) == 3:
+        moved = math.hypot(seen[0][0] - seen[2][0], seen[0][1] - seen[2][1])
+        check(moved > 20, f"negative control: the bob moved {moved:.0f} px from t = 0 to 1")
 
 
 if __name__ == "__main__":

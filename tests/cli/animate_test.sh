@@ -96,6 +96,32 @@ grep -q '"obstacles":\[{"k":"plane","n":\[-\?0,0,1\],"d":0}\]' ball.html && ok |
 touches=$(grep -o '"touches":"[^"]*"' ball.html | cut -d'"' -f4 | base64 -d | od -An -tu4 | tr -s ' \n' ' ')
 [ "$(echo $touches | awk '{ print $1 }')" = 0 ] && [ "$(echo $touches | awk '{ print $NF }')" = 1 ] &&
   ok || bad "the ball's contact points per frame: $touches (in the air first, then one)"
+# Its force arrows: none in the air; at rest on the ground at t = 1 s, one arrow from the ground
+# holding its weight, m g = 1 kg x 9.81 m/s^2 (the impulse of a step over h; float32 in the page).
+counts=$(grep -o '"arrowCounts":"[^"]*"' ball.html | cut -d'"' -f4 | base64 -d | od -An -tu4 | tr -s ' \n' ' ')
+last=$(grep -o '"arrows":"[^"]*"' ball.html | cut -d'"' -f4 | base64 -d | od -An -tf4 -w24 -v | tail -1)
+[ "$(echo $counts | awk '{ print $1 }')" = 0 ] && [ "$(echo $counts | awk '{ print $NF }')" = 1 ] &&
+  echo "$last" | awk '{ exit !($3 < 1e-6 && $3 > -1e-6 && $4 * $4 + $5 * $5 < 1e-6 && ($6 - 9.81)^2 < 1e-6) }' &&
+  ok || bad "the ball's force arrows: counts $counts, the last (point, force) $last (want 0 0 0 0 0 9.81)"
+grep -q 'id="note">blue arrows: the contact forces' ball.html && ok || bad "the page does not state the arrows' scale"
+
+# --- the built-in models' figures ------------------------------------------------------------------
+"$VARSYM" run --model spherical-pendulum --time 1 --steps 1000 -o pend.csv --animate pend.html \
+  --animate-fps 0 2> pend.err && ok || bad "spherical-pendulum --animate: $(cat pend.err)"
+[ "$(frames pend.html)" = 1001 ] && grep -q '"names":\["x","y","z"\]' pend.html && ok ||
+  bad "the pendulum's page: $(frames pend.html) frames, names $(grep -o '"names":[^]]*' pend.html)"
+for m in heavy-top top pendulum-3d rigid-body arm double-pendulum; do
+  "$VARSYM" run --model "$m" --time 2 --steps 200 -o "fig_$m.csv" --animate "fig_$m.html" -q \
+    2> "fig_$m.err" && between 118 "$(frames "fig_$m.html")" 122 && ok ||
+    bad "$m --animate: $(cat "fig_$m.err")"
+done
+grep -q 'id="note">drawn with its centre of mass 1 m' fig_heavy-top.html && ok ||
+  bad "the heavy top's page does not say its drawn scale"
+# Stopped by the energy watch (its relative error reaches 2e-8): the page ends where the run did.
+"$VARSYM" run --model heavy-top --time 20 --steps 200 --max-energy-error 1e-9 -o stop.csv \
+  --animate stop.html 2> stop.err
+[ $? = 4 ] && grep -q "ends where the run stopped" stop.err && lt "$(frames stop.html)" 200 && ok ||
+  bad "a stopped heavy-top run's page: $(cat stop.err)"
 
 # --- varsym animate: the same page from the CSV ---------------------------------------------------
 "$VARSYM" animate --urdf arm.urdf --input arm.csv --output again.html --fps 0 2> again.err && ok ||
@@ -112,12 +138,17 @@ if "$VARSYM" optimize --help > /dev/null 2>&1; then
   "$VARSYM" optimize --urdf arm.urdf --time 1 --steps 20 --from 0,0,0 --to 0.5,0.3,0 --quiet \
     -o opt.csv --animate opt.html 2> opt.err && ok || bad "optimize --animate: $(cat opt.err)"
   between 55 "$(frames opt.html)" 65 && ok || bad "optimize: $(frames opt.html) frames of 1 s"
+  "$VARSYM" optimize --model arm --time 1 --steps 20 --from 0,0,0 --to 1,0.5,0.2 --quiet \
+    -o optarm.csv --animate optarm.html 2> optarm.err && grep -q '"title":"arm: optimal motion"' optarm.html &&
+    ok || bad "optimize --model arm --animate: $(cat optarm.err)"
 else
   skip "varsym optimize is not built (no IPOPT)"
 fi
 
 # --- refusals: exit 2, one line, nothing written, inputs intact ----------------------------------
-expect_error 2 "--animate on a built-in model" "draws a URDF robot" run --animate out.csv
+expect_error 2 "--animate on a model without a figure" "no 3-D figure" run --animate out.html
+expect_error 2 "--mesh-path on a built-in model" "has none" run --model heavy-top \
+  --animate out.html --mesh-path meshes
 expect_error 2 "--animate over the URDF" "--animate" run --urdf arm.urdf --animate arm.urdf -o out.csv
 cmp -s arm.urdf arm.urdf.orig && ok || bad "--animate arm.urdf damaged the URDF"
 expect_error 2 "--animate with --checkpoint" "resumed run" run --urdf arm.urdf --animate a.html \

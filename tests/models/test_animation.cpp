@@ -12,6 +12,7 @@
 
 #include <unistd.h>
 
+#include "models/page_fields.hpp"
 #include "urdf_helpers.hpp"
 #include "varsym/models/animation.hpp"
 
@@ -19,37 +20,8 @@ namespace {
 
 using namespace varsym;
 namespace fs = std::filesystem;
-
-std::string slurp(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::ostringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
-
-/// The base64 text of JSON field `key` decoded.
-std::vector<unsigned char> field(const std::string& page, const std::string& key) {
-    const auto at = page.find("\"" + key + "\":\"");
-    EXPECT_NE(at, std::string::npos) << key;
-    const auto from = at + key.size() + 4, to = page.find('"', from);
-    std::vector<unsigned char> out;
-    unsigned v = 0;
-    int bits = 0;
-    for (std::size_t i = from; i < to; ++i) {
-        const char c = page[i];
-        if (c == '=') break;
-        const auto d = static_cast<unsigned>(
-            std::string("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/")
-                .find(c));
-        v = (v << 6) | d;
-        bits += 6;
-        if (bits >= 8) {
-            bits -= 8;
-            out.push_back(static_cast<unsigned char>((v >> bits) & 0xff));
-        }
-    }
-    return out;
-}
+using varsym::test::field;
+using varsym::test::slurp;
 
 const std::string arm_urdf = R"(<robot name="arm">
   <material name="green"><color rgba="0 1 0 0.5"/></material>
@@ -160,6 +132,36 @@ TEST_F(AnimationTest, AMissingMeshIsWarnedAboutAndItsLinkDrawnAsCapsules) {
     EXPECT_NE(page.find("\"k\":\"capsule\""), std::string::npos);         // l2: joint to its centre
     EXPECT_EQ(page.find("data-varsym=\"STLLoader\""), std::string::npos); // no mesh, no loader
     EXPECT_NE(page.find("part.stl' not found"), std::string::npos);       // on the page too
+}
+
+TEST_F(AnimationTest, ContactForcesOfTheKeptRowsBecomeArrowsOnOneStatedScale) {
+    const auto r = models::parse_urdf(arm_urdf, "arm.urdf");
+    const std::vector<double> t{0.0, 0.01, 0.02, 0.5};
+    const Eigen::MatrixXd q = Eigen::MatrixXd::Zero(4, 2);
+    models::animation_options o;
+    o.fps = 10.0; // keeps rows 0 and 3 (0 and 0.5 s)
+    o.forces = {{}, {0, 0, 0, 0, 0, 99}, {}, {0.5, 0, 0, 0, 3, 4, 1, 0, 0, 0, 0, 2}};
+    models::write_animation(r, t, q, (dir / "f.html").string(), o);
+    const std::string page = slurp(dir / "f.html");
+    const std::vector<unsigned char> counts = field(page, "arrowCounts");
+    ASSERT_EQ(counts.size(), 2 * sizeof(std::uint32_t));
+    EXPECT_EQ(counts[0], 0); // row 0: none
+    EXPECT_EQ(counts[4], 2); // row 3: two; row 1's 99 N is not a kept row
+    const std::vector<float> arrows = varsym::test::floats(page, "arrows");
+    ASSERT_EQ(arrows.size(), 12u);
+    EXPECT_EQ(arrows[0], 0.5f);
+    EXPECT_EQ(arrows[5], 4.0f);
+    EXPECT_EQ(arrows[11], 2.0f);
+    // The largest kept force, 5 N, is a third of the scene's radius: the note gives 1 m in N.
+    EXPECT_NE(page.find("id=\"note\">blue arrows: the contact forces, 1 m for"), std::string::npos);
+    const auto number = [&](const std::string& key) {
+        return std::stod(page.substr(page.find("\"" + key + "\":") + key.size() + 3));
+    };
+    EXPECT_NEAR(number("arrowScale"), number("radius") / 3 / 5.0, 1e-15);
+    o.forces.pop_back(); // a row without its forces
+    EXPECT_THROW(models::write_animation(r, t, q, (dir / "g.html").string(), o),
+                 std::invalid_argument);
+    EXPECT_FALSE(fs::exists(dir / "g.html"));
 }
 
 TEST_F(AnimationTest, BadRowsAndTheUrdfAsThePageAreRefusedAndNothingIsWritten) {

@@ -1,6 +1,7 @@
-"""3-D animation pages from Python (Trajectory.animate, OptimalControl.animate, Robot.animate):
-the page holds every frame asked for and the robot's poses; a missing mesh is a warning, not an
-error; what is not a robot's motion, and the robot's own URDF as the page, are refused. (The
+"""3-D animation pages from Python (Trajectory.animate, OptimalControl.animate, Robot.animate,
+Model.animate): the page holds every frame asked for and the robot's or figure's poses; a missing
+mesh is a warning, not an error; what has no figure, and the robot's own URDF as the page, are
+refused. (The
 page in a real browser: tests/cli/animate_test.sh.)"""
 import base64
 import json
@@ -62,7 +63,7 @@ def test_the_optimal_motion_animates_and_other_motions_are_refused(tmp_path):
     assert any(s["k"] == "capsule" for s in page["shapes"])
     lag = varsym.simulate(varsym.Lagrangian("0.5*q_dot**2 - 0.5*q**2", ["q"]), q0=[1.0],
                           t_span=1.0, h=0.01)
-    with pytest.raises(varsym.UsageError, match="URDF robot"):
+    with pytest.raises(varsym.UsageError, match="URDF robot or a built-in model"):
         lag.animate(tmp_path / "x.html")
     with pytest.raises(varsym.UsageError, match="coordinates"):
         pend.animate(tmp_path / "x.html", [0.0, 1.0], np.zeros((2, 3)))
@@ -76,3 +77,24 @@ def test_the_page_never_overwrites_the_robots_urdf(tmp_path):
     with pytest.raises(RuntimeError, match="URDF"):
         varsym.Robot(urdf).animate(urdf, [0.0, 1.0], [[0.0], [1.0]])
     assert urdf.read_bytes() == before
+
+
+def test_a_built_in_models_motion_animates_as_its_figure(tmp_path):
+    # The spherical pendulum's bob (its red sphere, at (0, 0, l) on the one body) is at q.
+    tr = varsym.simulate("spherical-pendulum", t_span=1.0, h=1e-3)
+    out = tr.animate(tmp_path / "pend.html", fps=0)
+    page, size = motion(tmp_path / "pend.html")
+    assert out["frames"] == page["frames"] == len(tr.t) and out["bytes"] == size
+    assert page["names"] == ["x", "y", "z"]
+    poses = np.frombuffer(base64.b64decode(page["poses"]), dtype=np.float32).reshape(-1, 7)
+    x, w = poses[500, :3].astype(float), poses[500, 3:].astype(float)  # qx, qy, qz, qw
+    bob = 2 * np.cross(w[:3], np.cross(w[:3], [0, 0, 1]) + w[3] * np.array([0, 0, 1])) + [0, 0, 1]
+    assert np.allclose(x + bob, tr.q[500], atol=1e-6)  # rotate (0, 0, l = 1) by the quaternion
+    # The arm's optimal motion too; a model without a figure is refused.
+    best = varsym.optimize("arm", time=1.0, q_start=[0, 0, 0], q_end=[1.0, 0.5, 0.2], steps=20)
+    assert best.animate(tmp_path / "arm.html")["frames"] == 21
+    assert motion(tmp_path / "arm.html")[0]["title"] == "arm: optimal motion"
+    kepler = varsym.simulate("kepler", t_span=1.0, steps=100)
+    with pytest.raises(varsym.UsageError, match="no 3-D figure"):
+        kepler.animate(tmp_path / "k.html")
+    assert not (tmp_path / "k.html").exists()
