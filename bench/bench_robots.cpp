@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <random>
@@ -103,11 +104,14 @@ std::string chain(int n) {
 
 /// A varsym simulation of the robot without damping from q0 at rest.
 std::unique_ptr<models::simulation> varsym_run(const pair& p, const scheme_spec& spec, double h,
-                                               const std::vector<double>& q0) {
+                                               const std::vector<double>& q0,
+                                               iteration_kind iteration = {}) {
     const models::model m = models::robot_model(p.tree);
     std::vector<double> v = m.defaults();
     v[1] = 1.0; // no_damping
-    return m.prepare(v, {q0, {}, {}}).simulate({spec, {}, h});
+    newton_options o;
+    o.iteration = iteration;
+    return m.prepare(v, {q0, {}, {}}).simulate({spec, o, h});
 }
 
 /// MuJoCo's data at q0, at rest, with integrator `kind` and step h.
@@ -137,18 +141,26 @@ struct method {
     bool mujoco;
     int kind;
     scheme_spec spec;
+    iteration_kind iteration = iteration_kind::automatic; ///< varsym's; automatic is the default
 };
 
 std::vector<method> methods() {
+    constexpr auto newton = iteration_kind::newton, simplified = iteration_kind::simplified;
     std::vector<method> out{{"mujoco-euler", true, mjINT_EULER, {}},
                             {"mujoco-rk4", true, mjINT_RK4, {}},
-                            {"newmark", false, 0, scheme_spec(scheme_kind::newmark)},
-                            {"simpson", false, 0, scheme_spec(scheme_kind::simpson)}};
+                            {"newmark", false, 0, scheme_spec(scheme_kind::newmark), newton},
+                            {"simpson", false, 0, scheme_spec(scheme_kind::simpson), newton}};
     for (int s = 1; s <= 4; ++s)
-        out.push_back({"gauss-" + std::to_string(s), false, 0, scheme_spec(scheme_kind::gauss, s)});
-    for (int s = 2; s <= 4; ++s)
         out.push_back(
-            {"lobatto-" + std::to_string(s), false, 0, scheme_spec(scheme_kind::lobatto, s)});
+            {"gauss-" + std::to_string(s), false, 0, scheme_spec(scheme_kind::gauss, s), newton});
+    for (int s = 2; s <= 4; ++s)
+        out.push_back({"lobatto-" + std::to_string(s), false, 0,
+                       scheme_spec(scheme_kind::lobatto, s), newton});
+    // The simplified iteration: one Jacobian kept across steps, first derivatives per sweep.
+    out.push_back({"simpson-simpl", false, 0, scheme_spec(scheme_kind::simpson), simplified});
+    for (int s = 1; s <= 4; ++s)
+        out.push_back({"gauss-" + std::to_string(s) + "-simpl", false, 0,
+                       scheme_spec(scheme_kind::gauss, s), simplified});
     return out;
 }
 
@@ -164,7 +176,7 @@ double time_steps(const pair& p, const method& m, double h, long steps,
         mj_deleteData(d);
         return s;
     }
-    auto sim = varsym_run(p, m.spec, h, q0);
+    auto sim = varsym_run(p, m.spec, h, q0, m.iteration);
     const auto t0 = clock_type::now();
     sim->advance(static_cast<std::size_t>(steps));
     return std::chrono::duration<double>(clock_type::now() - t0).count();
@@ -237,7 +249,7 @@ std::vector<double> final_q(const pair& p, const method& m, double h, double* se
         mj_deleteData(d);
         return q;
     }
-    auto sim = varsym_run(p, m.spec, h, q0);
+    auto sim = varsym_run(p, m.spec, h, q0, m.iteration);
     const auto t0 = clock_type::now();
     try {
         sim->advance(static_cast<std::size_t>(steps));
@@ -260,8 +272,9 @@ double distance(const std::vector<double>& a, const std::vector<double>& b) {
 void precision(const std::vector<pair>& robots) {
     const double hs[] = {1.0 / 25,  1.0 / 50,   1.0 / 100,  1.0 / 200,  1.0 / 400,
                          1.0 / 800, 1.0 / 1600, 1.0 / 3200, 1.0 / 6400, 1.0 / 12800};
-    const char* chosen[] = {"mujoco-euler", "mujoco-rk4", "simpson",
-                            "gauss-2",      "gauss-3",    "gauss-4"};
+    const char* chosen[] = {"mujoco-euler",  "mujoco-rk4",   "simpson",       "gauss-2",
+                            "gauss-3",       "gauss-4",      "simpson-simpl", "gauss-2-simpl",
+                            "gauss-3-simpl", "gauss-4-simpl"};
     for (const pair& p : robots) {
         double s = 0.0;
         const auto ref =
@@ -355,35 +368,32 @@ void energy(const pair& p, const std::string& file, long steps) {
 
 void scaling(int rounds) {
     std::printf("\nns per step against the number of links (a generated chain, h = 1 ms, 500 "
-                "steps, median of %d rounds; per link in parentheses)\n%-7s",
+                "steps, median of %d interleaved rounds; per link in parentheses)\n%-7s",
                 rounds, "links");
     const auto all = methods();
+    const auto named = [&](const std::string& label) {
+        return *std::find_if(all.begin(), all.end(),
+                             [&](const method& x) { return x.label == label; });
+    };
     const method chosen[] = {
-        all[1], all[3], all[5], {"simpson-fixed", false, 0, scheme_spec(scheme_kind::simpson)}};
+        named("mujoco-rk4"),
+        named("simpson"),
+        named("gauss-2"),
+        {"simpson-fixed", false, 0, scheme_spec(scheme_kind::simpson), iteration_kind::fixed_point},
+        named("simpson-simpl"),
+        named("gauss-2-simpl")};
     for (const method& m : chosen)
         std::printf(" %24s", m.label.c_str());
     std::printf("\n");
     for (int n : {7, 10, 20, 50, 100}) {
         pair p = load("chain" + std::to_string(n), chain(n));
         std::printf("%-7d", n);
-        for (const method& m : chosen) {
-            std::vector<double> t;
-            for (int r = 0; r < rounds; ++r) {
-                if (m.label == "simpson-fixed") {
-                    const models::model mm = models::robot_model(p.tree);
-                    std::vector<double> v = mm.defaults();
-                    v[1] = 1.0;
-                    newton_options o;
-                    o.iteration = iteration_kind::fixed_point;
-                    auto sim = mm.prepare(v, {start_of(p), {}, {}}).simulate({m.spec, o, 1e-3});
-                    const auto t0 = clock_type::now();
-                    sim->advance(500);
-                    t.push_back(std::chrono::duration<double>(clock_type::now() - t0).count());
-                } else {
-                    t.push_back(time_steps(p, m, 1e-3, 500, start_of(p)));
-                }
-            }
-            const double ns = median(t) / 500 * 1e9;
+        std::vector<std::vector<double>> t(std::size(chosen));
+        for (int r = 0; r < rounds; ++r) // interleaved: every method once per round
+            for (std::size_t k = 0; k < std::size(chosen); ++k)
+                t[k].push_back(time_steps(p, chosen[k], 1e-3, 500, start_of(p)));
+        for (std::size_t k = 0; k < std::size(chosen); ++k) {
+            const double ns = median(t[k]) / 500 * 1e9;
             std::printf(" %12.0f (%8.0f)", ns, ns / n);
         }
         std::printf("\n");
