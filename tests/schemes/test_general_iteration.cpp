@@ -1,6 +1,8 @@
 // tests/schemes/test_general_iteration.cpp: the general engine's linear iterations (simplified
-// Newton and the fixed point, schemes/variational_solve.hpp) against its own Newton.
-// Reference: Newton on the same step equations with the exact Jacobian (schemes/variational.hpp,
+// Newton and the fixed point, schemes/variational_solve.hpp) and Newton's chord updates against
+// its full Newton.
+// Reference: Newton on the same step equations with the exact Jacobian at every iterate
+// (newton_options::chord_start = 0; schemes/variational.hpp,
 // tested against the separable paths in test_general.cpp). Every variant solves the same
 // equations to round-off, so each step from a state of Newton's run must equal Newton's step
 // from it to 1e-13 relative (a few hundred ulps: two iterations that stop at the round-off floor
@@ -15,6 +17,7 @@
 #include "varsym/problems/linked_pendulum.hpp"
 #include "varsym/run/state.hpp"
 #include "varsym/schemes/variational.hpp"
+#include "varsym/solvers/solver_name.hpp"
 
 using namespace varsym;
 
@@ -33,13 +36,19 @@ newton_options options(iteration_kind kind, double tolerance = 0.0) {
     return o;
 }
 
+/// Newton with a fresh Jacobian at every iterate: no chord updates.
+newton_options full_newton() {
+    newton_options o = options(iteration_kind::newton);
+    o.chord_start = 0.0;
+    return o;
+}
+
 /// The largest difference, relative to max(|q|, |p|, 1), of one step of the variant `opt`
-/// from Newton's step, from every state of n steps of Newton's run.
+/// from full Newton's step, from every state of n steps of full Newton's run.
 template <class L>
 double worst_gap(const lagrangian_system<L>& sys, double h, scheme_spec spec, phase_state<L::dim> x,
                  int n, const newton_options& opt) {
-    general::stepper<L> newton(sys, h, spec, options(iteration_kind::newton)),
-        variant(sys, h, spec, opt);
+    general::stepper<L> newton(sys, h, spec, full_newton()), variant(sys, h, spec, opt);
     double worst = 0.0;
     for (int j = 0; j < n; ++j) {
         phase_state<L::dim> y = x;
@@ -56,13 +65,14 @@ double worst_gap(const lagrangian_system<L>& sys, double h, scheme_spec spec, ph
 } // namespace
 
 TEST(GeneralIteration, EveryVariantTakesNewtonsStep) {
-    for (auto kind : {iteration_kind::simplified, iteration_kind::fixed_point}) {
+    // Newton's own chord updates (the default, newton_options::chord_start) among the variants.
+    for (auto kind :
+         {iteration_kind::newton, iteration_kind::simplified, iteration_kind::fixed_point}) {
         const newton_options opt = options(kind);
         for (scheme_spec spec :
              {scheme_spec(scheme_kind::simpson), scheme_spec(scheme_kind::newmark),
               scheme_spec(scheme_kind::gauss, 4), scheme_spec(scheme_kind::lobatto, 4)}) {
-            SCOPED_TRACE(spec.label() +
-                         (kind == iteration_kind::simplified ? " simplified" : " fixed point"));
+            SCOPED_TRACE(spec.label() + " " + std::string(name_of(iteration_names, kind)));
             EXPECT_LE(worst_gap(lagrangian_system<kepler::lagrangian>({}), orbit.period() / 100,
                                 spec, orbit.at(0.0), 200, opt),
                       1e-13);
@@ -107,24 +117,31 @@ struct counting {
 } // namespace
 
 TEST(GeneralIteration, SweepsEvaluateFirstDerivativesOnly) {
-    // Newton evaluates second derivatives at every point of every iteration; the simplified
-    // iteration only where it refreshes its Jacobian (two per refresh: the Taylor predictor's),
-    // which on Kepler at 100 steps per orbit is seldom.
+    // Full Newton evaluates second derivatives at every point of every iterate (and at the
+    // predictor's two points), and first derivatives only for the momentum; with chord updates
+    // Newton builds fewer Jacobians, and its chord updates evaluate first derivatives; the
+    // simplified iteration evaluates second derivatives only where it refreshes its Jacobian
+    // (two per refresh: the Taylor predictor's), which on Kepler at 100 steps per orbit is
+    // seldom. Gauss-4: 4 points.
     const int n = 200;
-    for (auto kind : {iteration_kind::newton, iteration_kind::simplified}) {
+    auto count = [&](const newton_options& opt) {
         general::stepper<counting> s(lagrangian_system<counting>({}), orbit.period() / 100,
-                                     {scheme_kind::gauss, 4}, options(kind));
+                                     {scheme_kind::gauss, 4}, opt);
         phase_state<2> x = orbit.at(0.0);
         for (int j = 0; j < n; ++j)
-            ASSERT_TRUE(s.step(x).converged);
-        const counting& c = s.system().lagrangian();
-        if (kind == iteration_kind::newton) {
-            EXPECT_GE(c.hessians, 2 * 2 * n); // ≥ 2 iterations × 2 Gauss points per step
-        } else {
-            EXPECT_LE(c.hessians, n / 5) << "the kept Jacobian is refreshed too often";
-            EXPECT_GE(c.gradients, 3 * 2 * n); // ≥ 3 sweeps × 2 points per step
-        }
-    }
+            EXPECT_TRUE(s.step(x).converged);
+        return std::pair{s.system().lagrangian().hessians, s.system().lagrangian().gradients};
+    };
+    const auto [full_h, full_g] = count(full_newton());
+    EXPECT_GE(full_h, (2 + 2 * 4) * n); // predictor, ≥ 2 iterations × 4 points
+    EXPECT_EQ(full_g, 4 * n);           // the momentum's
+    const auto [chord_h, chord_g] = count(options(iteration_kind::newton));
+    // At this coarse step (100 per orbit) most steps' second update is a chord update.
+    EXPECT_LE(chord_h, full_h - 4 * n / 2);
+    EXPECT_GE(chord_g, 4 * n + 4 * n / 2);
+    const auto [simplified_h, simplified_g] = count(options(iteration_kind::simplified));
+    EXPECT_LE(simplified_h, n / 5) << "the kept Jacobian is refreshed too often";
+    EXPECT_GE(simplified_g, 3 * 4 * n); // ≥ 3 sweeps × 4 points per step
 }
 
 TEST(GeneralIteration, DefaultIsSimplifiedForAutomaticDerivatives) {

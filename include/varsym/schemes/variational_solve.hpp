@@ -77,8 +77,14 @@ newton_report stepper<L, F>::solve_linear(const phase_state<dim>& x) {
     return rep;
 }
 
-/// Newton (a Jacobian from every point's second derivatives at every iterate) or a linear
-/// iteration (the kept inverse, first derivatives only), from the predicted increments.
+/// Newton or a linear iteration (the kept inverse, first derivatives only), from the predicted
+/// increments. Newton takes the Jacobian from every point's second derivatives, and keeps it
+/// for the next iterate (a chord update: first derivatives and a solve with the same LU) once
+/// an update is below newton_options::chord_start of the increments, while the chord updates
+/// shrink at least 1/contraction_limit times; a chord update that does not is dropped, and the
+/// solve goes on as full Newton from the same iterate. From the Taylor predictor at small steps (a
+/// robot at 1 ms) the first Newton update already lands within round-off, so the second update,
+/// which only confirms it, costs first derivatives alone.
 template <lagrangian L, class F>
 newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
     newton_options opt = opt_;
@@ -87,24 +93,42 @@ newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
     newton_monitor monitor(opt, !newton);
     newton_report rep;
     rate_ = 0.0;
+    bool chord = false;                  // Newton: this iterate keeps the last Jacobian
+    bool chords = opt.chord_start > 0.0; // whether it still may
+    double last = 0.0;                   // Newton: the last update taken
+    const double noise =
+        1024.0 * std::numeric_limits<double>::epsilon() * std::max(opt.typical, opt.reference);
     while (true) {
-        evaluate_points(x.q, newton);
-        assemble(x.p, newton);
+        evaluate_points(x.q, newton && !chord);
+        assemble(x.p, newton && !chord);
         rep.residual = res_.template lpNorm<Eigen::Infinity>();
         if (monitor.exhausted()) return rep;
         if (newton) {
-            lu_.compute(jac_);
+            if (!chord) lu_.compute(jac_);
             delta_.noalias() = lu_.solve(res_);
         } else {
             delta_.noalias() = jinv_ * res_;
         }
         const double step = delta_.template lpNorm<Eigen::Infinity>();
         rep.iterations = monitor.iterations() + 1;
-        if (!std::isfinite(step) || !std::isfinite(rep.residual)) return rep;
+        if (!std::isfinite(rep.residual)) return rep;
+        if (chord && !(step <= opt.contraction_limit * last || step <= noise)) {
+            // A chord update that does not contract fast enough is not taken: this iterate is
+            // Newton's after all, and the rest of the solve too (full Newton's iterates).
+            chord = chords = false;
+            continue;
+        }
+        if (!std::isfinite(step)) return rep;
         for (int l = 0; l < s_; ++l)
             x_.col(l) -= block_of<dim>(delta_, l, d_);
-        if (monitor.converged(step, x_.template lpNorm<Eigen::Infinity>())) break;
-        if (!newton && monitor.iterations() > 1) {
+        const double size = x_.template lpNorm<Eigen::Infinity>();
+        if (monitor.converged(step, size, chord)) break;
+        if (newton) {
+            chord = chords && (chord || step <= opt.chord_start * std::max(size, opt.typical));
+            last = step;
+            continue;
+        }
+        if (monitor.iterations() > 1) {
             rate_ = std::max(rate_, monitor.rate());
             if (monitor.rate() > 0.5) return rep; // diverging, or slower than Newton
         }

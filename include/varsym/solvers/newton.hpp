@@ -50,6 +50,11 @@ struct newton_options {
     /// simplified: the kept Jacobian is refreshed when an iteration's update shrinks by less
     /// than this factor (the observed contraction rate).
     double contraction_limit = 0.125;
+    /// newton in the general engine (schemes/variational.hpp): once an update is below this
+    /// fraction of the unknown, the next iterates keep that Jacobian (chord updates: first
+    /// derivatives and a solve with the same factorisation) while they shrink at least
+    /// 1/contraction_limit times. 0: a fresh Jacobian at every iterate.
+    double chord_start = 1e-3;
 };
 
 /// What one Newton solve did. `iterations` counts linear solves (one per Jacobian).
@@ -64,14 +69,20 @@ struct newton_report {
 /// reports convergence when
 ///  - |δ_k| ≤ scale, or
 ///  - the quadratic model predicts the next update below scale (|δ_k|³/|δ_{k−1}|² ≤ scale; not
-///    for a linearly converging iteration, `linear`, whose stop must not depend on a model),
+///    for a linearly converging iteration, `linear`, whose stop must not depend on a model;
+///    for a chord update, Newton's Jacobian kept from an earlier iterate of the same solve, the
+///    linear model ρ/(1 − ρ) |δ_k| ≤ scale with the observed rate ρ ≤ 1/8),
 ///  - or the updates stop decreasing once already tiny: the round-off floor, |δ_k| ≥ |δ_{k−1}|/2
 ///    with |δ_k| ≤ 64 ε max(|x|, typical, reference), whatever the tolerance asked for.
 class newton_monitor {
   public:
     explicit newton_monitor(const newton_options& opt, bool linear = false)
         : opt_(opt), linear_(linear) {}
-    bool converged(double step, double size) {
+    /// `chord`: the update came from a Jacobian kept from an earlier iterate (a linear
+    /// iteration); its stop by model is then the linear one, ρ/(1 − ρ) |δ_k| ≤ scale with ρ the
+    /// observed rate (rate(): updates at round-off do not change it), taken only where
+    /// ρ ≤ 1/8.
+    bool converged(double step, double size, bool chord = false) {
         ++iterations_;
         const double magnitude = std::max(opt_.typical, size);
         // A ratio of updates near round-off measures the noise, not the iteration.
@@ -80,8 +91,9 @@ class newton_monitor {
             rate_ = step / previous_;
         const double scale = opt_.tolerance * magnitude;
         const bool tiny = step <= scale;
-        const bool predicted =
-            !linear_ && iterations_ > 1 && step * step * step <= scale * previous_ * previous_;
+        const bool predicted = !linear_ && iterations_ > 1 &&
+                               (chord ? 8.0 * rate_ <= 1.0 && 8.0 * rate_ * step <= 7.0 * scale
+                                      : step * step * step <= scale * previous_ * previous_);
         const bool floor = iterations_ > 1 && step >= 0.5 * previous_ &&
                            step <= 64.0 * std::numeric_limits<double>::epsilon() *
                                        std::max(magnitude, opt_.reference);
