@@ -50,6 +50,14 @@ class robot_lagrangian {
         t.value = lagrangian_derivatives(*m_, work(), q, v, t.lq, t.lv, t.lqq, t.lqv, t.lvv);
     }
 
+    /// M(q) = ∂²L/∂q̇² alone, by the composite-rigid-body algorithm (O(n²); no velocity terms):
+    /// what velocity(q, p) and the steppers' predictor factorise.
+    void mass_matrix(const vec<dynamic>& q, mat<dynamic>& out) const {
+        const int n = m_->dof();
+        out.resize(n, n);
+        multibody::mass_matrix(*m_, work(), q, out);
+    }
+
     /// The Hessian in z = (q, q̇) (2n square) of aᵀ ∂L/∂q + bᵀ ∂L/∂q̇: L's third derivatives
     /// contracted with (a, b), which an optimal control transcription's exact Hessian needs.
     /// Exact: the rates along (a, b) of the second derivatives, by the same O(n²) algorithm

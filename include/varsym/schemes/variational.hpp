@@ -19,7 +19,9 @@
 // "Round-off that tilts the map"). For L = ½ q̇ᵀMq̇ − V(q) these are the separable path's
 // equations divided by h.
 //
-// Newton evaluates second derivatives at every point of every iteration. The linear iterations
+// Newton evaluates second derivatives at every point of each iterate whose Jacobian it builds;
+// once its updates are small it keeps that Jacobian for chord updates within the step
+// (newton_options::chord_start; variational_solve.hpp). The linear iterations
 // (newton_options::iteration simplified or fixed_point; variational_solve.hpp) evaluate only
 // first derivatives in their sweeps, against one Jacobian kept across steps: with automatic
 // derivatives that is the difference between O((2d)²) and O(2d) per operation of L
@@ -255,14 +257,20 @@ class stepper {
 
     /// Taylor predictor X_l ≈ τ_l v + ½ τ_l² a, τ_l = d_l h, with v from ∂L/∂q̇(q, v) = p and
     /// a from the Euler–Lagrange equations L_vv a = L_q − L_vq v at (q_j, v). v: two Newton
-    /// iterations from q̇ = 0, or from q̇ = p where ∂²L/∂q̇² is singular at 0 (L = q̇⁴/4).
+    /// iterations from q̇ = 0, or from q̇ = p where ∂²L/∂q̇² is singular at 0 (L = q̇⁴/4); for L
+    /// with a mass matrix by hand (lagrangian_with_mass_matrix) the first is M(q)⁻¹p.
     void predict(const phase_state<dim>& x) {
         lagrangian_terms<dim>& t = terms_[0];
-        vk_.setZero();
-        evaluate(sys_.lagrangian(), x.q, vk_, t_, t);
         v_bar_ = x.p; // from p where ∂²L/∂q̇² is not positive definite at q̇ = 0
-        rhs_ = x.p - t.lv;
-        solve_positive_definite<dim>(ldlt_, t.lvv, rhs_, v_bar_);
+        if constexpr (lagrangian_with_mass_matrix<L>) {
+            sys_.lagrangian().mass_matrix(x.q, t.lvv);
+            solve_positive_definite<dim>(ldlt_, t.lvv, x.p, v_bar_);
+        } else {
+            vk_.setZero();
+            evaluate(sys_.lagrangian(), x.q, vk_, t_, t);
+            rhs_ = x.p - t.lv;
+            solve_positive_definite<dim>(ldlt_, t.lvv, rhs_, v_bar_);
+        }
         evaluate(sys_.lagrangian(), x.q, v_bar_, t_, t);
         if constexpr (forced) add_force(0, x.q, v_bar_, t_, true);
         q_bar_ = x.q; // terms_[0] (and fterms_[0]) now hold the derivatives at (q̄, v̄)

@@ -131,6 +131,17 @@ concept lagrangian_with_gradient = lagrangian_with_derivatives<L> &&
     l.gradient(q, q, t);
 };
 
+/// A Lagrangian L = ½ q̇ᵀM(q)q̇ − V(q), quadratic in q̇ without a linear term (p = M(q)q̇), that
+/// gives M(q) alone by hand, in mass_matrix(q, M), more cheaply than its second derivatives (a
+/// robot's composite-rigid-body algorithm): lagrangian_system::velocity and the general
+/// engine's predictor then solve p = M(q)q̇ with it. Time-independent only.
+template <class L>
+concept lagrangian_with_mass_matrix =
+    lagrangian_with_derivatives<L> && !time_dependent_lagrangian<L> &&
+    requires(const L& l, const vec<L::dim>& q, mat<L::dim>& m) {
+    l.mass_matrix(q, m);
+};
+
 namespace detail {
 /// L's first derivatives in one pass of ad::first_order<2D>: 2D + 1 numbers per operation.
 template <class L>
@@ -354,7 +365,10 @@ class lagrangian_system {
     /// corrections of ε κ |v| that no iteration removes. A floor above 1e-4 (κ > 4.5e9) is not
     /// accepted. Throws std::domain_error if ∂²L/∂q̇² is not positive definite from both
     /// starts, or Newton fails.
+    /// With lagrangian_with_mass_matrix: q̇ = M(q)⁻¹p by one Cholesky factorisation, refined
+    /// (p − M q̇ solved again) to the same floor.
     [[nodiscard]] vec<dim> velocity(const vec<dim>& q, const vec<dim>& p, double time) const {
+        if constexpr (lagrangian_with_mass_matrix<L>) return quadratic_velocity(q, p);
         lagrangian_terms<dim> t;
         for (const bool from_p : {false, true}) {
             vec<dim> v = from_p ? vec<dim>(p) : vec<dim>(vec<dim>::Zero(q.size()));
@@ -418,6 +432,32 @@ class lagrangian_system {
 
   private:
     L l_;
+
+    [[nodiscard]] vec<dim> quadratic_velocity(const vec<dim>& q, const vec<dim>& p) const {
+        mat<dim> m(q.size(), q.size());
+        l_.mass_matrix(q, m);
+        const Eigen::LLT<mat<dim>> llt(m);
+        if (llt.info() != Eigen::Success || !m.allFinite())
+            throw std::domain_error("the mass matrix d2L/dqdot2 is singular or not positive "
+                                    "definite at this state");
+        // Iterative refinement to velocity()'s floor: one correction, which confirms the solve,
+        // unless M is ill-conditioned.
+        const double rcond = llt.rcond();
+        const double floor =
+            rcond > 0.0
+                ? std::clamp(100.0 * std::numeric_limits<double>::epsilon() / rcond, 1e-13, 1e-4)
+                : 1e-13;
+        vec<dim> v = llt.solve(p);
+        for (int it = 0; it < 50 && v.allFinite(); ++it) {
+            const vec<dim> dv = llt.solve(p - m * v);
+            v += dv;
+            if (dv.template lpNorm<Eigen::Infinity>() <=
+                floor * v.template lpNorm<Eigen::Infinity>())
+                return v;
+        }
+        throw std::domain_error("could not solve dL/dqdot = p for the velocity (the mass matrix "
+                                "d2L/dqdot2 may be too ill-conditioned)");
+    }
 };
 
 } // namespace varsym
