@@ -41,7 +41,8 @@ void kinematics(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>
         const auto k = static_cast<std::size_t>(i);
         const body& b = m.bodies[k];
         basic_pose<S> placement = b.placement.template cast<S>();
-        if (i == m.chart_body()) placement.rotation = w.chart.template cast<S>() * placement.rotation;
+        if (i == m.chart_body())
+            placement.rotation = w.chart.template cast<S>() * placement.rotation;
         const basic_pose<S> joint =
             b.parent < 0 ? placement : w.x[static_cast<std::size_t>(b.parent)] * placement;
         const vec3_of<S> a = joint.rotation * b.axis.template cast<S>();
@@ -55,7 +56,8 @@ void kinematics(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>
         }
         const mat3_of<S>& r = w.x[k].rotation;
         const vec3_of<S> c = w.x[k].point(b.com);
-        w.inertia[k] = spatial_inertia(b.mass, c, r * b.inertia.template cast<S>() * r.transpose());
+        set_spatial_inertia<S>(w.inertia[k], b.mass, c,
+                               r * b.inertia.template cast<S>() * r.transpose());
         const S mass(b.mass);
         w.gravity[k] << mass * c.cross(g), mass * g;
     }

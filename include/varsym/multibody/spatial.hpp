@@ -100,23 +100,51 @@ inline mat3 roll_pitch_yaw(const vec3& rpy) {
 template <class S = double>
 mat3_of<S> axis_angle(const vec3& a, const S& theta) {
     using std::cos, std::sin;
-    const S c = cos(theta), s = sin(theta);
-    const mat3_of<S> k = skew(a).template cast<S>();
-    return mat3_of<S>::Identity() + s * k + (S(1.0) - c) * k * k;
+    S c, s;
+    if constexpr (std::is_same_v<S, double>)
+        ::sincos(theta, &s, &c); // one call for both (glibc)
+    else {
+        c = cos(theta);
+        s = sin(theta);
+    }
+    // 1 + s K + (1 − c) K² entry by entry, with K² = a aᵀ − (a·a) 1.
+    const S u = S(1.0) - c, aa(a.squaredNorm());
+    mat3_of<S> r;
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i)
+            r(i, j) = u * S(a(i) * a(j));
+    for (int i = 0; i < 3; ++i)
+        r(i, i) += S(1.0) - u * aa;
+    r(0, 1) -= s * a(2);
+    r(1, 0) += s * a(2);
+    r(0, 2) += s * a(1);
+    r(2, 0) -= s * a(1);
+    r(1, 2) -= s * a(0);
+    r(2, 1) += s * a(0);
+    return r;
 }
 
 /// The spatial inertia (eq. 2.63) of mass m with centre of mass c and rotational inertia ic
-/// about c, all in one frame: [[ic + m c×c×ᵀ, m c×], [m c×ᵀ, m 1]].
+/// about c, all in one frame: [[ic + m c×c×ᵀ, m c×], [m c×ᵀ, m 1]], written into i.
 template <class S>
-mat6_of<S> spatial_inertia(double m, const vec3_of<S>& c,
-                           const std::type_identity_t<mat3_of<S>>& ic) {
+void set_spatial_inertia(mat6_of<S>& i, double m, const vec3_of<S>& c,
+                         const std::type_identity_t<mat3_of<S>>& ic) {
     const mat3_of<S> cx = skew(c);
     const S ms(m);
-    mat6_of<S> i;
-    i.template topLeftCorner<3, 3>() = ic + ms * cx * cx.transpose();
+    // c× c×ᵀ = (c·c) 1 − c cᵀ
+    i.template topLeftCorner<3, 3>() = ic - ms * (c * c.transpose());
+    i.template topLeftCorner<3, 3>().diagonal().array() += ms * c.squaredNorm();
     i.template topRightCorner<3, 3>() = ms * cx;
     i.template bottomLeftCorner<3, 3>() = ms * cx.transpose();
     i.template bottomRightCorner<3, 3>() = ms * mat3_of<S>::Identity();
+}
+
+/// set_spatial_inertia's matrix, returned.
+template <class S>
+mat6_of<S> spatial_inertia(double m, const vec3_of<S>& c,
+                           const std::type_identity_t<mat3_of<S>>& ic) {
+    mat6_of<S> i;
+    set_spatial_inertia<S>(i, m, c, ic);
     return i;
 }
 
