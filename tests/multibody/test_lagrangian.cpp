@@ -52,7 +52,8 @@ double relative(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 }
 
 // Both sides are O(10²) products of O(1) numbers: 1e-13 relative is a few hundred ulps; a
-// missing term or a mimic weight left out is O(1).
+// missing term or a mimic weight left out is O(1). Two solves for q̇ differ by about κ(M) ε,
+// within 1e-13 for κ up to about 400 (these trees' M are well conditioned at these states).
 constexpr double round_off = 1e-13;
 
 } // namespace

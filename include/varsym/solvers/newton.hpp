@@ -18,7 +18,8 @@ enum class iteration_kind {
     automatic,   ///< the default: in the family stepper fixed_point; in the general engine
                  ///< newton, except simplified when L's
                  ///< derivatives are automatic (its Hessians cost (2d + 1)² per operation of L)
-    newton,      ///< exact Jacobian, evaluated and factorised at every iterate
+    newton,      ///< exact Jacobian, evaluated and factorised at every iterate (in the general
+                 ///< engine kept for chord updates once the updates are small: chord_start)
     simplified,  ///< Jacobian at one point, factorised once and kept across steps while the
                  ///< iterations contract fast (contraction_limit), refreshed at q_j when not
     fixed_point, ///< the free particle's Jacobian (1/h) A ⊗ M: no second derivatives at all
@@ -57,7 +58,7 @@ struct newton_options {
     double chord_start = 1e-3;
 };
 
-/// What one Newton solve did. `iterations` counts linear solves (one per Jacobian).
+/// What one Newton solve did. `iterations` counts the updates taken (one linear solve each).
 struct newton_report {
     bool converged = false;
     int iterations = 0;
