@@ -10,6 +10,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <memory>
+#include <tuple>
+#include <vector>
 
 #include "compare_steppers.hpp"
 #include "varsym/problems/heavy_top.hpp"
@@ -118,7 +121,7 @@ struct counting {
 
 TEST(GeneralIteration, SweepsEvaluateFirstDerivativesOnly) {
     // Full Newton evaluates second derivatives at every point of every iterate (and at the
-    // predictor's two points), and first derivatives only for the momentum; with chord updates
+    // predictor's two points), and takes the momentum from the last iterate's; with chord updates
     // Newton builds fewer Jacobians, and its chord updates evaluate first derivatives; the
     // simplified iteration evaluates second derivatives only where it refreshes its Jacobian
     // (two per refresh: the Taylor predictor's), which on Kepler at 100 steps per orbit is
@@ -134,11 +137,13 @@ TEST(GeneralIteration, SweepsEvaluateFirstDerivativesOnly) {
     };
     const auto [full_h, full_g] = count(full_newton());
     EXPECT_GE(full_h, (2 + 2 * 4) * n); // predictor, ≥ 2 iterations × 4 points
-    EXPECT_EQ(full_g, 4 * n);           // the momentum's
+    // The momentum from the last iterate's derivatives on most steps (where that is within
+    // round-off: momentum_change_linearised), else 4 gradients.
+    EXPECT_LE(full_g, 4 * n / 4);
     const auto [chord_h, chord_g] = count(options(iteration_kind::newton));
     // At this coarse step (100 per orbit) most steps' second update is a chord update.
     EXPECT_LE(chord_h, full_h - 4 * n / 2);
-    EXPECT_GE(chord_g, 4 * n + 4 * n / 2);
+    EXPECT_GE(chord_g, 4 * n / 2);
     const auto [simplified_h, simplified_g] = count(options(iteration_kind::simplified));
     EXPECT_LE(simplified_h, n / 5) << "the kept Jacobian is refreshed too often";
     EXPECT_GE(simplified_g, 3 * 4 * n); // ≥ 3 sweeps × 4 points per step
@@ -209,4 +214,133 @@ TEST(GeneralIteration, HistoryMakesAResumeBitForBit) {
     e.history = history;
     e.history.pop_back();
     EXPECT_THROW(restore(d, e), std::invalid_argument);
+}
+
+namespace {
+/// The three-link arm by hand, logging every evaluation: (second derivatives?, q, q̇).
+struct logging {
+    static constexpr int dim = 3;
+    linked_pendulum::lagrangian<3> l;
+    std::shared_ptr<std::vector<std::tuple<bool, vec<3>, vec<3>>>> log =
+        std::make_shared<std::vector<std::tuple<bool, vec<3>, vec<3>>>>();
+    double operator()(const vec<3>& q, const vec<3>& v) const { return l(q, v); }
+    void gradient(const vec<3>& q, const vec<3>& v, lagrangian_terms<3>& t) const {
+        log->emplace_back(false, q, v);
+        l.gradient(q, v, t);
+    }
+    void derivatives(const vec<3>& q, const vec<3>& v, lagrangian_terms<3>& t) const {
+        log->emplace_back(true, q, v);
+        l.derivatives(q, v, t);
+    }
+    /// Chord updates dropped: second derivatives asked for where first derivatives were
+    /// just evaluated (the same point among the last 4 evaluations: gauss-4's points).
+    [[nodiscard]] int dropped() const {
+        int n = 0;
+        for (std::size_t i = 1; i < log->size(); ++i) {
+            if (!std::get<0>((*log)[i])) continue;
+            for (std::size_t k = i > 4 ? i - 4 : 0; k < i; ++k)
+                if (!std::get<0>((*log)[k]) && std::get<1>((*log)[k]) == std::get<1>((*log)[i]) &&
+                    std::get<2>((*log)[k]) == std::get<2>((*log)[i])) {
+                    ++n;
+                    break;
+                }
+        }
+        return n;
+    }
+};
+
+/// The general engine's Newton solve and its two momenta (protected in the stepper).
+template <class L, class F = unforced>
+struct momentum_probe : general::stepper<L, F> {
+    using general::stepper<L, F>::stepper;
+    bool solve(const phase_state<L::dim>& x) { return this->solve_newton(x).converged; }
+    [[nodiscard]] double work() const { return this->work_; }
+    vec<L::dim> linearised(const phase_state<L::dim>& x, bool correct) {
+        if (!correct) this->delta_.setZero();
+        EXPECT_TRUE(this->momentum_change_linearised(x));
+        return this->dp_;
+    }
+    vec<L::dim> evaluated(const phase_state<L::dim>& x) {
+        EXPECT_TRUE(this->momentum_change(x));
+        return this->dp_;
+    }
+};
+} // namespace
+
+TEST(GeneralIteration, DroppedChordUpdatesGiveNewtonsStep) {
+    // A chord update that contracts less than 8 times is dropped and the iterate gets a fresh
+    // Jacobian. With chord_start = 0.5 chords begin after the first Newton update, and on the
+    // arm at h = 0.1 some contract too slowly: the steps still equal full Newton's to 1e-13
+    // (EveryVariantTakesNewtonsStep's bound). The log shows the path was taken (not vacuous).
+    newton_options opt = options(iteration_kind::newton);
+    opt.chord_start = 0.5;
+    const lagrangian_system<logging> sys(logging{arm});
+    EXPECT_LE(worst_gap(sys, 0.1, {scheme_kind::gauss, 4}, arm_x0, 100, opt), 1e-13);
+    EXPECT_GT(sys.lagrangian().dropped(), 0);
+}
+
+TEST(GeneralIteration, MomentumFromTheLastIterateIsTheStepsMomentum) {
+    // p_{j+1} − p_j from Newton's last iterate's derivatives, corrected to first order for the
+    // last update (momentum_change_linearised), against h Σ w_k L_q evaluated again at the
+    // converged increments (momentum_change), on the arm (by hand) and Kepler (AD), default
+    // Newton (a chord update last) and full Newton, over 100 steps of a run. Either is the
+    // momentum at increments known to Newton's stop, so they agree to
+    // EveryVariantTakesNewtonsStep's 1e-13 of p (measured: 1.2e-14 on the arm). Negative control:
+    // without the correction they differ by 1e-8 (the last updates are that large), so the
+    // correction is what agrees.
+    auto check = [](auto sys, double h, auto x, const newton_options& opt) {
+        using L = typename decltype(sys)::lagrangian_type;
+        momentum_probe<L> probe(sys, h, {scheme_kind::gauss, 4}, opt);
+        general::stepper<L> run(sys, h, {scheme_kind::gauss, 4}, opt);
+        double worst = 0.0, uncorrected = 0.0;
+        for (int j = 0; j < 100; ++j) {
+            const double scale = std::max(1.0, x.p.template lpNorm<Eigen::Infinity>());
+            EXPECT_TRUE(probe.solve(x));
+            const auto a = probe.linearised(x, true), b = probe.evaluated(x);
+            worst = std::max(worst, (a - b).template lpNorm<Eigen::Infinity>() / scale);
+            EXPECT_TRUE(probe.solve(x));
+            const auto c = probe.linearised(x, false);
+            uncorrected = std::max(uncorrected, (c - b).template lpNorm<Eigen::Infinity>() / scale);
+            EXPECT_TRUE(run.step(x).converged);
+        }
+        EXPECT_LE(worst, 1e-13);
+        EXPECT_GT(uncorrected, 1e-11);
+    };
+    for (const newton_options& opt : {options(iteration_kind::newton), full_newton()}) {
+        check(lagrangian_system<linked_pendulum::lagrangian<3>>(arm), 0.02, arm_x0, opt);
+        check(lagrangian_system<kepler::lagrangian>({}), orbit.period() / 100, orbit.at(0.0), opt);
+    }
+}
+
+TEST(GeneralIteration, MomentumAndWorkFromTheLastIterateWithAForce) {
+    // As above with Rayleigh damping on the arm: f = −C q̇ joins L_q, and the step's work
+    // Σ_k w_k f_k·v_k comes from f corrected to first order at the converged velocities. Both
+    // agree with their evaluation at the converged increments to 1e-13 (relative to |p| and
+    // to the work's largest term). Negative control: the uncorrected momentum differs.
+    using L = linked_pendulum::lagrangian<3>;
+    using F = rayleigh_damping<3>;
+    const F damping = F::diagonal(vec<3>{0.3, 0.2, 0.1});
+    const lagrangian_system<L> sys(arm);
+    momentum_probe<L, F> probe(sys, damping, 0.02, {scheme_kind::gauss, 4},
+                               options(iteration_kind::newton));
+    general::stepper<L, F> run(sys, damping, 0.02, {scheme_kind::gauss, 4});
+    phase_state<3> x = arm_x0;
+    double worst = 0.0, worst_work = 0.0, uncorrected = 0.0;
+    for (int j = 0; j < 100; ++j) {
+        const double scale = std::max(1.0, x.p.lpNorm<Eigen::Infinity>());
+        ASSERT_TRUE(probe.solve(x));
+        const vec<3> a = probe.linearised(x, true);
+        const double wa = probe.work();
+        const vec<3> b = probe.evaluated(x);
+        const double wb = probe.work();
+        worst = std::max(worst, (a - b).lpNorm<Eigen::Infinity>() / scale);
+        worst_work = std::max(worst_work, std::abs(wa - wb) / std::max(1e-3, std::abs(wb)));
+        ASSERT_TRUE(probe.solve(x));
+        uncorrected = std::max(uncorrected,
+                               (probe.linearised(x, false) - b).lpNorm<Eigen::Infinity>() / scale);
+        ASSERT_TRUE(run.step(x).converged);
+    }
+    EXPECT_LE(worst, 1e-13);
+    EXPECT_LE(worst_work, 1e-13);
+    EXPECT_GT(uncorrected, 1e-11);
 }

@@ -58,3 +58,17 @@ TEST(Newton, NaNStopsAtOnce) {
     EXPECT_FALSE(rep.converged);
     EXPECT_EQ(rep.iterations, 1);
 }
+
+TEST(Newton, ChordStopNeedsAMeasuredRate) {
+    // The chord's stop by its linear model, ρ/(1 − ρ)|δ| ≤ tolerance, takes ρ as measured above
+    // round-off (1024 ε of the unknown). A chord update of 3e-14 after a Newton update of 1e-13,
+    // both below that on an unknown of size 1, has no measured rate: its own ratio, 0.3 > 1/8,
+    // says the updates are not contracting fast enough to stop (and 3e-14 is above the 64 ε
+    // floor). Negative control: a chord update 1e-3 times its Newton update's stops by the model.
+    newton_monitor slow({});
+    EXPECT_FALSE(slow.converged(1e-13, 1.0));
+    EXPECT_FALSE(slow.converged(3e-14, 1.0, true));
+    newton_monitor model({});
+    EXPECT_FALSE(model.converged(1e-10, 1.0));
+    EXPECT_TRUE(model.converged(1e-13, 1.0, true)); // ρ = 1e-3: 8ρ|δ| = 8e-16 ≤ 7 · 2ε
+}

@@ -58,6 +58,13 @@ class robot_lagrangian {
         multibody::mass_matrix(*m_, work(), q, out);
     }
 
+    /// b = C(q, q̇)q̇ + g(q) = (∂²L/∂q̇∂q) q̇ − ∂L/∂q by the recursive Newton–Euler algorithm
+    /// (O(n)): M(q)q̈ + b = 0 is the motion without forces, the predictor's acceleration.
+    void bias_forces(const vec<dynamic>& q, const vec<dynamic>& v, vec<dynamic>& out) const {
+        out.resize(m_->dof());
+        multibody::bias_forces(*m_, work(), q, v, out);
+    }
+
     /// The Hessian in z = (q, q̇) (2n square) of aᵀ ∂L/∂q + bᵀ ∂L/∂q̇: L's third derivatives
     /// contracted with (a, b), which an optimal control transcription's exact Hessian needs.
     /// Exact: the rates along (a, b) of the second derivatives, by the same O(n²) algorithm

@@ -21,7 +21,10 @@
 //
 // Newton evaluates second derivatives at every point of each iterate whose Jacobian it builds;
 // once its updates are small it keeps that Jacobian for chord updates within the step
-// (newton_options::chord_start; variational_solve.hpp). The linear iterations
+// (newton_options::chord_start; variational_solve.hpp), and p_{j+1} comes from its last
+// iterate's derivatives, corrected to first order for the last update (no evaluation). For a
+// robot (lagrangian_with_bias_forces) its predictor takes M(q_j) and the bias forces in place of
+// second derivatives at q_j. The linear iterations
 // (newton_options::iteration simplified or fixed_point; variational_solve.hpp) evaluate only
 // first derivatives in their sweeps, against one Jacobian kept across steps: with automatic
 // derivatives that is the difference between O((2d)²) and O(2d) per operation of L
@@ -143,8 +146,7 @@ class stepper {
     /// With a linear iteration: whether a Jacobian is kept and the point (q̄, v̄) it was taken
     /// at (1 + 2d numbers); with a force, then that point's time and the total work with its
     /// carry (3 numbers; also for a time-dependent L, its −∫∂L/∂t); empty for an autonomous,
-    /// unforced Newton stepper. run_state::history keeps it for
-    /// a checkpoint.
+    /// unforced Newton stepper. run_state::history keeps it for a checkpoint.
     void save_history(std::vector<double>& out) const;
     /// Puts back what save_history gave (an empty history starts afresh): the next step is then
     /// the one the saved run would have taken. Throws std::invalid_argument on a wrong length.
@@ -188,7 +190,7 @@ class stepper {
             rep = solve_newton(x);
         }
         if (!rep.converged) return rep;
-        if (!momentum_change(x)) return failed(rep);
+        if (!(linearised_ ? momentum_change_linearised(x) : momentum_change(x))) return failed(rep);
         commit(x);
         return rep;
     }
@@ -201,6 +203,18 @@ class stepper {
     /// conserved to the last bit.
     bool momentum_change(const phase_state<dim>& x) {
         evaluate_points(x.q, false);
+        dp_.setZero();
+        for (int k = 0; k < r_; ++k) {
+            dp_ += tab_.quad.weights[k] * terms_[k].lq;
+            dp_ += tab_.weights_lo[static_cast<std::size_t>(k)] * terms_[k].lq;
+        }
+        dp_ *= h_;
+        add_time_work(x);
+        return dp_.allFinite();
+    }
+    bool momentum_change_linearised(const phase_state<dim>& x); // variational_solve.hpp
+    /// work_ −= Σ_k w_k ∂L/∂t(q_k, v_k, t_k) at the increments, for an L that gives ∂L/∂t.
+    void add_time_work(const phase_state<dim>& x) {
         if constexpr (time_dependent_lagrangian<L> && lagrangian_time_known<L>) {
             if (depends_on_time(sys_.lagrangian()))
                 for (int k = 0; k < r_; ++k) {
@@ -209,13 +223,6 @@ class stepper {
                              time_derivative(sys_.lagrangian(), qk_, vk_, point_time(k));
                 }
         }
-        dp_.setZero();
-        for (int k = 0; k < r_; ++k) {
-            dp_ += tab_.quad.weights[k] * terms_[k].lq;
-            dp_ += tab_.weights_lo[static_cast<std::size_t>(k)] * terms_[k].lq;
-        }
-        dp_ *= h_;
-        return dp_.allFinite();
     }
     /// q_{j+1} = q_j + X_s and p_{j+1} = p_j + dp_ (compensated); the clock and work advance.
     void commit(phase_state<dim>& x) {
@@ -245,49 +252,22 @@ class stepper {
     std::string diagnose_points(const phase_state<dim>& x, const char* where);
 
     newton_report solve_newton(const phase_state<dim>& x) {
-        predict(x);
+        if constexpr (lagrangian_with_bias_forces<L>)
+            predict_dynamics(x);
+        else
+            predict(x);
         return iterate(x, true);
     }
 
-    // The iterations and the linear ones' kept Jacobian (variational_solve.hpp).
+    // The iterations, the predictors and the linear ones' kept Jacobian (variational_solve.hpp).
     newton_report solve_linear(const phase_state<dim>& x);
     newton_report iterate(const phase_state<dim>& x, bool newton);
     void refresh(const lagrangian_terms<dim>& t);
     void predict_kept(const phase_state<dim>& x);
+    void predict_dynamics(const phase_state<dim>& x);
 
-    /// Taylor predictor X_l ≈ τ_l v + ½ τ_l² a, τ_l = d_l h, with v from ∂L/∂q̇(q, v) = p and
-    /// a from the Euler–Lagrange equations L_vv a = L_q − L_vq v at (q_j, v). v: two Newton
-    /// iterations from q̇ = 0, or from q̇ = p where ∂²L/∂q̇² is singular at 0 (L = q̇⁴/4); for L
-    /// with a mass matrix by hand (lagrangian_with_mass_matrix) the first is M(q)⁻¹p.
-    void predict(const phase_state<dim>& x) {
-        lagrangian_terms<dim>& t = terms_[0];
-        v_bar_ = x.p; // from p where ∂²L/∂q̇² is not positive definite at q̇ = 0
-        if constexpr (lagrangian_with_mass_matrix<L>) {
-            sys_.lagrangian().mass_matrix(x.q, t.lvv);
-            solve_positive_definite<dim>(ldlt_, t.lvv, x.p, v_bar_);
-        } else {
-            vk_.setZero();
-            evaluate(sys_.lagrangian(), x.q, vk_, t_, t);
-            rhs_ = x.p - t.lv;
-            solve_positive_definite<dim>(ldlt_, t.lvv, rhs_, v_bar_);
-        }
-        evaluate(sys_.lagrangian(), x.q, v_bar_, t_, t);
-        if constexpr (forced) add_force(0, x.q, v_bar_, t_, true);
-        q_bar_ = x.q; // terms_[0] (and fterms_[0]) now hold the derivatives at (q̄, v̄)
-        t_bar_ = t_;
-        rhs_ = x.p - t.lv;
-        solve_symmetric<dim>(ldlt_, t.lvv, rhs_, dq_);
-        const vec<dim>& v = dq_ += v_bar_; // one Newton step on ∂L/∂q̇(q, v) = p
-        rhs_ = t.lq;
-        rhs_.noalias() -= t.lqv.transpose() * v;
-        solve_symmetric_again<dim>(ldlt_, t.lvv, rhs_, acc_); // the same L_vv as v's correction
-        const vec<dim>& a = acc_;
-        for (int l = 0; l < s_; ++l) {
-            const double tau = tab_.control[l + 1] * h_;
-            x_.col(l) = tau * v + (0.5 * tau * tau) * a;
-        }
-        if (!x_.allFinite()) x_.setZero();
-    }
+    /// The Taylor predictor from (q_j, p_j), second derivatives left in terms_[0].
+    void predict(const phase_state<dim>& x);
 
     /// L and its first (and, if `second`, second) derivatives at every quadrature point
     /// (q_k, v_k) for the current increments.
@@ -383,7 +363,8 @@ class stepper {
     Eigen::LDLT<mat<dim>> mbar_; // ∂²L/∂q̇² there, factorised: the kept predictor's mass matrix
     Eigen::LDLT<mat<dim>> ldlt_; // the full predictor's factorisations
     bool kept_ = false;
-    double rate_ = 0.0; // the slowest contraction of the last linear iteration
+    bool linearised_ = false; // Newton converged with a linearisation below ε: reuse its terms
+    double rate_ = 0.0;       // the slowest contraction of the last linear iteration
     compensated_update<dim> sum_;
 };
 

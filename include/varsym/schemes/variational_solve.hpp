@@ -1,4 +1,5 @@
-// varsym/schemes/variational_solve.hpp: the general engine's linear iterations (variational.hpp).
+// varsym/schemes/variational_solve.hpp: the general engine's iterations, predictors and momentum
+// (variational.hpp): Newton with chord updates, and the linear iterations:
 //
 // simplified: the Jacobian of the step's equations (variational.hpp) with L's second
 // derivatives at one point (q̄, v̄) = (q_j, the predicted q̇_j) in every quadrature term;
@@ -81,10 +82,10 @@ newton_report stepper<L, F>::solve_linear(const phase_state<dim>& x) {
 /// increments. Newton takes the Jacobian from every point's second derivatives, and keeps it
 /// for the next iterate (a chord update: first derivatives and a solve with the same LU) once
 /// an update is below newton_options::chord_start of the increments, while the chord updates
-/// shrink at least 1/contraction_limit times; a chord update that does not is dropped, and the
-/// solve goes on as full Newton from the same iterate. From the Taylor predictor at small steps (a
-/// robot at 1 ms) the first Newton update already lands within round-off, so the second update,
-/// which only confirms it, costs first derivatives alone.
+/// shrink at least 1/min(contraction_limit, 1/8) times; a chord update that does not is dropped,
+/// and the solve goes on as full Newton from the same iterate. From the Taylor predictor at small
+/// steps (a robot at 1 ms) the first Newton update already lands within round-off, so the second
+/// update, which only confirms it, costs first derivatives alone.
 template <lagrangian L, class F>
 newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
     newton_options opt = opt_;
@@ -93,11 +94,15 @@ newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
     newton_monitor monitor(opt, !newton);
     newton_report rep;
     rate_ = 0.0;
+    linearised_ = false;
     bool chord = false;                  // Newton: this iterate keeps the last Jacobian
     bool chords = opt.chord_start > 0.0; // whether it still may
     double last = 0.0;                   // Newton: the last update taken
     const double noise =
         1024.0 * std::numeric_limits<double>::epsilon() * std::max(opt.typical, opt.reference);
+    // The chord's stop (newton_monitor) assumes a rate of at most 1/8, whatever the linear
+    // iterations are allowed.
+    const double chord_limit = std::min(opt.contraction_limit, 0.125);
     while (true) {
         evaluate_points(x.q, newton && !chord);
         assemble(x.p, newton && !chord);
@@ -112,7 +117,7 @@ newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
         const double step = delta_.template lpNorm<Eigen::Infinity>();
         rep.iterations = monitor.iterations() + 1;
         if (!std::isfinite(rep.residual)) return rep;
-        if (chord && !(step <= opt.contraction_limit * last || step <= noise)) {
+        if (chord && !(step <= chord_limit * last || step <= noise)) {
             // A chord update that does not contract fast enough is not taken: this iterate is
             // Newton's after all, and the rest of the solve too (full Newton's iterates).
             chord = chords = false;
@@ -122,7 +127,16 @@ newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
         for (int l = 0; l < s_; ++l)
             x_.col(l) -= block_of<dim>(delta_, l, d_);
         const double size = x_.template lpNorm<Eigen::Infinity>();
-        if (monitor.converged(step, size, chord)) break;
+        if (monitor.converged(step, size, chord)) {
+            // The momentum from this iterate (momentum_change_linearised) where what its
+            // linearisation leaves, about ρ |δ| of the increments (ρ the relative error of the
+            // second derivatives it uses: |δ|/|X| fresh, the chord's rate kept), is below ε.
+            const double magnitude = std::max(size, opt.typical);
+            const double rho = chord ? step / last : step / magnitude;
+            linearised_ =
+                newton && rho * step <= std::numeric_limits<double>::epsilon() * magnitude;
+            break;
+        }
         if (newton) {
             chord = chords && (chord || step <= opt.chord_start * std::max(size, opt.typical));
             last = step;
@@ -135,6 +149,115 @@ newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
     }
     rep.converged = true;
     return rep;
+}
+
+/// dp_ = p_{j+1} − p_j as momentum_change gives it, without evaluating L again: from the
+/// derivatives of Newton's last iterate X + δ (X the converged increments, δ = delta_ the
+/// update taken from it), L_q(k) + f_k there less their change to first order,
+///   (L_qq + f_q)(k) Δq_k + (L_qv + f_v)(k) Δv_k,  Δq_k = Σ_l φ_lk δ_l,  Δv_k = Σ_l ψ_lk δ_l / h,
+/// and the forces' work from f_k corrected the same way, at X's velocities. The second
+/// derivatives are those of the iterate whose Jacobian was built (a chord update keeps them):
+/// what is left is about ρ |δ| of the increments, ρ the relative error of those second
+/// derivatives; iterate() allows this path only where that is below ε (else momentum_change
+/// evaluates again). A coordinate L does not depend on has zero rows in L_q, L_qq and L_qv, so
+/// its momentum stays exact. Saves the momentum's r gradient evaluations (2 of a
+/// robot's 8 tree passes on a gauss-2 step).
+template <lagrangian L, class F>
+bool stepper<L, F>::momentum_change_linearised(const phase_state<dim>& x) {
+    dp_.setZero();
+    if constexpr (forced) work_ = 0.0;
+    for (int k = 0; k < r_; ++k) {
+        const auto kk = static_cast<std::size_t>(k);
+        acc_.setZero(); // Δq_k
+        rhs_.setZero(); // Δv_k
+        for (int l = 0; l < s_; ++l) {
+            acc_ += tab_.phi(l + 1, k) * block_of<dim>(delta_, l, d_);
+            rhs_ += tab_.dphi(l + 1, k) * block_of<dim>(delta_, l, d_);
+        }
+        rhs_ /= h_;
+        const lagrangian_terms<dim>& t = terms_[kk];
+        lq0_ = t.lq;
+        lq0_.noalias() -= t.lqq * acc_;
+        lq0_.noalias() -= t.lqv * rhs_;
+        if constexpr (forced) {
+            const force_terms<dim>& f = fterms_[kk];
+            lv0_ = f.f; // f_k at X
+            lv0_.noalias() -= f.fq * acc_;
+            lv0_.noalias() -= f.fv * rhs_;
+            lq0_ += lv0_ - f.f;
+            set_point(x.q, k);
+            work_ += tab_.quad.weights[kk] * lv0_.dot(vk_);
+        }
+        dp_ += tab_.quad.weights[kk] * lq0_;
+        dp_ += tab_.weights_lo[kk] * lq0_;
+    }
+    dp_ *= h_;
+    add_time_work(x);
+    return dp_.allFinite();
+}
+
+/// The Taylor predictor X_l ≈ τ_l v + ½ τ_l² a, τ_l = d_l h, with v from ∂L/∂q̇(q, v) = p and
+/// a from the Euler–Lagrange equations L_vv a = L_q − L_vq v at (q_j, v). v: two Newton
+/// iterations from q̇ = 0, or from q̇ = p where ∂²L/∂q̇² is singular at 0 (L = q̇⁴/4); for L
+/// with a mass matrix by hand (lagrangian_with_mass_matrix) the first is M(q)⁻¹p.
+template <lagrangian L, class F>
+void stepper<L, F>::predict(const phase_state<dim>& x) {
+    lagrangian_terms<dim>& t = terms_[0];
+    v_bar_ = x.p; // from p where ∂²L/∂q̇² is not positive definite at q̇ = 0
+    if constexpr (lagrangian_with_mass_matrix<L>) {
+        sys_.lagrangian().mass_matrix(x.q, t.lvv);
+        solve_positive_definite<dim>(ldlt_, t.lvv, x.p, v_bar_);
+    } else {
+        vk_.setZero();
+        evaluate(sys_.lagrangian(), x.q, vk_, t_, t);
+        rhs_ = x.p - t.lv;
+        solve_positive_definite<dim>(ldlt_, t.lvv, rhs_, v_bar_);
+    }
+    evaluate(sys_.lagrangian(), x.q, v_bar_, t_, t);
+    if constexpr (forced) add_force(0, x.q, v_bar_, t_, true);
+    q_bar_ = x.q; // terms_[0] (and fterms_[0]) now hold the derivatives at (q̄, v̄)
+    t_bar_ = t_;
+    rhs_ = x.p - t.lv;
+    solve_symmetric<dim>(ldlt_, t.lvv, rhs_, dq_);
+    const vec<dim>& v = dq_ += v_bar_; // one Newton step on ∂L/∂q̇(q, v) = p
+    rhs_ = t.lq;
+    rhs_.noalias() -= t.lqv.transpose() * v;
+    solve_symmetric_again<dim>(ldlt_, t.lvv, rhs_, acc_); // the same L_vv as v's correction
+    const vec<dim>& a = acc_;
+    for (int l = 0; l < s_; ++l) {
+        const double tau = tab_.control[l + 1] * h_;
+        x_.col(l) = tau * v + (0.5 * tau * tau) * a;
+    }
+    if (!x_.allFinite()) x_.setZero();
+}
+
+/// Newton's Taylor predictor (predict()) for an L with its mass matrix and bias forces by hand
+/// (lagrangian_with_bias_forces: a robot): q̇_j = M(q_j)⁻¹p_j, exact for p = M(q)q̇, and
+/// q̈_j = M(q_j)⁻¹(f − b(q_j, q̇_j)), the Euler–Lagrange equations M q̈ + b = f: a
+/// composite-rigid-body and a Newton–Euler pass, where predict() evaluates second derivatives
+/// (O(n²)). It leaves no derivatives for a kept Jacobian, so the linear iterations do not use it;
+/// Newton's first iterate evaluates its own.
+template <lagrangian L, class F>
+void stepper<L, F>::predict_dynamics(const phase_state<dim>& x) {
+    lagrangian_terms<dim>& t = terms_[0];
+    const auto& lag = sys_.lagrangian();
+    lag.mass_matrix(x.q, t.lvv);
+    if (!solve_positive_definite<dim>(ldlt_, t.lvv, x.p, vk_)) {
+        predict(x); // it starts from q̇ = p, and diagnose() names the cause if the step fails
+        return;
+    }
+    lag.bias_forces(x.q, vk_, rhs_);
+    rhs_ = -rhs_;
+    if constexpr (forced) {
+        evaluate_force(force_, x.q, vk_, t_, fterms_[0], false);
+        rhs_ += fterms_[0].f;
+    }
+    solve_symmetric_again<dim>(ldlt_, t.lvv, rhs_, acc_);
+    for (int l = 0; l < s_; ++l) {
+        const double tau = tab_.control[l + 1] * h_;
+        x_.col(l) = tau * vk_ + (0.5 * tau * tau) * acc_;
+    }
+    if (!x_.allFinite()) x_.setZero();
 }
 
 /// Builds and inverts the kept Jacobian from the second derivatives in t (taken at (q̄, v̄)).

@@ -54,7 +54,7 @@ struct newton_options {
     /// newton in the general engine (schemes/variational.hpp): once an update is below this
     /// fraction of the unknown, the next iterates keep that Jacobian (chord updates: first
     /// derivatives and a solve with the same factorisation) while they shrink at least
-    /// 1/contraction_limit times. 0: a fresh Jacobian at every iterate.
+    /// 1/min(contraction_limit, 1/8) times. 0: a fresh Jacobian at every iterate.
     double chord_start = 1e-3;
 };
 
@@ -81,8 +81,8 @@ class newton_monitor {
         : opt_(opt), linear_(linear) {}
     /// `chord`: the update came from a Jacobian kept from an earlier iterate (a linear
     /// iteration); its stop by model is then the linear one, ρ/(1 − ρ) |δ_k| ≤ scale with ρ the
-    /// observed rate (rate(): updates at round-off do not change it), taken only where
-    /// ρ ≤ 1/8.
+    /// observed rate (rate(): updates at round-off do not change it; before one is measured,
+    /// this update's own ratio |δ_k|/|δ_{k−1}|), taken only where ρ ≤ 1/8.
     bool converged(double step, double size, bool chord = false) {
         ++iterations_;
         const double magnitude = std::max(opt_.typical, size);
@@ -92,8 +92,10 @@ class newton_monitor {
             rate_ = step / previous_;
         const double scale = opt_.tolerance * magnitude;
         const bool tiny = step <= scale;
+        // A chord update at round-off before any rate was measured: its own ratio is all there is.
+        const double rho = rate_ > 0.0 ? rate_ : step / previous_;
         const bool predicted = !linear_ && iterations_ > 1 &&
-                               (chord ? 8.0 * rate_ <= 1.0 && 8.0 * rate_ * step <= 7.0 * scale
+                               (chord ? 8.0 * rho <= 1.0 && 8.0 * rho * step <= 7.0 * scale
                                       : step * step * step <= scale * previous_ * previous_);
         const bool floor = iterations_ > 1 && step >= 0.5 * previous_ &&
                            step <= 64.0 * std::numeric_limits<double>::epsilon() *
