@@ -75,6 +75,12 @@ class run_log {
         const auto every = static_cast<std::size_t>(s_.every);
         return every == 0 ? j == plan_.steps : (j % every == 0 || j == plan_.steps);
     }
+    /// Whether after_step(j, …) has nothing to do but look for a signal: no row, energy check,
+    /// progress line or checkpoint is due at step j. The run loop's fast path (on the cheapest
+    /// systems the full after_step costs about 12 % of a step).
+    [[nodiscard]] bool idle(std::size_t j) const {
+        return (j & 255U) != 0 && !checkpointing_ && !row_due(j);
+    }
     /// What every run does after step j: the energy watch at each written row and every 256
     /// steps (an energy costs about a step), the progress line, a checkpoint when one is due,
     /// and a stop on a pending signal. energy() and save() are called only when needed.

@@ -2,6 +2,7 @@
 // models layer (every model, the rigid bodies too): streams its rows, checkpoints and resumes it,
 // watches its energy and stops on signals (run_log), turning a failed step into exit code 3 with
 // the rows kept.
+#include <atomic>
 #include <numbers>
 
 #include "models/model_run.hpp"
@@ -66,9 +67,13 @@ void stream_simulation(const run_setup& s, const run_plan& plan, models::simulat
     }
     frame(false);
     set_signal_polling(true);
+    const std::atomic<bool>& stop = stop_flag();
+    const bool animated = s.frames != nullptr;
+    std::size_t j = sim.step(); // counted here: sim.step() is a virtual call per step
     try {
         sim.advance(plan.steps, [&] {
-            const std::size_t j = sim.step();
+            ++j;
+            if (!animated && log.idle(j) && !stop.load(std::memory_order_relaxed)) return false;
             frame(false); // before a signal or the energy watch can stop the run
             log.after_step(
                 j, sim.time(), row(j),
