@@ -265,6 +265,7 @@ class stepper {
     void refresh(const lagrangian_terms<dim>& t);
     void predict_kept(const phase_state<dim>& x);
     void predict_dynamics(const phase_state<dim>& x);
+    void taylor_increments(const vec<dim>& v, const vec<dim>& a);
 
     /// The Taylor predictor from (q_j, p_j), second derivatives left in terms_[0].
     void predict(const phase_state<dim>& x);

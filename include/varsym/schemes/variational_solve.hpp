@@ -196,6 +196,17 @@ bool stepper<L, F>::momentum_change_linearised(const phase_state<dim>& x) {
     return dp_.allFinite();
 }
 
+/// The predictors' increments X_l = τ_l v + ½ τ_l² a, τ_l = d_l h (zero if not finite: the
+/// iteration then starts from rest, and a failing step is diagnosed from there).
+template <lagrangian L, class F>
+void stepper<L, F>::taylor_increments(const vec<dim>& v, const vec<dim>& a) {
+    for (int l = 0; l < s_; ++l) {
+        const double tau = tab_.control[l + 1] * h_;
+        x_.col(l) = tau * v + (0.5 * tau * tau) * a;
+    }
+    if (!x_.allFinite()) x_.setZero();
+}
+
 /// The Taylor predictor X_l ≈ τ_l v + ½ τ_l² a, τ_l = d_l h, with v from ∂L/∂q̇(q, v) = p and
 /// a from the Euler–Lagrange equations L_vv a = L_q − L_vq v at (q_j, v). v: two Newton
 /// iterations from q̇ = 0, or from q̇ = p where ∂²L/∂q̇² is singular at 0 (L = q̇⁴/4); for L
@@ -223,12 +234,7 @@ void stepper<L, F>::predict(const phase_state<dim>& x) {
     rhs_ = t.lq;
     rhs_.noalias() -= t.lqv.transpose() * v;
     solve_symmetric_again<dim>(ldlt_, t.lvv, rhs_, acc_); // the same L_vv as v's correction
-    const vec<dim>& a = acc_;
-    for (int l = 0; l < s_; ++l) {
-        const double tau = tab_.control[l + 1] * h_;
-        x_.col(l) = tau * v + (0.5 * tau * tau) * a;
-    }
-    if (!x_.allFinite()) x_.setZero();
+    taylor_increments(v, acc_);
 }
 
 /// Newton's Taylor predictor (predict()) for an L with its mass matrix and bias forces by hand
@@ -253,11 +259,7 @@ void stepper<L, F>::predict_dynamics(const phase_state<dim>& x) {
         rhs_ += fterms_[0].f;
     }
     solve_symmetric_again<dim>(ldlt_, t.lvv, rhs_, acc_);
-    for (int l = 0; l < s_; ++l) {
-        const double tau = tab_.control[l + 1] * h_;
-        x_.col(l) = tau * vk_ + (0.5 * tau * tau) * acc_;
-    }
-    if (!x_.allFinite()) x_.setZero();
+    taylor_increments(vk_, acc_);
 }
 
 /// Builds and inverts the kept Jacobian from the second derivatives in t (taken at (q̄, v̄)).
@@ -335,11 +337,7 @@ void stepper<L, F>::predict_kept(const phase_state<dim>& x) {
         acc_ -= (t.lv - lv0_) / eta;
     }
     acc_ = mbar_.solve(acc_);
-    for (int l = 0; l < s_; ++l) {
-        const double tau = tab_.control[l + 1] * h_;
-        x_.col(l) = tau * vk_ + (0.5 * tau * tau) * acc_;
-    }
-    if (!x_.allFinite()) x_.setZero();
+    taylor_increments(vk_, acc_);
 }
 
 } // namespace varsym::general
