@@ -63,8 +63,9 @@ TEST(Newton, ChordStopNeedsAMeasuredRate) {
     // The chord's stop by its linear model, ρ/(1 − ρ)|δ| ≤ tolerance, takes ρ as measured above
     // round-off (1024 ε of the unknown). A chord update of 3e-14 after a Newton update of 1e-13,
     // both below that on an unknown of size 1, has no measured rate: its own ratio, 0.3 > 1/8,
-    // says the updates are not contracting fast enough to stop (and 3e-14 is above the 64 ε
-    // floor). Negative control: a chord update 1e-3 times its Newton update's stops by the model.
+    // says the updates are not contracting fast enough to stop (nor is it the round-off floor:
+    // 3e-14 is above 64 ε, and below half the update before). Negative control: a chord update 1e-3
+    // times its Newton update's stops by the model.
     newton_monitor slow({});
     EXPECT_FALSE(slow.converged(1e-13, 1.0));
     EXPECT_FALSE(slow.converged(3e-14, 1.0, true));

@@ -160,8 +160,8 @@ newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
 /// what is left is about ρ |δ| of the increments, ρ the relative error of those second
 /// derivatives; iterate() allows this path only where that is below ε (else momentum_change
 /// evaluates again). A coordinate L does not depend on has zero rows in L_q, L_qq and L_qv, so
-/// its momentum stays exact. Saves the momentum's r gradient evaluations (2 of a
-/// robot's 8 tree passes on a gauss-2 step).
+/// its momentum stays exact. Saves the momentum's r gradient evaluations (2 tree
+/// passes of a robot's gauss-2 step).
 template <lagrangian L, class F>
 bool stepper<L, F>::momentum_change_linearised(const phase_state<dim>& x) {
     dp_.setZero();
