@@ -51,6 +51,7 @@ dmoc_transcription::dmoc_transcription(std::shared_ptr<const controlled_system> 
              ((p_.velocity_lower.array() > -unbounded).any() ||
               (p_.velocity_upper.array() < unbounded).any());
     setup_path_bounds();
+    setup_structure();
     lagrangian_terms<dynamic> t;
     sys_->gradient(p_.q_start, p_.v_start, 0.0, t);
     p_start_ = t.lv;

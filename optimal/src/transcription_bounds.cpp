@@ -104,9 +104,7 @@ void dmoc_transcription::add_path_jacobian(cvector x, sparsity* pattern,
         e.setZero(constraints());
         add_path_residual(x, e);
     }
-    const int w = (s_ + 1) * d_;
-    const std::size_t blocks =
-        static_cast<std::size_t>(n_) * static_cast<std::size_t>(w * (w + r_ * m_));
+    const std::size_t blocks = step_jacobian_size();
     int row = path_row();
     for (const path_bound& b : path_bounds_)
         for (int k = 0; k < n_; ++k)

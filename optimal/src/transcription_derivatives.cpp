@@ -47,9 +47,8 @@ sparsity dmoc_transcription::jacobian_pattern() const {
         for (int row = 0; row < w; ++row)
             for (int col = 0; col < w; ++col)
                 s.add(row_of(k, row / d_) + row % d_, k * s_ * d_ + col);
-        for (int row = 0; row < w; ++row)
-            for (int col = 0; col < r_ * m_; ++col)
-                s.add(row_of(k, row / d_) + row % d_, control_index(k * r_) + col);
+        for (const auto& [row, col] : control_jacobian_)
+            s.add(row_of(k, row / d_) + row % d_, control_index(k * r_) + col);
     }
     if (p_.free_time) // ∂E/∂T: every equation depends on h = T/N
         for (int row = 0; row < constraints(); ++row)
@@ -67,8 +66,7 @@ sparsity dmoc_transcription::jacobian_pattern() const {
 void dmoc_transcription::jacobian(cvector x, std::vector<double>& values) const {
     const double h = h_of(x);
     const int w = (s_ + 1) * d_;
-    const std::size_t blocks =
-        static_cast<std::size_t>(n_) * static_cast<std::size_t>(w * (w + r_ * m_));
+    const std::size_t blocks = step_jacobian_size();
     const std::size_t end = blocks + (p_.free_time ? static_cast<std::size_t>(constraints()) : 0);
     values.assign(end + (free_end_ ? static_cast<std::size_t>(2 * d_ * d_) : 0), 0.0);
     lagrangian_terms<dynamic> lt;
@@ -121,9 +119,8 @@ void dmoc_transcription::jacobian(cvector x, std::vector<double>& values) const 
         for (int row = 0; row < w; ++row)
             for (int col = 0; col < w; ++col)
                 values[at++] = bq(row, col);
-        for (int row = 0; row < w; ++row)
-            for (int col = 0; col < r_ * m_; ++col)
-                values[at++] = bu(row, col);
+        for (const auto& [row, col] : control_jacobian_)
+            values[at++] = bu(row, col);
     }
     add_constraint_jacobian(x, nullptr, &values);
     add_target_jacobian(x, nullptr, &values);
@@ -131,15 +128,14 @@ void dmoc_transcription::jacobian(cvector x, std::vector<double>& values) const 
     add_node_jacobian(x, nullptr, &values);
 }
 
-/// Lower triangle of each step's dense block over its control values and its controls; with a
-/// free final state, of the block over (Q_{Ns}, v_N).
+/// Each step's block over its control values and its controls, its lower triangle's
+/// structural non-zeros (step_hessian_, transcription_structure.cpp); with a free final state,
+/// the lower triangle of the block over (Q_{Ns}, v_N).
 sparsity dmoc_transcription::hessian_pattern() const {
     sparsity s;
-    const int w = (s_ + 1) * d_ + r_ * m_;
     for (int k = 0; k < n_; ++k)
-        for (int row = 0; row < w; ++row)
-            for (int col = 0; col <= row; ++col)
-                s.add(step_index(k, row), step_index(k, col));
+        for (const auto& [row, col] : step_hessian_)
+            s.add(step_index(k, row), step_index(k, col));
     for (int row = 0; free_end_ && row < 2 * d_; ++row)
         for (int col = 0; col <= row; ++col)
             s.add(end_index(row), end_index(col));
@@ -155,7 +151,7 @@ void dmoc_transcription::hessian(cvector x, double sigma, cvector lambda,
                                  std::vector<double>& values) const {
     const double h = h_of(x);
     const int w = (s_ + 1) * d_ + r_ * m_, wq = (s_ + 1) * d_;
-    values.assign(static_cast<std::size_t>(n_) * static_cast<std::size_t>(w * (w + 1) / 2), 0.0);
+    values.assign(static_cast<std::size_t>(n_) * step_hessian_.size(), 0.0);
     matrix hk(w, w), hz, hc, third;
     vector q, v, a, b, u(m_);
     std::size_t at = 0;
@@ -194,9 +190,8 @@ void dmoc_transcription::hessian(cvector x, double sigma, cvector lambda,
             }
             hk.block(wu, wu, m_, m_) += hz.bottomRightCorner(m_, m_);
         }
-        for (int row = 0; row < w; ++row)
-            for (int col = 0; col <= row; ++col)
-                values[at++] = hk(row, col);
+        for (const auto& [row, col] : step_hessian_)
+            values[at++] = hk(row, col);
     }
     if (free_end_) {
         // −λ_Nᵀ ∂L/∂q̇(Q_{Ns}, v_N) and σ times the terminal cost, over (Q_{Ns}, v_N).

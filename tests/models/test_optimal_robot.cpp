@@ -165,11 +165,67 @@ TEST(OptimalRobot, InputSystemAndSystemOfGiveOneTranscription) {
         Eigen::VectorXd::LinSpaced(exact->variables(), 0.3, 2.9).array().sin();
     const Eigen::VectorXd lambda = Eigen::VectorXd::LinSpaced(exact->constraints(), -3.0, 2.0);
     const auto gap = optimal_test::hessian_gap(*exact, *diff, x, 0.5, lambda);
-    ASSERT_TRUE(gap.same_pattern);
+    ASSERT_TRUE(gap.same_size);
     EXPECT_LT(gap.worst, 1e-13 * gap.largest);
     EXPECT_GT(gap.largest, 1.0);
     const auto ra = optimal::solve(*exact), rb = optimal::solve(*diff);
     ASSERT_TRUE(ra.converged() && rb.converged());
     EXPECT_NEAR(ra.cost, rb.cost, 1e-9 * ra.cost);
     EXPECT_EQ(ra.iterations, rb.iterations);
+}
+
+TEST(OptimalRobot, StructuralZerosLeaveTheKktPatterns) {
+    // The iiwa's torques enter as f = B u with B constant (the actuated joints' selection,
+    // controlled_system::constant_input_matrix): its transcription leaves B's zeros, the
+    // controls' (u, Q) Hessian blocks and the off-diagonal of their (u, u) blocks out of its
+    // patterns. The same system undeclared (dense_inputs) keeps them: both give the same
+    // matrices, and the patterns differ by exactly the counted zeros.
+    const auto robot =
+        models::robot_model(models::load_urdf(urdf_path("iiwa14_no_collision.urdf")));
+    const auto sys = robot.control(robot.defaults(), {});
+    ASSERT_NE(sys->constant_input_matrix(), nullptr);
+    const auto dense = std::make_shared<const optimal_test::dense_inputs>(sys);
+    const int d = 7, steps = 3;
+    for (const scheme_spec scheme : {scheme_spec(scheme_kind::simpson), {scheme_kind::gauss, 2}}) {
+        for (const double power : {0.0, 1.0}) {
+            auto p = iiwa_problem(steps, scheme);
+            p.cost.power = power;
+            const auto sparse_tr = optimal::transcribe(sys, p),
+                       dense_tr = optimal::transcribe(dense, p);
+            const int n = sparse_tr->variables(), m = sparse_tr->constraints();
+            const Eigen::VectorXd x = 0.5 * Eigen::VectorXd::LinSpaced(n, 0.3, 2.9).array().sin();
+            const Eigen::VectorXd lambda = Eigen::VectorXd::LinSpaced(m, -1.0, 2.0);
+            std::vector<double> a, b;
+            sparse_tr->jacobian(x, a);
+            dense_tr->jacobian(x, b);
+            const auto js = sparse_tr->jacobian_pattern(), jd = dense_tr->jacobian_pattern();
+            // One computation: the entries left out are exact zeros of the other.
+            EXPECT_EQ((js.dense(a, m, n) - jd.dense(b, m, n)).cwiseAbs().maxCoeff(), 0.0);
+            const auto gap = optimal_test::hessian_gap(*sparse_tr, *dense_tr, x, 0.7, lambda);
+            ASSERT_TRUE(gap.same_size);
+            EXPECT_EQ(gap.worst, 0.0);
+            EXPECT_GT(gap.largest, 1.0);
+            // And against central differences, independently of either pattern.
+            const auto e = optimal_test::check_derivatives(*sparse_tr, x, 0.7, lambda);
+            EXPECT_LT(e.jacobian, 1e-6 * e.largest_jacobian);
+            EXPECT_LT(e.hessian, 1e-6 * e.largest_hessian);
+            // Counted, per step: both leave out the nodes that a point's controls do not reach
+            // (Simpson's ℓ_i(c_j) = δ_ij: 3 of 9 node-point pairs kept, gauss-2 all 6) and the
+            // (u_j, u_j') blocks of two points; the declared B keeps d of each pair's d × d
+            // entries, and with the effort alone R's diagonal of each point's (u_j, u_j) block
+            // and no (u_j, Q) entry: r (d wq + d (d + 1) / 2 − d) fewer, wq = (s + 1) d. The
+            // power cost couples u with q̇: none fewer.
+            const bool simpson = scheme.kind == scheme_kind::simpson;
+            const int pairs = simpson ? 3 : 6, r = simpson ? 3 : 2, wq = 3 * d;
+            EXPECT_EQ(jd.size() - js.size(), steps * pairs * (d * d - d));
+            EXPECT_EQ(dense_tr->hessian_pattern().size() - sparse_tr->hessian_pattern().size(),
+                      power == 0.0 ? steps * r * (d * wq + d * (d + 1) / 2 - d) : 0);
+        }
+    }
+    // The same optimum from both patterns (MUMPS orders and pivots them differently).
+    const auto p = iiwa_problem(20, scheme_kind::simpson);
+    const auto rs = optimal::solve(*optimal::transcribe(sys, p)),
+               rd = optimal::solve(*optimal::transcribe(dense, p));
+    ASSERT_TRUE(rs.converged() && rd.converged()) << rs.message << " / " << rd.message;
+    EXPECT_NEAR(rs.cost, rd.cost, 1e-9 * rd.cost);
 }

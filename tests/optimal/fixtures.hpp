@@ -6,11 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "varsym/optimal/nlp.hpp"
+#include "varsym/optimal/system.hpp"
 #include "varsym/systems/lagrangian.hpp"
 
 namespace varsym::optimal_test {
@@ -71,26 +74,69 @@ struct derivative_errors {
     double largest_hessian = 0.0, largest_jacobian = 0.0, largest_gradient = 0.0; ///< scales
 };
 
-/// Two transcriptions of one problem compared: the largest |a_i − b_i| and |a_i| over the values
-/// of their Hessians of σJ + λᵀg at x, and whether the two have one pattern (as many values).
+/// Two transcriptions of one problem compared: the largest |a_ij − b_ij| and |a_ij| over their
+/// Hessians of σJ + λᵀg at x as matrices (their patterns may differ: one may leave out entries
+/// that the other stores as zeros), and whether they have as many unknowns.
 struct value_gap {
     double worst = 0.0, largest = 0.0;
-    bool same_pattern = false;
+    bool same_size = false;
 };
 inline value_gap hessian_gap(const optimal::nlp& first, const optimal::nlp& second,
                              const Eigen::VectorXd& x, double sigma,
                              const Eigen::VectorXd& lambda) {
+    value_gap g;
+    const int n = first.variables();
+    g.same_size = n == second.variables() && first.constraints() == second.constraints();
+    if (!g.same_size) return g;
     std::vector<double> a, b;
     first.hessian(x, sigma, lambda, a);
     second.hessian(x, sigma, lambda, b);
-    value_gap g;
-    g.same_pattern = a.size() == b.size();
-    for (std::size_t i = 0; g.same_pattern && i < a.size(); ++i) {
-        g.worst = std::max(g.worst, std::abs(a[i] - b[i]));
-        g.largest = std::max(g.largest, std::abs(a[i]));
-    }
+    const Eigen::MatrixXd ha = first.hessian_pattern().dense(a, n, n),
+                          hb = second.hessian_pattern().dense(b, n, n);
+    g.worst = (ha - hb).cwiseAbs().maxCoeff();
+    g.largest = ha.cwiseAbs().maxCoeff();
     return g;
 }
+
+/// A controlled system that forwards to another but does not declare its input matrix constant
+/// (controlled_system::constant_input_matrix): its transcription keeps every control block of
+/// the Jacobian and the Hessian dense, the reference for the structural zeros that the other's
+/// leaves out.
+class dense_inputs final : public optimal::controlled_system {
+  public:
+    using system = optimal::controlled_system;
+    using matrix = optimal::matrix;
+    using vector = optimal::vector;
+    explicit dense_inputs(std::shared_ptr<const system> s) : s_(std::move(s)) {}
+    [[nodiscard]] int dimension() const override { return s_->dimension(); }
+    [[nodiscard]] int inputs() const override { return s_->inputs(); }
+    [[nodiscard]] int constraint_count() const override { return s_->constraint_count(); }
+    [[nodiscard]] bool time_dependent() const override { return s_->time_dependent(); }
+    void gradient(const vector& q, const vector& v, double t,
+                  lagrangian_terms<dynamic>& out) const override {
+        s_->gradient(q, v, t, out);
+    }
+    void derivatives(const vector& q, const vector& v, double t,
+                     lagrangian_terms<dynamic>& out) const override {
+        s_->derivatives(q, v, t, out);
+    }
+    void third(const vector& q, const vector& v, double t, const vector& a, const vector& b,
+               matrix& out) const override {
+        s_->third(q, v, t, a, b, out);
+    }
+    [[nodiscard]] bool exact_third() const override { return s_->exact_third(); }
+    void force(const vector& q, const vector& v, double t, const vector& u,
+               optimal::input_terms& out, bool jacobians) const override {
+        s_->force(q, v, t, u, out, jacobians);
+    }
+    void force_hessian(const vector& q, const vector& v, double t, const vector& u, const vector& a,
+                       matrix& out) const override {
+        s_->force_hessian(q, v, t, u, a, out);
+    }
+
+  private:
+    std::shared_ptr<const system> s_;
+};
 
 inline derivative_errors check_derivatives(const optimal::nlp& t, const Eigen::VectorXd& x,
                                            double sigma, const Eigen::VectorXd& lambda) {

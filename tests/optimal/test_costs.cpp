@@ -100,6 +100,8 @@ TEST(OptimalCosts, ExactHessianOfALagrangianWrittenWithDoubleConstants) {
         *tr, Eigen::VectorXd::LinSpaced(tr->variables(), 0.1, 2.3).array().sin(), 0.0,
         Eigen::VectorXd::LinSpaced(tr->constraints(), -1.5, 1.0));
     EXPECT_LT(e.gradient, 1e-8); // measured 1.1e-10: the differences' round-off, ε|J|/step
+    // Lobatto's ℓ_i(c_j) = δ_ij: the controls' blocks hold one node per point.
+    EXPECT_LT(e.jacobian, 1e-7 * e.largest_jacobian);
     EXPECT_LT(e.hessian, 1e-6 * e.largest_hessian);
     EXPECT_GT(e.largest_hessian, 1.0);
 }

@@ -75,6 +75,8 @@ class input_system final : public lagrangian_part<L> {
         if (jacobians) out.fv = -c_;
     }
 
+    [[nodiscard]] const matrix* constant_input_matrix() const override { return &b_.b(); }
+
     void constraint(const vector& q, vector& g, matrix& jac) const override {
         if constexpr (constrained) {
             g = g_(q);

@@ -95,6 +95,11 @@ class controlled_system {
         const int n = 2 * dimension() + inputs();
         out.setZero(n, n);
     }
+    /// B where f = f₀(q, q̇, t) + B u with B constant (d × m), for the sparsity of the optimal
+    /// control problem: B's zeros are left out of the equations' Jacobian, and the force's
+    /// Hessian has no (q, u), (q̇, u) or (u, u) entries. Null (the default): f may be any
+    /// function of u, every entry of ∂f/∂u and of those Hessian blocks may be non-zero.
+    [[nodiscard]] virtual const matrix* constant_input_matrix() const { return nullptr; }
 
     /// g(q) (k) and G = ∂g/∂q (k × d). Only called when constraint_count() > 0.
     virtual void constraint(const vector& q, vector& g, matrix& jac) const {

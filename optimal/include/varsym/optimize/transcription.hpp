@@ -11,6 +11,8 @@
 #include <array>
 #include <functional>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include "varsym/optimal/problem.hpp"
 #include "varsym/optimal/system.hpp"
@@ -94,6 +96,17 @@ class dmoc_transcription final : public transcription {
     };
     std::array<path_bound, 2> path_bounds_;
     int s_ = 1, r_ = 1, n_ = 1, points_ = 2;
+    /// Each step's structural non-zeros (transcription_structure.cpp), the same for every step
+    /// and every x: its Jacobian block over its controls (rows: its control values' equations,
+    /// (s + 1) d; columns: its r m controls) and the lower triangle of its Hessian block
+    /// (step_index's local numbering), in the order of the patterns and their values.
+    std::vector<std::pair<int, int>> control_jacobian_, step_hessian_;
+    void setup_structure();
+    /// The Jacobian's values of the steps' blocks, before the free time's column.
+    [[nodiscard]] std::size_t step_jacobian_size() const {
+        const auto w = static_cast<std::size_t>((s_ + 1) * d_);
+        return static_cast<std::size_t>(n_) * (w * w + control_jacobian_.size());
+    }
     bool free_end_ = false;
     double h_ = 1.0;
     vector p_start_, p_end_;
