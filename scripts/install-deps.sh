@@ -16,6 +16,7 @@ packages=(
   gnuplot-nox               # figures (pngcairo and svg terminals)
   libopenmpi-dev openmpi-bin # mpirun varsym ensemble (optional: the tool builds without)
   coinor-libipopt-dev pkg-config # IPOPT, the NLP solver of varsym optimize (found by pkg-config)
+  libopenblas0-serial       # OpenBLAS for IPOPT's MUMPS: the system's BLAS and LAPACK (below)
   python3-dev pybind11-dev  # the Python package (make python)
   python3-numpy python3-pytest python3-sympy python3-matplotlib # its tests and examples
   python3-tqdm                                                  # its progress bars
@@ -34,6 +35,13 @@ done
 [ ${#missing[@]} -eq 0 ] && exit 0
 
 echo "varsym: installing missing Debian packages: ${missing[*]}" >&2
+for p in "${missing[@]}"; do
+  if [ "$p" = libopenblas0-serial ]; then
+    echo "varsym: libopenblas0-serial becomes the system's libblas.so.3 and liblapack.so.3 for" \
+      "every program (Debian's alternatives; IPOPT's factorisations take 20-25 % less time);" \
+      "to go back: update-alternatives --config libblas.so.3-x86_64-linux-gnu (and liblapack.so.3-...)" >&2
+  fi
+done
 sudo=()
 if [ "$(id -u)" -ne 0 ]; then
   if command -v sudo >/dev/null 2>&1; then sudo=(sudo); else
