@@ -82,7 +82,7 @@ newton_report stepper<L, F>::solve_linear(const phase_state<dim>& x) {
 /// increments. Newton takes the Jacobian from every point's second derivatives, and keeps it
 /// for the next iterate (a chord update: first derivatives and a solve with the same LU) once
 /// an update is below newton_options::chord_start of the increments, while the chord updates
-/// shrink at least 1/min(contraction_limit, 1/8) times; a chord update that does not is dropped,
+/// shrink at least 1/min(contraction_limit, chord_rate_limit) times; one that does not is dropped,
 /// and the solve goes on as full Newton from the same iterate. From the Taylor predictor at small
 /// steps (a robot at 1 ms) the first Newton update already lands within round-off, so the second
 /// update, which only confirms it, costs first derivatives alone.
@@ -100,9 +100,9 @@ newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
     double last = 0.0;                   // Newton: the last update taken
     const double noise =
         1024.0 * std::numeric_limits<double>::epsilon() * std::max(opt.typical, opt.reference);
-    // The chord's stop (newton_monitor) assumes a rate of at most 1/8, whatever the linear
-    // iterations are allowed.
-    const double chord_limit = std::min(opt.contraction_limit, 0.125);
+    // The chord's stop (newton_monitor) assumes a rate of at most chord_rate_limit, whatever the
+    // linear iterations are allowed.
+    const double chord_limit = std::min(opt.contraction_limit, chord_rate_limit);
     while (true) {
         evaluate_points(x.q, newton && !chord);
         assemble(x.p, newton && !chord);

@@ -54,7 +54,7 @@ struct newton_options {
     /// newton in the general engine (schemes/variational.hpp): once an update is below this
     /// fraction of the unknown, the next iterates keep that Jacobian (chord updates: first
     /// derivatives and a solve with the same factorisation) while they shrink at least
-    /// 1/min(contraction_limit, 1/8) times. 0: a fresh Jacobian at every iterate.
+    /// 1/min(contraction_limit, chord_rate_limit) times. 0: a fresh Jacobian at every iterate.
     double chord_start = 1e-3;
 };
 
@@ -65,6 +65,11 @@ struct newton_report {
     double residual = 0.0; ///< max-norm residual at the last iterate that was evaluated
 };
 
+/// The largest observed rate ρ at which a chord update's linear model, ρ/(1 − ρ) |δ_k|, may stop a
+/// Newton solve (newton_monitor), and so the least contraction a chord update must show to be
+/// taken (the general engine's iterate, schemes/variational_solve.hpp).
+inline constexpr double chord_rate_limit = 0.125;
+
 /// Newton's stopping rule, shared by every Newton loop in varsym. After each update of
 /// max-norm |δ_k| to an unknown of max-norm |x|, with scale = tol · max(|x|, typical), it
 /// reports convergence when
@@ -72,7 +77,7 @@ struct newton_report {
 ///  - the quadratic model predicts the next update below scale (|δ_k|³/|δ_{k−1}|² ≤ scale; not
 ///    for a linearly converging iteration, `linear`, whose stop must not depend on a model;
 ///    for a chord update, Newton's Jacobian kept from an earlier iterate of the same solve, the
-///    linear model ρ/(1 − ρ) |δ_k| ≤ scale with the observed rate ρ ≤ 1/8),
+///    linear model ρ/(1 − ρ) |δ_k| ≤ scale with the observed rate ρ ≤ chord_rate_limit),
 ///  - or the updates stop decreasing once already tiny: the round-off floor, |δ_k| ≥ |δ_{k−1}|/2
 ///    with |δ_k| ≤ 64 ε max(|x|, typical, reference), whatever the tolerance asked for.
 class newton_monitor {
@@ -82,7 +87,7 @@ class newton_monitor {
     /// `chord`: the update came from a Jacobian kept from an earlier iterate (a linear
     /// iteration); its stop by model is then the linear one, ρ/(1 − ρ) |δ_k| ≤ scale with ρ the
     /// observed rate (rate(): updates at round-off do not change it; before one is measured,
-    /// this update's own ratio |δ_k|/|δ_{k−1}|), taken only where ρ ≤ 1/8.
+    /// this update's own ratio |δ_k|/|δ_{k−1}|), taken only where ρ ≤ chord_rate_limit.
     bool converged(double step, double size, bool chord = false) {
         ++iterations_;
         const double magnitude = std::max(opt_.typical, size);
@@ -94,9 +99,10 @@ class newton_monitor {
         const bool tiny = step <= scale;
         // A chord update at round-off before any rate was measured: its own ratio is all there is.
         const double rho = rate_ > 0.0 ? rate_ : step / previous_;
-        const bool predicted = !linear_ && iterations_ > 1 &&
-                               (chord ? 8.0 * rho <= 1.0 && 8.0 * rho * step <= 7.0 * scale
-                                      : step * step * step <= scale * previous_ * previous_);
+        const bool predicted =
+            !linear_ && iterations_ > 1 &&
+            (chord ? rho <= chord_rate_limit && rho * step <= (1.0 - chord_rate_limit) * scale
+                   : step * step * step <= scale * previous_ * previous_);
         const bool floor = iterations_ > 1 && step >= 0.5 * previous_ &&
                            step <= 64.0 * std::numeric_limits<double>::epsilon() *
                                        std::max(magnitude, opt_.reference);
