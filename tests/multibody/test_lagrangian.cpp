@@ -13,6 +13,7 @@
 #include "multibody/random_tree.hpp"
 #include "varsym/multibody/lagrangian.hpp"
 #include "varsym/schemes/variational.hpp"
+#include "varsym/systems/forcing.hpp"
 
 namespace {
 
@@ -45,10 +46,20 @@ struct wrong_mass_matrix : multibody::robot_lagrangian {
     }
 };
 
+/// The robot with a mass matrix that is not positive definite (−M): the predictor from the
+/// dynamics must fall back to predict().
+struct indefinite_mass_matrix : multibody::robot_lagrangian {
+    using robot_lagrangian::robot_lagrangian;
+    void mass_matrix(const vec<dynamic>& q, mat<dynamic>& out) const {
+        robot_lagrangian::mass_matrix(q, out);
+        out = -out;
+    }
+};
+
 /// The Taylor predictors' increments (protected in the stepper).
-template <class L>
-struct predictor_probe : general::stepper<L> {
-    using general::stepper<L>::stepper;
+template <class L, class F = unforced>
+struct predictor_probe : general::stepper<L, F> {
+    using general::stepper<L, F>::stepper;
     Eigen::MatrixXd from_derivatives(const phase_state<dynamic>& x) {
         this->predict(x);
         return this->x_;
@@ -143,6 +154,38 @@ TEST(RobotLagrangian, PredictorFromTheDynamicsIsTheTaylorPredictor) {
         const double size = want.lpNorm<Eigen::Infinity>();
         EXPECT_LE((got - want).lpNorm<Eigen::Infinity>(), round_off * size);
         EXPECT_GT((wrong.from_dynamics(x) - want).lpNorm<Eigen::Infinity>(), 1e-3 * size);
+    }
+}
+
+TEST(RobotLagrangian, PredictorFromTheDynamicsWithAForceAndItsFallback) {
+    // With a force f (Rayleigh damping, f = −C q̇), q̈ = M⁻¹(f − b) against predict()'s, whose
+    // L_vv q̈ = L_q + f − L_vq q̇ holds the same f: equal to round-off; without the force the
+    // increments move by more than 1 % (negative control). Where M is not positive definite
+    // the predictor is predict() itself, bit for bit.
+    const auto l = robot(test::mimic_tree(true));
+    const int n = l.dimension();
+    const scheme_spec spec(scheme_kind::gauss, 2);
+    using damping = rayleigh_damping<dynamic>;
+    const damping c = damping::diagonal(Eigen::VectorXd::LinSpaced(n, 2.0, 6.0));
+    predictor_probe<multibody::robot_lagrangian, damping> fast(
+        lagrangian_system<multibody::robot_lagrangian>(l), c, 0.1, spec);
+    predictor_probe<without_mass_matrix, damping> plain(
+        lagrangian_system<without_mass_matrix>(without_mass_matrix{l}), c, 0.1, spec);
+    predictor_probe<multibody::robot_lagrangian> free(
+        lagrangian_system<multibody::robot_lagrangian>(l), 0.1, spec);
+    predictor_probe<indefinite_mass_matrix, damping> indefinite(
+        lagrangian_system<indefinite_mass_matrix>(indefinite_mass_matrix(l.shared())), c, 0.1,
+        spec);
+    std::mt19937 g(13);
+    for (int k = 0; k < 5; ++k) {
+        const phase_state<dynamic> x{random_vector(g, n, 2.0), random_vector(g, n, 3.0)};
+        const Eigen::MatrixXd want = plain.from_derivatives(x), got = fast.from_dynamics(x);
+        const double size = want.lpNorm<Eigen::Infinity>();
+        EXPECT_LE((got - want).lpNorm<Eigen::Infinity>(), round_off * size);
+        EXPECT_GT((free.from_dynamics(x) - want).lpNorm<Eigen::Infinity>(), 1e-2 * size);
+        const Eigen::MatrixXd fallback = indefinite.from_dynamics(x);
+        EXPECT_TRUE(fallback.allFinite());
+        EXPECT_EQ((fallback - indefinite.from_derivatives(x)).cwiseAbs().maxCoeff(), 0.0);
     }
 }
 
