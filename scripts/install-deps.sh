@@ -37,9 +37,11 @@ done
 echo "varsym: installing missing Debian packages: ${missing[*]}" >&2
 for p in "${missing[@]}"; do
   if [ "$p" = libopenblas0-serial ]; then
+    triplet=$(gcc -print-multiarch 2>/dev/null || echo x86_64-linux-gnu)
     echo "varsym: libopenblas0-serial becomes the system's libblas.so.3 and liblapack.so.3 for" \
-      "every program (Debian's alternatives; IPOPT's factorisations take 20-25 % less time);" \
-      "to go back: update-alternatives --config libblas.so.3-x86_64-linux-gnu (and liblapack.so.3-...)" >&2
+      "every program (Debian's alternatives; IPOPT's optimal control of robots of 10 links and" \
+      "more iterates 1.3-1.6 times faster); to go back:" \
+      "update-alternatives --config libblas.so.3-$triplet (and liblapack.so.3-$triplet)" >&2
   fi
 done
 sudo=()

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -98,10 +99,10 @@ inline value_gap hessian_gap(const optimal::nlp& first, const optimal::nlp& seco
     return g;
 }
 
-/// A controlled system that forwards to another but does not declare its input matrix constant
-/// (controlled_system::constant_input_matrix): its transcription keeps every control block of
-/// the Jacobian and the Hessian dense, the reference for the structural zeros that the other's
-/// leaves out.
+/// A controlled system that forwards everything to another but does not declare its input
+/// matrix constant (controlled_system::constant_input_matrix): its transcription keeps every
+/// control block of the Jacobian and the Hessian dense, the reference for the structural zeros that
+/// the other's leaves out.
 class dense_inputs final : public optimal::controlled_system {
   public:
     using system = optimal::controlled_system;
@@ -132,6 +133,22 @@ class dense_inputs final : public optimal::controlled_system {
     void force_hessian(const vector& q, const vector& v, double t, const vector& u, const vector& a,
                        matrix& out) const override {
         s_->force_hessian(q, v, t, u, a, out);
+    }
+    void constraint(const vector& q, vector& g, matrix& jac) const override {
+        s_->constraint(q, g, jac);
+    }
+    void constraint_curvature(const vector& q, const vector& lambda, matrix& out) const override {
+        s_->constraint_curvature(q, lambda, out);
+    }
+    void constraint_hessian(const vector& q, const vector& impulse, const vector& a,
+                            const vector& nu, matrix& out) const override {
+        s_->constraint_hessian(q, impulse, a, nu, out);
+    }
+    void tangent(const vector& q, vector& p, vector& v, double t) const override {
+        s_->tangent(q, p, v, t);
+    }
+    [[nodiscard]] std::optional<matrix> own_replay(const optimal::trajectory& path) const override {
+        return s_->own_replay(path);
     }
 
   private:
