@@ -248,13 +248,10 @@ void mass_matrix(const tree& m, workspace& w, const Eigen::MatrixBase<Q>& q,
     }
 }
 
-/// The generalized forces of q̈ = 0 by the recursive Newton–Euler algorithm (Featherstone
-/// §5.3, in world coordinates, gravity as the base's acceleration −a_g): the bias
-/// C(q, q̇)q̇ + g(q) with M(q)q̈ + C(q, q̇)q̇ + g(q) = τ. With q̇ = 0 it is g(q) = ∂V/∂q.
-template <class Q, class V, class Out>
-void bias_forces(const tree& m, workspace& w, const Eigen::MatrixBase<Q>& q,
-                 const Eigen::MatrixBase<V>& qd, Eigen::MatrixBase<Out>& out) {
-    kinematics(m, w, q);
+/// bias_forces at the q of the workspace's last kinematics (which mass_matrix also leaves).
+template <class V, class Out>
+void bias_forces_after_kinematics(const tree& m, workspace& w, const Eigen::MatrixBase<V>& qd,
+                                  Eigen::MatrixBase<Out>& out) {
     velocities(m, w, qd);
     const vec6 base = (vec6() << vec3::Zero(), -m.gravity).finished();
     for (int i = 0; i < m.body_count(); ++i) {
@@ -272,6 +269,16 @@ void bias_forces(const tree& m, workspace& w, const Eigen::MatrixBase<Q>& q,
         const int p = m.bodies[k].parent;
         if (p >= 0) w.force[static_cast<std::size_t>(p)] += w.force[k];
     }
+}
+
+/// The generalized forces of q̈ = 0 by the recursive Newton–Euler algorithm (Featherstone
+/// §5.3, in world coordinates, gravity as the base's acceleration −a_g): the bias
+/// C(q, q̇)q̇ + g(q) with M(q)q̈ + C(q, q̇)q̇ + g(q) = τ. With q̇ = 0 it is g(q) = ∂V/∂q.
+template <class Q, class V, class Out>
+void bias_forces(const tree& m, workspace& w, const Eigen::MatrixBase<Q>& q,
+                 const Eigen::MatrixBase<V>& qd, Eigen::MatrixBase<Out>& out) {
+    kinematics(m, w, q);
+    bias_forces_after_kinematics(m, w, qd, out);
 }
 
 /// A named frame's pose in the world at the last kinematics.

@@ -65,6 +65,14 @@ class robot_lagrangian {
         multibody::bias_forces(*m_, work(), q, v, out);
     }
 
+    /// bias_forces(q, v, out) at the q of this thread's last mass_matrix call, with no other
+    /// evaluation of this Lagrangian between: that call's kinematics are kept (the predictor's
+    /// q̇ = M⁻¹p between the two saves one tree pass).
+    void bias_forces_after_mass_matrix(const vec<dynamic>& v, vec<dynamic>& out) const {
+        out.resize(m_->dof());
+        multibody::bias_forces_after_kinematics(*m_, work(), v, out);
+    }
+
     /// The Hessian in z = (q, q̇) (2n square) of aᵀ ∂L/∂q + bᵀ ∂L/∂q̇: L's third derivatives
     /// contracted with (a, b), which an optimal control transcription's exact Hessian needs.
     /// Exact: the rates along (a, b) of the second derivatives, by the same O(n²) algorithm

@@ -229,6 +229,14 @@ class stepper {
         dq_ = x_.col(s_ - 1);
         sum_.add_q(x, dq_);
         sum_.add_p(x, dp_);
+        if constexpr (jerk_history) {
+            continues_ = a0_taken_; // predict_dynamics took a0_ at this step's start
+            a0_taken_ = false;
+            if (continues_) {
+                q_end_ = x.q;
+                p_end_ = x.p;
+            }
+        }
         work_ *= h_;
         t_step_ = t_;
         t_ += h_;
@@ -265,7 +273,7 @@ class stepper {
     void refresh(const lagrangian_terms<dim>& t);
     void predict_kept(const phase_state<dim>& x);
     void predict_dynamics(const phase_state<dim>& x);
-    void taylor_increments(const vec<dim>& v, const vec<dim>& a);
+    void taylor_increments(const vec<dim>& v, const vec<dim>& a, const vec<dim>* j = nullptr);
 
     /// The Taylor predictor from (q_j, p_j), second derivatives left in terms_[0].
     void predict(const phase_state<dim>& x);
@@ -367,6 +375,11 @@ class stepper {
     bool linearised_ = false; // Newton converged with a linearisation below ε: reuse its terms
     double rate_ = 0.0;       // the slowest contraction of the last linear iteration
     compensated_update<dim> sum_;
+    // predict_dynamics' jerk: the free acceleration −M⁻¹b at the last step's start (a0_), and
+    // the state that step ended at (q_end_, p_end_), where the next step may continue it.
+    static constexpr bool jerk_history = lagrangian_with_bias_forces<L>;
+    vec<dim> a0_, q_end_, p_end_;
+    bool a0_taken_ = false, continues_ = false;
 };
 
 } // namespace varsym::general
