@@ -65,9 +65,10 @@ class robot_lagrangian {
         multibody::bias_forces(*m_, work(), q, v, out);
     }
 
-    /// bias_forces(q, v, out) at the q of this thread's last mass_matrix call, with no other
-    /// evaluation of this Lagrangian between: that call's kinematics are kept (the predictor's
-    /// q̇ = M⁻¹p between the two saves one tree pass).
+    /// bias_forces(q, v, out) at the q of this thread's last mass_matrix call, with no robot
+    /// evaluated on this thread between (the workspace is every robot_lagrangian's on the thread,
+    /// a force's evaluations of the robot included): that call's kinematics are kept (the
+    /// predictor's q̇ = M⁻¹p between the two saves one tree pass).
     void bias_forces_after_mass_matrix(const vec<dynamic>& v, vec<dynamic>& out) const {
         out.resize(m_->dof());
         multibody::bias_forces_after_kinematics(*m_, work(), v, out);

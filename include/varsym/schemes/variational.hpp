@@ -60,12 +60,13 @@
 namespace varsym::general {
 
 /// One step of the scheme for the system's Lagrangian. The state is (q, p); the iteration starts
-/// from a Taylor predictor from (q_j, p_j) alone (predictor `previous` is the family stepper's
+/// from a Taylor predictor from (q_j, p_j) (predictor `previous` is the family stepper's
 /// only). The default iteration (`automatic`) is Newton for a Lagrangian with derivatives by
 /// hand and the simplified iteration for automatic derivatives (docs/autodiff.md). With Newton,
-/// steps depend on nothing else; with a linear iteration they also depend on the kept Jacobian,
-/// which save_history / restore_history hand to a checkpoint, so a run restarted from a saved
-/// state continues exactly as it would have.
+/// steps depend on nothing else, except an unforced robot's (bias forces by hand), whose
+/// predictor takes a jerk from the last step it continues; with a linear iteration they also
+/// depend on the kept Jacobian. save_history / restore_history hand both to a checkpoint, so a
+/// run restarted from a saved state continues exactly as it would have.
 /// All work arrays are sized in the constructor: for a compile-time d a step allocates nothing;
 /// d may also be `dynamic` (known at run time), with the derivatives given by hand.
 /// With a force F (systems/forcing.hpp) the step is the forced one, and a time-dependent
@@ -114,7 +115,8 @@ class stepper {
                 t.fv.setZero(d_, d_);
             }
         }
-        for (auto* v : {&qk_, &vk_, &dp_, &dq_, &acc_, &lq0_, &lv0_, &q_bar_, &v_bar_, &rhs_})
+        for (auto* v : {&qk_, &vk_, &dp_, &dq_, &acc_, &lq0_, &lv0_, &q_bar_, &v_bar_, &rhs_, &a0_,
+                        &q_end_, &p_end_})
             v->setZero(d_);
         res_.setZero(s_ * d_);
         delta_.setZero(s_ * d_);
@@ -145,8 +147,10 @@ class stepper {
 
     /// With a linear iteration: whether a Jacobian is kept and the point (q̄, v̄) it was taken
     /// at (1 + 2d numbers); with a force, then that point's time and the total work with its
-    /// carry (3 numbers; also for a time-dependent L, its −∫∂L/∂t); empty for an autonomous,
-    /// unforced Newton stepper. run_state::history keeps it for a checkpoint.
+    /// carry (3 numbers; also for a time-dependent L, its −∫∂L/∂t); for an unforced L with bias
+    /// forces by hand (a robot), then the predictor's jerk: a flag, and if it is set a₀, q and p
+    /// where the last step ended (1 or 1 + 3d numbers); empty for an autonomous, unforced Newton
+    /// stepper otherwise. run_state::history keeps it for a checkpoint.
     void save_history(std::vector<double>& out) const;
     /// Puts back what save_history gave (an empty history starts afresh): the next step is then
     /// the one the saved run would have taken. Throws std::invalid_argument on a wrong length.
@@ -179,6 +183,7 @@ class stepper {
 
     newton_report step(phase_state<dim>& x) {
         newton_report rep;
+        if constexpr (jerk_history) a0_taken_ = false; // not a failed step's
         if (linear()) {
             rep = solve_linear(x);
             if (!rep.converged) { // diverged or too slow even with a fresh Jacobian
@@ -375,9 +380,9 @@ class stepper {
     bool linearised_ = false; // Newton converged with a linearisation below ε: reuse its terms
     double rate_ = 0.0;       // the slowest contraction of the last linear iteration
     compensated_update<dim> sum_;
-    // predict_dynamics' jerk: the free acceleration −M⁻¹b at the last step's start (a0_), and
-    // the state that step ended at (q_end_, p_end_), where the next step may continue it.
-    static constexpr bool jerk_history = lagrangian_with_bias_forces<L>;
+    // predict_dynamics' jerk (unforced): the acceleration −M⁻¹b at the last step's start (a0_),
+    // and the state that step ended at (q_end_, p_end_), where the next step may continue it.
+    static constexpr bool jerk_history = lagrangian_with_bias_forces<L> && !forced;
     vec<dim> a0_, q_end_, p_end_;
     bool a0_taken_ = false, continues_ = false;
 };

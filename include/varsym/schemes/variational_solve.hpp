@@ -45,7 +45,7 @@ void stepper<L, F>::restore_history(const phase_state<dim>&, const std::vector<d
     if (in.empty()) return;
     const auto want = static_cast<std::size_t>((linear() ? 1 + 2 * d_ : 0) + (timed ? 3 : 0));
     // Then the predictor's jerk: a flag, and a₀, q and p where the last step ended if it is set.
-    // A history without it (saved before the predictor kept it) starts the jerk afresh.
+    // A history in the layout without that part is read too; the jerk then starts afresh.
     bool fits = in.size() == want;
     std::string sizes = std::to_string(want);
     if constexpr (jerk_history) {
@@ -269,11 +269,13 @@ void stepper<L, F>::predict(const phase_state<dim>& x) {
 /// composite-rigid-body and a Newton–Euler pass (one kinematics pass for both where L keeps it:
 /// bias_forces_after_mass_matrix), where predict() evaluates second derivatives
 /// (O(n²)). It leaves no derivatives for a kept Jacobian, so the linear iterations do not use it;
-/// Newton's first iterate evaluates its own. Where the step continues the last one (it starts
-/// exactly where that one ended), the increments take a third Taylor term, the free motion's
-/// jerk (a₀,j − a₀,j−1)/h with a₀ = −M⁻¹b (without the force, which may jump between steps):
-/// the start's error falls from O(h³) to O(h⁴), and the Panda's gauss-2 steps at 1 ms take 2.1
-/// iterations instead of 2.6 (docs/robots.md). a₀ and the end state are history.
+/// Newton's first iterate evaluates its own. Without a force, where the step continues the last
+/// one (it starts exactly where that one ended), the increments take a third Taylor term with
+/// the jerk (a_j − a_{j−1})/h, a = −M⁻¹b: the start's error falls from O(h³) to O(h⁴), and the
+/// Panda's gauss-2 steps at 1 ms take 2.13 iterations instead of 2.63 (docs/robots.md). a_{j−1}
+/// and the end state are history. (A force may jump between steps, a control held over each:
+/// its jump over h is no jerk, so forced steps keep the second-order start.) The force is
+/// evaluated after the bias forces, whose pass keeps M's kinematics.
 template <lagrangian L, class F>
 void stepper<L, F>::predict_dynamics(const phase_state<dim>& x) {
     lagrangian_terms<dim>& t = terms_[0];
@@ -289,19 +291,20 @@ void stepper<L, F>::predict_dynamics(const phase_state<dim>& x) {
         lag.bias_forces(x.q, vk_, rhs_);
     rhs_ = -rhs_;
     if constexpr (forced) {
-        lq0_ = rhs_; // −b
         evaluate_force(force_, x.q, vk_, t_, fterms_[0], false);
         rhs_ += fterms_[0].f;
     }
     solve_symmetric_again<dim>(ldlt_, t.lvv, rhs_, acc_);
-    if constexpr (forced) solve_symmetric_again<dim>(ldlt_, t.lvv, lq0_, lv0_);
-    const vec<dim>& free = forced ? lv0_ : acc_; // −M⁻¹b: the motion without the force
-    const bool continues = continues_ && x.q == q_end_ && x.p == p_end_;
-    if (continues) dq_ = (free - a0_) / h_; // the free motion's jerk, to O(h)
-    a0_ = free;
-    a0_taken_ = true;
-    continues_ = false;
-    taylor_increments(vk_, acc_, continues ? &dq_ : nullptr);
+    if constexpr (jerk_history) {
+        const bool continues = continues_ && x.q == q_end_ && x.p == p_end_;
+        if (continues) dq_ = (acc_ - a0_) / h_; // the jerk, to O(h)
+        a0_ = acc_;
+        a0_taken_ = true;
+        continues_ = false;
+        taylor_increments(vk_, acc_, continues ? &dq_ : nullptr);
+    } else {
+        taylor_increments(vk_, acc_);
+    }
 }
 
 /// Builds and inverts the kept Jacobian from the second derivatives in t (taken at (q̄, v̄)).
