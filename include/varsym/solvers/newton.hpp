@@ -79,8 +79,10 @@ inline constexpr double chord_rate_limit = 0.125;
 ///    for a linearly converging iteration, `linear`, whose stop must not depend on a model;
 ///    for a chord update, Newton's Jacobian kept from an earlier iterate of the same solve, the
 ///    linear model ρ/(1 − ρ) |δ_k| ≤ scale with the observed rate ρ ≤ chord_rate_limit),
-///  - or the updates stop decreasing once already tiny: the round-off floor, |δ_k| ≥ |δ_{k−1}|/2
-///    with |δ_k| ≤ 64 ε max(|x|, typical, reference), whatever the tolerance asked for.
+///  - or the iteration is at the round-off floor, whatever the tolerance asked for:
+///    |δ_k| ≤ 64 ε max(|x|, typical, reference), and either the updates stop decreasing
+///    (|δ_k| ≥ |δ_{k−1}|/2) or |δ_{k−1}| was at that floor too (a start already that close: a
+///    robot at rest, whose increments are far below the reference; their decrease is noise).
 class newton_monitor {
   public:
     explicit newton_monitor(const newton_options& opt, bool linear = false)
@@ -104,9 +106,10 @@ class newton_monitor {
             !linear_ && iterations_ > 1 &&
             (chord ? rho <= chord_rate_limit && rho * step <= (1.0 - chord_rate_limit) * scale
                    : step * step * step <= scale * previous_ * previous_);
-        const bool floor = iterations_ > 1 && step >= 0.5 * previous_ &&
-                           step <= 64.0 * std::numeric_limits<double>::epsilon() *
-                                       std::max(magnitude, opt_.reference);
+        const double round_off =
+            64.0 * std::numeric_limits<double>::epsilon() * std::max(magnitude, opt_.reference);
+        const bool floor = iterations_ > 1 && step <= round_off &&
+                           (step >= 0.5 * previous_ || previous_ <= round_off);
         previous_ = step;
         return tiny || predicted || floor;
     }
