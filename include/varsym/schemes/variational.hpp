@@ -63,10 +63,10 @@ namespace varsym::general {
 /// from a Taylor predictor from (q_j, p_j) (predictor `previous` is the family stepper's
 /// only). The default iteration (`automatic`) is Newton for a Lagrangian with derivatives by
 /// hand and the simplified iteration for automatic derivatives (docs/autodiff.md). With Newton,
-/// steps depend on nothing else, except an unforced robot's (bias forces by hand), whose
-/// predictor takes a jerk from the last step it continues; with a linear iteration they also
-/// depend on the kept Jacobian. save_history / restore_history hand both to a checkpoint, so a
-/// run restarted from a saved state continues exactly as it would have.
+/// steps depend on nothing else, except a robot's (bias forces by hand; unforced, or with a force
+/// continuous in time), whose predictor takes a jerk from the last step it continues; with a
+/// linear iteration they also depend on the kept Jacobian. save_history / restore_history hand
+/// both to a checkpoint, so a run restarted from a saved state continues exactly as it would have.
 /// All work arrays are sized in the constructor: for a compile-time d a step allocates nothing;
 /// d may also be `dynamic` (known at run time), with the derivatives given by hand.
 /// With a force F (systems/forcing.hpp) the step is the forced one, and a time-dependent
@@ -380,9 +380,10 @@ class stepper {
     bool linearised_ = false; // Newton converged with a linearisation below ε: reuse its terms
     double rate_ = 0.0;       // the slowest contraction of the last linear iteration
     compensated_update<dim> sum_;
-    // predict_dynamics' jerk (unforced): the acceleration −M⁻¹b at the last step's start (a0_),
-    // and the state that step ended at (q_end_, p_end_), where the next step may continue it.
-    static constexpr bool jerk_history = lagrangian_with_bias_forces<L> && !forced;
+    // predict_dynamics' jerk: the acceleration M⁻¹(f − b) at the last step's start (a0_), and
+    // the state that step ended at (q_end_, p_end_), where the next step may continue it.
+    static constexpr bool jerk_history =
+        lagrangian_with_bias_forces<L> && (!forced || force_continuous_in_time<F>());
     vec<dim> a0_, q_end_, p_end_;
     bool a0_taken_ = false, continues_ = false;
 };

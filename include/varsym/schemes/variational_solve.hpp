@@ -53,8 +53,7 @@ void stepper<L, F>::restore_history(const phase_state<dim>&, const std::vector<d
         sizes += ", " + std::to_string(want + 1) + " or " + std::to_string(want + 1 + 3 * d);
         if (in.size() == want + 1 + 3 * d && in[want] == 1.0) {
             const double* at = in.data() + want + 1;
-            for (vec<dim>* v : {&a0_, &q_end_, &p_end_}) {
-                v->resize(d_);
+            for (vec<dim>* v : {&a0_, &q_end_, &p_end_}) { // sized by the constructor
                 std::copy(at, at + d_, v->data());
                 at += d_;
             }
@@ -269,13 +268,14 @@ void stepper<L, F>::predict(const phase_state<dim>& x) {
 /// composite-rigid-body and a Newton–Euler pass (one kinematics pass for both where L keeps it:
 /// bias_forces_after_mass_matrix), where predict() evaluates second derivatives
 /// (O(n²)). It leaves no derivatives for a kept Jacobian, so the linear iterations do not use it;
-/// Newton's first iterate evaluates its own. Without a force, where the step continues the last
-/// one (it starts exactly where that one ended), the increments take a third Taylor term with
-/// the jerk (a_j − a_{j−1})/h, a = −M⁻¹b: the start's error falls from O(h³) to O(h⁴), and the
+/// Newton's first iterate evaluates its own. Where the step continues the last one (it starts
+/// exactly where that one ended), the increments take a third Taylor term with the jerk
+/// (a_j − a_{j−1})/h, a = M⁻¹(f − b): the start's error falls from O(h³) to O(h⁴), and the
 /// Panda's gauss-2 steps at 1 ms take 2.13 iterations instead of 2.63 (docs/robots.md). a_{j−1}
-/// and the end state are history. (A force may jump between steps, a control held over each:
-/// its jump over h is no jerk, so forced steps keep the second-order start.) The force is
-/// evaluated after the bias forces, whose pass keeps M's kinematics.
+/// and the end state are history. That is without a force, or with one continuous in time
+/// (force_continuous_in_time: damping, a PD controller, expressions); a control held over each
+/// step jumps between steps, its jump over h is no jerk, and its steps keep the second-order
+/// start. The force is evaluated after the bias forces, whose pass keeps M's kinematics.
 template <lagrangian L, class F>
 void stepper<L, F>::predict_dynamics(const phase_state<dim>& x) {
     lagrangian_terms<dim>& t = terms_[0];

@@ -19,6 +19,8 @@ namespace varsym {
 class expression_force {
   public:
     static constexpr int dim = dynamic;
+    /// Its functions are smooth where defined (expression/parse.hpp): f has a rate in t.
+    static constexpr bool continuous_in_time = true;
 
     /// No force: d zero components.
     explicit expression_force(int d = 1)

@@ -53,6 +53,21 @@ concept force_with_derivatives = generalized_force<F> &&
 /// The default force of the general engine: none (the conservative scheme, unchanged).
 struct unforced {};
 
+/// Whether a force is continuous in time along a smooth motion, and so has a rate: F declares
+/// `static constexpr bool continuous_in_time = true` (damping, the PD controller, an expression
+/// force, sums of them). A force that does not (a control held over each step, which jumps
+/// between steps; a schedule u(t) of any kind) is taken to jump. Only a robot's Newton start
+/// reads it (schemes/variational_solve.hpp): the jerk it extrapolates with includes the force's
+/// rate. It is never the answer: a force that jumps anyway costs that step's start, not its
+/// accuracy.
+template <class F>
+constexpr bool force_continuous_in_time() {
+    if constexpr (requires { F::continuous_in_time; })
+        return F::continuous_in_time;
+    else
+        return false;
+}
+
 /// Whether F is `unforced` or a generalized force of dimension D.
 template <class F, int D>
 constexpr bool force_for() {
@@ -99,6 +114,7 @@ void evaluate_force(const F& f, const vec<F::dim>& q, const vec<F::dim>& v, doub
 template <int D>
 struct rayleigh_damping {
     static constexpr int dim = D;
+    static constexpr bool continuous_in_time = true;
     mat<D> c;
 
     explicit rayleigh_damping(mat<D> coefficients) : c(std::move(coefficients)) {
@@ -169,10 +185,12 @@ struct prescribed_force {
 ///   f = K_p (r(t) − q) + K_d (ṙ(t) − q̇) + τ_g(q),
 /// with gravity compensation τ_g(q) = −∂L/∂q(q, 0) (the torque that holds the system at rest at
 /// q, for a kinetic energy quadratic in q̇) when built with compensate(). Gains K_p [N·m/rad],
-/// K_d [N·m·s/rad].
+/// K_d [N·m·s/rad]. The reference is taken to be continuous, with its rate
+/// (force_continuous_in_time).
 template <int D>
 struct pd_controller {
     static constexpr int dim = D;
+    static constexpr bool continuous_in_time = true;
     mat<D> kp, kd;
     /// The reference: fills r(t) and ṙ(t).
     std::function<void(double, vec<D>&, vec<D>&)> reference;
@@ -273,6 +291,7 @@ concept force_with_input = generalized_force<F> && requires(const F& f, const ve
 template <generalized_force... F>
 struct force_sum {
     static constexpr int dim = std::get<0>(std::tuple{F::dim...});
+    static constexpr bool continuous_in_time = (force_continuous_in_time<F>() && ...);
     std::tuple<F...> parts;
 
     explicit force_sum(F... f) : parts(std::move(f)...) {}
