@@ -70,6 +70,18 @@ struct undeclared {
 };
 static_assert(force_continuous_in_time<smooth_force>());
 static_assert(!force_continuous_in_time<undeclared>());
+// What jumps between steps, or may: a control held over each step, a schedule u(t) of any kind,
+// and a sum with either.
+struct torque_input {
+    static constexpr int dim = 2, controls = 1;
+    template <class T>
+    tvec<T, 2> operator()(const tvec<T, 2>&, const tvec<T, 2>&, double, const tvec<T, 1>& u) const {
+        return tvec<T, 2>(u(0), T(0.0));
+    }
+};
+static_assert(!force_continuous_in_time<controlled<torque_input>>());
+static_assert(!force_continuous_in_time<prescribed_force<dynamic>>());
+static_assert(!force_continuous_in_time<force_sum<damping, prescribed_force<dynamic>>>());
 
 /// After one step of h from start(): the distance of the second step's prediction to its
 /// converged increments, where the step continues the first (the jerk) and from a stepper
@@ -191,6 +203,7 @@ TEST(PredictorJerk, AResumedRunTakesTheSameSteps) {
         second.summation().restore(b, first.summation().carry_q(), first.summation().carry_p());
         second.restore_history(b, history);
         second.set_time(first.time());
+        blank.set_time(first.time());
         auto ahead = second;
         const Eigen::MatrixXd want = copy.predicted(b); // the straight run's next start
         EXPECT_EQ(ahead.predicted(b), want);
@@ -246,6 +259,23 @@ TEST(PredictorJerk, HistoriesOfOtherLayoutsAreReadOrRefused) {
     flag_two[0] = 2.0;
     for (const auto* bad : {&flag_zero, &flag_two, &short_one})
         EXPECT_THROW(fresh.restore_history(y, *bad), std::invalid_argument);
+
+    // A forced robot's history written before its force took the jerk, the timed part alone
+    // (3 numbers), is read, and the jerk starts afresh (negative control: before it, the copy
+    // would continue).
+    probe<smooth_force> forced(sys, tracking(n), 0.01, spec);
+    probe<smooth_force> forced_fresh(sys, tracking(n), 0.01, spec);
+    phase_state<dynamic> z = start(n);
+    ASSERT_TRUE(forced.step(z).converged);
+    forced_fresh.set_time(forced.time());
+    std::vector<double> timed;
+    forced.save_history(timed);
+    ASSERT_EQ(timed.size(), 3 + 1 + 3 * d);
+    timed.resize(3);
+    probe<smooth_force> going = forced, other = forced_fresh;
+    EXPECT_NE(going.predicted(z), other.predicted(z));
+    EXPECT_NO_THROW(forced.restore_history(z, timed));
+    EXPECT_EQ(forced.predicted(z), forced_fresh.predicted(z));
 }
 
 TEST(PredictorJerk, BiasForcesOnTheMassMatrixKinematicsAreTheBiasForces) {

@@ -74,19 +74,24 @@ TEST(Newton, ChordStopNeedsAMeasuredRate) {
     EXPECT_TRUE(model.converged(1e-13, 1.0, true)); // ρ = 1e-3: 8ρ|δ| = 8e-16 ≤ 7 · 2ε
 }
 
-TEST(Newton, TwoUpdatesAtTheRoundOffFloorStop) {
-    // Increments of 1e-10 (typical) to coordinates of 0.5 (reference): 64 ε of the reference is
-    // 7.1e-15, where an update no longer changes q_j + X. Two updates below it stop the
-    // iteration even while they still decrease (noise does, at random: a robot at rest took up
-    // to 8 iterations a step). Negative control: an update below the floor after one above it
-    // goes on, as the quadratic model (δ³ ≤ 2ε · 1e-10 · δ_prev²) does not stop it either.
+TEST(Newton, ASecondUpdateBelowAnUlpOfTheReferenceStops) {
+    // Increments of 1e-10 (typical) to coordinates of 0.5 (reference): u = ε · 0.5 = 1.1e-16,
+    // about an ulp of q_j. Newton's second update in a row below u ends the solve while the
+    // updates still shrink (a robot at rest: its residual sees increments below an ulp of q
+    // through q̇ alone, and its updates shrank linearly to 2ε of the increments). Negative
+    // controls, neither stopped by the quadratic model (δ³ > 2ε · 1e-10 · δ_prev²): an update
+    // after one above u (1e-15, below the stall floor 64u = 7.1e-15) goes on; so does a linear
+    // iteration, whose remainder ρ/(1 − ρ)|δ| the rule would not bound.
     newton_options o;
     o.typical = 1e-10;
     o.reference = 0.5;
-    newton_monitor noise(o);
-    EXPECT_FALSE(noise.converged(5e-15, 1e-10));
-    EXPECT_TRUE(noise.converged(1e-15, 1e-10));
+    newton_monitor rest(o);
+    EXPECT_FALSE(rest.converged(1e-16, 1e-10));
+    EXPECT_TRUE(rest.converged(3e-17, 1e-10));
     newton_monitor above(o);
-    EXPECT_FALSE(above.converged(1e-14, 1e-10));
     EXPECT_FALSE(above.converged(1e-15, 1e-10));
+    EXPECT_FALSE(above.converged(3e-16, 1e-10));
+    newton_monitor linear(o, true);
+    EXPECT_FALSE(linear.converged(1e-16, 1e-10));
+    EXPECT_FALSE(linear.converged(3e-17, 1e-10));
 }

@@ -59,7 +59,7 @@ class robot_lagrangian {
     }
 
     /// b = C(q, q̇)q̇ + g(q) = (∂²L/∂q̇∂q) q̇ − ∂L/∂q by the recursive Newton–Euler algorithm
-    /// (O(n)): M(q)q̈ + b = 0 is the motion without forces, the predictor's acceleration.
+    /// (O(n)): M(q)q̈ + b = f is the motion, from which the predictor takes its acceleration.
     void bias_forces(const vec<dynamic>& q, const vec<dynamic>& v, vec<dynamic>& out) const {
         out.resize(m_->dof());
         multibody::bias_forces(*m_, work(), q, v, out);

@@ -131,7 +131,9 @@ class stepper {
     [[nodiscard]] auto& summation() { return sum_; }
     [[nodiscard]] const galerkin::tableau& table() const { return tab_; }
     [[nodiscard]] const F& force() const { return force_; }
-    /// The force, to change between steps (a controlled<…> force's input u).
+    /// The force, to change between steps (a controlled<…> force's input u). A change to a force
+    /// that says it is continuous in time (a PD controller's gains) reads as a jerk at the next
+    /// step's start, which costs that start an iteration or two, never the answer.
     [[nodiscard]] F& force() { return force_; }
     /// The time t_j of the next step's start (used by forces and a time-dependent L; an
     /// autonomous step ignores it).
@@ -147,10 +149,11 @@ class stepper {
 
     /// With a linear iteration: whether a Jacobian is kept and the point (q̄, v̄) it was taken
     /// at (1 + 2d numbers); with a force, then that point's time and the total work with its
-    /// carry (3 numbers; also for a time-dependent L, its −∫∂L/∂t); for an unforced L with bias
-    /// forces by hand (a robot), then the predictor's jerk: a flag, and if it is set a₀, q and p
-    /// where the last step ended (1 or 1 + 3d numbers); empty for an autonomous, unforced Newton
-    /// stepper otherwise. run_state::history keeps it for a checkpoint.
+    /// carry (3 numbers; also for a time-dependent L, its −∫∂L/∂t); for an L with bias forces by
+    /// hand (a robot), unforced or with a force continuous in time, then the predictor's jerk:
+    /// a flag, and if it is set a₀, q and p where the last step ended (1 or 1 + 3d numbers);
+    /// empty for an autonomous, unforced Newton stepper otherwise. run_state::history keeps it
+    /// for a checkpoint.
     void save_history(std::vector<double>& out) const;
     /// Puts back what save_history gave (an empty history starts afresh): the next step is then
     /// the one the saved run would have taken. Throws std::invalid_argument on a wrong length.

@@ -27,8 +27,8 @@ enum class iteration_kind {
 
 /// Where the iteration starts.
 enum class predictor_kind {
-    taylor,   ///< second-order Taylor from (q_j, p_j): stateless (an unforced robot's Newton
-              ///< steps in the general engine add the jerk from the last step they continue)
+    taylor,   ///< second-order Taylor from (q_j, p_j): stateless (a robot's Newton steps in the
+              ///< general engine add the jerk from the last step they continue)
     previous, ///< the previous step's polynomial extrapolated: O(h^(s+1)), but state a resumed
               ///< run must restore (run_state::history); family stepper only
     forces,   ///< the previous step's forces at its quadrature points extrapolated to this
@@ -79,10 +79,13 @@ inline constexpr double chord_rate_limit = 0.125;
 ///    for a linearly converging iteration, `linear`, whose stop must not depend on a model;
 ///    for a chord update, Newton's Jacobian kept from an earlier iterate of the same solve, the
 ///    linear model ρ/(1 − ρ) |δ_k| ≤ scale with the observed rate ρ ≤ chord_rate_limit),
-///  - or the iteration is at the round-off floor, whatever the tolerance asked for:
-///    |δ_k| ≤ 64 ε max(|x|, typical, reference), and either the updates stop decreasing
-///    (|δ_k| ≥ |δ_{k−1}|/2) or |δ_{k−1}| was at that floor too (a start already that close: a
-///    robot at rest, whose increments are far below the reference; their decrease is noise).
+///  - or the updates stop decreasing once already tiny: the round-off floor, |δ_k| ≥ |δ_{k−1}|/2
+///    with |δ_k| ≤ 64 ε max(|x|, typical, reference), whatever the tolerance asked for;
+///    for Newton (not `linear`) also a second update in a row below u = ε max(|x|, typical,
+///    reference), about an ulp of the value the unknown is an increment of: what it leaves is
+///    below u/2. (A robot settled at rest has increments below an ulp of q, which its
+///    residual sees through q̇ alone; Newton's updates then shrink only linearly, by 0.1–0.5
+///    an update, down to 2ε of the increments: up to 20 iterations a step.)
 class newton_monitor {
   public:
     explicit newton_monitor(const newton_options& opt, bool linear = false)
@@ -106,10 +109,10 @@ class newton_monitor {
             !linear_ && iterations_ > 1 &&
             (chord ? rho <= chord_rate_limit && rho * step <= (1.0 - chord_rate_limit) * scale
                    : step * step * step <= scale * previous_ * previous_);
-        const double round_off =
-            64.0 * std::numeric_limits<double>::epsilon() * std::max(magnitude, opt_.reference);
-        const bool floor = iterations_ > 1 && step <= round_off &&
-                           (step >= 0.5 * previous_ || previous_ <= round_off);
+        constexpr double eps = std::numeric_limits<double>::epsilon();
+        const double ulp = eps * std::max(magnitude, opt_.reference);
+        const bool floor = iterations_ > 1 && step <= 64.0 * ulp &&
+                           (step >= 0.5 * previous_ || (!linear_ && previous_ <= ulp));
         previous_ = step;
         return tiny || predicted || floor;
     }
