@@ -91,6 +91,9 @@ TEST(Newton, ASecondUpdateBelowAnUlpOfTheReferenceStops) {
     newton_monitor above(o);
     EXPECT_FALSE(above.converged(1e-15, 1e-10));
     EXPECT_FALSE(above.converged(3e-16, 1e-10));
+    newton_monitor chord(o); // a chord update (Newton's kept Jacobian) is Newton's too
+    EXPECT_FALSE(chord.converged(1e-16, 1e-10));
+    EXPECT_TRUE(chord.converged(3e-17, 1e-10, true));
     newton_monitor linear(o, true);
     EXPECT_FALSE(linear.converged(1e-16, 1e-10));
     EXPECT_FALSE(linear.converged(3e-17, 1e-10));

@@ -269,10 +269,11 @@ void stepper<L, F>::predict(const phase_state<dim>& x) {
 /// bias_forces_after_mass_matrix), where predict() evaluates second derivatives
 /// (O(n²)). It leaves no derivatives for a kept Jacobian, so the linear iterations do not use it;
 /// Newton's first iterate evaluates its own. Where the step continues the last one (it starts
-/// exactly where that one ended), the increments take a third Taylor term with the jerk
-/// (a_j − a_{j−1})/h, a = M⁻¹(f − b): the start's error falls from O(h³) to O(h⁴), and the
-/// Panda's gauss-2 steps at 1 ms take 2.13 iterations instead of 2.63 (docs/robots.md). a_{j−1}
-/// and the end state are history. That is without a force, or with one continuous in time
+/// exactly where that one ended; the time is not compared: a clock set by hand, or a force
+/// changed between steps, costs the start, not the answer), the increments take a third Taylor term
+/// with the jerk (a_j − a_{j−1})/h, a = M⁻¹(f − b): the start's error falls from O(h³) to O(h⁴),
+/// and the Panda's gauss-2 steps at 1 ms take 2.13 iterations instead of 2.63 (docs/robots.md).
+/// a_{j−1} and the end state are history. That is without a force, or with one continuous in time
 /// (force_continuous_in_time: damping, a PD controller, expressions); a control held over each
 /// step jumps between steps, its jump over h is no jerk, and its steps keep the second-order
 /// start. The force is evaluated after the bias forces, whose pass keeps M's kinematics.

@@ -81,11 +81,12 @@ inline constexpr double chord_rate_limit = 0.125;
 ///    linear model ρ/(1 − ρ) |δ_k| ≤ scale with the observed rate ρ ≤ chord_rate_limit),
 ///  - or the updates stop decreasing once already tiny: the round-off floor, |δ_k| ≥ |δ_{k−1}|/2
 ///    with |δ_k| ≤ 64 ε max(|x|, typical, reference), whatever the tolerance asked for;
-///    for Newton (not `linear`) also a second update in a row below u = ε max(|x|, typical,
-///    reference), about an ulp of the value the unknown is an increment of: what it leaves is
-///    below u/2. (A robot settled at rest has increments below an ulp of q, which its
-///    residual sees through q̇ alone; Newton's updates then shrink only linearly, by 0.1–0.5
-///    an update, down to 2ε of the increments: up to 20 iterations a step.)
+///    for Newton (not `linear`; chord updates included) also a second update in a row below
+///    u = ε max(|x|, typical, reference), about an ulp of the value the unknown is an
+///    increment of: the last update is below u/2, and what it leaves, ρ/(1 − ρ) |δ_k|, no more
+///    at a contraction ρ ≤ ½. (A robot settled at rest has increments below an ulp of q, which
+///    its residual sees through q̇ alone; Newton's updates then shrink only linearly, each to
+///    0.1–0.5 of the last, down to 2ε of the increments: up to 20 iterations a step.)
 class newton_monitor {
   public:
     explicit newton_monitor(const newton_options& opt, bool linear = false)
