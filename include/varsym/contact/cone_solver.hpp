@@ -19,6 +19,9 @@
 // impulses are scaled to order one before the iteration (ℓ the largest |c|, the impulse that
 // moves a gap by ℓ); it stops when every residual and complementarity is below
 // tolerance/ℓ in those units: gaps and slips within `tolerance` metres of the conditions.
+// solve_cone is a template with a defaulted parameter (`template <class = void>`), called as a
+// plain function: a source that includes this header and never calls it does not compile its
+// dense LU (docs/development.md).
 #pragma once
 
 #include <algorithm>
@@ -83,7 +86,8 @@ inline double cone_step(double z0, const Eigen::Vector2d& z1, double a0,
 } // namespace cone_detail
 
 /// Solves the linearised contact problem (the header comment).
-inline cone_result solve_cone(const cone_problem& p, const cone_options& o = {}) {
+template <class = void>
+cone_result solve_cone(const cone_problem& p, const cone_options& o = {}) {
     using Eigen::VectorXd;
     const int k = static_cast<int>(p.mu.size()), n = 5 * k;
     cone_result out;

@@ -18,6 +18,9 @@
 // free base, the tree is evaluated in a chart centred at q as floating.hpp's Lagrangian does; the
 // chart's rotation columns map to the quaternion's by A = (2/|u|) P(û), P δ = Im(conj(û) ⊗ δ)
 // (floating.hpp, (Q3)).
+// contact_points and robot_kinematics' evaluations are templates with a defaulted parameter
+// (`template <class = void>`), called as plain functions: a source that includes this header and
+// never calls them does not compile them (docs/development.md).
 #pragma once
 
 #include <cmath>
@@ -112,7 +115,8 @@ inline void tangents(const vec3& n, vec3& t1, vec3& t2) {
 /// The contact points of a tree's moving shapes (those fixed to the ground are the world's, not
 /// the robot's, and left out). Throws std::invalid_argument for a mesh, naming its link, and for
 /// a shape the URDF reader could not take (collision_shape::problem).
-inline std::vector<contact_point> contact_points(const multibody::tree& t) {
+template <class = void>
+std::vector<contact_point> contact_points(const multibody::tree& t) {
     std::vector<contact_point> out;
     for (const multibody::collision_shape& s : t.collisions) {
         if (s.body < 0) continue;
@@ -167,6 +171,7 @@ class robot_kinematics {
     }
 
     /// Kinematics at the model's coordinates q.
+    template <class = void>
     void at(const Eigen::VectorXd& q) {
         if (t_->base != multibody::base_kind::free) {
             w_.chart.setIdentity();
@@ -191,6 +196,7 @@ class robot_kinematics {
     }
 
     /// Body b's pose in the world at the last at().
+    template <class = void>
     [[nodiscard]] multibody::pose pose(int b) const {
         multibody::pose p = w_.x[static_cast<std::size_t>(b)];
         p.origin += x_;
@@ -198,6 +204,7 @@ class robot_kinematics {
     }
 
     /// ∂P/∂q (3 × d) of the point of body b now at world position `p`.
+    template <class = void>
     void jacobian(int b, const vec3& p,
                   Eigen::Ref<Eigen::Matrix<double, 3, Eigen::Dynamic>> out) const {
         out.setZero();

@@ -32,6 +32,9 @@
 // and L (without gravity) invariant, so the Galerkin discrete Lagrangians are invariant and the
 // discrete Noether theorem conserves the total angular momentum to round-off, as translations
 // conserve the linear momentum; no Euler-angle singularity (docs/robots.md).
+// Functions and members that run the tree's algorithms are templates with a defaulted parameter
+// (`template <class = void>`), called as plain functions: a source that includes this header and
+// never calls them does not compile them (docs/development.md).
 #pragma once
 
 #include <array>
@@ -43,6 +46,7 @@
 #include <Eigen/Geometry>
 
 #include "varsym/multibody/algorithms.hpp"
+#include "varsym/multibody/unit_quaternion.hpp"
 #include "varsym/systems/lagrangian.hpp"
 
 namespace varsym::multibody {
@@ -61,7 +65,8 @@ struct base_motion {
 
 /// Sums over the bodies at the workspace's last kinematics and velocities: momenta (about the
 /// computation's origin) and the centre of mass.
-inline void add_momenta(const tree& m, const workspace& w, base_motion& out) {
+template <class = void>
+void add_momenta(const tree& m, const workspace& w, base_motion& out) {
     double mass = 0.0;
     for (std::size_t i = 0; i < m.bodies.size(); ++i) {
         out.angular_momentum += w.h[i].head<3>();
@@ -73,7 +78,8 @@ inline void add_momenta(const tree& m, const workspace& w, base_motion& out) {
 }
 
 /// The motion of a robot in its tree's own coordinates (a fixed or planar base) at (q, q̇).
-inline base_motion tree_motion(const tree& m, const vec<dynamic>& q, const vec<dynamic>& qd) {
+template <class = void>
+base_motion tree_motion(const tree& m, const vec<dynamic>& q, const vec<dynamic>& qd) {
     thread_local workspace w;
     w.chart.setIdentity();
     kinematics(m, w, q);
@@ -110,6 +116,7 @@ class free_robot {
     [[nodiscard]] const std::shared_ptr<const tree>& shared() const { return m_; }
 
     /// L(q, q̇) [J].
+    template <class = void>
     double operator()(const vec<dynamic>& q, const vec<dynamic>& v) const {
         scratch& s = work();
         chart(q, v, s);
@@ -120,6 +127,7 @@ class free_robot {
     }
 
     /// L, ∂L/∂q and ∂L/∂q̇.
+    template <class = void>
     void gradient(const vec<dynamic>& q, const vec<dynamic>& v,
                   lagrangian_terms<dynamic>& t) const {
         scratch& s = work();
@@ -132,6 +140,7 @@ class free_robot {
     }
 
     /// gradient() and the second derivatives.
+    template <class = void>
     void derivatives(const vec<dynamic>& q, const vec<dynamic>& v,
                      lagrangian_terms<dynamic>& t) const {
         scratch& s = work();
@@ -146,6 +155,7 @@ class free_robot {
     }
 
     /// The motion at (q, q̇): base pose and velocity, momenta, centre of mass.
+    template <class = void>
     [[nodiscard]] base_motion motion(const vec<dynamic>& q, const vec<dynamic>& v) const {
         scratch& s = work();
         chart(q, v, s);
@@ -181,6 +191,7 @@ class free_robot {
     double mass_ = 0.0, kappa_ = 1.0;
 
     /// The chart at q: C = R(û), origin x; c = (0, 0, θ), ċ = (ẋ, ω, θ̇).
+    template <class = void>
     void chart(const vec<dynamic>& q, const vec<dynamic>& v, scratch& s) const {
         const int n = m_->dof();
         const Eigen::Vector4d u = q.segment<4>(3), ud = v.segment<4>(3);
@@ -198,12 +209,14 @@ class free_robot {
     }
 
     /// M g·x and ½ κ (u·u̇)² (Q2).
+    template <class = void>
     [[nodiscard]] double tail(const vec<dynamic>& q, const vec<dynamic>& v) const {
         const double r = q.segment<4>(3).dot(v.segment<4>(3));
         return mass_ * m_->gravity.dot(q.head<3>()) + 0.5 * kappa_ * r * r;
     }
 
     /// The chart's maps' derivatives at (u, u̇) (Q3)–(Q5), second ones where `second`.
+    template <class = void>
     static void maps(const vec<dynamic>& q, const vec<dynamic>& v, scratch& s, bool second) {
         const Eigen::Vector4d u = q.segment<4>(3), ud = v.segment<4>(3);
         const double n2 = u.squaredNorm(), n = std::sqrt(n2);
@@ -291,6 +304,7 @@ class free_robot {
     }
 
     /// ∂L/∂q, ∂L/∂q̇ by the chain rule: x and θ as they are, u through the maps.
+    template <class = void>
     void first(const vec<dynamic>& q, const vec<dynamic>& v, const scratch& s,
                lagrangian_terms<dynamic>& t) const {
         const int n = m_->dof();
@@ -307,6 +321,7 @@ class free_robot {
 
     /// out += Rᵀ in C, R and C the chart's Jacobians (n + 6 → n + 7): identity on x and θ where
     /// `rid` (`cid`), zero there otherwise; `ra` (`ca`) on u.
+    template <class = void>
     static void expand(const mat<dynamic>& in, const Eigen::Matrix<double, 3, 4>& ra, bool rid,
                        const Eigen::Matrix<double, 3, 4>& ca, bool cid, mat<dynamic>& out) {
         const Eigen::Index nc = in.rows(), k = nc - 6;
@@ -325,6 +340,7 @@ class free_robot {
     }
 
     /// The second derivatives: the chain rule's products and the maps' curvature.
+    template <class = void>
     void second(const vec<dynamic>& q, const vec<dynamic>& v, const scratch& s,
                 lagrangian_terms<dynamic>& t) const {
         const Eigen::Vector4d u = q.segment<4>(3), ud = v.segment<4>(3);
@@ -367,28 +383,6 @@ class free_robot {
         t.lqq.resize(nq, nq);
         t.lqv.resize(nq, nq);
         t.lvv.resize(nq, nq);
-    }
-};
-
-/// The unit quaternion's constraint g = u·u − 1 on the coordinates 3 … 6 of a free_robot, with
-/// its derivatives by hand (G = 2uᵀ there, Σ λ∇²g = 2λ on that block).
-struct unit_quaternion {
-    static constexpr int dim = dynamic, count = 1;
-    int d = 7; ///< the robot's dimension
-
-    template <class T>
-    [[nodiscard]] tvec<T, 1> operator()(const tvec<T, dynamic>& q) const {
-        tvec<T, 1> g;
-        g(0) = q(3) * q(3) + q(4) * q(4) + q(5) * q(5) + q(6) * q(6) - 1.0;
-        return g;
-    }
-    void jacobian(const vec<dynamic>& q, Eigen::Matrix<double, 1, dynamic>& g) const {
-        g.setZero(1, d);
-        g.middleCols<4>(3) = 2.0 * q.segment<4>(3).transpose();
-    }
-    void curvature(const vec<dynamic>&, const vec<1>& lambda, mat<dynamic>& h) const {
-        h.setZero(d, d);
-        h.block<4, 4>(3, 3).diagonal().setConstant(2.0 * lambda(0));
     }
 };
 

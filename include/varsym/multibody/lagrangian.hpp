@@ -3,6 +3,10 @@
 // algorithms (algorithms.hpp): gradient() in O(n), derivatives() in O(n²), never by automatic
 // differentiation. One shared constant model; one workspace per thread, so that one Lagrangian
 // serves an ensemble's threads and an evaluation allocates nothing once sized.
+// The members that run the algorithms are templates with a defaulted parameter
+// (`template <class = void>`), called as plain members: a source that includes this header and
+// never calls them does not compile them (docs/development.md, "What every translation unit pays
+// for").
 #pragma once
 
 #include <memory>
@@ -29,6 +33,7 @@ class robot_lagrangian {
     [[nodiscard]] const std::shared_ptr<const tree>& shared() const { return m_; }
 
     /// L(q, q̇) [J].
+    template <class = void>
     double operator()(const vec<dynamic>& q, const vec<dynamic>& v) const {
         workspace& w = work();
         kinematics(*m_, w, q);
@@ -37,6 +42,7 @@ class robot_lagrangian {
     }
 
     /// L, ∂L/∂q and ∂L/∂q̇ (O(n)).
+    template <class = void>
     void gradient(const vec<dynamic>& q, const vec<dynamic>& v,
                   lagrangian_terms<dynamic>& t) const {
         size(t, false);
@@ -44,6 +50,7 @@ class robot_lagrangian {
     }
 
     /// gradient() and the second derivatives (O(n²)); lvv is M(q).
+    template <class = void>
     void derivatives(const vec<dynamic>& q, const vec<dynamic>& v,
                      lagrangian_terms<dynamic>& t) const {
         size(t, true);
@@ -52,6 +59,7 @@ class robot_lagrangian {
 
     /// M(q) = ∂²L/∂q̇² alone, by the composite-rigid-body algorithm (O(n²); no velocity terms):
     /// what velocity(q, p) and the steppers' predictor factorise.
+    template <class = void>
     void mass_matrix(const vec<dynamic>& q, mat<dynamic>& out) const {
         const int n = m_->dof();
         out.resize(n, n);
@@ -60,6 +68,7 @@ class robot_lagrangian {
 
     /// b = C(q, q̇)q̇ + g(q) = (∂²L/∂q̇∂q) q̇ − ∂L/∂q by the recursive Newton–Euler algorithm
     /// (O(n)): M(q)q̈ + b = f is the motion, from which the predictor takes its acceleration.
+    template <class = void>
     void bias_forces(const vec<dynamic>& q, const vec<dynamic>& v, vec<dynamic>& out) const {
         out.resize(m_->dof());
         multibody::bias_forces(*m_, work(), q, v, out);
@@ -69,6 +78,7 @@ class robot_lagrangian {
     /// evaluated on this thread between (the workspace is every robot_lagrangian's on the thread,
     /// a force's evaluations of the robot included): that call's kinematics are kept (the
     /// predictor's q̇ = M⁻¹p between the two saves one tree pass).
+    template <class = void>
     void bias_forces_after_mass_matrix(const vec<dynamic>& v, vec<dynamic>& out) const {
         out.resize(m_->dof());
         multibody::bias_forces_after_kinematics(*m_, work(), v, out);
@@ -78,6 +88,7 @@ class robot_lagrangian {
     /// contracted with (a, b), which an optimal control transcription's exact Hessian needs.
     /// Exact: the rates along (a, b) of the second derivatives, by the same O(n²) algorithm
     /// run over dual numbers (a value and one directional derivative: ad::first_order<1>).
+    template <class = void>
     void third(const vec<dynamic>& q, const vec<dynamic>& v, const vec<dynamic>& a,
                const vec<dynamic>& b, mat<dynamic>& out) const {
         using E = ad::first_order<1>;
