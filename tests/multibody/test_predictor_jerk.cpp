@@ -83,7 +83,7 @@ static_assert(!force_continuous_in_time<controlled<torque_input>>());
 static_assert(!force_continuous_in_time<prescribed_force<dynamic>>());
 static_assert(!force_continuous_in_time<force_sum<damping, prescribed_force<dynamic>>>());
 
-/// After one step of h from start(): the distance of the second step's prediction to its
+/// After one step of h from start(n): the distance of the second step's prediction to its
 /// converged increments, where the step continues the first (the jerk) and from a stepper
 /// without that history (second order); make(h) gives a new stepper. `same`: the two
 /// predictions are equal, bit for bit.
@@ -92,9 +92,9 @@ struct errors {
     bool same;
 };
 template <class Make>
-errors prediction_errors(double h, Make make) {
+errors prediction_errors(int n, double h, Make make) {
     auto p = make(h);
-    phase_state<dynamic> x = start(arm().dimension());
+    phase_state<dynamic> x = start(n);
     EXPECT_TRUE(p.step(x).converged);
     auto converged = p, fresh = make(h);
     fresh.set_time(p.time());
@@ -105,13 +105,17 @@ errors prediction_errors(double h, Make make) {
     return {(a - want).lpNorm<Eigen::Infinity>(), (b - want).lpNorm<Eigen::Infinity>(), a == b};
 }
 
-/// The orders of the continued and the fresh predictions, from h = 0.02 and 0.01.
+/// The orders of the continued and the fresh predictions, from h = 0.02 and 0.01, and the
+/// errors at h = 0.01.
+struct orders {
+    double continued, fresh;
+    errors fine;
+};
 template <class Make>
-errors prediction_orders(Make make, errors* fine_out) {
-    const errors coarse = prediction_errors(0.02, make), fine = prediction_errors(0.01, make);
-    *fine_out = fine;
+orders prediction_orders(int n, Make make) {
+    const errors coarse = prediction_errors(n, 0.02, make), fine = prediction_errors(n, 0.01, make);
     return {std::log2(coarse.continued / fine.continued), std::log2(coarse.fresh / fine.fresh),
-            fine.same};
+            fine};
 }
 
 } // namespace
@@ -130,19 +134,18 @@ TEST(PredictorJerk, ContinuingAStepGainsAnOrder) {
     const auto held = [&](double h) {
         return probe<undeclared>(sys, undeclared{tracking(n)}, h, spec);
     };
-    errors fine{};
-    const auto gains = [&](const errors& order) {
+    const auto gains = [](const orders& order) {
         EXPECT_GE(order.continued, 3.75);
         EXPECT_LE(order.continued, 4.5);
         EXPECT_GE(order.fresh, 2.75);
         EXPECT_LE(order.fresh, 3.4);
-        EXPECT_LT(fine.continued, 0.15 * fine.fresh); // 0.04 free, 0.09 forced, at h = 0.01
-        EXPECT_FALSE(order.same);
+        EXPECT_LT(order.fine.continued, 0.15 * order.fine.fresh); // 0.04 free, 0.09 forced
+        EXPECT_FALSE(order.fine.same);
     };
-    gains(prediction_orders(free, &fine));
-    gains(prediction_orders(forced, &fine));
-    const errors undeclared_order = prediction_orders(held, &fine);
-    EXPECT_TRUE(undeclared_order.same);
+    gains(prediction_orders(n, free));
+    gains(prediction_orders(n, forced));
+    const orders undeclared_order = prediction_orders(n, held);
+    EXPECT_TRUE(undeclared_order.fine.same);
     EXPECT_LE(undeclared_order.continued, 3.4);
 }
 
