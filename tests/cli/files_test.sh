@@ -45,12 +45,17 @@ echo old > target.csv && ln -s target.csv link.csv
 # A dangling link creates its target, atomically too: SIGTERM leaves no partial file under the
 # final name, only TARGET.part and the checkpoint; the resumed run ends with the uninterrupted
 # run's bytes, and the link is still a link. The run (about a second in Release) is stopped as
-# soon as its first rows reach the partial file.
+# soon as the partial file has a row after the first: the header and row 0 are written before the
+# run watches for signals, and a signal before that ends it without a checkpoint.
 ln -s far.csv dangling.csv
 "$VARSYM" run --model pendulum --time 20 --steps 2000000 --every 10 -o dangling.csv --quiet \
   2> /dev/null &
 pid=$!
-for _ in $(seq 2000); do [ -s far.csv.part ] && break; sleep 0.01; done
+for _ in $(seq 2000); do
+  [ "$({ wc -l < far.csv.part; } 2> /dev/null || echo 0)" -gt 2 ] && break
+  kill -0 $pid 2> /dev/null || break
+  sleep 0.01
+done
 kill -TERM $pid && wait $pid
 rc=$?
 [ $rc -eq 143 ] && [ ! -e far.csv ] && [ -s far.csv.part ] && [ -s dangling.csv.ckpt ] && ok ||
