@@ -32,9 +32,10 @@
 // and L (without gravity) invariant, so the Galerkin discrete Lagrangians are invariant and the
 // discrete Noether theorem conserves the total angular momentum to round-off, as translations
 // conserve the linear momentum; no Euler-angle singularity (docs/robots.md).
-// Functions and members that run the tree's algorithms are templates with a defaulted parameter
-// (`template <class = void>`), called as plain functions: a source that includes this header and
-// never calls them does not compile them (docs/development.md).
+// Functions and members that run the tree's algorithms, and the chart's helpers they call, are
+// templates with a defaulted parameter (`template <class = void>`), called as plain functions: a
+// source that includes this header and never calls them does not compile them
+// (docs/development.md).
 #pragma once
 
 #include <array>

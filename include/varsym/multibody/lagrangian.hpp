@@ -5,8 +5,7 @@
 // serves an ensemble's threads and an evaluation allocates nothing once sized.
 // The members that run the algorithms are templates with a defaulted parameter
 // (`template <class = void>`), called as plain members: a source that includes this header and
-// never calls them does not compile them (docs/development.md, "What every translation unit pays
-// for").
+// never calls them does not compile them (docs/development.md).
 #pragma once
 
 #include <memory>
