@@ -6,6 +6,18 @@
 # give their exit code and one line; output that cannot be written is a failure.
 source "$(dirname "$0")/lib.sh" "$@"
 
+# wait_stepping PID PART: waits (up to 20 s) until PART holds a row after row 0, or the run PID
+# has ended (status 1). A run writes its header and row 0 before it watches for signals: a signal
+# before then ends it without a checkpoint.
+wait_stepping() {
+  for _ in $(seq 2000); do
+    [ "$({ wc -l < "$2"; } 2> /dev/null || echo 0)" -gt 2 ] && return 0
+    kill -0 "$1" 2> /dev/null || return 1
+    sleep 0.01
+  done
+  return 1
+}
+
 # --- special files: written through, still what they were ------------------------------------
 mkfifo fifo
 cat fifo > from_fifo.txt &
@@ -45,17 +57,12 @@ echo old > target.csv && ln -s target.csv link.csv
 # A dangling link creates its target, atomically too: SIGTERM leaves no partial file under the
 # final name, only TARGET.part and the checkpoint; the resumed run ends with the uninterrupted
 # run's bytes, and the link is still a link. The run (about a second in Release) is stopped as
-# soon as the partial file has a row after the first: the header and row 0 are written before the
-# run watches for signals, and a signal before that ends it without a checkpoint.
+# soon as it steps (wait_stepping).
 ln -s far.csv dangling.csv
 "$VARSYM" run --model pendulum --time 20 --steps 2000000 --every 10 -o dangling.csv --quiet \
   2> /dev/null &
 pid=$!
-for _ in $(seq 2000); do
-  [ "$({ wc -l < far.csv.part; } 2> /dev/null || echo 0)" -gt 2 ] && break
-  kill -0 $pid 2> /dev/null || break
-  sleep 0.01
-done
+wait_stepping $pid far.csv.part
 kill -TERM $pid && wait $pid
 rc=$?
 [ $rc -eq 143 ] && [ ! -e far.csv ] && [ -s far.csv.part ] && [ -s dangling.csv.ckpt ] && ok ||
@@ -155,8 +162,7 @@ for sig in INT TERM; do
   rm -f sig.csv*
   "$VARSYM" "${args[@]}" 2> sig.txt &
   pid=$!
-  for _ in $(seq 200); do [ -s sig.csv.part ] && break; sleep 0.01; done
-  sleep 0.1
+  wait_stepping "$pid" sig.csv.part
   kill -$sig "$pid"
   wait "$pid"
   rc=$?
@@ -200,8 +206,7 @@ wait "$holder" 2> /dev/null
 rm -f sig.csv*
 "$VARSYM" "${args[@]}" 2> sig.txt &
 pid=$!
-for _ in $(seq 200); do [ -s sig.csv.part ] && break; sleep 0.01; done
-sleep 0.1
+wait_stepping "$pid" sig.csv.part
 kill -INT "$pid"
 kill -INT "$pid"
 wait "$pid"
