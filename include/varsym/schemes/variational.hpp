@@ -394,5 +394,6 @@ class stepper {
 } // namespace varsym::general
 
 #include "varsym/schemes/variational_failure.hpp"
+#include "varsym/schemes/variational_history.hpp"
 #include "varsym/schemes/variational_sensitivity.hpp"
 #include "varsym/schemes/variational_solve.hpp"

@@ -1,0 +1,74 @@
+// varsym/schemes/variational_history.hpp: what the general engine (variational.hpp) keeps
+// from one step to the next, saved into and restored from a checkpoint: the linear iterations'
+// kept point, the time-dependent work's carries and the robot predictor's jerk.
+#pragma once
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "varsym/schemes/variational.hpp"
+
+namespace varsym::general {
+
+template <lagrangian L, class F>
+void stepper<L, F>::save_history(std::vector<double>& out) const {
+    out.clear();
+    if (linear()) {
+        out.push_back(kept_ ? 1.0 : 0.0);
+        out.insert(out.end(), q_bar_.data(), q_bar_.data() + d_);
+        out.insert(out.end(), v_bar_.data(), v_bar_.data() + d_);
+    }
+    if constexpr (timed) out.insert(out.end(), {t_bar_, total_work_, work_carry_});
+    if constexpr (jerk_history) {
+        out.push_back(continues_ ? 1.0 : 0.0);
+        if (continues_)
+            for (const vec<dim>* v : {&a0_, &q_end_, &p_end_})
+                out.insert(out.end(), v->data(), v->data() + d_);
+    }
+}
+
+template <lagrangian L, class F>
+void stepper<L, F>::restore_history(const phase_state<dim>&, const std::vector<double>& in) {
+    kept_ = false;
+    total_work_ = work_carry_ = 0.0;
+    continues_ = a0_taken_ = false;
+    if (in.empty()) return;
+    const auto want = static_cast<std::size_t>((linear() ? 1 + 2 * d_ : 0) + (timed ? 3 : 0));
+    // Then the predictor's jerk: a flag, and a₀, q and p where the last step ended if it is set.
+    // A history in the layout without that part is read too; the jerk then starts afresh.
+    bool fits = in.size() == want;
+    std::string sizes = std::to_string(want);
+    if constexpr (jerk_history) {
+        const auto d = static_cast<std::size_t>(d_);
+        sizes += ", " + std::to_string(want + 1) + " or " + std::to_string(want + 1 + 3 * d);
+        if (in.size() == want + 1 + 3 * d && in[want] == 1.0) {
+            const double* at = in.data() + want + 1;
+            for (vec<dim>* v : {&a0_, &q_end_, &p_end_}) { // sized by the constructor
+                std::copy(at, at + d_, v->data());
+                at += d_;
+            }
+            continues_ = fits = true;
+        }
+        fits = fits || (in.size() == want + 1 && in[want] == 0.0);
+    }
+    if (!fits)
+        throw std::invalid_argument("the saved history has " + std::to_string(in.size()) +
+                                    " numbers where this stepper's options keep " + sizes);
+    if constexpr (timed) {
+        t_bar_ = in[want - 3];
+        total_work_ = in[want - 2];
+        work_carry_ = in[want - 1];
+    }
+    if (!linear()) return;
+    std::copy(in.begin() + 1, in.begin() + 1 + d_, q_bar_.data());
+    std::copy(in.begin() + 1 + d_, in.begin() + 1 + 2 * d_, v_bar_.data());
+    if (in[0] != 0.0) {
+        evaluate(sys_.lagrangian(), q_bar_, v_bar_, t_bar_, terms_[0]);
+        if constexpr (forced) add_force(0, q_bar_, v_bar_, t_bar_, true);
+        refresh(terms_[0]);
+    }
+}
+
+} // namespace varsym::general
