@@ -221,6 +221,7 @@ class stepper {
         return dp_.allFinite();
     }
     bool momentum_change_linearised(const phase_state<dim>& x); // variational_solve.hpp
+    [[nodiscard]] double residual_resolution(const vec<dim>& p) const;
     /// work_ −= Σ_k w_k ∂L/∂t(q_k, v_k, t_k) at the increments, for an L that gives ∂L/∂t.
     void add_time_work(const phase_state<dim>& x) {
         if constexpr (time_dependent_lagrangian<L> && lagrangian_time_known<L>) {
