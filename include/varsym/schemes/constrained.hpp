@@ -18,7 +18,10 @@
 // Newton (the linear iterations of variational_solve.hpp are for unconstrained systems).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -150,6 +153,7 @@ class constrained_stepper : public stepper<L, F> {
         return opt;
     }
     void assemble_constrained(const phase_state<dim>& x);
+    bool at_round_off(const phase_state<dim>& x);
     std::string constraint_problem(const vec<dim>& q, const char* where, double t) const;
 
     C c_;
@@ -182,6 +186,10 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
         this->assemble(x.p, true);
         assemble_constrained(x);
         rep.residual = rk_.template lpNorm<Eigen::Infinity>();
+        if (at_round_off(x)) { // as the unconstrained engine's stop (variational_solve.hpp)
+            rep.iterations = monitor.iterations();
+            break;
+        }
         if (monitor.exhausted()) return rep;
         klu_.compute(k_);
         dk_.noalias() = klu_.solve(rk_);
@@ -244,6 +252,33 @@ void constrained_stepper<L, C, F>::assemble_constrained(const phase_state<dim>& 
         constraint_curvature(c_, this->qk_, vec<count>(lam_.col(i)), hc_);
         k_.block(i * d, (i - 1) * d, d, d) -= hc_;
     }
+}
+
+/// Whether the saddle-point residual (after assemble_constrained) is round-off of its own terms:
+/// the momentum rows as the unconstrained residual's (stepper::at_round_off), their round-off
+/// with 2ε |G_iᵀ||Λ_i| added, and each constraint row below 2ε |G(Q_l)| |Q_l| (the round-off of
+/// evaluating g at Q_l). Then no update could be told from noise, and the solve stops (a
+/// free-base robot at rest: its motion is round-off of the forces on it).
+template <lagrangian L, holonomic_constraint C, class F>
+bool constrained_stepper<L, C, F>::at_round_off(const phase_state<dim>& x) {
+    constexpr double eps2 = 2.0 * std::numeric_limits<double>::epsilon();
+    const int s = this->s_, d = this->d_, sd = s * d;
+    if (!rk_.allFinite()) return false;
+    this->residual_resolution(x.p);
+    for (int i = 0; i < s; ++i)
+        this->delta_.segment(i * d, d).noalias() +=
+            eps2 *
+            (jc_[static_cast<std::size_t>(i)].cwiseAbs().transpose() * lam_.col(i).cwiseAbs());
+    if (!base::at_round_off(rk_.head(sd), x.p, true)) return false;
+    for (int l = 1; l <= s; ++l) {
+        const auto& g = jc_[static_cast<std::size_t>(l)];
+        this->qk_ = x.q + this->x_.col(l - 1);
+        if (!(rk_.segment(sd + (l - 1) * m_, m_).array().abs() <=
+              eps2 * (g.cwiseAbs() * this->qk_.cwiseAbs()).array())
+                 .all())
+            return false;
+    }
+    return true;
 }
 
 } // namespace varsym::general

@@ -221,7 +221,8 @@ class stepper {
         return dp_.allFinite();
     }
     bool momentum_change_linearised(const phase_state<dim>& x); // variational_solve.hpp
-    [[nodiscard]] double residual_resolution(const vec<dim>& p) const;
+    void residual_resolution(const vec<dim>& p);                // variational_solve.hpp
+    bool at_round_off(Eigen::Ref<const Eigen::VectorXd> res, const vec<dim>& p, bool resolved);
     /// work_ −= Σ_k w_k ∂L/∂t(q_k, v_k, t_k) at the increments, for an L that gives ∂L/∂t.
     void add_time_work(const phase_state<dim>& x) {
         if constexpr (time_dependent_lagrangian<L> && lagrangian_time_known<L>) {

@@ -7,7 +7,8 @@
 // inverted once and kept across steps while each update shrinks at least 1/contraction_limit
 // times; the sweeps evaluate L's first derivatives only. They stop at the same round-off floor
 // as Newton (newton_monitor, linear), and hand the step to Newton when an update shrinks by less
-// than half even with a fresh Jacobian. docs/design.md, "The general engine".
+// than half even with a fresh Jacobian. Newton also stops, before an update, where the residual
+// is round-off of its own terms (at_round_off). docs/design.md, "The general engine".
 #pragma once
 
 #include <algorithm>
@@ -46,8 +47,12 @@ newton_report stepper<L, F>::solve_linear(const phase_state<dim>& x) {
 /// an update is below newton_options::chord_start of the increments, while the chord updates
 /// shrink at least 1/min(contraction_limit, chord_rate_limit) times; one that does not is dropped,
 /// and the solve goes on as full Newton from the same iterate. From the Taylor predictor at small
-/// steps (a robot at 1 ms) the first Newton update already lands within round-off, so the second
-/// update, which only confirms it, costs first derivatives alone.
+/// steps (a robot at 1 ms) the first Newton update already lands within round-off: the residual
+/// there, first derivatives alone, is then round-off of its own terms (at_round_off) and ends the
+/// solve, or the second update, which only confirms it, costs a solve with the same LU. Each
+/// Newton iterate is checked so before its update, the predictor's included. (Not the linear
+/// iterations: their ∂²L/∂q̇², which the check scales by, may be another step's, and their runs
+/// must repeat to the bit across a checkpoint.)
 template <lagrangian L, class F>
 newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
     newton_options opt = opt_;
@@ -69,7 +74,7 @@ newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
         evaluate_points(x.q, newton && !chord);
         assemble(x.p, newton && !chord);
         rep.residual = res_.template lpNorm<Eigen::Infinity>();
-        if (rep.residual <= residual_resolution(x.p)) {
+        if (newton && at_round_off(res_, x.p, false)) {
             // The residual is round-off of its own terms: no update could be told from noise.
             // The momentum then comes from this iterate's L_q as evaluated (no update to correct
             // for: momentum_change_linearised with δ = 0).
@@ -123,33 +128,58 @@ newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
     return rep;
 }
 
-/// The round-off of the step's residual (assemble): ε times the largest terms summed into it,
-/// |p_j| and at each point k h w_k max_i|φ_ik| (|L_q(k)| + |f_k|) + w_k max_i|φ'_ik| |L_v(k)|
-/// (maximum norms; L_q and f apart, as a force holding a robot cancels L_q). A residual below it
-/// has no digits left that an update could reduce. That is where a robot held at rest stops: its
-/// increments are round-off of the held forces, and Newton's updates would only trade one
-/// rounding for another (the iiwa held upright at q = 0 took 12 updates a step, and its step
-/// 9773 failed after 25, without this stop).
+/// delta_ = the round-off of each entry of the step's residual (assemble), 2ε times the terms
+/// summed into it: for coordinate j of equation i,
+///   δ_i0 |p_j| + Σ_k (h |w_k φ_ik| (|L_q(k)_j| + |f_k,j|) + |w_k ψ_ik| |L_v(k)_j|),
+/// with φ, ψ as in variational.hpp's equations (the tables' wphi and wdphi)
+/// (L_q and f apart, as a force holding a robot cancels L_q).
 template <lagrangian L, class F>
-double stepper<L, F>::residual_resolution(const vec<dim>& p) const {
+void stepper<L, F>::residual_resolution(const vec<dim>& p) {
     const auto &u = tab_.wphi, &g = tab_.wdphi;
-    double sum = p.template lpNorm<Eigen::Infinity>();
+    delta_.setZero();
+    block_of<dim>(delta_, 0, d_) = p.cwiseAbs();
     for (int k = 0; k < r_; ++k) {
         const lagrangian_terms<dim>& t = terms_[static_cast<std::size_t>(k)];
-        double lq = t.lq.template lpNorm<Eigen::Infinity>();
+        acc_ = t.lq.cwiseAbs(); // |L_q(k)| + |f_k|
         if constexpr (forced) {
             const vec<dim>& f = fterms_[static_cast<std::size_t>(k)].f;
-            lq = (t.lq - f).template lpNorm<Eigen::Infinity>() +
-                 f.template lpNorm<Eigen::Infinity>();
+            acc_ = (t.lq - f).cwiseAbs() + f.cwiseAbs();
         }
-        double wq = 0.0, wv = 0.0;
-        for (int i = 0; i < s_; ++i) {
-            wq = std::max(wq, std::abs(u.hi(i, k)));
-            wv = std::max(wv, std::abs(g.hi(i, k)));
-        }
-        sum += h_ * wq * lq + wv * t.lv.template lpNorm<Eigen::Infinity>();
+        rhs_ = t.lv.cwiseAbs();
+        for (int i = 0; i < s_; ++i)
+            block_of<dim>(delta_, i, d_) +=
+                (h_ * std::abs(u.hi(i, k))) * acc_ + std::abs(g.hi(i, k)) * rhs_;
     }
-    return std::numeric_limits<double>::epsilon() * sum;
+    delta_ *= 2.0 * std::numeric_limits<double>::epsilon();
+}
+
+/// Whether the residual `res` (the step's equations, or the momentum rows of the constrained
+/// stepper's, with their further round-off already in delta_ when `resolved`) is round-off of
+/// its own terms, in the units of the increments: max_ij |res_ij| / m_j ≤ max_ij δ_ij / m_j,
+/// m_j = |∂²L/∂q̇_j²| at the first point (δ: residual_resolution), so that the correction an
+/// update would make to any coordinate is below the round-off of the largest increment, the
+/// scale at which Newton's own stop (newton_monitor) measures every update. Then no update could
+/// be told from noise. That is where a robot held at rest stops: its increments are round-off of
+/// the held forces, and Newton's updates would only trade one rounding for another (the iiwa
+/// held upright at q = 0 took 12 updates a step, and its step 9773 failed after 25, without
+/// this stop). Entry by entry would be too strict there: a joint the others' noise reaches
+/// through M(q) never meets its own round-off. Not where a diagonal of ∂²L/∂q̇² is not positive.
+template <lagrangian L, class F>
+bool stepper<L, F>::at_round_off(Eigen::Ref<const Eigen::VectorXd> res, const vec<dim>& p,
+                                 bool resolved) {
+    if (!res.allFinite()) return false;
+    if (!resolved) residual_resolution(p);
+    const mat<dim>& m = terms_[0].lvv;
+    double worst = 0.0, floor = 0.0;
+    for (int j = 0; j < d_; ++j) {
+        const double mj = std::abs(m(j, j));
+        if (!(mj > 0.0) || !std::isfinite(mj)) return false;
+        for (int i = 0; i < s_; ++i) {
+            worst = std::max(worst, std::abs(res(i * d_ + j)) / mj);
+            floor = std::max(floor, delta_(i * d_ + j) / mj);
+        }
+    }
+    return worst <= floor;
 }
 
 /// dp_ = p_{j+1} − p_j as momentum_change gives it, without evaluating L again: from the
