@@ -306,10 +306,11 @@ TEST(FloatingBase, UnderGravityTheVerticalMomentumFallsByMgtAndItsAngularMomentu
 }
 
 TEST(FloatingBase, AtRestTheSolveStopsAtTheResidualsRoundOff) {
-    // The damped floating arm at rest without gravity: every step's saddle-point residual is
-    // round-off of its own terms (constrained.hpp, at_round_off) from the start, so no update
-    // is taken (measured: none in 1000 steps; one a step before that stop), and the arm stays
-    // at rest: |p| and the move of q within 1e-15.
+    // The damped floating arm at rest without gravity: every term of the saddle-point residual
+    // is zero, so the stop (constrained.hpp, at_round_off) takes each step without an update
+    // (measured: none in 1000 steps; one a step before that stop), and the arm stays at rest:
+    // |p| and the move of q within 1e-15. A smoke test of the constrained stepper's stop: it
+    // fails without the stop by its update count only (λ stays 0 here).
     multibody::tree fixed = random_arm(8);
     fixed.gravity.setZero();
     const multibody::free_robot l(
