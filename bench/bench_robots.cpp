@@ -156,6 +156,11 @@ std::vector<method> methods() {
     for (int s = 2; s <= 4; ++s)
         out.push_back({"lobatto-" + std::to_string(s), false, 0,
                        scheme_spec(scheme_kind::lobatto, s), newton});
+    // The articulated iteration: the mass term alone, solved in O(n).
+    out.push_back(
+        {"simpson-art", false, 0, scheme_spec(scheme_kind::simpson), iteration_kind::articulated});
+    out.push_back(
+        {"gauss-2-art", false, 0, scheme_spec(scheme_kind::gauss, 2), iteration_kind::articulated});
     // The simplified iteration: one Jacobian kept across steps, first derivatives per sweep.
     out.push_back({"simpson-simpl", false, 0, scheme_spec(scheme_kind::simpson), simplified});
     for (int s = 1; s <= 4; ++s)
@@ -381,7 +386,9 @@ void scaling(int rounds) {
         named("gauss-2"),
         {"simpson-fixed", false, 0, scheme_spec(scheme_kind::simpson), iteration_kind::fixed_point},
         named("simpson-simpl"),
-        named("gauss-2-simpl")};
+        named("gauss-2-simpl"),
+        named("simpson-art"),
+        named("gauss-2-art")};
     for (const method& m : chosen)
         std::printf(" %24s", m.label.c_str());
     std::printf("\n");

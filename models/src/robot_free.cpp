@@ -46,6 +46,16 @@ phase_state<dynamic> free_start(const free_system& sys, const start& s, int n) {
     return {q, sys.momentum(q, v)};
 }
 
+/// A free base is a constrained system (its unit quaternion), stepped by Newton: another iteration
+/// is refused, not ignored.
+void check_free_base(const step_options& o) {
+    detail::check_general(o);
+    if (o.newton.iteration != iteration_kind::automatic &&
+        o.newton.iteration != iteration_kind::newton)
+        throw std::invalid_argument("a robot with a free base is a constrained system, solved by "
+                                    "Newton: use the iteration newton (the default)");
+}
+
 } // namespace
 
 problem simulate_free(const std::shared_ptr<const multibody::tree>& r,
@@ -92,7 +102,7 @@ problem simulate_free(const std::shared_ptr<const multibody::tree>& r,
     problem pr = detail::make_problem(x0, 0.0, {});
     if (!rf.forced) {
         pr.simulate = [sys, c, x0, columns, touch, r](const step_options& o) {
-            detail::check_general(o);
+            check_free_base(o);
             return simulate_robot(
                 general::constrained_stepper<multibody::free_robot, unit_quaternion>(
                     sys, c, o.h, o.spec, o.newton),
@@ -101,7 +111,7 @@ problem simulate_free(const std::shared_ptr<const multibody::tree>& r,
         return pr;
     }
     pr.simulate = [sys, c, f = std::move(rf.force), x0, columns, touch, r](const step_options& o) {
-        detail::check_general(o);
+        check_free_base(o);
         return simulate_robot(
             general::constrained_stepper<multibody::free_robot, unit_quaternion, robot_force>(
                 sys, c, f, o.h, o.spec, o.newton),

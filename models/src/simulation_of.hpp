@@ -210,11 +210,15 @@ class simulation_of final : public simulation {
 };
 
 /// A simulation of a separable system by the scheme's own stepper (newmark, simpson or the
-/// family member), from x0 at time t0.
+/// family member), from x0 at time t0. Refuses the articulated iteration (robots only), which
+/// newmark's and simpson's own steppers would not otherwise see.
 template <class System, int D, class Fill>
 std::unique_ptr<simulation> simulate_family(const System& sys, const phase_state<D>& x0,
                                             const step_options& o, column_set<Fill> cols,
                                             double t0 = 0.0) {
+    if (o.newton.iteration == iteration_kind::articulated)
+        throw std::invalid_argument("the articulated iteration is for robots (URDF models); "
+                                    "choose newton, simplified or fixed-point");
     return with_stepper(o.spec, sys, o.h, o.newton, [&](auto& s) -> std::unique_ptr<simulation> {
         using S = std::remove_cvref_t<decltype(s)>;
         phase_state<S::dim> x{x0.q, x0.p};

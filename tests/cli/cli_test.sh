@@ -10,7 +10,7 @@ expect_error 2 "negative steps" "--steps-per-period: must be >= 1, got '-5'" run
 expect_error 2 "fractional steps" "--steps-per-period: '2.5' is not a whole number" run --steps-per-period 2.5 -o out.csv
 expect_error 2 "zero periods" "--periods: must be > 0, got '0'" run --periods 0 -o out.csv
 expect_error 2 "negative periods" "--periods: must be > 0, got '-1'" run --periods -1 -o out.csv
-expect_error 2 "unknown iteration" "--iteration: chord not in {newton,simplified,fixed-point}" run --iteration chord -o out.csv
+expect_error 2 "unknown iteration" "--iteration: chord not in {newton,simplified,fixed-point,articulated}" run --iteration chord -o out.csv
 expect_error 2 "unknown predictor" "--predictor: cubic not in {taylor,previous,forces}" run --predictor cubic -o out.csv
 expect_error 2 "previous predictor on the general engine" "double-pendulum: the predictors 'previous' and 'forces' are" run --model double-pendulum --predictor previous -o out.csv
 expect_error 2 "unknown bench solver" "--solver: unknown solver 'chord': automatic, newton" bench --solver chord --problems kepler

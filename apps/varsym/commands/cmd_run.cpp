@@ -255,15 +255,18 @@ void add_run_command(CLI::App& app, action& todo, run_context& ctx) {
     cmd->add_option_function<std::string>(
            "--iteration",
            [&s](const std::string& v) { s.newton.iteration = named(iteration_names, v).value(); },
-           "How lobatto-s (s >= 3) and gauss-s (s >= 2), and every scheme of double-pendulum and "
-           "heavy-top, solve a step: newton (exact Jacobian each iteration; the default on "
+           "How a step is solved by lobatto-s (s >= 3) and gauss-s (s >= 2) on the separable "
+           "models, and by every scheme on the general engine's (double-pendulum, heavy-top, "
+           "--urdf robots, expressions): newton (exact Jacobian each iteration; the default on "
            "the general engine's models with exact derivatives), "
            "simplified (one Jacobian kept across steps; first derivatives only in its sweeps; "
-           "the default of double-pendulum and heavy-top, whose derivatives are automatic) or "
+           "the default of double-pendulum and heavy-top, whose derivatives are automatic), "
            "fixed-point (the Jacobian's mass term alone; the default of the separable models, "
-           "measured fastest there). All stop at the same round-off "
-           "floor; the last two hand a step to newton where they diverge")
-        ->check(CLI::IsMember({"newton", "simplified", "fixed-point"}));
+           "measured fastest there) or articulated (robots from --urdf with a fixed or planar "
+           "base: the mass term at the step's midpoint, solved in O(n) by the articulated-body "
+           "algorithm; faster than newton on long chains, docs/robots.md). All stop at the "
+           "same round-off floor; the last three hand a step to newton where they diverge")
+        ->check(CLI::IsMember({"newton", "simplified", "fixed-point", "articulated"}));
     cmd->add_option_function<std::string>(
            "--predictor",
            [&s](const std::string& v) { s.newton.predictor = named(predictor_names, v).value(); },

@@ -13,9 +13,18 @@
 
 #include "varsym/autodiff/second_order.hpp"
 #include "varsym/multibody/algorithms.hpp"
+#include "varsym/multibody/articulated.hpp"
 #include "varsym/systems/lagrangian.hpp"
 
 namespace varsym::multibody {
+
+/// One thread's factorisation of a robot's M(q) (robot_lagrangian::factor_mass): articulated
+/// (articulated.hpp), or dense with mimic joints.
+struct mass_factorisation {
+    articulated_factor aba;
+    Eigen::MatrixXd dense;
+    Eigen::LLT<Eigen::MatrixXd> llt;
+};
 
 class robot_lagrangian {
   public:
@@ -65,6 +74,33 @@ class robot_lagrangian {
         multibody::mass_matrix(*m_, work(), q, out);
     }
 
+    /// Factorises M(q) for solve_mass and mass_diagonal on this thread: by the articulated-body
+    /// algorithm in O(n) (articulated.hpp), or, with mimic joints, the composite-rigid-body M by
+    /// Cholesky. False where M(q) is not positive definite.
+    template <class = void>
+    bool factor_mass(const vec<dynamic>& q) const {
+        auto& f = factor<>();
+        if (m_->mimics.empty()) return multibody::factor_mass(*m_, work(), q, f.aba);
+        mass_matrix(q, f.dense);
+        f.aba.diagonal = f.dense.diagonal();
+        f.llt.compute(f.dense);
+        return f.llt.info() == Eigen::Success;
+    }
+    /// x ← M(q)⁻¹x at the q of this thread's last factor_mass (O(n) without mimic joints).
+    template <class = void>
+    void solve_mass(vec<dynamic>& x) const {
+        auto& f = factor<>();
+        if (m_->mimics.empty())
+            multibody::solve_mass(*m_, f.aba, x);
+        else
+            f.llt.solveInPlace(x);
+    }
+    /// M(q)'s diagonal at the q of this thread's last factor_mass.
+    template <class = void>
+    [[nodiscard]] const Eigen::VectorXd& mass_diagonal() const {
+        return factor<>().aba.diagonal;
+    }
+
     /// b = C(q, q̇)q̇ + g(q) = (∂²L/∂q̇∂q) q̇ − ∂L/∂q by the recursive Newton–Euler algorithm
     /// (O(n)): M(q)q̈ + b = f is the motion, from which the predictor takes its acceleration.
     template <class = void>
@@ -73,10 +109,10 @@ class robot_lagrangian {
         multibody::bias_forces(*m_, work(), q, v, out);
     }
 
-    /// bias_forces(q, v, out) at the q of this thread's last mass_matrix call, with no robot
-    /// evaluated on this thread between (the workspace is every robot_lagrangian's on the thread,
-    /// a force's evaluations of the robot included): that call's kinematics are kept (the
-    /// predictor's q̇ = M⁻¹p between the two saves one tree pass).
+    /// bias_forces(q, v, out) at the q of this thread's last mass_matrix (or factor_mass) call,
+    /// with no robot evaluated on this thread between (the workspace is every robot_lagrangian's on
+    /// the thread, a force's evaluations of the robot included): that call's kinematics are kept
+    /// (the predictor's q̇ = M⁻¹p between the two saves one tree pass).
     template <class = void>
     void bias_forces_after_mass_matrix(const vec<dynamic>& v, vec<dynamic>& out) const {
         out.resize(m_->dof());
@@ -127,6 +163,13 @@ class robot_lagrangian {
 
   private:
     std::shared_ptr<const tree> m_;
+
+    /// The calling thread's factorisation of M (factor_mass).
+    template <class = void>
+    static mass_factorisation& factor() {
+        thread_local mass_factorisation f;
+        return f;
+    }
 
     void size(lagrangian_terms<dynamic>& t, bool second) const {
         const int n = m_->dof();

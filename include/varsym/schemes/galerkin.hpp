@@ -82,6 +82,9 @@ class stepper {
         // on the pendulum the two tie).
         if (opt_.iteration == iteration_kind::automatic)
             opt_.iteration = iteration_kind::fixed_point;
+        if (opt_.iteration == iteration_kind::articulated)
+            throw std::invalid_argument("the articulated iteration is for robots (URDF models); "
+                                        "choose newton, simplified or fixed-point");
         s_ = s;
         r_ = r;
         n_ = s * d;

@@ -24,11 +24,10 @@
 // (newton_options::chord_start; variational_solve.hpp), and p_{j+1} comes from its last
 // iterate's derivatives, corrected to first order for the last update (no evaluation). For a
 // robot (lagrangian_with_bias_forces) its predictor takes M(q_j) and the bias forces in place of
-// second derivatives at q_j. The linear iterations
-// (newton_options::iteration simplified or fixed_point; variational_solve.hpp) evaluate only
-// first derivatives in their sweeps, against one Jacobian kept across steps: with automatic
-// derivatives that is the difference between O((2d)²) and O(2d) per operation of L
-// (docs/autodiff.md).
+// second derivatives at q_j. The linear iterations (simplified, fixed_point;
+// variational_solve.hpp) evaluate only first derivatives in their sweeps, against one Jacobian
+// kept across steps (with automatic derivatives O(2d) per operation of L, not O((2d)²):
+// docs/autodiff.md); the articulated one, against M alone, in O(d) (variational_articulated.hpp).
 //
 // Forces (the discrete Lagrange–d'Alembert principle; Marsden & West 2001, §3.2): a generalized
 // force f(q, q̇, t) adds h Σ_k w_k φ_ik f(q_k, v_k, t_j + c_k h) to equation i, i.e. f joins L_q
@@ -116,13 +115,14 @@ class stepper {
             }
         }
         for (auto* v : {&qk_, &vk_, &dp_, &dq_, &acc_, &lq0_, &lv0_, &q_bar_, &v_bar_, &rhs_, &a0_,
-                        &q_end_, &p_end_})
+                        &a_next_, &q_end_, &p_end_})
             v->setZero(d_);
         res_.setZero(s_ * d_);
         delta_.setZero(s_ * d_);
         jac_.setZero(s_ * d_, s_ * d_);
         lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(s_ * d_);
         if (linear()) jinv_.setZero(s_ * d_, s_ * d_);
+        if (opt_.iteration == iteration_kind::articulated) articulated_setup();
     }
 
     [[nodiscard]] double step_size() const { return h_; }
@@ -185,17 +185,17 @@ class stepper {
     }
 
     newton_report step(phase_state<dim>& x) {
-        newton_report rep;
         if constexpr (jerk_history) a0_taken_ = false; // not a failed step's
-        if (linear()) {
-            rep = solve_linear(x);
-            if (!rep.converged) { // diverged or too slow even with a fresh Jacobian
+        newton_report rep;
+        if (opt_.iteration == iteration_kind::newton) {
+            rep = solve_newton(x);
+        } else { // a step that diverged or was too slow goes to Newton
+            rep = linear() ? solve_linear(x) : solve_articulated(x);
+            if (!rep.converged) {
                 const int spent = rep.iterations;
                 rep = solve_newton(x);
                 rep.iterations += spent;
             }
-        } else {
-            rep = solve_newton(x);
         }
         if (!rep.converged) return rep;
         if (!(linearised_ ? momentum_change_linearised(x) : momentum_change(x))) return failed(rep);
@@ -234,28 +234,9 @@ class stepper {
                 }
         }
     }
-    /// q_{j+1} = q_j + X_s and p_{j+1} = p_j + dp_ (compensated); the clock and work advance.
-    void commit(phase_state<dim>& x) {
-        dq_ = x_.col(s_ - 1);
-        sum_.add_q(x, dq_);
-        sum_.add_p(x, dp_);
-        if constexpr (jerk_history) {
-            continues_ = a0_taken_; // predict_dynamics took a0_ at this step's start
-            a0_taken_ = false;
-            if (continues_) {
-                q_end_ = x.q;
-                p_end_ = x.p;
-            }
-        }
-        work_ *= h_;
-        t_step_ = t_;
-        t_ += h_;
-        // total_work_ += work_, compensated (Neumaier): long runs add many small works.
-        const double sum = total_work_ + work_;
-        work_carry_ += std::abs(total_work_) >= std::abs(work_) ? (total_work_ - sum) + work_
-                                                                : (work_ - sum) + total_work_;
-        total_work_ = sum;
-    }
+    /// q_{j+1} = q_j + X_s and p_{j+1} = p_j + dp_ (compensated); the clock and work advance
+    /// (variational_history.hpp).
+    void commit(phase_state<dim>& x);
     void add_state_derivative(Eigen::MatrixXd& b) const;
     void add_momentum_derivative(const Eigen::MatrixXd& dx, Eigen::MatrixXd& out, bool state) const;
     void control_jacobian(const phase_state<dim>& from, Eigen::MatrixXd& out);
@@ -265,7 +246,10 @@ class stepper {
         return rep;
     }
 
-    [[nodiscard]] bool linear() const { return opt_.iteration != iteration_kind::newton; }
+    [[nodiscard]] bool linear() const {
+        return opt_.iteration == iteration_kind::simplified ||
+               opt_.iteration == iteration_kind::fixed_point;
+    }
 
     std::string diagnose_points(const phase_state<dim>& x, const char* where);
 
@@ -284,6 +268,11 @@ class stepper {
     void predict_kept(const phase_state<dim>& x);
     void predict_dynamics(const phase_state<dim>& x);
     void taylor_increments(const vec<dim>& v, const vec<dim>& a, const vec<dim>* j = nullptr);
+    void taylor_from_dynamics(const phase_state<dim>& x); // from vk_ = q̇_j, acc_ = q̈_j
+    // The articulated iteration (variational_articulated.hpp).
+    void articulated_setup();
+    newton_report solve_articulated(const phase_state<dim>& x);
+    bool predict_articulated(const phase_state<dim>& x);
 
     /// The Taylor predictor from (q_j, p_j), second derivatives left in terms_[0].
     void predict(const phase_state<dim>& x);
@@ -377,6 +366,7 @@ class stepper {
     double t_step_ = 0.0; // the last step's t_j
     Eigen::VectorXd res_, delta_;
     Eigen::MatrixXd jac_, jinv_; // jinv_: the kept Jacobian's inverse (linear iterations)
+    Eigen::MatrixXd ainv_;       // h A⁻¹ (s × s) of the articulated iteration
     Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
     vec<dim> q_bar_, v_bar_;     // where the kept Jacobian was taken
     Eigen::LDLT<mat<dim>> mbar_; // ∂²L/∂q̇² there, factorised: the kept predictor's mass matrix
@@ -385,16 +375,18 @@ class stepper {
     bool linearised_ = false; // Newton converged with a linearisation below ε: reuse its terms
     double rate_ = 0.0;       // the slowest contraction of the last linear iteration
     compensated_update<dim> sum_;
-    // predict_dynamics' jerk: the acceleration M⁻¹(f − b) at the last step's start (a0_), and
-    // the state that step ended at (q_end_, p_end_), where the next step may continue it.
+    // The robot predictors' jerk: the acceleration M⁻¹(f − b) at the last step's start (a0_), and
+    // the state that step ended at (q_end_, p_end_), where the next step may continue it; a_next_
+    // this step's, which commit() makes a0_ (a step solved again by Newton predicts twice).
     static constexpr bool jerk_history =
         lagrangian_with_bias_forces<L> && (!forced || force_continuous_in_time<F>());
-    vec<dim> a0_, q_end_, p_end_;
+    vec<dim> a0_, a_next_, q_end_, p_end_;
     bool a0_taken_ = false, continues_ = false;
 };
 
 } // namespace varsym::general
 
+#include "varsym/schemes/variational_articulated.hpp"
 #include "varsym/schemes/variational_failure.hpp"
 #include "varsym/schemes/variational_history.hpp"
 #include "varsym/schemes/variational_sensitivity.hpp"

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -11,6 +12,32 @@
 #include "varsym/schemes/variational.hpp"
 
 namespace varsym::general {
+
+/// q_{j+1} = q_j + X_s and p_{j+1} = p_j + dp_ (compensated); the clock and work advance, and a
+/// robot's predictor keeps where the step ended (its jerk's history).
+template <lagrangian L, class F>
+void stepper<L, F>::commit(phase_state<dim>& x) {
+    dq_ = x_.col(s_ - 1);
+    sum_.add_q(x, dq_);
+    sum_.add_p(x, dp_);
+    if constexpr (jerk_history) {
+        continues_ = a0_taken_; // the robot predictor took a_next_ at this step's start
+        a0_taken_ = false;
+        if (continues_) {
+            a0_ = a_next_;
+            q_end_ = x.q;
+            p_end_ = x.p;
+        }
+    }
+    work_ *= h_;
+    t_step_ = t_;
+    t_ += h_;
+    // total_work_ += work_, compensated (Neumaier): long runs add many small works.
+    const double sum = total_work_ + work_;
+    work_carry_ += std::abs(total_work_) >= std::abs(work_) ? (total_work_ - sum) + work_
+                                                            : (work_ - sum) + total_work_;
+    total_work_ = sum;
+}
 
 template <lagrangian L, class F>
 void stepper<L, F>::save_history(std::vector<double>& out) const {

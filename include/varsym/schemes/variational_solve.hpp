@@ -304,16 +304,7 @@ void stepper<L, F>::predict_dynamics(const phase_state<dim>& x) {
         rhs_ += fterms_[0].f;
     }
     solve_symmetric_again<dim>(ldlt_, t.lvv, rhs_, acc_);
-    if constexpr (jerk_history) {
-        const bool continues = continues_ && x.q == q_end_ && x.p == p_end_;
-        if (continues) dq_ = (acc_ - a0_) / h_; // the jerk, to O(h)
-        a0_ = acc_;
-        a0_taken_ = true;
-        continues_ = false;
-        taylor_increments(vk_, acc_, continues ? &dq_ : nullptr);
-    } else {
-        taylor_increments(vk_, acc_);
-    }
+    taylor_from_dynamics(x);
 }
 
 /// Builds and inverts the kept Jacobian from the second derivatives in t (taken at (q̄, v̄)).

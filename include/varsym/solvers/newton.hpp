@@ -23,6 +23,9 @@ enum class iteration_kind {
     simplified,  ///< Jacobian at one point, factorised once and kept across steps while the
                  ///< iterations contract fast (contraction_limit), refreshed at q_j when not
     fixed_point, ///< the free particle's Jacobian (1/h) A ⊗ M: no second derivatives at all
+    articulated, ///< general engine, for an L that solves with its mass matrix (a robot):
+                 ///< (1/h) A ⊗ M at the step's midpoint, applied by the articulated-body
+                 ///< algorithm in O(n) per iterate; a step it does not converge goes to newton
 };
 
 /// Where the iteration starts.

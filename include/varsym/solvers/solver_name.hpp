@@ -13,11 +13,12 @@
 
 namespace varsym {
 
-inline constexpr std::array<std::pair<std::string_view, iteration_kind>, 4> iteration_names{{
+inline constexpr std::array<std::pair<std::string_view, iteration_kind>, 5> iteration_names{{
     {"automatic", iteration_kind::automatic},
     {"newton", iteration_kind::newton},
     {"simplified", iteration_kind::simplified},
     {"fixed-point", iteration_kind::fixed_point},
+    {"articulated", iteration_kind::articulated},
 }};
 
 inline constexpr std::array<std::pair<std::string_view, predictor_kind>, 3> predictor_names{{
@@ -55,7 +56,8 @@ inline newton_options parse_solver(std::string_view name, newton_options base = 
                            : named(predictor_names, name.substr(plus + 1));
     if (!iteration || !start)
         throw std::invalid_argument("unknown solver '" + std::string(name) +
-                                    "': automatic, newton, simplified or fixed-point, optionally "
+                                    "': automatic, newton, simplified, fixed-point or "
+                                    "articulated, optionally "
                                     "followed by +taylor, +previous or +forces (the start)");
     base.iteration = *iteration;
     base.predictor = *start;

@@ -140,4 +140,16 @@ concept lagrangian_with_bias_forces = lagrangian_with_mass_matrix<L> &&
     l.bias_forces(q, v, b);
 };
 
+/// A Lagrangian that solves with its mass matrix by hand (a robot: multibody/articulated.hpp, in
+/// O(n)): factor_mass(q), false where M(q) is not positive definite, then on the same thread
+/// solve_mass(x), x ← M(q)⁻¹x, and mass_diagonal(), M(q)'s diagonal. The general engine's
+/// articulated iteration takes them (schemes/variational_articulated.hpp).
+template <class L>
+concept lagrangian_with_mass_solves = lagrangian_with_bias_forces<L> &&
+    requires(const L& l, const vec<L::dim>& q, vec<L::dim>& x) {
+    { l.factor_mass(q) } -> std::convertible_to<bool>;
+    l.solve_mass(x);
+    { l.mass_diagonal() } -> std::convertible_to<const Eigen::VectorXd&>;
+};
+
 } // namespace varsym

@@ -1,0 +1,142 @@
+// varsym/schemes/variational_articulated.hpp: the general engine's articulated iteration
+// (iteration_kind::articulated), for an L that solves with its mass matrix (a robot:
+// lagrangian_with_mass_solves, multibody/articulated.hpp), and the robot predictors' increments.
+//
+// Each iterate evaluates L's first derivatives at the quadrature points (O(n) for a robot) and
+// updates the increments with Newton's Jacobian (variational.hpp) reduced to its ∂²L/∂q̇² term
+// taken at the predicted midpoint q̄ = q(t_j + h/2) of the step,
+//   J ≈ (1/h) A ⊗ M(q̄),  A_il = Σ_k w_k ψ_ik ψ_lk,  so  δ_i = h Σ_l (A⁻¹)_il M(q̄)⁻¹ F_l:
+// s solves with M(q̄), each O(n) by the articulated-body algorithm, where a Newton iterate costs
+// O(n²) second derivatives and an O((s n)³) LU. What it leaves out (L_qq, L_qv and
+// M(q_k) − M(q̄)) is O(h |q̇|) of what it keeps for a robot moving at |q̇|, so the updates shrink
+// about that much each (3 to 6 a step at 1 ms) where Newton's shrink quadratically. The predictor
+// is predict_dynamics' (q̇_j = M⁻¹p_j, q̈_j = M⁻¹(f − b), the jerk where the step continues the
+// last one) with M(q_j) factorised the same way. The iteration stops as Newton's chord updates do
+// (newton_monitor) and where the residual is round-off of its own terms (at_round_off, scaled by
+// the factorisation's diagonal of M); a step whose updates shrink by less than half, or that
+// runs out of iterations, goes to Newton (step()). The momentum is evaluated at the converged
+// increments (momentum_change). A step depends on nothing that Newton's does not: the checkpoint
+// history is Newton's. docs/design.md, "The general engine".
+#pragma once
+
+#include <cmath>
+#include <stdexcept>
+
+#include "varsym/schemes/variational.hpp"
+
+namespace varsym::general {
+
+/// h A⁻¹ into ainv_; throws std::invalid_argument for an L without mass solves.
+template <lagrangian L, class F>
+void stepper<L, F>::articulated_setup() {
+    if constexpr (!lagrangian_with_mass_solves<L>) {
+        throw std::invalid_argument("the articulated iteration is for robots (URDF models with a "
+                                    "fixed or planar base); choose newton, simplified or "
+                                    "fixed-point");
+    } else {
+        Eigen::MatrixXd a = Eigen::MatrixXd::Zero(s_, s_);
+        for (int k = 0; k < r_; ++k)
+            for (int i = 0; i < s_; ++i)
+                for (int l = 0; l < s_; ++l)
+                    a(i, l) += tab_.wdphi.hi(i, k) * tab_.dphi(l + 1, k);
+        ainv_ = h_ * a.partialPivLu().inverse();
+    }
+}
+
+/// The articulated iteration from predict_articulated's increments (not converged: step() hands
+/// the step to Newton).
+template <lagrangian L, class F>
+newton_report stepper<L, F>::solve_articulated(const phase_state<dim>& x) {
+    newton_report rep;
+    if constexpr (lagrangian_with_mass_solves<L>) {
+        const auto& lag = sys_.lagrangian();
+        if (!predict_articulated(x)) return rep; // Newton's predictor diagnoses it
+        // M at the predicted midpoint: the Jacobian's Σ_k w_k ψ_ik ψ_lk M(q_k) less A_il M there
+        // is still O(h |q̇|), but without the part common to every point that M(q_j) leaves.
+        tab_.polynomial(x.q, x_, 0.5, qk_, vk_);
+        if (!lag.factor_mass(qk_)) return rep;
+        newton_options opt = opt_;
+        opt.typical = x_.template lpNorm<Eigen::Infinity>();
+        opt.reference = x.q.template lpNorm<Eigen::Infinity>();
+        newton_monitor monitor(opt);
+        linearised_ = false;
+        terms_[0].lvv.diagonal() = lag.mass_diagonal(); // what at_round_off scales by
+        while (true) {
+            evaluate_points(x.q, false);
+            assemble(x.p, false);
+            rep.residual = res_.template lpNorm<Eigen::Infinity>();
+            if (at_round_off(res_, x.p, false)) {
+                rep.iterations = monitor.iterations();
+                rep.converged = true;
+                return rep;
+            }
+            if (monitor.exhausted()) return rep;
+            for (int l = 0; l < s_; ++l) { // M(q̄)⁻¹ F_l
+                acc_ = block_of<dim>(res_, l, d_);
+                lag.solve_mass(acc_);
+                block_of<dim>(res_, l, d_) = acc_;
+            }
+            for (int i = 0; i < s_; ++i) {
+                auto update = block_of<dim>(delta_, i, d_);
+                update.setZero();
+                for (int l = 0; l < s_; ++l)
+                    update += ainv_(i, l) * block_of<dim>(res_, l, d_);
+            }
+            const double step = delta_.template lpNorm<Eigen::Infinity>();
+            rep.iterations = monitor.iterations() + 1;
+            if (!std::isfinite(step)) return rep;
+            for (int l = 0; l < s_; ++l)
+                x_.col(l) -= block_of<dim>(delta_, l, d_);
+            const double size = x_.template lpNorm<Eigen::Infinity>();
+            // From the second update on, stopped as a chord update (its observed rate).
+            if (monitor.converged(step, size, monitor.iterations() > 0)) break;
+            if (monitor.rate() > 0.5) return rep; // too slow: Newton takes the step
+        }
+        rep.converged = true;
+    }
+    return rep;
+}
+
+/// predict_dynamics' increments with M(q_j) factorised by the articulated-body algorithm:
+/// q̇_j = M⁻¹p_j, q̈_j = M⁻¹(f − b(q_j, q̇_j)). False where M(q_j) is not positive definite.
+template <lagrangian L, class F>
+bool stepper<L, F>::predict_articulated(const phase_state<dim>& x) {
+    if constexpr (lagrangian_with_mass_solves<L>) {
+        const auto& lag = sys_.lagrangian();
+        if (!lag.factor_mass(x.q)) return false;
+        vk_ = x.p;
+        lag.solve_mass(vk_);
+        if constexpr (requires { lag.bias_forces_after_mass_matrix(vk_, rhs_); })
+            lag.bias_forces_after_mass_matrix(vk_, rhs_); // factor_mass's kinematics kept
+        else
+            lag.bias_forces(x.q, vk_, rhs_);
+        acc_ = -rhs_;
+        if constexpr (forced) {
+            evaluate_force(force_, x.q, vk_, t_, fterms_[0], false);
+            acc_ += fterms_[0].f;
+        }
+        lag.solve_mass(acc_);
+        taylor_from_dynamics(x);
+        return true;
+    }
+    return false;
+}
+
+/// The increments from q̇_j = vk_ and q̈_j = acc_ (predict_dynamics, predict_articulated), with
+/// the jerk (a_j − a_{j−1})/h where the step continues the last one (a_{j−1} = a0_, which only
+/// commit() replaces: a step that fails keeps it, for a retry from the same state).
+template <lagrangian L, class F>
+void stepper<L, F>::taylor_from_dynamics(const phase_state<dim>& x) {
+    if constexpr (jerk_history) {
+        const bool continues = continues_ && x.q == q_end_ && x.p == p_end_;
+        if (continues) dq_ = (acc_ - a0_) / h_; // the jerk, to O(h)
+        a_next_ = acc_; // a0_ at commit(): a step predicted again (by Newton) takes the same jerk
+        a0_taken_ = true;
+        taylor_increments(vk_, acc_, continues ? &dq_ : nullptr);
+    } else {
+        (void)x;
+        taylor_increments(vk_, acc_);
+    }
+}
+
+} // namespace varsym::general
