@@ -80,13 +80,14 @@ san-configure: deps
 test-sanitize: san-configure
 	@cmake --build $(SAN_DIR) -j $(JOBS)
 	@cd $(SAN_DIR) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-	  ctest --output-on-failure -j $(JOBS)
+	  LSAN_OPTIONS=suppressions=$(CURDIR)/fuzz/lsan.supp ctest --output-on-failure -j $(JOBS)
 
 # The tool alone under the sanitizers, and its end-to-end tests (run, checkpoints, files, signals,
 # every model and scheme through the library): what CI runs, in a third of test-sanitize's time.
 test-sanitize-cli: san-configure
 	@cmake --build $(SAN_DIR) -j $(JOBS) --target varsym_tool varsym_optimize_tool
 	@cd $(SAN_DIR) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+	  LSAN_OPTIONS=suppressions=$(CURDIR)/fuzz/lsan.supp \
 	  VARSYM_SANITIZED=1 ctest --output-on-failure -j $(JOBS) -R '^cli'
 
 # libFuzzer over the command line, config files and checkpoints for FUZZ_SECONDS; seeds in

@@ -25,7 +25,11 @@ large=$(peak_kb "${sec[@]}" --time 110000 --steps 2200000 --crossings 200000 -o 
 lines=$(wc -l < large.csv)
 [ "$lines" -eq 200001 ] && ok || bad "the large section has $lines lines, not 200001"
 growth=$(awk -v a="$small" -v b="$large" 'BEGIN { if (a != "" && b != "") print (b - a) / 1024 }')
-lt "$growth" 8 && ok || bad "section memory grew by $growth MB from 2e3 to 2e5 crossings"
+if [ -n "${VARSYM_SANITIZED:-}" ]; then # the peak measures ASan's allocator, not varsym's
+  echo "section memory: not bounded under the sanitizers"
+else
+  lt "$growth" 8 && ok || bad "section memory grew by $growth MB from 2e3 to 2e5 crossings"
+fi
 echo "section: peak $small kB at 2e3 crossings, $large kB at 2e5"
 # The streamed rows are the rows: member 0 with crossings 0..199999 in order, every t
 # increasing (a check that the chunks were not reordered).

@@ -77,17 +77,19 @@ expect_error() {
 
 # kill_and_resume NAME CKPT CSV ARGS...: runs `VARSYM ARGS` (which writes CSV with checkpoint
 # CKPT) once straight in ./straight and once in ./killed, killed with SIGKILL every 0.2 s and
-# resumed from CKPT until it ends; checks that both CSVs are byte-identical and (not vacuous)
-# that the run was killed at least once.
+# resumed from CKPT until it ends (at most 60 times; 600 under the sanitizers, whose runs are
+# 10-30 times slower); checks that both CSVs are byte-identical and (not vacuous) that the run
+# was killed at least once.
 kill_and_resume() {
-  local name=$1 ckpt=$2 csv=$3
+  local name=$1 ckpt=$2 csv=$3 attempts=60
+  [ -n "${VARSYM_SANITIZED:-}" ] && attempts=600
   shift 3
   mkdir -p straight killed
   (cd straight && "$VARSYM" "$@" 2> err.txt) || bad "uninterrupted $name: $(cat straight/err.txt)"
   (
     cd killed || exit 1
     rc=1
-    for attempt in $(seq 1 60); do
+    for attempt in $(seq 1 "$attempts"); do
       if [ -e "$ckpt" ]; then "$VARSYM" run --resume "$ckpt" 2>> err.txt &
       else rm -f "$csv.part"; "$VARSYM" "$@" 2>> err.txt & fi
       pid=$!
