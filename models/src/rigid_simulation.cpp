@@ -214,6 +214,13 @@ class rigid_simulation final : public simulation {
 } // namespace
 
 std::unique_ptr<simulation> simulate_rigid(const rigid_setup& r, const step_options& o) {
+    if (o.newton.iteration != iteration_kind::automatic &&
+        o.newton.iteration != iteration_kind::newton)
+        throw std::invalid_argument("the rigid bodies' Lie group integrator solves each step by "
+                                    "Newton: use the iteration newton (the default)");
+    if (o.newton.predictor != predictor_kind::taylor)
+        throw std::invalid_argument("the rigid bodies' Lie group integrator starts each step from "
+                                    "its own prediction: use the predictor taylor (the default)");
     return std::make_unique<rigid_simulation>(r, o);
 }
 

@@ -54,6 +54,16 @@ s=$(awk -F, -v c="$(col vert.csv theta)" 'NR > 2 && $c < 1e-3 { n++ } END { prin
 [ "$s" -ge 2 ] && ok || bad "the axis did not come back to the vertical ($s rows with theta < 1e-3)"
 s=$(spread vert.csv L_z); lt "$s" 1e-14 && ok || bad "vertical top L_z varies by $s"
 
+# --- an iteration or predictor the Lie group integrator does not have is refused, not ignored -
+for m in rigid-body top pendulum-3d; do
+  expect_error 2 "$m --iteration simplified" "Lie group integrator solves each step by Newton" \
+    run --model $m --iteration simplified -o out.csv
+  expect_error 2 "$m --predictor previous" "use the predictor taylor" \
+    run --model $m --predictor previous -o out.csv
+done
+"$VARSYM" run --model top --iteration newton --time 0.1 --steps 100 -o newton.csv && ok ||
+  bad "top --iteration newton (what it does) was refused"
+
 # --- the free body: spatial momentum, Casimir, the symmetric body's closed form ---------------
 "$VARSYM" run --model rigid-body --every 100 -o free.csv || bad "rigid-body run failed"
 for c in L_x L_y L_z Pi_norm; do
