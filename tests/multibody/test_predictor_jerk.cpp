@@ -1,7 +1,7 @@
 // tests/multibody/test_predictor_jerk.cpp: the general engine's Newton predictor for a robot
 // (schemes/variational_solve.hpp, predict_dynamics) where a step continues the last one: the
-// third Taylor term from the free motion's jerk, (a₀,j − a₀,j−1)/h, and the history that carries
-// it across a checkpoint.
+// third Taylor term from the free motion's jerk, (a₀,j − a₀,j−1)/h, the last step's miss, and the
+// history that carries them across a checkpoint.
 // References: the converged increments of the same step (what the predictor estimates), whose
 // distance to a Taylor expansion of order k falls as h^(k+1); a run taken straight through.
 #include <cmath>
@@ -149,15 +149,59 @@ TEST(PredictorJerk, ContinuingAStepGainsAnOrder) {
     EXPECT_LE(undeclared_order.continued, 3.4);
 }
 
+/// After 3 steps, the 4th step's prediction error with the last step's miss and without it (the
+/// same history less the miss, as a checkpoint of the jerk's layout alone gives).
+errors miss_errors(int n, double h) {
+    const auto sys = arm();
+    const scheme_spec spec(scheme_kind::gauss, 2);
+    probe<> p(sys, h, spec);
+    phase_state<dynamic> x = start(n);
+    for (int j = 0; j < 3; ++j)
+        EXPECT_TRUE(p.step(x).converged);
+    std::vector<double> history;
+    p.save_history(history);
+    const std::size_t jerk = 1 + 3 * static_cast<std::size_t>(n);
+    EXPECT_EQ(history.size(), jerk + 1 + 2 * static_cast<std::size_t>(n));
+    EXPECT_EQ(history[jerk], 1.0); // the miss is kept
+    history.resize(jerk);
+    auto converged = p, without = p;
+    without.restore_history(x, history);
+    phase_state<dynamic> y = x;
+    EXPECT_TRUE(converged.step(y).converged);
+    const Eigen::MatrixXd& want = converged.increments();
+    const Eigen::MatrixXd a = p.predicted(x), b = without.predicted(x);
+    return {(a - want).lpNorm<Eigen::Infinity>(), (b - want).lpNorm<Eigen::Infinity>(), a == b};
+}
+
+TEST(PredictorJerk, TheLastMissGainsAnother) {
+    // The miss of a step that took the jerk (its increments less their Taylor prediction) changes
+    // by O(h) of itself to the next step: added to the next prediction, it leaves O(h⁵) of the
+    // O(h⁴). Measured from h = 0.02 to 0.01 (gauss-2): the orders and the errors at h = 0.01.
+    // Negative control: the same stepper restored without the miss predicts as the jerk alone.
+    const int n = arm().dimension();
+    const errors coarse = miss_errors(n, 0.02), fine = miss_errors(n, 0.01);
+    const double with = std::log2(coarse.continued / fine.continued),
+                 without = std::log2(coarse.fresh / fine.fresh);
+    EXPECT_GE(with, 4.6); // measured 4.89; a quarter of an order below 5 leaves room
+    EXPECT_LE(with, 5.5);
+    EXPECT_GE(without, 3.75); // measured 3.95
+    EXPECT_LE(without, 4.5);
+    EXPECT_LT(fine.continued, 0.05 * fine.fresh); // measured 2.3e-10 against 1.5e-8
+    EXPECT_FALSE(fine.same);
+}
+
 TEST(PredictorJerk, OnlyWhereTheStepContinuesTheLast) {
     // A state changed between steps (1e-12 on one momentum: an impulse, a state set by hand)
-    // starts the next step from the second-order predictor, bit for bit the fresh stepper's; the
-    // unchanged state takes the jerk (negative control: the predictions differ).
+    // starts the next step from the second-order predictor, bit for bit the fresh stepper's,
+    // without the jerk or the miss the three steps before keep; the unchanged state takes them
+    // (negative control: the predictions differ).
     const auto sys = arm();
     const scheme_spec spec(scheme_kind::simpson);
     probe<> p(sys, 0.01, spec), fresh(sys, 0.01, spec);
     phase_state<dynamic> x = start(sys.dimension());
-    ASSERT_TRUE(p.step(x).converged);
+    for (int j = 0; j < 3; ++j) // the jerk and the miss both kept
+        ASSERT_TRUE(p.step(x).converged);
+    fresh.set_time(p.time());
     probe<> kept = p;
     phase_state<dynamic> moved = x;
     moved.p(2) += 1e-12;
@@ -219,16 +263,19 @@ TEST(PredictorJerk, AResumedRunTakesTheSameSteps) {
         EXPECT_EQ(b.p, a.p);
         EXPECT_EQ(second.total_work(), straight.total_work());
     };
-    check([&] { return probe<>(sys, 0.01, spec); }, 1 + 3 * static_cast<std::size_t>(n));
-    check([&] { return probe<smooth_force>(sys, tracking(n), 0.01, spec); },
-          3 + 1 + 3 * static_cast<std::size_t>(n));
+    // The jerk's flag, a₀, q and p; the miss's flag and the miss (d × s, s = 2).
+    const std::size_t jerk =
+        1 + 3 * static_cast<std::size_t>(n) + 1 + 2 * static_cast<std::size_t>(n);
+    check([&] { return probe<>(sys, 0.01, spec); }, jerk);
+    check([&] { return probe<smooth_force>(sys, tracking(n), 0.01, spec); }, 3 + jerk);
     check([&] { return probe<undeclared>(sys, undeclared{tracking(n)}, 0.01, spec); }, 3);
 }
 
 TEST(PredictorJerk, HistoriesOfOtherLayoutsAreReadOrRefused) {
     // An empty history, and one without the jerk's part (a linear iteration's 1 + 2d numbers),
-    // start the jerk afresh: the prediction after them is the fresh stepper's. A flag that does
-    // not match the length, or is neither 0 nor 1, is refused, not misread.
+    // start the jerk afresh: the prediction after them is the fresh stepper's. One without the
+    // miss's part (the jerk's 1 + 3d numbers alone) continues the jerk. A flag that does not match
+    // the length, or is neither 0 nor 1, is refused, not misread.
     const auto sys = arm();
     const int n = sys.dimension();
     const auto d = static_cast<std::size_t>(n);
@@ -255,13 +302,35 @@ TEST(PredictorJerk, HistoriesOfOtherLayoutsAreReadOrRefused) {
     phase_state<dynamic> y = start(n);
     ASSERT_TRUE(kept.step(y).converged);
     kept.save_history(saved);
-    ASSERT_EQ(saved.size(), 1 + 3 * d);
+    ASSERT_EQ(saved.size(), 2 + 3 * d); // the first step took no jerk: no miss to keep
     ASSERT_EQ(saved[0], 1.0);
-    std::vector<double> flag_zero = saved, flag_two = saved, short_one{1.0};
+    ASSERT_EQ(saved.back(), 0.0);
+    std::vector<double> flag_zero = saved, flag_two = saved, miss_two = saved, short_one{1.0};
     flag_zero[0] = 0.0;
     flag_two[0] = 2.0;
-    for (const auto* bad : {&flag_zero, &flag_two, &short_one})
+    miss_two.back() = 2.0;
+    for (const auto* bad : {&flag_zero, &flag_two, &miss_two, &short_one})
         EXPECT_THROW(fresh.restore_history(y, *bad), std::invalid_argument);
+    std::vector<double> jerk_alone(saved.begin(), saved.end() - 1);
+    probe<> legacy(sys, 0.01, spec), with_flag(sys, 0.01, spec);
+    legacy.restore_history(y, jerk_alone);
+    with_flag.restore_history(y, saved);
+    EXPECT_EQ(legacy.predicted(y), with_flag.predicted(y));
+    EXPECT_NE(legacy.predicted(y), fresh.predicted(y)); // it continues the jerk
+    // With the miss kept (after three steps): a miss flag or jerk flag that does not match.
+    probe<> third(sys, 0.01, spec);
+    phase_state<dynamic> w = start(n);
+    for (int j = 0; j < 3; ++j)
+        ASSERT_TRUE(third.step(w).converged);
+    std::vector<double> full;
+    third.save_history(full);
+    ASSERT_EQ(full.size(), 2 + 3 * d + 2 * d);
+    std::vector<double> miss_zero = full, miss_three = full, jerk_zero = full;
+    miss_zero[1 + 3 * d] = 0.0;
+    miss_three[1 + 3 * d] = 3.0;
+    jerk_zero[0] = 0.0;
+    for (const auto* bad : {&miss_zero, &miss_three, &jerk_zero})
+        EXPECT_THROW(fresh.restore_history(w, *bad), std::invalid_argument);
 
     // A forced robot's history written before its force took the jerk, the timed part alone
     // (3 numbers), is read, and the jerk starts afresh (negative control: before it, the copy
@@ -273,7 +342,7 @@ TEST(PredictorJerk, HistoriesOfOtherLayoutsAreReadOrRefused) {
     forced_fresh.set_time(forced.time());
     std::vector<double> timed;
     forced.save_history(timed);
-    ASSERT_EQ(timed.size(), 3 + 1 + 3 * d);
+    ASSERT_EQ(timed.size(), 3 + 2 + 3 * d);
     timed.resize(3);
     probe<smooth_force> going = forced, other = forced_fresh;
     EXPECT_NE(going.predicted(z), other.predicted(z));

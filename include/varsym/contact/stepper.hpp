@@ -139,8 +139,9 @@ class contact_stepper : public Inner {
     }
     // What a step of the inner stepper (general::stepper's commit()) changes besides its
     // iterates: the clock, the work and the compensated sums, kept across trial steps. A
-    // stepper with more running state than these needs it added here. (The predictor's jerk is
-    // not: it is taken only where a step starts exactly where the last committed one ended.)
+    // stepper with more running state than these needs it added here. (The predictor's jerk and
+    // miss are not: they are taken only where a step starts exactly where the last committed
+    // one ended.)
     void save() {
         saved_t_ = this->t_;
         saved_t_step_ = this->t_step_;

@@ -269,7 +269,7 @@ bool constrained_stepper<L, C, F>::at_round_off(const phase_state<dim>& x) {
         this->delta_.segment(i * d, d).noalias() +=
             eps2 *
             (jc_[static_cast<std::size_t>(i)].cwiseAbs().transpose() * lam_.col(i).cwiseAbs());
-    if (!base::at_round_off(rk_.head(sd), x.p, true)) return false;
+    if (!base::at_round_off(rk_.head(sd), x.p, true, this->terms_[0].lvv.diagonal())) return false;
     for (int l = 1; l <= s; ++l) {
         const auto& g = jc_[static_cast<std::size_t>(l)];
         this->qk_ = x.q + this->x_.col(l - 1);

@@ -119,6 +119,10 @@ class stepper {
             v->setZero(d_);
         res_.setZero(s_ * d_);
         delta_.setZero(s_ * d_);
+        if constexpr (jerk_history) {
+            x_taylor_.setZero(d_, s_);
+            x_miss_.setZero(d_, s_);
+        }
         jac_.setZero(s_ * d_, s_ * d_);
         lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(s_ * d_);
         if (linear()) jinv_.setZero(s_ * d_, s_ * d_);
@@ -151,7 +155,8 @@ class stepper {
     /// at (1 + 2d numbers); with a force, then that point's time and the total work with its
     /// carry (3 numbers; also for a time-dependent L, its −∫∂L/∂t); for an L with bias forces by
     /// hand (a robot), unforced or with a force continuous in time, then the predictor's jerk:
-    /// a flag, and if it is set a₀, q and p where the last step ended (1 or 1 + 3d numbers);
+    /// a flag, and if it is set a₀, q and p where the last step ended, and a flag and if it is
+    /// set the last step's miss (1, 2 + 3d or 2 + 3d + sd numbers);
     /// empty for an autonomous, unforced Newton stepper otherwise. run_state::history keeps it
     /// for a checkpoint.
     void save_history(std::vector<double>& out) const;
@@ -222,7 +227,9 @@ class stepper {
     }
     bool momentum_change_linearised(const phase_state<dim>& x); // variational_solve.hpp
     void residual_resolution(const vec<dim>& p);                // variational_solve.hpp
-    bool at_round_off(Eigen::Ref<const Eigen::VectorXd> res, const vec<dim>& p, bool resolved);
+    template <class Diagonal> // m_j: ∂²L/∂q̇_j² (or M's diagonal) at the step
+    bool at_round_off(Eigen::Ref<const Eigen::VectorXd> res, const vec<dim>& p, bool resolved,
+                      const Diagonal& m);
     /// work_ −= Σ_k w_k ∂L/∂t(q_k, v_k, t_k) at the increments, for an L that gives ∂L/∂t.
     void add_time_work(const phase_state<dim>& x) {
         if constexpr (time_dependent_lagrangian<L> && lagrangian_time_known<L>) {
@@ -269,6 +276,7 @@ class stepper {
     void predict_dynamics(const phase_state<dim>& x);
     void taylor_increments(const vec<dim>& v, const vec<dim>& a, const vec<dim>* j = nullptr);
     void taylor_from_dynamics(const phase_state<dim>& x); // from vk_ = q̇_j, acc_ = q̈_j
+    void dynamics_rhs(const phase_state<dim>& x);         // rhs_ = f − b at (q_j, q̇_j = vk_)
     // The articulated iteration (variational_articulated.hpp).
     void articulated_setup();
     newton_report solve_articulated(const phase_state<dim>& x);
@@ -382,6 +390,10 @@ class stepper {
         lagrangian_with_bias_forces<L> && (!forced || force_continuous_in_time<F>());
     vec<dim> a0_, a_next_, q_end_, p_end_;
     bool a0_taken_ = false, continues_ = false;
+    // This step's Taylor increments; the last step's converged increments less its own (its
+    // miss, where miss_valid_: that step took the jerk), which the next prediction adds.
+    Eigen::Matrix<double, dim, Eigen::Dynamic> x_taylor_, x_miss_;
+    bool jerk_taken_ = false, miss_valid_ = false;
 };
 
 } // namespace varsym::general

@@ -1,6 +1,6 @@
 // varsym/schemes/variational_history.hpp: what the general engine (variational.hpp) keeps
 // from one step to the next, saved into and restored from a checkpoint: the linear iterations'
-// kept point, the time-dependent work's carries and the robot predictor's jerk.
+// kept point, the time-dependent work's carries and the robot predictor's jerk and last miss.
 #pragma once
 
 #include <algorithm>
@@ -14,7 +14,7 @@
 namespace varsym::general {
 
 /// q_{j+1} = q_j + X_s and p_{j+1} = p_j + dp_ (compensated); the clock and work advance, and a
-/// robot's predictor keeps where the step ended (its jerk's history).
+/// robot's predictor keeps where the step ended (its jerk's history) and the step's miss.
 template <lagrangian L, class F>
 void stepper<L, F>::commit(phase_state<dim>& x) {
     dq_ = x_.col(s_ - 1);
@@ -23,6 +23,8 @@ void stepper<L, F>::commit(phase_state<dim>& x) {
     if constexpr (jerk_history) {
         continues_ = a0_taken_; // the robot predictor took a_next_ at this step's start
         a0_taken_ = false;
+        miss_valid_ = continues_ && jerk_taken_;
+        if (miss_valid_) x_miss_ = x_ - x_taylor_;
         if (continues_) {
             a0_ = a_next_;
             q_end_ = x.q;
@@ -50,9 +52,12 @@ void stepper<L, F>::save_history(std::vector<double>& out) const {
     if constexpr (timed) out.insert(out.end(), {t_bar_, total_work_, work_carry_});
     if constexpr (jerk_history) {
         out.push_back(continues_ ? 1.0 : 0.0);
-        if (continues_)
+        if (continues_) {
             for (const vec<dim>* v : {&a0_, &q_end_, &p_end_})
                 out.insert(out.end(), v->data(), v->data() + d_);
+            out.push_back(miss_valid_ ? 1.0 : 0.0);
+            if (miss_valid_) out.insert(out.end(), x_miss_.data(), x_miss_.data() + x_miss_.size());
+        }
     }
 }
 
@@ -60,23 +65,30 @@ template <lagrangian L, class F>
 void stepper<L, F>::restore_history(const phase_state<dim>&, const std::vector<double>& in) {
     kept_ = false;
     total_work_ = work_carry_ = 0.0;
-    continues_ = a0_taken_ = false;
+    continues_ = a0_taken_ = miss_valid_ = false;
     if (in.empty()) return;
     const auto want = static_cast<std::size_t>((linear() ? 1 + 2 * d_ : 0) + (timed ? 3 : 0));
-    // Then the predictor's jerk: a flag, and a₀, q and p where the last step ended if it is set.
-    // A history in the layout without that part is read too; the jerk then starts afresh.
+    // Then the predictor's jerk: a flag, and if it is set a₀, q and p where the last step ended,
+    // and a flag and the last step's miss (its increments less their Taylor prediction). A
+    // history in a layout without either part is read too; what it lacks then starts afresh.
     bool fits = in.size() == want;
     std::string sizes = std::to_string(want);
     if constexpr (jerk_history) {
-        const auto d = static_cast<std::size_t>(d_);
-        sizes += ", " + std::to_string(want + 1) + " or " + std::to_string(want + 1 + 3 * d);
-        if (in.size() == want + 1 + 3 * d && in[want] == 1.0) {
+        const auto d = static_cast<std::size_t>(d_), jerk = want + 1 + 3 * d;
+        const auto missed = jerk + 1 + static_cast<std::size_t>(x_miss_.size());
+        sizes += ", " + std::to_string(want + 1) + ", " + std::to_string(jerk) + ", " +
+                 std::to_string(jerk + 1) + " or " + std::to_string(missed);
+        const bool miss = in.size() == missed && in[jerk] == 1.0;
+        if ((in.size() == jerk || (in.size() == jerk + 1 && in[jerk] == 0.0) || miss) &&
+            in[want] == 1.0) {
             const double* at = in.data() + want + 1;
             for (vec<dim>* v : {&a0_, &q_end_, &p_end_}) { // sized by the constructor
                 std::copy(at, at + d_, v->data());
                 at += d_;
             }
+            if (miss) std::copy(at + 1, at + 1 + x_miss_.size(), x_miss_.data());
             continues_ = fits = true;
+            miss_valid_ = miss;
         }
         fits = fits || (in.size() == want + 1 && in[want] == 0.0);
     }

@@ -74,7 +74,7 @@ newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
         evaluate_points(x.q, newton && !chord);
         assemble(x.p, newton && !chord);
         rep.residual = res_.template lpNorm<Eigen::Infinity>();
-        if (newton && at_round_off(res_, x.p, false)) {
+        if (newton && at_round_off(res_, x.p, false, terms_[0].lvv.diagonal())) {
             // The residual is round-off of its own terms: no update could be told from noise.
             // The momentum then comes from this iterate's L_q as evaluated (no update to correct
             // for: momentum_change_linearised with δ = 0).
@@ -156,7 +156,8 @@ void stepper<L, F>::residual_resolution(const vec<dim>& p) {
 /// Whether the residual `res` (the step's equations, or the momentum rows of the constrained
 /// stepper's, with their further round-off already in delta_ when `resolved`) is round-off of
 /// its own terms, in the units of the increments: max_ij |res_ij| / m_j ≤ max_ij δ_ij / m_j,
-/// m_j = |∂²L/∂q̇_j²| at the first point (δ: residual_resolution), so that the correction an
+/// m_j = |∂²L/∂q̇_j²| at the first point, or the diagonal of the mass matrix the articulated
+/// iteration solves with (δ: residual_resolution), so that the correction an
 /// update would make to any coordinate is below the round-off of the largest increment, the
 /// scale at which Newton's own stop (newton_monitor) measures every update. Then no update could
 /// be told from noise. That is where a robot held at rest stops: its increments are round-off of
@@ -165,14 +166,14 @@ void stepper<L, F>::residual_resolution(const vec<dim>& p) {
 /// this stop). Entry by entry would be too strict there: a joint the others' noise reaches
 /// through M(q) never meets its own round-off. Not where a diagonal of ∂²L/∂q̇² is not positive.
 template <lagrangian L, class F>
+template <class Diagonal>
 bool stepper<L, F>::at_round_off(Eigen::Ref<const Eigen::VectorXd> res, const vec<dim>& p,
-                                 bool resolved) {
+                                 bool resolved, const Diagonal& m) {
     if (!res.allFinite()) return false;
     if (!resolved) residual_resolution(p);
-    const mat<dim>& m = terms_[0].lvv;
     double worst = 0.0, floor = 0.0;
     for (int j = 0; j < d_; ++j) {
-        const double mj = std::abs(m(j, j));
+        const double mj = std::abs(m(j));
         if (!(mj > 0.0) || !std::isfinite(mj)) return false;
         for (int i = 0; i < s_; ++i) {
             worst = std::max(worst, std::abs(res(i * d_ + j)) / mj);
@@ -281,10 +282,13 @@ void stepper<L, F>::predict(const phase_state<dim>& x) {
 /// changed between steps, costs the start, not the answer), the increments take a third Taylor term
 /// with the jerk (a_j − a_{j−1})/h, a = M⁻¹(f − b): the start's error falls from O(h³) to O(h⁴),
 /// and the Panda's gauss-2 steps at 1 ms take 2.13 iterations instead of 2.63 (docs/robots.md).
-/// a_{j−1} and the end state are history. That is without a force, or with one continuous in time
-/// (force_continuous_in_time: damping, a PD controller, expressions); a control held over each
-/// step jumps between steps, its jump over h is no jerk, and its steps keep the second-order
-/// start. The force is evaluated after the bias forces, whose pass keeps M's kinematics.
+/// Where the last step took the jerk too, they add its miss, its converged increments less its
+/// Taylor increments: a smooth function of time, which changes by O(h) of itself from one step to
+/// the next (taylor_from_dynamics). a_{j−1}, the miss and the end state are history. That is
+/// without a force, or with one continuous in time (force_continuous_in_time: damping, a PD
+/// controller, expressions); a control held over each step jumps between steps, its jump over h is
+/// no jerk, and its steps keep the second-order start. The force is evaluated after the bias
+/// forces, whose pass keeps M's kinematics.
 template <lagrangian L, class F>
 void stepper<L, F>::predict_dynamics(const phase_state<dim>& x) {
     lagrangian_terms<dim>& t = terms_[0];
@@ -294,15 +298,7 @@ void stepper<L, F>::predict_dynamics(const phase_state<dim>& x) {
         predict(x); // it starts from q̇ = p, and diagnose() names the cause if the step fails
         return;
     }
-    if constexpr (requires { lag.bias_forces_after_mass_matrix(vk_, rhs_); })
-        lag.bias_forces_after_mass_matrix(vk_, rhs_); // M(q_j)'s kinematics kept
-    else
-        lag.bias_forces(x.q, vk_, rhs_);
-    rhs_ = -rhs_;
-    if constexpr (forced) {
-        evaluate_force(force_, x.q, vk_, t_, fterms_[0], false);
-        rhs_ += fterms_[0].f;
-    }
+    dynamics_rhs(x); // M(q_j)'s kinematics kept
     solve_symmetric_again<dim>(ldlt_, t.lvv, rhs_, acc_);
     taylor_from_dynamics(x);
 }

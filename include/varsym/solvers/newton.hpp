@@ -31,7 +31,7 @@ enum class iteration_kind {
 /// Where the iteration starts.
 enum class predictor_kind {
     taylor,   ///< second-order Taylor from (q_j, p_j): stateless (a robot's Newton steps in the
-              ///< general engine add the jerk from the last step they continue)
+              ///< general engine add the jerk and the miss of the last step they continue)
     previous, ///< the previous step's polynomial extrapolated: O(h^(s+1)), but state a resumed
               ///< run must restore (run_state::history); family stepper only
     forces,   ///< the previous step's forces at its quadrature points extrapolated to this
