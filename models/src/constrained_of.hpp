@@ -85,10 +85,7 @@ problem constrained_problem(const lagrangian_system<L>& sys, const C& c, const F
     const double e0 = sys.energy(x0);
     return make_problem(x0, 0.0, [=](const step_options& o) {
         check_general(o);
-        if (o.newton.iteration != iteration_kind::automatic &&
-            o.newton.iteration != iteration_kind::newton)
-            throw std::invalid_argument("a constrained model is solved by Newton: use the "
-                                        "iteration newton (the default)");
+        newton_only(o, "a constrained model is solved by Newton");
         stepper run(sys, c, f, o.h, o.spec, o.newton);
         run.check_initial(x0); // passes (checked above), and sets the reference for diagnoses
         return simulate_general(

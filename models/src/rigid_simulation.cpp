@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "step_checks.hpp"
 #include "varsym/lie/lgvi.hpp"
 #include "varsym/lie/so3.hpp"
 #include "varsym/run/ensemble.hpp"
@@ -214,10 +215,7 @@ class rigid_simulation final : public simulation {
 } // namespace
 
 std::unique_ptr<simulation> simulate_rigid(const rigid_setup& r, const step_options& o) {
-    if (o.newton.iteration != iteration_kind::automatic &&
-        o.newton.iteration != iteration_kind::newton)
-        throw std::invalid_argument("the rigid bodies' Lie group integrator solves each step by "
-                                    "Newton: use the iteration newton (the default)");
+    newton_only(o, "the rigid bodies' Lie group integrator solves each step by Newton");
     if (o.newton.predictor != predictor_kind::taylor)
         throw std::invalid_argument("the rigid bodies' Lie group integrator starts each step from "
                                     "its own prediction: use the predictor taylor (the default)");

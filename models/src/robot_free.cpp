@@ -50,10 +50,7 @@ phase_state<dynamic> free_start(const free_system& sys, const start& s, int n) {
 /// is refused, not ignored.
 void check_free_base(const step_options& o) {
     detail::check_general(o);
-    if (o.newton.iteration != iteration_kind::automatic &&
-        o.newton.iteration != iteration_kind::newton)
-        throw std::invalid_argument("a robot with a free base is a constrained system, solved by "
-                                    "Newton: use the iteration newton (the default)");
+    detail::newton_only(o, "a robot with a free base is a constrained system, solved by Newton");
 }
 
 } // namespace

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "step_checks.hpp"
 #include "varsym/diagnostics/chaos.hpp"
 #include "varsym/diagnostics/stability.hpp"
 #include "varsym/models/model.hpp"
@@ -243,13 +244,6 @@ inline parameter project_parameter() {
             .lower = 0.0,
             .upper = 1.0,
             .flag = true};
-}
-
-inline void check_general(const step_options& o) {
-    if (o.newton.predictor != predictor_kind::taylor)
-        throw std::invalid_argument("the predictors 'previous' and 'forces' are for the separable "
-                                    "models (the family stepper); this model runs the general "
-                                    "engine: use the predictor taylor");
 }
 
 /// The initial state of a general Lagrangian system: q0, and p0 or p = ∂L/∂q̇ at v0 (defaults
