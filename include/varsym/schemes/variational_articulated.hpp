@@ -65,7 +65,7 @@ newton_report stepper<L, F>::solve_articulated(const phase_state<dim>& x) {
         newton_monitor monitor(opt);
         linearised_ = false;
         constexpr double eps = std::numeric_limits<double>::epsilon();
-        double previous = std::numeric_limits<double>::infinity(), last_theta = 0.0;
+        double last_theta = 0.0;
         while (true) {
             evaluate_points(x.q, false);
             assemble(x.p, false);
@@ -93,8 +93,7 @@ newton_report stepper<L, F>::solve_articulated(const phase_state<dim>& x) {
             for (int l = 0; l < s_; ++l)
                 x_.col(l) -= block_of<dim>(delta_, l, d_);
             const double size = x_.template lpNorm<Eigen::Infinity>();
-            const double theta = step / previous; // this update's contraction
-            previous = step;
+            const double theta = step / monitor.last_step(); // this update's contraction
             // From the second update on, stopped as a chord update (its observed rate).
             if (monitor.converged(step, size, monitor.iterations() > 0)) break;
             // Or, an update already within 64 ulp of q (where newton_monitor measures no rate), by

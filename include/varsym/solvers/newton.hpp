@@ -125,6 +125,8 @@ class newton_monitor {
     /// |δ_k|/|δ_{k−1}| of the last update above round-off (1024 ε of the unknown's size): the
     /// observed contraction; 0 before there is one.
     [[nodiscard]] double rate() const { return iterations_ > 1 ? rate_ : 0.0; }
+    /// |δ| of the last update converged() was given; infinity before the first.
+    [[nodiscard]] double last_step() const { return previous_; }
 
   private:
     newton_options opt_;
