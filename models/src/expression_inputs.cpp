@@ -38,8 +38,12 @@ void add_expression_inputs(model& m, const std::string& text,
         if (!seen.insert(inputs[j]).second)
             throw std::invalid_argument("the input '" + inputs[j] + "' is given twice");
         b(at - coordinates.begin(), static_cast<Eigen::Index>(j)) = 1.0;
-        m.controls.push_back("u" + std::to_string(j + 1) + ": the generalized force on " +
-                             inputs[j] + " (units of dL/d" + inputs[j] + ")");
+        // Appended, not `"u" + std::to_string(j + 1) + …`: GCC 12 at -O3 reports a false
+        // -Wstringop-overflow on that sum when this file is compiled alone.
+        std::string control = "u";
+        control += std::to_string(j + 1);
+        control += ": the generalized force on " + inputs[j] + " (units of dL/d" + inputs[j] + ")";
+        m.controls.push_back(std::move(control));
     }
     // The controlled system at the parameters' values, in the order of `parameters`.
     m.control = [=](std::span<const double> values,

@@ -65,16 +65,23 @@ robot_forces make_forces(const robot_parameters& p, const expression_force& type
     }
     expression_force tau = typed;
     if (!p.torque.empty()) { // constant torques as expressions of their values (17 digits:
-        std::vector<std::string> c, names; // the same doubles), over neutral names
-        for (int i = 0; i < base; ++i) {   // none on a floating base
+        std::vector<std::string> c, names; // the same doubles), over neutral names q1, q2, …
+        // Appended, not `"q" + std::to_string(n)`: GCC 12 at -O3 reports a false
+        // -Wstringop-overflow on that sum when this file is compiled alone.
+        auto next_name = [&names] {
+            std::string q = "q";
+            q += std::to_string(names.size() + 1);
+            names.push_back(std::move(q));
+        };
+        for (int i = 0; i < base; ++i) { // none on a floating base
             c.emplace_back("0");
-            names.push_back("q" + std::to_string(names.size() + 1));
+            next_name();
         }
         for (double x : p.torque) {
             char buf[32];
             std::snprintf(buf, sizeof buf, "%.17g", x);
             c.emplace_back(buf);
-            names.push_back("q" + std::to_string(names.size() + 1));
+            next_name();
         }
         tau = expression_force(c, names, {});
     }

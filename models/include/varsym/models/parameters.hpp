@@ -73,11 +73,16 @@ class parameter_set {
         auto value = values.begin();
         for (const scalar& s : scalars_)
             p.*s.member = *value++;
-        auto each = given.begin();
-        for (const list& l : lists_) {
-            const bool default_one = given.empty() || each->empty();
-            p.*l.member = default_one ? l.spec.value : *each;
-            if (!given.empty()) ++each;
+        // A P smaller than a vector holds none, so it has no lists. (GCC 12 at -O3 would report
+        // the assignment below as outside such a P's bounds: it cannot see that lists_ is then
+        // empty.)
+        if constexpr (sizeof(P) >= sizeof(std::vector<double>)) {
+            auto each = given.begin();
+            for (const list& l : lists_) {
+                const bool default_one = given.empty() || each->empty();
+                p.*l.member = default_one ? l.spec.value : *each;
+                if (!given.empty()) ++each;
+            }
         }
         return p;
     }
