@@ -85,7 +85,7 @@ problem constrained_problem(const lagrangian_system<L>& sys, const C& c, const F
     const double e0 = sys.energy(x0);
     return make_problem(x0, 0.0, [=](const step_options& o) {
         check_general(o);
-        newton_only(o, "a constrained model is solved by Newton");
+        refuse_non_newton(o, "a constrained model is solved by Newton");
         stepper run(sys, c, f, o.h, o.spec, o.newton);
         run.check_initial(x0); // passes (checked above), and sets the reference for diagnoses
         return simulate_general(

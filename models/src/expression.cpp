@@ -109,7 +109,7 @@ simulate_constrained_expression(const expression_lagrangian& l, const expression
     if (c.dimension() != l.dimension())
         throw std::invalid_argument("the constraints must be on the Lagrangian's " +
                                     std::to_string(l.dimension()) + " coordinates");
-    detail::newton_only(o, "a constrained system is solved by Newton");
+    detail::refuse_non_newton(o, "a constrained system is solved by Newton");
     const lagrangian_system<expression_lagrangian> sys(l);
     stepper run(sys, c, f, o.h, o.spec, o.newton);
     run.set_time(t0);

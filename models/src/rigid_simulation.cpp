@@ -215,10 +215,9 @@ class rigid_simulation final : public simulation {
 } // namespace
 
 std::unique_ptr<simulation> simulate_rigid(const rigid_setup& r, const step_options& o) {
-    newton_only(o, "the rigid bodies' Lie group integrator solves each step by Newton");
-    if (o.newton.predictor != predictor_kind::taylor)
-        throw std::invalid_argument("the rigid bodies' Lie group integrator starts each step from "
-                                    "its own prediction: use the predictor taylor (the default)");
+    refuse_non_newton(o, "the rigid bodies' Lie group integrator solves each step by Newton");
+    refuse_non_taylor(o, "the rigid bodies' Lie group integrator starts each step from its own "
+                         "prediction");
     return std::make_unique<rigid_simulation>(r, o);
 }
 

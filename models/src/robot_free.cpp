@@ -50,7 +50,8 @@ phase_state<dynamic> free_start(const free_system& sys, const start& s, int n) {
 /// is refused, not ignored.
 void check_free_base(const step_options& o) {
     detail::check_general(o);
-    detail::newton_only(o, "a robot with a free base is a constrained system, solved by Newton");
+    detail::refuse_non_newton(o,
+                              "a robot with a free base is a constrained system, solved by Newton");
 }
 
 } // namespace
