@@ -162,9 +162,14 @@ TEST(UrdfMimic, MimicsThatCannotBeCoupledAreRefusedWithTheLine) {
     };
     EXPECT_EQ(refusal(arm), "");
     EXPECT_NE(refusal(with("joint=\"j1\"", "joint=\"jx\""))
-                  .find("test.urdf:5: <mimic>: joint j2 mimics jx, which is not a revolute"),
+                  .find("test.urdf:5: <mimic>: joint j2 mimics jx, which is not a joint of this "
+                        "robot"),
               std::string::npos)
         << refusal(with("joint=\"j1\"", "joint=\"jx\""));
+    EXPECT_NE(refusal(with("type=\"continuous\"", "type=\"fixed\""))
+                  .find("test.urdf:5: <mimic>: joint j2 mimics j1, which is not a revolute"),
+              std::string::npos)
+        << refusal(with("type=\"continuous\"", "type=\"fixed\""));
     // A coordinate below a mimic joint: a third link under l2.
     std::string below = arm;
     below.insert(below.find("</robot>"),
