@@ -168,6 +168,10 @@ TEST(FloatingBase, DerivativesEqualAutomaticDifferentiationOfASecondImplementati
         EXPECT_LT(gap(first.lv, expected.lv), chain_tolerance);
         EXPECT_NEAR(l(q, v), expected.value,
                     chain_tolerance * std::max(1.0, std::abs(expected.value)));
+        // M(q) by the composite-rigid-body algorithm: L is quadratic in q̇, so ∂²L/∂q̇² at any q̇.
+        mat<dynamic> mass;
+        l.mass_matrix(q, mass);
+        EXPECT_LT(gap(mass, expected.lvv), chain_tolerance) << "mass_matrix at state " << k;
     }
     // Negative control: the reference with the root's inertia changed by 1 % differs.
     multibody::tree changed = fixed;
@@ -182,6 +186,9 @@ TEST(FloatingBase, DerivativesEqualAutomaticDifferentiationOfASecondImplementati
     lagrangian_terms<dynamic> got;
     l.derivatives(q, v, got);
     EXPECT_GT(gap(got.lvv, expected.lvv), 100 * chain_tolerance);
+    mat<dynamic> mass;
+    l.mass_matrix(q, mass);
+    EXPECT_GT(gap(mass, expected.lvv), 100 * chain_tolerance);
 }
 
 using free_stepper =

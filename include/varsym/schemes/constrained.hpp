@@ -14,8 +14,10 @@
 // system
 //   [ J − diag(0, H_1 … H_{s−1})   −diag(G_0ᵀ … G_{s−1}ᵀ) ] [δX]   [F − GᵀΛ]
 //   [ diag(G_1 … G_s)               0                     ] [δΛ] = [g     ],
-// H_i = Σ_a Λ_ia ∇²g_a(Q_i), with its exact Jacobian, once per step; the iteration is always
-// Newton (the linear iterations of variational_solve.hpp are for unconstrained systems).
+// H_i = Σ_a Λ_ia ∇²g_a(Q_i), with its exact Jacobian, and chord updates (the same matrix, first
+// derivatives only) once the updates are small, as the unconstrained engine's Newton; the
+// iteration is always Newton (the linear iterations of variational_solve.hpp are for
+// unconstrained systems).
 #pragma once
 
 #include <algorithm>
@@ -152,7 +154,7 @@ class constrained_stepper : public stepper<L, F> {
         opt.iteration = iteration_kind::newton;
         return opt;
     }
-    void assemble_constrained(const phase_state<dim>& x);
+    void assemble_constrained(const phase_state<dim>& x, bool jacobian);
     bool at_round_off(const phase_state<dim>& x);
     std::string constraint_problem(const vec<dim>& q, const char* where, double t) const;
 
@@ -181,29 +183,56 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
     opt.reference = x.q.template lpNorm<Eigen::Infinity>();
     newton_monitor monitor(opt);
     newton_report rep;
+    // Chord updates as the unconstrained engine's (variational_solve.hpp): once an update is below
+    // chord_start of the increments, the next iterate keeps the saddle-point matrix and its LU and
+    // evaluates first derivatives alone; one that shrinks less than 1/min(contraction_limit,
+    // chord_rate_limit) times is not taken, and the solve goes on as full Newton.
+    bool chord = false, chords = opt.chord_start > 0.0, linearised = false;
+    double last = 0.0;
+    const double noise =
+        1024.0 * std::numeric_limits<double>::epsilon() * std::max(opt.typical, opt.reference);
+    const double chord_limit = std::min(opt.contraction_limit, chord_rate_limit);
     while (true) {
-        this->evaluate_points(x.q, true);
-        this->assemble(x.p, true);
-        assemble_constrained(x);
+        this->evaluate_points(x.q, !chord);
+        this->assemble(x.p, !chord);
+        assemble_constrained(x, !chord);
         rep.residual = rk_.template lpNorm<Eigen::Infinity>();
         if (at_round_off(x)) { // as the unconstrained engine's stop (variational_solve.hpp)
             rep.iterations = monitor.iterations();
+            this->delta_.setZero(); // the momentum from this iterate's L_q, no update to correct
+            linearised = true;
             break;
         }
         if (monitor.exhausted()) return rep;
-        klu_.compute(k_);
+        if (!chord) klu_.compute(k_);
         dk_.noalias() = klu_.solve(rk_);
         const double update = dk_.head(s * d).template lpNorm<Eigen::Infinity>();
         rep.iterations = monitor.iterations() + 1;
         if (!dk_.allFinite() || !std::isfinite(rep.residual)) return base::failed(rep);
+        if (chord && !(update <= chord_limit * last || update <= noise)) {
+            chord = chords = false; // this iterate is Newton's after all
+            continue;
+        }
         for (int l = 0; l < s; ++l)
             X.col(l) -= dk_.segment(l * d, d);
         for (int i = 0; i < s; ++i)
             lam_.col(i) -= dk_.segment(s * d + i * m_, m_);
-        if (monitor.converged(update, X.template lpNorm<Eigen::Infinity>())) break;
+        const double size = X.template lpNorm<Eigen::Infinity>();
+        if (monitor.converged(update, size, chord)) {
+            // The momentum from this iterate, corrected to first order for the update, where
+            // what that leaves is below ε (the unconstrained engine's rule, variational_solve.hpp).
+            const double magnitude = std::max(size, opt.typical);
+            const double rho = chord ? update / last : update / magnitude;
+            linearised = rho * update <= std::numeric_limits<double>::epsilon() * magnitude;
+            if (linearised) this->delta_ = dk_.head(s * d);
+            break;
+        }
+        chord = chords && (chord || update <= opt.chord_start * std::max(size, opt.typical));
+        last = update;
     }
     // p̃ − p_j, then the projection onto the hidden constraint at q_{j+1}.
-    if (!this->momentum_change(x)) return base::failed(rep);
+    if (!(linearised ? this->momentum_change_linearised(x) : this->momentum_change(x)))
+        return base::failed(rep);
     for (int i = 1; i <= s; ++i) {
         this->qk_ = x.q + X.col(i - 1);
         evaluate_constraint(c_, this->qk_, g_[static_cast<std::size_t>(i)],
@@ -227,25 +256,28 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
     return rep;
 }
 
-/// The saddle-point residual and Jacobian (the header comment) from the unconstrained ones that
-/// assemble() left in res_ and jac_.
+/// The saddle-point residual, and where `jacobian` its Jacobian (the header comment), from the
+/// unconstrained ones that assemble() left in res_ and jac_.
 template <lagrangian L, holonomic_constraint C, class F>
-void constrained_stepper<L, C, F>::assemble_constrained(const phase_state<dim>& x) {
+void constrained_stepper<L, C, F>::assemble_constrained(const phase_state<dim>& x, bool jacobian) {
     const int s = this->s_, d = this->d_, sd = s * d;
     const auto& X = this->x_;
-    k_.setZero();
-    k_.topLeftCorner(sd, sd) = this->jac_;
+    if (jacobian) {
+        k_.setZero();
+        k_.topLeftCorner(sd, sd) = this->jac_;
+    }
     rk_.head(sd) = this->res_;
     for (int l = 1; l <= s; ++l) { // g(Q_l) = 0, rows sd + (l−1)m, columns of X_l
         const auto n = static_cast<std::size_t>(l);
         this->qk_ = x.q + X.col(l - 1);
         evaluate_constraint(c_, this->qk_, g_[n], jc_[n]);
         rk_.segment(sd + (l - 1) * m_, m_) = g_[n];
-        k_.block(sd + (l - 1) * m_, (l - 1) * d, m_, d) = jc_[n];
+        if (jacobian) k_.block(sd + (l - 1) * m_, (l - 1) * d, m_, d) = jc_[n];
     }
     for (int i = 0; i < s; ++i) { // − G_iᵀΛ_i in equation i
         const auto& jac = jc_[static_cast<std::size_t>(i)];
         rk_.segment(i * d, d).noalias() -= jac.transpose() * lam_.col(i);
+        if (!jacobian) continue;
         k_.block(i * d, sd + i * m_, d, m_) = -jac.transpose();
         if (i == 0) continue; // G_0 is at q_j, which the step does not move
         this->qk_ = x.q + X.col(i - 1);

@@ -24,7 +24,7 @@ void constrained_stepper<L, C, F>::step_jacobian(const phase_state<dim>& from,
     this->work_ = work;
     this->t_ = now;
     evaluate_constraint(c_, from.q, g_[0], jc_[0]);
-    assemble_constrained(from); // K at the converged (X, Λ); G(Q_1 … Q_s)
+    assemble_constrained(from, true); // K at the converged (X, Λ); G(Q_1 … Q_s)
     Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, 2 * d);
     this->add_state_derivative(b);
     b.block(0, d, d, d).diagonal().array() += 1.0;

@@ -153,8 +153,11 @@ void check_independent(const constraint_jacobian<D, M>& jac, const std::string& 
 /// The hidden constraint's projection: the momentum p − Gᵀμ nearest p (in the metric of the
 /// mass matrix) whose velocity is tangent to the manifold, G(q) q̇ = 0, with q̇ from
 /// ∂L/∂q̇(q, q̇) = p − Gᵀμ. Newton on (q̇, μ) with the saddle-point matrix [[L_vv, Gᵀ], [G, 0]]:
-/// one iteration when L is quadratic in q̇ (a second confirms it). Returns μ; v holds q̇ on
-/// entry (a start) and on return. Throws std::domain_error if the matrix is singular.
+/// one iteration when L is quadratic in q̇ (a second confirms it). With M(q) by hand
+/// (lagrangian_with_mass_matrix) the system is linear, M q̇ + Gᵀμ = p, G q̇ = 0: one solve with
+/// M(q) in place of the second derivatives, and one refinement with the same factors. Returns μ;
+/// v holds q̇ on entry (a start) and on return. Throws std::domain_error if the matrix is
+/// singular.
 template <lagrangian L, int M>
 vec<M> tangent_momentum(const L& l, const vec<L::dim>& q, const vec<L::dim>& p,
                         const constraint_jacobian<L::dim, M>& jac, vec<L::dim>& v) {
@@ -163,6 +166,24 @@ vec<M> tangent_momentum(const L& l, const vec<L::dim>& q, const vec<L::dim>& p,
     vec<M> mu = vec<M>::Zero(m);
     Eigen::MatrixXd k = Eigen::MatrixXd::Zero(d + m, d + m);
     Eigen::VectorXd r(d + m);
+    if constexpr (lagrangian_with_mass_matrix<L>) {
+        mat<L::dim> mass;
+        l.mass_matrix(q, mass);
+        k.topLeftCorner(d, d) = mass;
+        k.topRightCorner(d, m) = jac.transpose();
+        k.bottomLeftCorner(m, d) = jac;
+        const Eigen::FullPivLU<Eigen::MatrixXd> lu(k);
+        if (!lu.isInvertible() || !mass.allFinite())
+            throw std::domain_error("the mass matrix is singular on the constraint manifold, or "
+                                    "the constraint Jacobian has dependent rows");
+        r.head(d) = p;
+        r.tail(m).setZero();
+        Eigen::VectorXd x = lu.solve(r);
+        x += lu.solve(Eigen::VectorXd(r - k * x)); // one step of iterative refinement
+        v = x.head(d);
+        mu = x.tail(m);
+        return mu;
+    }
     double previous = std::numeric_limits<double>::infinity();
     for (int it = 0; it < 20; ++it) {
         evaluate(l, q, v, t);
