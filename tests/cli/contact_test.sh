@@ -66,8 +66,8 @@ lt "$d" 1e-6 && ok || bad "incline: crept $d m (from $x1 to $x5)"
 
 # --- killed and resumed: byte-identical to a run that never stopped -----------------------------
 # A box thrown spinning onto the ground, 4000 steps (about 1 s in contact at 150-300 us a step),
-# a checkpoint every 200; SIGKILL after 0.2 s (2 s under the sanitizers), then resumed (and killed
-# again) until it ends.
+# a checkpoint every 200; SIGKILL after 0.2 s (under the sanitizers after a new checkpoint), then
+# resumed (and killed again) until it ends.
 args=(run --urdf "$box" --base free --contact --friction 0.5 --q0 0,0,0.15,1,0,0,0
       --v0 1,0,0,0,0.3,0.2,0 --time 2 --steps 4000 --every 10 -o box.csv --checkpoint box.ckpt
       --checkpoint-every 200)

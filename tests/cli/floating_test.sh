@@ -83,7 +83,8 @@ awk '$1 == "fitted" { exit !($2 > 3.9 && $2 < 4.1) }' conv.txt && ok ||
 
 # --- a run killed and resumed ends byte-identical to one that never stopped ---------------------
 # 60000 steps of the tumbling body (about 2 s at 30 µs a step), a checkpoint every 1000;
-# SIGKILL after 0.2 s (2 s under the sanitizers), then resumed (and killed again) until it ends.
+# SIGKILL after 0.2 s (under the sanitizers after a new checkpoint), then resumed (and killed
+# again) until it ends.
 args=(run --urdf "$PWD/body.urdf" --base free --gravity 0 --v0 0,0,0,0,0.5,0.05,1.0
       --time 600 --steps 60000 --every 100 -o tumble.csv --checkpoint tumble.ckpt
       --checkpoint-every 1000)

@@ -208,7 +208,12 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
         dk_.noalias() = klu_.solve(rk_);
         const double update = dk_.head(s * d).template lpNorm<Eigen::Infinity>();
         rep.iterations = monitor.iterations() + 1;
-        if (!dk_.allFinite() || !std::isfinite(rep.residual)) return base::failed(rep);
+        if (!std::isfinite(rep.residual)) return base::failed(rep);
+        if (!dk_.allFinite()) {
+            if (!chord) return base::failed(rep);
+            chord = chords = false; // the kept LU: try Newton's own from this iterate
+            continue;
+        }
         if (chord && !(update <= chord_limit * last)) {
             if (update <= noise) {
                 // The chord has reached the noise of the equations: the last iterate stands

@@ -180,6 +180,8 @@ vec<M> tangent_momentum(const L& l, const vec<L::dim>& q, const vec<L::dim>& p,
         r.tail(m).setZero();
         Eigen::VectorXd x = lu.solve(r);
         x += lu.solve(Eigen::VectorXd(r - k * x)); // one step of iterative refinement
+        if (!x.allFinite())
+            throw std::domain_error("could not make the momentum tangent to the constraints");
         v = x.head(d);
         mu = x.tail(m);
         return mu;
