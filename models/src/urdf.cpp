@@ -202,11 +202,11 @@ void read_mimics(const reader& rd, robot_data& d, const joint_names& named,
         if (at == named.end())
             rd.fail(e, "joint " + j.name + " mimics " + master +
                            ", which is not a joint of this robot (joint names are case-sensitive)");
-        if (!d.joints[at->second].moves() || mimics(at->second))
+        const bool moves = d.joints[at->second].moves();
+        if (!moves || mimics(at->second))
             rd.fail(e, "joint " + j.name + " mimics " + master +
-                           (!d.joints[at->second].moves()
-                                ? ", which is not a revolute, continuous or prismatic joint"
-                                : ", which is a mimic joint itself (mimic its master instead)"));
+                           (!moves ? ", which is not a revolute, continuous or prismatic joint"
+                                   : ", which is a mimic joint itself (mimic its master instead)"));
         j.mimic.master = at->second;
         j.mimic.multiplier = rd.number(e, "multiplier", 1.0);
         j.mimic.offset = rd.number(e, "offset", 0.0);

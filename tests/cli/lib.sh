@@ -82,6 +82,9 @@ expect_error() {
 # 10-30 times slower, each kill waits first for a new checkpoint (at most 60 s; 300 kills at
 # most): a fixed interval is not enough there (in 0.2 s, and with other builds running in 2 s,
 # a sanitized tumbling-body run did not reach its first checkpoint, so restarts made no progress).
+# The checkpoint's modification time to the nanosecond, or "none" while there is none.
+stamp() { stat -c %.9Y "$1" 2> /dev/null || echo none; }
+
 kill_and_resume() {
   local name=$1 ckpt=$2 csv=$3 attempts=60 sanitized=${VARSYM_SANITIZED:-}
   [ -n "$sanitized" ] && attempts=300
@@ -96,10 +99,10 @@ kill_and_resume() {
       else rm -f "$csv.part"; "$VARSYM" "$@" 2>> err.txt & fi
       pid=$!
       if [ -n "$sanitized" ]; then # until the checkpoint changes, or the run ends
-        before=$(stat -c %.9Y "$ckpt" 2> /dev/null || echo none)
+        before=$(stamp "$ckpt")
         for _ in $(seq 600); do
           [ -n "$(ps -o stat= -p "$pid" | grep -v Z)" ] || break
-          [ "$(stat -c %.9Y "$ckpt" 2> /dev/null || echo none)" = "$before" ] || break
+          [ "$(stamp "$ckpt")" = "$before" ] || break
           sleep 0.1
         done
       fi
