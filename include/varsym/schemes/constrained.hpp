@@ -60,7 +60,7 @@ class constrained_stepper : public stepper<L, F> {
         k_.setZero(n, n);
         rk_.setZero(n);
         dk_.setZero(n);
-        klu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+        klu_.reserve(n);
     }
 
     [[nodiscard]] const C& constraint() const { return c_; }
@@ -168,7 +168,7 @@ class constrained_stepper : public stepper<L, F> {
     mutable double sigma_ref_ = 0.0; // G's smallest singular value at the checked initial state
     Eigen::MatrixXd k_;
     Eigen::VectorXd rk_, dk_;
-    Eigen::PartialPivLU<Eigen::MatrixXd> klu_;
+    small_lu klu_;
 };
 
 template <lagrangian L, holonomic_constraint C, class F>
@@ -205,7 +205,7 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
         }
         if (monitor.exhausted()) return rep;
         if (!chord) klu_.compute(k_);
-        dk_.noalias() = klu_.solve(rk_);
+        klu_.solve(rk_, dk_);
         const double update = dk_.head(s * d).template lpNorm<Eigen::Infinity>();
         rep.iterations = monitor.iterations() + 1;
         if (!std::isfinite(rep.residual)) return base::failed(rep);

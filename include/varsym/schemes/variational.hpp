@@ -52,6 +52,7 @@
 #include "varsym/schemes/scheme_kind.hpp"
 #include "varsym/solvers/compensated.hpp"
 #include "varsym/solvers/newton.hpp"
+#include "varsym/solvers/small_lu.hpp"
 #include "varsym/systems/forcing.hpp"
 #include "varsym/systems/lagrangian.hpp"
 #include "varsym/systems/lagrangian_time.hpp"
@@ -124,7 +125,8 @@ class stepper {
             x_miss_.setZero(d_, s_);
         }
         jac_.setZero(s_ * d_, s_ * d_);
-        lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(s_ * d_);
+        lqvt_.setZero(d_, d_);
+        lu_.reserve(s_ * d_);
         if (linear()) jinv_.setZero(s_ * d_, s_ * d_);
         if (opt_.iteration == iteration_kind::articulated) articulated_setup();
     }
@@ -327,6 +329,7 @@ class stepper {
         terms_[static_cast<std::size_t>(k)].lq += f.f;
     }
 
+    void add_jacobian_block(int k, int i, int l); // variational_solve.hpp
     /// The residual F (rows i = 0 … s−1) and, if `jacobian`, its Jacobian in the increments.
     void assemble(const vec<dim>& p, bool jacobian) {
         const double h = h_;
@@ -340,17 +343,9 @@ class stepper {
                 row += (h * u.hi(i, k)) * t.lq + g.hi(i, k) * t.lv;
                 row += (h * u.lo(i, k)) * t.lq + g.lo(i, k) * t.lv;
                 if (!jacobian) continue;
-                const double fi = u.hi(i, k), gi = g.hi(i, k);
-                for (int l = 0; l < s_; ++l) {
-                    const double fl = tab_.phi(l + 1, k), gl = tab_.dphi(l + 1, k);
-                    auto block = block_of<dim>(jac_, i, l, d_);
-                    block += (h * fi * fl) * t.lqq + (fi * gl) * t.lqv;
-                    block += (gi * fl) * t.lqv.transpose() + (gi * gl / h) * t.lvv;
-                    if constexpr (forced) {
-                        const force_terms<dim>& f = fterms_[static_cast<std::size_t>(k)];
-                        block += (h * fi * fl) * f.fq + (fi * gl) * f.fv;
-                    }
-                }
+                if (i == 0) lqvt_ = t.lqv.transpose(); // read contiguously below
+                for (int l = 0; l < s_; ++l)
+                    add_jacobian_block(k, i, l);
             }
         }
         block_of<dim>(res_, 0, d_) += p;
@@ -374,8 +369,9 @@ class stepper {
     double t_step_ = 0.0; // the last step's t_j
     Eigen::VectorXd res_, delta_;
     Eigen::MatrixXd jac_, jinv_; // jinv_: the kept Jacobian's inverse (linear iterations)
+    mat<dim> lqvt_;              // assemble(): a point's (∂²L/∂q∂q̇)ᵀ
     Eigen::MatrixXd ainv_;       // h A⁻¹ (s × s) of the articulated iteration
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+    small_lu lu_;
     vec<dim> q_bar_, v_bar_;     // where the kept Jacobian was taken
     Eigen::LDLT<mat<dim>> mbar_; // ∂²L/∂q̇² there, factorised: the kept predictor's mass matrix
     Eigen::LDLT<mat<dim>> ldlt_; // the full predictor's factorisations

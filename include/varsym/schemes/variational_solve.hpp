@@ -87,7 +87,7 @@ newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
         if (monitor.exhausted()) return rep;
         if (newton) {
             if (!chord) lu_.compute(jac_);
-            delta_.noalias() = lu_.solve(res_);
+            lu_.solve(res_, delta_);
         } else {
             delta_.noalias() = jinv_ * res_;
         }
@@ -126,6 +126,30 @@ newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
     }
     rep.converged = true;
     return rep;
+}
+
+/// Point k's terms in block (i, l) of the step's Jacobian, ∂F_i/∂X_l (assemble()):
+///   h φ̂_ik φ_lk L_qq + φ̂_ik ψ_lk L_qv + ψ̂_ik φ_lk L_qvᵀ + ψ̂_ik ψ_lk / h L_vv (+ the force's),
+/// φ̂, ψ̂ the tables' wphi and wdphi, φ, ψ at the control points; L_qvᵀ from lqvt_, so that one
+/// pass reads every matrix contiguously. (Eigen's four block expressions took 4 % more of a
+/// 9-joint robot's gauss-2 step, and 6 % more of its Simpson step: docs/performance.md.)
+template <lagrangian L, class F>
+void stepper<L, F>::add_jacobian_block(int k, int i, int l) {
+    const auto kk = static_cast<std::size_t>(k);
+    const lagrangian_terms<dim>& t = terms_[kk];
+    const double fi = tab_.wphi.hi(i, k), gi = tab_.wdphi.hi(i, k);
+    const double fl = tab_.phi(l + 1, k), gl = tab_.dphi(l + 1, k);
+    const double a = h_ * fi * fl, b = fi * gl, c = gi * fl, e = gi * gl / h_;
+    const Eigen::Index n = jac_.rows(), d = d_;
+    double* out = jac_.data() + i * d + l * d * n;
+    const double *qq = t.lqq.data(), *qv = t.lqv.data(), *vq = lqvt_.data(), *vv = t.lvv.data();
+    for (Eigen::Index col = 0; col < d; ++col, out += n)
+        for (Eigen::Index r = 0, x = col * d; r < d; ++r, ++x)
+            out[r] += a * qq[x] + b * qv[x] + c * vq[x] + e * vv[x];
+    if constexpr (forced) {
+        const force_terms<dim>& f = fterms_[kk];
+        block_of<dim>(jac_, i, l, d_) += a * f.fq + b * f.fv;
+    }
 }
 
 /// delta_ = the round-off of each entry of the step's residual (assemble), 2ε times the terms
@@ -335,11 +359,11 @@ void stepper<L, F>::refresh(const lagrangian_terms<dim>& t) {
     rhs_.setZero();
     assemble(rhs_, true);
     lu_.compute(jac_);
-    // Column by column through the work vectors: lu_.inverse() would allocate a temporary.
+    // Column by column through the work vectors: an inverse() would allocate a temporary.
     for (Eigen::Index c = 0; c < res_.size(); ++c) {
         res_.setZero();
         res_(c) = 1.0;
-        delta_.noalias() = lu_.solve(res_);
+        lu_.solve(res_, delta_);
         jinv_.col(c) = delta_;
     }
     kept_ = true;

@@ -1,0 +1,141 @@
+// varsym/solvers/small_lu.hpp: the LU factorisation with partial pivoting of a step's Newton
+// matrix (the general engine's and the constrained stepper's), of run-time size.
+//
+// Eigen's PartialPivLU factors a matrix of more than 16 rows by blocks (panels and GEMM
+// kernels); below about 60 rows their set-up costs more than it saves. At the 18 unknowns of a
+// 9-joint robot's gauss-2 or Simpson step Eigen's factorisation took 1.54 µs, the unblocked one
+// here 1.06 µs; the solves cost the same (docs/performance.md, "The step's linear algebra";
+// clang 14 -O3, no -march). Above `unblocked_limit` rows it hands the matrix to Eigen's. Same
+// algorithm as Eigen's unblocked path (the largest magnitude in the column as pivot,
+// right-looking rank-1 updates), so the same factors where the rounding of the updates agrees; a
+// zero pivot is skipped as Eigen skips it, and the solves then return infinities or NaN, which
+// the steppers' finiteness checks catch. (detail::solve_small, types.hpp, is the family
+// stepper's one-shot solve for n ≤ 8 in fixed storage; this one keeps its factors for the chord
+// updates and the sensitivities' solves.)
+#pragma once
+
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Dense>
+
+namespace varsym {
+
+class small_lu {
+  public:
+    /// Above this many rows Eigen's blocked factorisation is as fast or faster (measured at
+    /// 48, 60 and 80 rows: 0.93, 0.98 and 1.07 times Eigen's time for a factorisation and a
+    /// solve).
+    static constexpr Eigen::Index unblocked_limit = 48;
+
+    small_lu() = default;
+    explicit small_lu(Eigen::Index n) { reserve(n); }
+
+    /// Sizes the storage for n rows, so that compute() at that size allocates nothing.
+    void reserve(Eigen::Index n) {
+        if (n > unblocked_limit) {
+            eigen_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+        } else {
+            lu_.resize(n, n);
+            pivots_.resize(static_cast<std::size_t>(n));
+        }
+    }
+
+    /// Factors the square matrix a: P a = L U, L unit lower triangular.
+    template <class M>
+    small_lu& compute(const Eigen::MatrixBase<M>& a) {
+        n_ = a.rows();
+        if (n_ > unblocked_limit) {
+            eigen_.compute(a);
+            return *this;
+        }
+        lu_ = a;
+        pivots_.resize(static_cast<std::size_t>(n_));
+        const Eigen::Index n = n_;
+        double* m = lu_.data();
+        for (Eigen::Index k = 0; k < n; ++k) {
+            double* ck = m + k * n;
+            Eigen::Index p = k;
+            double biggest = std::abs(ck[k]);
+            for (Eigen::Index i = k + 1; i < n; ++i)
+                if (std::abs(ck[i]) > biggest) {
+                    biggest = std::abs(ck[i]);
+                    p = i;
+                }
+            pivots_[static_cast<std::size_t>(k)] = p;
+            if (p != k)
+                for (Eigen::Index j = 0; j < n; ++j)
+                    std::swap(m[k + j * n], m[p + j * n]);
+            if (biggest == 0.0) continue; // a zero pivot: the solves divide by it (as Eigen's)
+            const double inverse = 1.0 / ck[k];
+            for (Eigen::Index i = k + 1; i < n; ++i)
+                ck[i] *= inverse;
+            for (Eigen::Index j = k + 1; j < n; ++j) {
+                double* cj = m + j * n;
+                const double f = cj[k];
+                if (f == 0.0) continue;
+                for (Eigen::Index i = k + 1; i < n; ++i)
+                    cj[i] -= ck[i] * f;
+            }
+        }
+        return *this;
+    }
+
+    /// x = a⁻¹ b for a vector b (x may be b itself).
+    void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
+        if (n_ > unblocked_limit) {
+            if (&x == &b) {
+                const Eigen::VectorXd y = eigen_.solve(b);
+                x = y;
+            } else {
+                x.noalias() = eigen_.solve(b);
+            }
+            return;
+        }
+        x = b;
+        solve_in_place(x.data());
+    }
+
+    /// X = a⁻¹ B, column by column, for a matrix B (returned).
+    template <class B>
+    [[nodiscard]] Eigen::MatrixXd solve(const Eigen::MatrixBase<B>& b) const {
+        if (n_ > unblocked_limit) return eigen_.solve(b);
+        Eigen::MatrixXd x = b;
+        for (Eigen::Index c = 0; c < x.cols(); ++c)
+            solve_in_place(x.col(c).data());
+        return x;
+    }
+
+    [[nodiscard]] Eigen::Index rows() const { return n_; }
+
+  private:
+    /// The permutation, then L y = P b forwards, then U x = y backwards, column-oriented.
+    void solve_in_place(double* x) const {
+        const Eigen::Index n = n_;
+        const double* m = lu_.data();
+        for (Eigen::Index k = 0; k < n; ++k) {
+            const Eigen::Index p = pivots_[static_cast<std::size_t>(k)];
+            if (p != k) std::swap(x[k], x[p]);
+        }
+        for (Eigen::Index j = 0; j < n; ++j) {
+            const double xj = x[j];
+            const double* cj = m + j * n;
+            for (Eigen::Index i = j + 1; i < n; ++i)
+                x[i] -= cj[i] * xj;
+        }
+        for (Eigen::Index j = n - 1; j >= 0; --j) {
+            const double* cj = m + j * n;
+            const double xj = x[j] /= cj[j];
+            for (Eigen::Index i = 0; i < j; ++i)
+                x[i] -= cj[i] * xj;
+        }
+    }
+
+    Eigen::Index n_ = 0;
+    Eigen::MatrixXd lu_;
+    std::vector<Eigen::Index> pivots_;
+    Eigen::PartialPivLU<Eigen::MatrixXd> eigen_;
+};
+
+} // namespace varsym

@@ -1,0 +1,132 @@
+// tests/solvers/test_small_lu.cpp: the unblocked LU of the steppers' Newton matrices
+// (solvers/small_lu.hpp). References: Eigen's PartialPivLU of the same matrix (the same pivots
+// and, to rounding, the same factors), and the backward error of each solve against the matrix
+// itself, which LU with partial pivoting keeps to a small multiple of n ε ‖A‖ ‖x‖ (Higham,
+// Accuracy and Stability of Numerical Algorithms, 2nd ed., Theorem 9.4).
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+
+#include "varsym/solvers/small_lu.hpp"
+
+namespace {
+
+/// A random n × n matrix whose diagonal does not dominate (so that rows are exchanged).
+Eigen::MatrixXd random_matrix(Eigen::Index n, std::mt19937& g) {
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    Eigen::MatrixXd a(n, n);
+    for (Eigen::Index j = 0; j < n; ++j)
+        for (Eigen::Index i = 0; i < n; ++i)
+            a(i, j) = u(g);
+    return a;
+}
+
+/// ‖A x − b‖∞ / (‖A‖∞ ‖x‖∞ + ‖b‖∞): the normwise backward error of x.
+double backward_error(const Eigen::MatrixXd& a, const Eigen::VectorXd& x,
+                      const Eigen::VectorXd& b) {
+    const double norm_a = a.cwiseAbs().rowwise().sum().maxCoeff();
+    return (a * x - b).lpNorm<Eigen::Infinity>() /
+           (norm_a * x.lpNorm<Eigen::Infinity>() + b.lpNorm<Eigen::Infinity>());
+}
+
+} // namespace
+
+// Every size the steppers meet below the limit and some above: the solves have the backward
+// error of a stable LU and agree with Eigen's to the matrix's conditioning.
+TEST(SmallLu, SolvesAsEigensPartialPivLuAtEverySize) {
+    std::mt19937 g(7);
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    varsym::small_lu lu;
+    constexpr Eigen::Index limit = varsym::small_lu::unblocked_limit;
+    for (Eigen::Index n : {Eigen::Index{1}, Eigen::Index{2}, Eigen::Index{3}, Eigen::Index{6},
+                           Eigen::Index{12}, Eigen::Index{17}, Eigen::Index{18}, Eigen::Index{27},
+                           limit, limit + 1, Eigen::Index{60}}) {
+        const Eigen::MatrixXd a = random_matrix(n, g);
+        const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
+        const Eigen::PartialPivLU<Eigen::MatrixXd> reference(a);
+        const Eigen::VectorXd expected = reference.solve(b);
+        lu.compute(a);
+        Eigen::VectorXd x(n);
+        lu.solve(b, x);
+        // Growth factors of random matrices stay small; 10 n ε is Higham's bound with room.
+        EXPECT_LT(backward_error(a, x, b), 10.0 * static_cast<double>(n) * eps) << "n = " << n;
+        // Both solutions are within κ(A) times their backward errors of the exact one.
+        const double kappa = a.norm() * reference.inverse().norm();
+        EXPECT_LT((x - expected).lpNorm<Eigen::Infinity>(),
+                  20.0 * static_cast<double>(n) * eps * kappa * expected.lpNorm<Eigen::Infinity>())
+            << "n = " << n;
+        // A matrix right-hand side: column by column, the same as the vector solve (above the
+        // limit Eigen's blocked solve, which may round otherwise).
+        Eigen::MatrixXd rhs(n, 3);
+        rhs << b, 2.0 * b, Eigen::VectorXd::Ones(n);
+        const Eigen::MatrixXd xs = lu.solve(rhs);
+        if (n <= limit) {
+            EXPECT_EQ(xs.col(0), x) << "n = " << n;
+        }
+        EXPECT_LT(backward_error(a, xs.col(2), rhs.col(2)), 10.0 * static_cast<double>(n) * eps);
+        // Solving in place: x and b the same vector.
+        Eigen::VectorXd y = b;
+        lu.solve(y, y);
+        EXPECT_EQ(y, x) << "n = " << n;
+    }
+}
+
+// The rows are exchanged: a zero on the diagonal needs the pivot from below. Without pivoting
+// the first step would divide by zero (the negative control: the matrix's (0, 0) entry is 0).
+TEST(SmallLu, PivotsPastAZeroDiagonal) {
+    Eigen::MatrixXd a(3, 3);
+    a << 0.0, 2.0, 1.0, //
+        1.0, 1.0, 0.0,  //
+        3.0, 0.0, 1.0;
+    ASSERT_EQ(a(0, 0), 0.0);
+    const Eigen::Vector3d exact(1.0, -2.0, 0.5); // the solution, chosen: b = a · exact
+    const Eigen::VectorXd b = a * exact;
+    varsym::small_lu lu(3);
+    lu.compute(a);
+    Eigen::VectorXd x(3);
+    lu.solve(b, x);
+    EXPECT_LT((x - exact).lpNorm<Eigen::Infinity>(), 8.0 * std::numeric_limits<double>::epsilon());
+}
+
+// A singular matrix gives a non-finite solution, which the steppers' checks catch (a step that
+// fails), as Eigen's factors do.
+TEST(SmallLu, SingularMatrixGivesANonFiniteSolution) {
+    Eigen::MatrixXd a(3, 3);
+    a << 1.0, 2.0, 3.0, //
+        2.0, 4.0, 6.0,  //
+        0.0, 1.0, 1.0;  // rows 0 and 1 dependent
+    varsym::small_lu lu;
+    lu.compute(a);
+    Eigen::VectorXd x(3);
+    lu.solve(Eigen::Vector3d(1.0, 1.0, 1.0), x);
+    EXPECT_FALSE(x.allFinite());
+    // The negative control: the same matrix with the dependence broken solves.
+    a(1, 2) = 7.0;
+    lu.compute(a);
+    lu.solve(Eigen::Vector3d(1.0, 1.0, 1.0), x);
+    EXPECT_TRUE(x.allFinite());
+}
+
+// One object factors matrices of changing sizes in turn (the constrained stepper's contact
+// changes its size), across the limit where it hands the matrix to Eigen.
+TEST(SmallLu, RefactorsAtAnotherSize) {
+    std::mt19937 g(3);
+    varsym::small_lu lu(18);
+    constexpr Eigen::Index limit = varsym::small_lu::unblocked_limit;
+    for (Eigen::Index n : {Eigen::Index{18}, Eigen::Index{6}, limit + 10, Eigen::Index{18},
+                           limit + 1, limit, Eigen::Index{1}}) {
+        const Eigen::MatrixXd a = random_matrix(n, g);
+        const Eigen::VectorXd b = Eigen::VectorXd::Ones(n);
+        lu.compute(a);
+        EXPECT_EQ(lu.rows(), n);
+        Eigen::VectorXd x(n);
+        lu.solve(b, x);
+        EXPECT_LT(backward_error(a, x, b),
+                  10.0 * static_cast<double>(n) * std::numeric_limits<double>::epsilon())
+            << "n = " << n;
+    }
+}
