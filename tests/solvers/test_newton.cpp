@@ -98,3 +98,45 @@ TEST(Newton, ASecondUpdateBelowAnUlpOfTheReferenceStops) {
     EXPECT_FALSE(linear.converged(1e-16, 1e-10));
     EXPECT_FALSE(linear.converged(3e-17, 1e-10));
 }
+
+// The chord decisions of the general engine's Newton loops (chord_policy), by their rule: keep
+// the Jacobian once an update is below chord_start of the unknown, take a chord update only
+// where it shrank at least 1/min(contraction_limit, 1/8) times, call an update below 1024 ε of
+// the unknown noise, and linearise the momentum where ρ |δ| ≤ ε |X|.
+TEST(ChordPolicy, KeepsTheJacobianOnceSmallAndWhileItContracts) {
+    newton_options o; // chord_start 1e-3, contraction_limit 1/8
+    o.typical = 1.0;
+    o.reference = 1.0;
+    chord_policy p(o);
+    EXPECT_FALSE(p.chord()); // the first iterate builds its Jacobian
+    p.taken(1e-2, 1.0);
+    EXPECT_FALSE(p.chord()); // 1e-2 of the unknown: not yet
+    p.taken(1e-4, 1.0);
+    ASSERT_TRUE(p.chord());
+    EXPECT_TRUE(p.contracts(1.2e-5));  // 0.12 of the last update
+    EXPECT_FALSE(p.contracts(1.3e-5)); // 0.13: too slow for a chord
+    EXPECT_TRUE(p.at_noise(2e-13));    // below 1024 ε ≈ 2.3e-13
+    EXPECT_FALSE(p.at_noise(3e-13));
+    p.drop();
+    EXPECT_FALSE(p.chord());
+    p.taken(1e-8, 1.0);
+    EXPECT_FALSE(p.chord()); // dropped for the rest of the solve
+    o.chord_start = 0.0;     // never
+    chord_policy never(o);
+    never.taken(1e-12, 1.0);
+    EXPECT_FALSE(never.chord());
+}
+
+TEST(ChordPolicy, LinearisesTheMomentumWithTheRateOfTheJacobianUsed) {
+    newton_options o;
+    o.typical = 1.0;
+    chord_policy p(o);
+    // A fresh Jacobian: ρ = |δ|/|X|, so |δ|²/|X| against ε.
+    EXPECT_TRUE(p.linearisable(1e-9, 1.0));  // 1e-18
+    EXPECT_FALSE(p.linearisable(1e-7, 1.0)); // 1e-14
+    p.taken(1e-4, 1.0);
+    ASSERT_TRUE(p.chord());
+    // A kept one: ρ = |δ_k|/|δ_{k−1}| = 1e-5, ρ |δ| = 1e-14 > ε, where the fresh rule would pass.
+    EXPECT_FALSE(p.linearisable(1e-9, 1.0));
+    EXPECT_TRUE(p.linearisable(1e-11, 1.0)); // ρ = 1e-7: 1e-18
+}

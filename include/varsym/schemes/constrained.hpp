@@ -183,16 +183,12 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
     opt.reference = x.q.template lpNorm<Eigen::Infinity>();
     newton_monitor monitor(opt);
     newton_report rep;
-    // Chord updates as the unconstrained engine's (variational_solve.hpp): once an update is below
-    // chord_start of the increments, the next iterate keeps the saddle-point matrix and its LU and
-    // evaluates first derivatives alone; one that shrinks less than 1/min(contraction_limit,
-    // chord_rate_limit) times is not taken, and the solve goes on as full Newton.
-    bool chord = false, chords = opt.chord_start > 0.0, linearised = false;
-    double last = 0.0;
-    const double noise =
-        1024.0 * std::numeric_limits<double>::epsilon() * std::max(opt.typical, opt.reference);
-    const double chord_limit = std::min(opt.contraction_limit, chord_rate_limit);
+    // Chord updates as the unconstrained engine's (variational_solve.hpp, chord_policy): a chord
+    // iterate keeps the saddle-point matrix and its LU and evaluates first derivatives alone.
+    chord_policy chords(opt);
+    bool linearised = false;
     while (true) {
+        const bool chord = chords.chord();
         this->evaluate_points(x.q, !chord);
         this->assemble(x.p, !chord);
         assemble_constrained(x, !chord);
@@ -211,11 +207,11 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
         if (!std::isfinite(rep.residual)) return base::failed(rep);
         if (!dk_.allFinite()) {
             if (!chord) return base::failed(rep);
-            chord = chords = false; // the kept LU: try Newton's own from this iterate
+            chords.drop(); // the kept LU: try Newton's own from this iterate
             continue;
         }
-        if (chord && !(update <= chord_limit * last)) {
-            if (update <= noise) {
+        if (chord && !chords.contracts(update)) {
+            if (chords.at_noise(update)) {
                 // The chord has reached the noise of the equations: the last iterate stands
                 // (what the last chord update left is ρ times its size). Near a singular
                 // constraint Jacobian (a four-bar near its change point) that noise is 1e-13 of
@@ -224,7 +220,7 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
                 rep.iterations = monitor.iterations();
                 break;
             }
-            chord = chords = false; // this iterate is Newton's after all
+            chords.drop(); // this iterate is Newton's after all
             continue;
         }
         for (int l = 0; l < s; ++l)
@@ -234,15 +230,12 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
         const double size = X.template lpNorm<Eigen::Infinity>();
         if (monitor.converged(update, size, chord)) {
             // The momentum from this iterate, corrected to first order for the update, where
-            // what that leaves is below ε (the unconstrained engine's rule, variational_solve.hpp).
-            const double magnitude = std::max(size, opt.typical);
-            const double rho = chord ? update / last : update / magnitude;
-            linearised = rho * update <= std::numeric_limits<double>::epsilon() * magnitude;
+            // what that leaves is below ε (chord_policy::linearisable).
+            linearised = chords.linearisable(update, size);
             if (linearised) this->delta_ = dk_.head(s * d);
             break;
         }
-        chord = chords && (chord || update <= opt.chord_start * std::max(size, opt.typical));
-        last = update;
+        chords.taken(update, size);
     }
     // p̃ − p_j, then the projection onto the hidden constraint at q_{j+1}.
     if (!(linearised ? this->momentum_change_linearised(x) : this->momentum_change(x)))

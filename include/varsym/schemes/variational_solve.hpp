@@ -59,18 +59,12 @@ newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
     opt.typical = x_.template lpNorm<Eigen::Infinity>();
     opt.reference = x.q.template lpNorm<Eigen::Infinity>();
     newton_monitor monitor(opt, !newton);
+    chord_policy chords(opt); // Newton's
     newton_report rep;
     rate_ = 0.0;
     linearised_ = false;
-    bool chord = false;                  // Newton: this iterate keeps the last Jacobian
-    bool chords = opt.chord_start > 0.0; // whether it still may
-    double last = 0.0;                   // Newton: the last update taken
-    const double noise =
-        1024.0 * std::numeric_limits<double>::epsilon() * std::max(opt.typical, opt.reference);
-    // The chord's stop (newton_monitor) assumes a rate of at most chord_rate_limit, whatever the
-    // linear iterations are allowed.
-    const double chord_limit = std::min(opt.contraction_limit, chord_rate_limit);
     while (true) {
+        const bool chord = newton && chords.chord(); // this iterate keeps the last Jacobian
         evaluate_points(x.q, newton && !chord);
         assemble(x.p, newton && !chord);
         rep.residual = res_.template lpNorm<Eigen::Infinity>();
@@ -94,10 +88,10 @@ newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
         const double step = delta_.template lpNorm<Eigen::Infinity>();
         rep.iterations = monitor.iterations() + 1;
         if (!std::isfinite(rep.residual)) return rep;
-        if (chord && !(step <= chord_limit * last || step <= noise)) {
+        if (chord && !(chords.contracts(step) || chords.at_noise(step))) {
             // A chord update that does not contract fast enough is not taken: this iterate is
             // Newton's after all, and the rest of the solve too (full Newton's iterates).
-            chord = chords = false;
+            chords.drop();
             continue;
         }
         if (!std::isfinite(step)) return rep;
@@ -106,17 +100,12 @@ newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
         const double size = x_.template lpNorm<Eigen::Infinity>();
         if (monitor.converged(step, size, chord)) {
             // The momentum from this iterate (momentum_change_linearised) where what its
-            // linearisation leaves, about ρ |δ| of the increments (ρ the relative error of the
-            // second derivatives it uses: |δ|/|X| fresh, the chord's rate kept), is below ε.
-            const double magnitude = std::max(size, opt.typical);
-            const double rho = chord ? step / last : step / magnitude;
-            linearised_ =
-                newton && rho * step <= std::numeric_limits<double>::epsilon() * magnitude;
+            // linearisation leaves is below ε (chord_policy::linearisable).
+            linearised_ = newton && chords.linearisable(step, size);
             break;
         }
         if (newton) {
-            chord = chords && (chord || step <= opt.chord_start * std::max(size, opt.typical));
-            last = step;
+            chords.taken(step, size);
             continue;
         }
         if (monitor.iterations() > 1) {

@@ -136,6 +136,55 @@ class newton_monitor {
     double previous_ = std::numeric_limits<double>::infinity();
 };
 
+/// When the general engine's Newton loops (schemes/variational_solve.hpp's iterate, the
+/// constrained stepper's step, schemes/constrained.hpp) keep their Jacobian and its LU for the
+/// next iterate (a chord update: first derivatives and a solve with the same factors): once an
+/// update is below newton_options::chord_start of the unknown, while each chord update shrinks
+/// at least 1/min(contraction_limit, chord_rate_limit) times (the rate newton_monitor's stop
+/// by the linear model assumes). A chord update that does not is judged, not taken: the caller
+/// drops the chord (the iterate is then Newton's, and so is the rest of the solve), or, below
+/// the equations' noise, 1024 ε of the unknown or the value it is an increment of, may stop.
+class chord_policy {
+  public:
+    /// `opt` with its typical and reference sizes set for this solve.
+    explicit chord_policy(const newton_options& opt)
+        : typical_(opt.typical), rate_limit_(std::min(opt.contraction_limit, chord_rate_limit)),
+          noise_(1024.0 * std::numeric_limits<double>::epsilon() *
+                 std::max(opt.typical, opt.reference)),
+          enabled_(opt.chord_start > 0.0), fraction_(opt.chord_start) {}
+
+    /// Whether this iterate keeps the last Jacobian.
+    [[nodiscard]] bool chord() const { return chord_; }
+    /// A chord update of max-norm `update`: whether it contracted as a chord update must.
+    [[nodiscard]] bool contracts(double update) const { return update <= rate_limit_ * last_; }
+    /// Whether `update` is below the equations' noise.
+    [[nodiscard]] bool at_noise(double update) const { return update <= noise_; }
+    /// No more chord updates in this solve: this iterate and the next are Newton's.
+    void drop() { chord_ = enabled_ = false; }
+    /// After an update of max-norm `update` was taken and the unknown has max-norm `size`: the
+    /// next iterate keeps this Jacobian once an update is below chord_start of the unknown.
+    void taken(double update, double size) {
+        chord_ = enabled_ && (chord_ || update <= fraction_ * std::max(size, typical_));
+        last_ = update;
+    }
+    /// Where the solve stops after `update` (the unknown then of size `size`): whether the
+    /// momentum may come from the last iterate corrected to first order for it, what that
+    /// leaves being about ρ |δ| ≤ ε of the unknown, ρ the relative error of the second
+    /// derivatives used: |δ|/|X| fresh, the chord's rate |δ_k|/|δ_{k−1}| kept.
+    [[nodiscard]] bool linearisable(double update, double size) const {
+        const double magnitude = std::max(size, typical_);
+        const double rho = chord_ ? update / last_ : update / magnitude;
+        return rho * update <= std::numeric_limits<double>::epsilon() * magnitude;
+    }
+
+  private:
+    double typical_, rate_limit_, noise_;
+    bool enabled_;
+    double fraction_;
+    bool chord_ = false;
+    double last_ = 0.0; // the last update taken
+};
+
 /// The residual, Jacobian, update and LU factorisation of newton_solve's iterations: held by a
 /// caller that solves again and again (a stepper), so that at a run-time size the iterations
 /// allocate nothing once the first solve has sized them.
