@@ -75,6 +75,9 @@ expect_error() {
   ok
 }
 
+# The checkpoint's modification time to the nanosecond, or "none" while there is none.
+stamp() { stat -c %.9Y "$1" 2> /dev/null || echo none; }
+
 # kill_and_resume NAME CKPT CSV ARGS...: runs `VARSYM ARGS` (which writes CSV with checkpoint
 # CKPT) once straight in ./straight and once in ./killed, killed with SIGKILL every 0.2 s and
 # resumed from CKPT until it ends (at most 60 times); checks that both CSVs are byte-identical
@@ -82,9 +85,6 @@ expect_error() {
 # 10-30 times slower, each kill waits first for a new checkpoint (at most 60 s; 300 kills at
 # most): a fixed interval is not enough there (in 0.2 s, and with other builds running in 2 s,
 # a sanitized tumbling-body run did not reach its first checkpoint, so restarts made no progress).
-# The checkpoint's modification time to the nanosecond, or "none" while there is none.
-stamp() { stat -c %.9Y "$1" 2> /dev/null || echo none; }
-
 kill_and_resume() {
   local name=$1 ckpt=$2 csv=$3 attempts=60 sanitized=${VARSYM_SANITIZED:-}
   [ -n "$sanitized" ] && attempts=300

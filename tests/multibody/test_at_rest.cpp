@@ -41,7 +41,7 @@ struct held_probe : general::stepper<held_lagrangian, holding_force> {
         evaluate_points(x.q, true);
         assemble(x.p, true);
         lu_.compute(jac_);
-        delta_ = lu_.solve(res_);
+        lu_.solve(res_, delta_);
         return delta_.lpNorm<Eigen::Infinity>() /
                std::max(x_.lpNorm<Eigen::Infinity>(), x.q.lpNorm<Eigen::Infinity>());
     }

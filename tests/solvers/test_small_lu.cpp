@@ -1,8 +1,8 @@
 // tests/solvers/test_small_lu.cpp: the unblocked LU of the steppers' Newton matrices
-// (solvers/small_lu.hpp). References: Eigen's PartialPivLU of the same matrix (the same pivots
-// and, to rounding, the same factors), and the backward error of each solve against the matrix
-// itself, which LU with partial pivoting keeps to a small multiple of n ε ‖A‖ ‖x‖ (Higham,
-// Accuracy and Stability of Numerical Algorithms, 2nd ed., Theorem 9.4).
+// (solvers/small_lu.hpp). References: Eigen's PartialPivLU of the same matrix (the same
+// algorithm: its solution, to the matrix's conditioning), and the backward error of each solve
+// against the matrix itself, which LU with partial pivoting keeps to a small multiple of
+// n ε ‖A‖ ‖x‖ (Higham, Accuracy and Stability of Numerical Algorithms, 2nd ed., Theorem 9.4).
 #include <cmath>
 #include <limits>
 #include <random>
@@ -111,12 +111,12 @@ TEST(SmallLu, SingularMatrixGivesANonFiniteSolution) {
     EXPECT_TRUE(x.allFinite());
 }
 
-// One object factors matrices of changing sizes in turn (the constrained stepper's contact
-// changes its size), across the limit where it hands the matrix to Eigen.
+// One object factors matrices of changing sizes in turn, across the limit where it hands the
+// matrix to Eigen, whatever size it was reserved for.
 TEST(SmallLu, RefactorsAtAnotherSize) {
     std::mt19937 g(3);
-    varsym::small_lu lu(18);
     constexpr Eigen::Index limit = varsym::small_lu::unblocked_limit;
+    varsym::small_lu lu(limit + 10);
     for (Eigen::Index n : {Eigen::Index{18}, Eigen::Index{6}, limit + 10, Eigen::Index{18},
                            limit + 1, limit, Eigen::Index{1}}) {
         const Eigen::MatrixXd a = random_matrix(n, g);

@@ -120,7 +120,7 @@ newton_report stepper<L, F>::iterate(const phase_state<dim>& x, bool newton) {
 /// Point k's terms in block (i, l) of the step's Jacobian, ∂F_i/∂X_l (assemble()):
 ///   h φ̂_ik φ_lk L_qq + φ̂_ik ψ_lk L_qv + ψ̂_ik φ_lk L_qvᵀ + ψ̂_ik ψ_lk / h L_vv (+ the force's),
 /// φ̂, ψ̂ the tables' wphi and wdphi, φ, ψ at the control points; L_qvᵀ from lqvt_, so that one
-/// pass reads every matrix contiguously. (Eigen's two block expressions took 4 % more of a
+/// pass reads every matrix contiguously. (Eigen's two block expressions took 5 % more of a
 /// 9-joint robot's gauss-2 step, and 6 % more of its Simpson step: docs/performance.md.)
 template <lagrangian L, class F>
 void stepper<L, F>::add_jacobian_block(int k, int i, int l) {
