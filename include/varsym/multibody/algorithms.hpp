@@ -47,11 +47,14 @@ void kinematics(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>
             b.parent < 0 ? placement : w.x[static_cast<std::size_t>(b.parent)] * placement;
         const vec3_of<S> a = joint.rotation * b.axis.template cast<S>();
         const S qi = m.joint_position(q, i);
+        // (head and tail by fixed-size blocks: a comma initializer's blocks are of run-time size)
         if (b.kind == joint_kind::revolute) {
-            w.s[k] << a, joint.origin.cross(a); // rotation about the axis through the joint
+            w.s[k].template head<3>() = a; // rotation about the axis through the joint
+            w.s[k].template tail<3>() = joint.origin.cross(a);
             w.x[k] = {joint.rotation * axis_angle(b.axis, qi), joint.origin};
         } else {
-            w.s[k] << vec3_of<S>::Zero(), a;
+            w.s[k].template head<3>().setZero();
+            w.s[k].template tail<3>() = a;
             w.x[k] = {joint.rotation, joint.origin + a * qi};
         }
         const mat3_of<S>& r = w.x[k].rotation;
@@ -59,7 +62,8 @@ void kinematics(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>
         set_spatial_inertia<S>(w.inertia[k], b.mass, c,
                                r * b.inertia.template cast<S>() * r.transpose());
         const S mass(b.mass);
-        w.gravity[k] << mass * c.cross(g), mass * g;
+        w.gravity[k].template head<3>() = mass * c.cross(g);
+        w.gravity[k].template tail<3>() = mass * g;
     }
 }
 

@@ -45,6 +45,7 @@
 
 #include <cmath>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -52,6 +53,7 @@
 #include "varsym/schemes/scheme_kind.hpp"
 #include "varsym/solvers/compensated.hpp"
 #include "varsym/solvers/newton.hpp"
+#include "varsym/solvers/small_ldlt.hpp"
 #include "varsym/solvers/small_lu.hpp"
 #include "varsym/systems/forcing.hpp"
 #include "varsym/systems/lagrangian.hpp"
@@ -375,6 +377,8 @@ class stepper {
     vec<dim> q_bar_, v_bar_;     // where the kept Jacobian was taken
     Eigen::LDLT<mat<dim>> mbar_; // ∂²L/∂q̇² there, factorised: the kept predictor's mass matrix
     Eigen::LDLT<mat<dim>> ldlt_; // the full predictor's factorisations
+    // The robot predictor's M(q_j) (predict_dynamics), by small_ldlt at run-time size.
+    std::conditional_t<dim == dynamic, small_ldlt, Eigen::LDLT<mat<dim>>> mass_;
     bool kept_ = false;
     bool linearised_ = false; // Newton converged with a linearisation below ε: reuse its terms
     double rate_ = 0.0;       // the slowest contraction of the last linear iteration

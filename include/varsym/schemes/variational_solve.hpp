@@ -307,12 +307,12 @@ void stepper<L, F>::predict_dynamics(const phase_state<dim>& x) {
     lagrangian_terms<dim>& t = terms_[0];
     const auto& lag = sys_.lagrangian();
     lag.mass_matrix(x.q, t.lvv);
-    if (!solve_positive_definite<dim>(ldlt_, t.lvv, x.p, vk_)) {
+    if (!solve_positive_definite<dim>(mass_, t.lvv, x.p, vk_)) {
         predict(x); // it starts from q̇ = p, and diagnose() names the cause if the step fails
         return;
     }
     dynamics_rhs(x); // M(q_j)'s kinematics kept
-    solve_symmetric_again<dim>(ldlt_, t.lvv, rhs_, acc_);
+    solve_symmetric_again<dim>(mass_, t.lvv, rhs_, acc_);
     taylor_from_dynamics(x);
 }
 

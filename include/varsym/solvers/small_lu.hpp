@@ -4,14 +4,16 @@
 // Eigen's PartialPivLU factors a matrix of more than 16 rows by blocks (panels and GEMM
 // kernels); below about 60 rows their set-up costs more than it saves. At the 18 unknowns of a
 // 9-joint robot's gauss-2 or Simpson step Eigen's factorisation took 1.54 µs, the unblocked one
-// here 1.06 µs; the solves cost the same (docs/performance.md, "The step's linear algebra";
-// clang 14 -O3, no -march). Above `unblocked_limit` rows it hands the matrix to Eigen's. Same
-// algorithm as Eigen's unblocked path (the largest magnitude in the column as pivot,
-// right-looking rank-1 updates), so the same factors where the rounding of the updates agrees; a
-// zero pivot is skipped as Eigen skips it, and the solves then return infinities or NaN, which
-// the steppers' finiteness checks catch. (detail::solve_small, types.hpp, is the family
-// stepper's one-shot solve for n ≤ 8 in fixed storage; this one keeps its factors for the chord
-// updates and the sensitivities' solves.)
+// here 1.06 µs (docs/performance.md, "The step's linear algebra"; clang 14 -O3, no -march).
+// Above `unblocked_limit` rows it hands the matrix to Eigen's. Same algorithm as Eigen's
+// unblocked path (the largest magnitude in the column as pivot, right-looking rank-1 updates),
+// so the same factors where the rounding of the updates agrees. The solves multiply by U's
+// reciprocal diagonal, kept from the factorisation, where Eigen's divide: back substitution is a
+// chain of n divisions, each waiting for the last, and multiplying took a solve of 18 unknowns
+// from 250 to 200 ns. A zero pivot is skipped as Eigen skips it, and the solves then return
+// infinities or NaN, which the steppers' finiteness checks catch. (detail::solve_small,
+// types.hpp, is the family stepper's one-shot solve for n ≤ 8 in fixed storage; this one keeps
+// its factors for the chord updates and the sensitivities' solves.)
 #pragma once
 
 #include <cassert>
@@ -40,6 +42,7 @@ class small_lu {
         } else {
             lu_.resize(n, n);
             pivots_.resize(static_cast<std::size_t>(n));
+            u_inverse_.resize(static_cast<std::size_t>(n));
         }
     }
 
@@ -53,6 +56,7 @@ class small_lu {
         }
         lu_ = a;
         pivots_.resize(static_cast<std::size_t>(n_));
+        u_inverse_.resize(static_cast<std::size_t>(n_));
         const Eigen::Index n = n_;
         double* m = lu_.data();
         for (Eigen::Index k = 0; k < n; ++k) {
@@ -68,8 +72,9 @@ class small_lu {
             if (p != k)
                 for (Eigen::Index j = 0; j < n; ++j)
                     std::swap(m[k + j * n], m[p + j * n]);
-            if (biggest == 0.0) continue; // a zero pivot: the solves divide by it (as Eigen's)
             const double inverse = 1.0 / ck[k];
+            u_inverse_[static_cast<std::size_t>(k)] = inverse; // the solves multiply by it
+            if (biggest == 0.0) continue; // a zero pivot: the solves' infinities (as Eigen's)
             for (Eigen::Index i = k + 1; i < n; ++i)
                 ck[i] *= inverse;
             for (Eigen::Index j = k + 1; j < n; ++j) {
@@ -129,7 +134,7 @@ class small_lu {
         }
         for (Eigen::Index j = n - 1; j >= 0; --j) {
             const double* cj = m + j * n;
-            const double xj = x[j] /= cj[j];
+            const double xj = x[j] *= u_inverse_[static_cast<std::size_t>(j)];
             for (Eigen::Index i = 0; i < j; ++i)
                 x[i] -= cj[i] * xj;
         }
@@ -138,6 +143,7 @@ class small_lu {
     Eigen::Index n_ = 0;
     Eigen::MatrixXd lu_;
     std::vector<Eigen::Index> pivots_;
+    std::vector<double> u_inverse_; // 1/u_kk
     Eigen::PartialPivLU<Eigen::MatrixXd> eigen_;
 };
 
