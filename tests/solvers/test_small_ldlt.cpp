@@ -4,6 +4,7 @@
 // against the matrix itself, which LDLᵀ of a positive definite matrix keeps to a small multiple
 // of n ε ‖A‖ ‖x‖ without pivoting (Higham, Accuracy and Stability of Numerical Algorithms,
 // 2nd ed., §10.1, for Cholesky, whose factor is L D^½).
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -71,21 +72,24 @@ TEST(SmallLdlt, SolvesAsEigensLdltAtEverySize) {
     }
 }
 
-// Only the lower triangle is read: the predictor's M(q) is symmetric, and the upper triangle
-// may hold anything (here garbage, which must change nothing).
+// Only the lower triangle is read, below the limit and above it: the predictor's M(q) is
+// symmetric, and the upper triangle may hold anything (here garbage, which must change
+// nothing).
 TEST(SmallLdlt, ReadsTheLowerTriangleOnly) {
     std::mt19937 g(5);
-    const Eigen::MatrixXd a = random_positive_definite(9, g);
-    Eigen::MatrixXd lower = a;
-    lower.triangularView<Eigen::StrictlyUpper>().setConstant(1e30);
-    const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(9, 1.0, 3.0);
-    varsym::small_ldlt f, h;
-    ASSERT_TRUE(f.compute(a));
-    ASSERT_TRUE(h.compute(lower));
-    Eigen::VectorXd x(9), y(9);
-    f.solve(b, x);
-    h.solve(b, y);
-    EXPECT_EQ(x, y);
+    for (Eigen::Index n : {Eigen::Index{9}, varsym::small_ldlt::unblocked_limit + 4}) {
+        const Eigen::MatrixXd a = random_positive_definite(n, g);
+        Eigen::MatrixXd lower = a;
+        lower.triangularView<Eigen::StrictlyUpper>().setConstant(1e30);
+        const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(n, 1.0, 3.0);
+        varsym::small_ldlt f, h;
+        ASSERT_TRUE(f.compute(a));
+        ASSERT_TRUE(h.compute(lower));
+        Eigen::VectorXd x(n), y(n);
+        f.solve(b, x);
+        h.solve(b, y);
+        EXPECT_EQ(x, y) << "n = " << n;
+    }
 }
 
 // A matrix that is not positive definite is reported (the predictor then falls back), below and

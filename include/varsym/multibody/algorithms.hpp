@@ -47,7 +47,8 @@ void kinematics(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>
             b.parent < 0 ? placement : w.x[static_cast<std::size_t>(b.parent)] * placement;
         const vec3_of<S> a = joint.rotation * b.axis.template cast<S>();
         const S qi = m.joint_position(q, i);
-        // (head and tail by fixed-size blocks: a comma initializer's blocks are of run-time size)
+        // Head and tail as fixed-size blocks: a comma initializer's first block is of run-time
+        // size (Eigen 3.4), and its copy was a loop that was not inlined.
         if (b.kind == joint_kind::revolute) {
             w.s[k].template head<3>() = a; // rotation about the axis through the joint
             w.s[k].template tail<3>() = joint.origin.cross(a);
