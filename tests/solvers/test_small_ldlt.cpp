@@ -93,13 +93,14 @@ TEST(SmallLdlt, ReadsTheLowerTriangleOnly) {
 }
 
 // A matrix that is not positive definite is reported (the predictor then falls back), below and
-// above the limit; the negative control: the same matrix shifted to positive definite passes.
+// above the limit: a negative diagonal entry, a zero row and column, a NaN. The negative
+// control: the positive definite matrix each was made from passes.
 TEST(SmallLdlt, ReportsAMatrixThatIsNotPositiveDefinite) {
     constexpr Eigen::Index limit = varsym::small_ldlt::unblocked_limit;
     varsym::small_ldlt f;
     for (Eigen::Index n : {Eigen::Index{3}, Eigen::Index{9}, limit + 4}) {
         std::mt19937 g(static_cast<unsigned>(n));
-        Eigen::MatrixXd a = random_positive_definite(n, g);
+        const Eigen::MatrixXd a = random_positive_definite(n, g);
         const double shift = 1.0 + a.diagonal().maxCoeff();
         Eigen::MatrixXd indefinite = a;
         indefinite(n - 1, n - 1) -= 2.0 * shift * static_cast<double>(n); // a negative direction
