@@ -96,6 +96,18 @@ void solve_symmetric(Eigen::LDLT<mat<N>>& f, const mat<N>& a, const vec<N>& b, v
 
 namespace varsym::detail {
 
+/// x = A⁻¹ b by an Eigen decomposition `f` of A, where x may be b itself (Eigen's solve into
+/// its own right-hand side is not guaranteed: a copy then).
+template <class Decomposition>
+void solve_into(const Decomposition& f, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+    if (&x == &b) {
+        const Eigen::VectorXd y = f.solve(b);
+        x = y;
+    } else {
+        x.noalias() = f.solve(b);
+    }
+}
+
 /// The largest n that solve_small handles.
 inline constexpr int small_solve_limit = 8;
 

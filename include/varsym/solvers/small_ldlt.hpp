@@ -65,12 +65,7 @@ class small_ldlt {
     void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
         assert(ok_ && b.size() == n_ && "small_ldlt: a solve without a factorisation");
         if (n_ > unblocked_limit) {
-            if (&x == &b) {
-                const Eigen::VectorXd y = eigen_.solve(b);
-                x = y;
-            } else {
-                x.noalias() = eigen_.solve(b);
-            }
+            detail::solve_into(eigen_, b, x);
             return;
         }
         x = b;

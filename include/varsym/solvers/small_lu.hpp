@@ -23,6 +23,8 @@
 
 #include <Eigen/Dense>
 
+#include "varsym/types.hpp"
+
 namespace varsym {
 
 class small_lu {
@@ -92,12 +94,7 @@ class small_lu {
     void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
         assert(b.size() == n_ && "small_lu: a solve before compute(), or at another size");
         if (n_ > unblocked_limit) {
-            if (&x == &b) {
-                const Eigen::VectorXd y = eigen_.solve(b);
-                x = y;
-            } else {
-                x.noalias() = eigen_.solve(b);
-            }
+            detail::solve_into(eigen_, b, x);
             return;
         }
         x = b;
