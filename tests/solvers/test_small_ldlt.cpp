@@ -13,6 +13,7 @@
 
 #include <Eigen/Dense>
 
+#include "solvers/backward_error.hpp"
 #include "varsym/solvers/small_ldlt.hpp"
 
 namespace {
@@ -27,14 +28,6 @@ Eigen::MatrixXd random_positive_definite(Eigen::Index n, std::mt19937& g) {
             b(i, j) = u(g);
     return b * b.transpose() +
            Eigen::MatrixXd::Identity(n, n) / static_cast<double>(std::max<Eigen::Index>(n, 1));
-}
-
-/// ‖A x − b‖∞ / (‖A‖∞ ‖x‖∞ + ‖b‖∞).
-double ldlt_backward_error(const Eigen::MatrixXd& a, const Eigen::VectorXd& x,
-                           const Eigen::VectorXd& b) {
-    const double norm_a = a.cwiseAbs().rowwise().sum().maxCoeff();
-    return (a * x - b).lpNorm<Eigen::Infinity>() /
-           (norm_a * x.lpNorm<Eigen::Infinity>() + b.lpNorm<Eigen::Infinity>());
 }
 
 } // namespace
@@ -56,7 +49,8 @@ TEST(SmallLdlt, SolvesAsEigensLdltAtEverySize) {
         EXPECT_EQ(f.rows(), n);
         Eigen::VectorXd x(n);
         f.solve(b, x);
-        EXPECT_LT(ldlt_backward_error(a, x, b), 10.0 * static_cast<double>(n) * eps) << "n = " << n;
+        EXPECT_LT(varsym::test::backward_error(a, x, b), 10.0 * static_cast<double>(n) * eps)
+            << "n = " << n;
         const double kappa = a.norm() * reference.solve(Eigen::MatrixXd::Identity(n, n)).norm();
         EXPECT_LT((x - expected).lpNorm<Eigen::Infinity>(),
                   20.0 * static_cast<double>(n) * eps * kappa * expected.lpNorm<Eigen::Infinity>())
@@ -65,7 +59,7 @@ TEST(SmallLdlt, SolvesAsEigensLdltAtEverySize) {
         const Eigen::VectorXd c = Eigen::VectorXd::Ones(n);
         Eigen::VectorXd z(n);
         f.solve(c, z);
-        EXPECT_LT(ldlt_backward_error(a, z, c), 10.0 * static_cast<double>(n) * eps);
+        EXPECT_LT(varsym::test::backward_error(a, z, c), 10.0 * static_cast<double>(n) * eps);
         Eigen::VectorXd y = b;
         f.solve(y, y);
         EXPECT_EQ(y, x) << "n = " << n;

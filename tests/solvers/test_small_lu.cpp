@@ -11,6 +11,7 @@
 
 #include <Eigen/Dense>
 
+#include "solvers/backward_error.hpp"
 #include "varsym/solvers/small_lu.hpp"
 
 namespace {
@@ -23,14 +24,6 @@ Eigen::MatrixXd random_matrix(Eigen::Index n, std::mt19937& g) {
         for (Eigen::Index i = 0; i < n; ++i)
             a(i, j) = u(g);
     return a;
-}
-
-/// ‖A x − b‖∞ / (‖A‖∞ ‖x‖∞ + ‖b‖∞): the normwise backward error of x.
-double backward_error(const Eigen::MatrixXd& a, const Eigen::VectorXd& x,
-                      const Eigen::VectorXd& b) {
-    const double norm_a = a.cwiseAbs().rowwise().sum().maxCoeff();
-    return (a * x - b).lpNorm<Eigen::Infinity>() /
-           (norm_a * x.lpNorm<Eigen::Infinity>() + b.lpNorm<Eigen::Infinity>());
 }
 
 } // namespace
@@ -53,7 +46,8 @@ TEST(SmallLu, SolvesAsEigensPartialPivLuAtEverySize) {
         Eigen::VectorXd x(n);
         lu.solve(b, x);
         // Growth factors of random matrices stay small; 10 n ε is Higham's bound with room.
-        EXPECT_LT(backward_error(a, x, b), 10.0 * static_cast<double>(n) * eps) << "n = " << n;
+        EXPECT_LT(varsym::test::backward_error(a, x, b), 10.0 * static_cast<double>(n) * eps)
+            << "n = " << n;
         // Both solutions are within κ(A) times their backward errors of the exact one.
         const double kappa = a.norm() * reference.inverse().norm();
         EXPECT_LT((x - expected).lpNorm<Eigen::Infinity>(),
@@ -67,7 +61,8 @@ TEST(SmallLu, SolvesAsEigensPartialPivLuAtEverySize) {
         if (n <= limit) {
             EXPECT_EQ(xs.col(0), x) << "n = " << n;
         }
-        EXPECT_LT(backward_error(a, xs.col(2), rhs.col(2)), 10.0 * static_cast<double>(n) * eps);
+        EXPECT_LT(varsym::test::backward_error(a, xs.col(2), rhs.col(2)),
+                  10.0 * static_cast<double>(n) * eps);
         // Solving in place: x and b the same vector.
         Eigen::VectorXd y = b;
         lu.solve(y, y);
@@ -125,7 +120,7 @@ TEST(SmallLu, RefactorsAtAnotherSize) {
         EXPECT_EQ(lu.rows(), n);
         Eigen::VectorXd x(n);
         lu.solve(b, x);
-        EXPECT_LT(backward_error(a, x, b),
+        EXPECT_LT(varsym::test::backward_error(a, x, b),
                   10.0 * static_cast<double>(n) * std::numeric_limits<double>::epsilon())
             << "n = " << n;
     }
