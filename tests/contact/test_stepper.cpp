@@ -10,6 +10,7 @@
 // impulse takes away; its position does not move. The checks of velocities at rest say so.
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 
 #include <gtest/gtest.h>
 
@@ -194,6 +195,34 @@ TEST(Contact, ADroppedBallComesToRestAtItsRadiusNeverBelow) {
     EXPECT_LT((s.velocity().head<3>() - vec3(0.0, 0.0, -g0 * h / 2)).norm(), 1e-9);
     // The impact took the kinetic energy m g 0.3 J (less the resting state's ½ m (g h/2)²).
     EXPECT_NEAR(s.stepper.contact_work(), -g0 * 0.3 + 0.5 * std::pow(g0 * h / 2, 2), 1e-9);
+}
+
+TEST(Contact, TheTangentMapIsGivenInFlightAndRefusedAcrossAContact) {
+    // In flight the step is gauss-2's own, exact for a parabola: the centre's position moves by
+    // h p/m, so ∂x_{j+1}/∂p_j = (h/m) I for the translation (m = 1 kg). On the ground the step
+    // is not differentiable (the impulses switch on and off): both maps are refused.
+    const double h = 1e-3;
+    vec<dynamic> q = vec<dynamic>::Zero(7);
+    q(2) = radius + 0.3;
+    q(3) = 1.0;
+    scene s(ball(), ball_inertia(), 0.0, 1.0, q, vec<dynamic>::Zero(7), h);
+    s.run(0.1);
+    const phase_state<dynamic> from = s.x;
+    s.run(h);
+    ASSERT_EQ(s.stepper.last_contact().iterations, 0); // in flight
+    Eigen::MatrixXd sq, j;
+    s.stepper.position_sensitivity(from, sq);
+    ASSERT_EQ(sq.rows(), 7);
+    ASSERT_EQ(sq.cols(), 7);
+    EXPECT_LE(
+        (sq.topLeftCorner<3, 3>() - h * Eigen::Matrix3d::Identity()).lpNorm<Eigen::Infinity>(),
+        1e-15);
+    s.stepper.step_jacobian(from, j);
+    EXPECT_LE((sq - j.block(0, 7, 7, 7)).lpNorm<Eigen::Infinity>(), 1e-15);
+    s.run(0.5);
+    ASSERT_GT(s.stepper.last_contact().iterations, 0); // resting on the ground
+    EXPECT_THROW(s.stepper.position_sensitivity(s.x, sq), std::invalid_argument);
+    EXPECT_THROW(s.stepper.step_jacobian(s.x, j), std::invalid_argument);
 }
 
 TEST(Contact, ABallLandsOnAStepAndStopsAtAWall) {

@@ -264,6 +264,23 @@ TEST(Constrained, StepJacobianMatchesFiniteDifferencesAndIsSymplecticOnTheManifo
     }
     EXPECT_LE((j - fd).lpNorm<Eigen::Infinity>(), 1e-8 * fd.lpNorm<Eigen::Infinity>());
     RecordProperty("jacobian_vs_fd_constrained", test::sci((j - fd).lpNorm<Eigen::Infinity>()));
+    // The block ∂q_{j+1}/∂p_j alone (the contact step's linearisation), without the projection,
+    // taken straight after a step as the contact step takes it: against the differences relative
+    // to the block, and to the whole map's block (the same factors: equal to round-off).
+    stepper_type again = make();
+    phase_state<3> z = x;
+    ASSERT_TRUE(again.step(z).converged);
+    Eigen::MatrixXd sq;
+    again.position_sensitivity(x, sq);
+    ASSERT_EQ(sq.rows(), 3);
+    ASSERT_EQ(sq.cols(), 3);
+    const Eigen::MatrixXd fd_block = fd.block(0, 3, 3, 3);
+    EXPECT_LE((sq - fd_block).lpNorm<Eigen::Infinity>(), 1e-7 * fd_block.lpNorm<Eigen::Infinity>());
+    EXPECT_LE((sq - j.block(0, 3, 3, 3)).lpNorm<Eigen::Infinity>(),
+              1e-14 * fd_block.lpNorm<Eigen::Infinity>());
+    RecordProperty(
+        "position_sensitivity_vs_fd",
+        test::sci((sq - fd_block).lpNorm<Eigen::Infinity>() / fd_block.lpNorm<Eigen::Infinity>()));
     // Tangent vectors at x: 2 q·δq = 0 and δ(q·p) = p·δq + q·δp = 0.
     Eigen::MatrixXd c(2, 6);
     c << 2 * x.q.transpose(), Eigen::RowVector3d::Zero(), x.p.transpose(), x.q.transpose();

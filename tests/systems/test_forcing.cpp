@@ -351,10 +351,29 @@ TEST(StepJacobian, ControlSensitivityMatchesFiniteDifferences) {
     auto st = make(u0);
     phase_state<2> y = x;
     ASSERT_TRUE(st.step(y).converged);
+    // The block ∂q_{j+1}/∂p_j alone (what the contact step linearises with), taken right after
+    // the step as the contact step takes it: against the differences, relative to the block,
+    // and to the whole map's block, which the same factors give to round-off. The stepper's
+    // time and work are left as the step left them.
+    const double t1 = st.time(), w1 = st.last_work(), total1 = st.total_work();
+    Eigen::MatrixXd sq;
+    st.position_sensitivity(x, sq);
+    EXPECT_EQ(st.time(), t1);
+    EXPECT_EQ(st.last_work(), w1);
+    EXPECT_EQ(st.total_work(), total1);
     Eigen::MatrixXd j, ju;
     st.step_jacobian(x, j, &ju);
     const Eigen::MatrixXd fd = finite_difference_jacobian<2>([&] { return make(u0); }, x, 1e-5);
     EXPECT_LE((j - fd).lpNorm<Eigen::Infinity>(), 1e-8 * fd.lpNorm<Eigen::Infinity>());
+    ASSERT_EQ(sq.rows(), 2);
+    ASSERT_EQ(sq.cols(), 2);
+    const Eigen::MatrixXd fd_block = fd.block(0, 2, 2, 2);
+    EXPECT_LE((sq - fd_block).lpNorm<Eigen::Infinity>(), 1e-7 * fd_block.lpNorm<Eigen::Infinity>());
+    EXPECT_LE((sq - j.block(0, 2, 2, 2)).lpNorm<Eigen::Infinity>(),
+              1e-14 * fd_block.lpNorm<Eigen::Infinity>());
+    RecordProperty(
+        "position_sensitivity_vs_fd",
+        test::sci((sq - fd_block).lpNorm<Eigen::Infinity>() / fd_block.lpNorm<Eigen::Infinity>()));
     Eigen::MatrixXd fdu(4, 2);
     for (int c = 0; c < 2; ++c) {
         vec<2> up = u0, um = u0;

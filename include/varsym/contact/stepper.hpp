@@ -109,6 +109,13 @@ class contact_stepper : public Inner {
                                         "(its impulses switch on and off)");
         Inner::step_jacobian(from, out);
     }
+    /// Its block ∂q_{j+1}/∂p_j alone, refused across a contact as step_jacobian is.
+    void position_sensitivity(const phase_state<dim>& from, Eigen::MatrixXd& out) {
+        if (last_.iterations > 0)
+            throw std::invalid_argument("the step's tangent map is not defined across a contact "
+                                        "(its impulses switch on and off)");
+        Inner::position_sensitivity(from, out);
+    }
 
     /// The inner stepper's history, then the last step's contacts and impulses (the warm
     /// start), their count, a tag, the contact's work with its carry and the last step's report:
@@ -186,7 +193,7 @@ class contact_stepper : public Inner {
     Eigen::VectorXd q_free_, q_onset_;
     robot_kinematics onset_kin_;
     compensated_update<dim> saved_sum_;
-    Eigen::MatrixXd jac_, g_, sj_, s_;
+    Eigen::MatrixXd jac_, g_, s_;
     Eigen::Matrix<double, 3, Eigen::Dynamic> dp_;
 };
 

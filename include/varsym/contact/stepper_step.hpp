@@ -171,7 +171,6 @@ newton_report contact_stepper<Inner>::step(phase_state<dim>& x) {
 /// when converged: y_ and lambda_ are then the step's.
 template <class Inner>
 bool contact_stepper<Inner>::solve(bool warm, newton_report& total) {
-    const int d = kin_.dimension();
     kin_.at(from_.q);
     rows(true, jac_, nullptr);
     lambda_.setZero(jac_.rows());
@@ -184,11 +183,10 @@ bool contact_stepper<Inner>::solve(bool warm, newton_report& total) {
         if (!take(y_, lambda_, total)) return false;
         phase_state<dim> kicked = from_;
         kicked.p.noalias() += jac_.transpose() * lambda_;
-        Inner::step_jacobian(kicked, sj_);
+        Inner::position_sensitivity(kicked, s_);
     } else {
-        Inner::step_jacobian(from_, sj_);
+        Inner::position_sensitivity(from_, s_);
     }
-    s_ = sj_.block(0, d, d, d);
     predicted_.resize(0);
     cone_problem prob;
     bool stalled = false;

@@ -148,6 +148,9 @@ class constrained_stepper : public stepper<L, F> {
     /// saddle-point system and the projection (constrained_sensitivity.hpp). Symplectic on the
     /// tangent space of the constraint manifold's cotangent bundle.
     void step_jacobian(const phase_state<dim>& from, Eigen::MatrixXd& out);
+    /// Its block ∂q_{j+1}/∂p_j (d × d) alone: one solve of the saddle-point system with d
+    /// right-hand sides, without the projection (the contact step's linearisation).
+    void position_sensitivity(const phase_state<dim>& from, Eigen::MatrixXd& out);
 
   private:
     static newton_options newton_only(newton_options opt) {

@@ -83,4 +83,25 @@ void constrained_stepper<L, C, F>::step_jacobian(const phase_state<dim>& from,
     out.bottomRows(d) -= hmu * dq1 + g1.transpose() * sol.bottomRows(m);
 }
 
+/// ∂q_{j+1}/∂p_j: K dZ = −B dp_j with B's momentum columns, I in the first block row alone (the
+/// constraint rows and H_i act on dq_j only); dq_{j+1} = dX_s. The projection changes p_{j+1}
+/// only.
+template <lagrangian L, holonomic_constraint C, class F>
+void constrained_stepper<L, C, F>::position_sensitivity(const phase_state<dim>& from,
+                                                        Eigen::MatrixXd& out) {
+    const int s = this->s_, d = this->d_, n = s * (d + m_);
+    const double work = this->work_, now = this->t_;
+    this->t_ = this->t_step_;
+    this->evaluate_points(from.q, true);
+    this->assemble(from.p, true);
+    this->work_ = work;
+    this->t_ = now;
+    evaluate_constraint(c_, from.q, g_[0], jc_[0]);
+    assemble_constrained(from, true);
+    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, d);
+    b.topRows(d).setIdentity();
+    klu_.compute(k_);
+    out = -klu_.solve(b).middleRows((s - 1) * d, d);
+}
+
 } // namespace varsym::general

@@ -38,6 +38,22 @@ void stepper<L, F>::step_jacobian(const phase_state<dim>& from, Eigen::MatrixXd&
     t_ = now;
 }
 
+/// ∂q_{j+1}/∂p_j = dX_s/dp_j = −(J⁻¹)_{s,0}: ∂R/∂p_j is I in the first block row alone.
+template <lagrangian L, class F>
+void stepper<L, F>::position_sensitivity(const phase_state<dim>& from, Eigen::MatrixXd& out) {
+    const int d = d_, sd = s_ * d;
+    const double work = work_, now = t_;
+    t_ = t_step_;
+    evaluate_points(from.q, true);
+    assemble(from.p, true);
+    work_ = work;
+    t_ = now;
+    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(sd, d);
+    b.topRows(d).setIdentity(); // ∂R_0/∂p_j
+    lu_.compute(jac_);
+    out = -lu_.solve(b).bottomRows(d);
+}
+
 /// ∂(q_{j+1}, p_{j+1})/∂u_j: ∂R_i/∂u = h Σ_k w_k φ_ik B_k (B_k = ∂f/∂u at point k), dX = −J⁻¹
 /// ∂R/∂u, dq_{j+1} = dX_s, dp_{j+1} = h Σ_k w_k (B_k + (L_qq + f_q) dq_k + (L_qv + f_v) dv_k),
 /// with the terms of the step's converged point (left by step_jacobian, lu_ factorised).
