@@ -238,6 +238,45 @@ TEST(Constrained, OrdersWhereTheQuadratureIsNotExact) {
     }
 }
 
+TEST(Constrained, AStepStartedNearTheLastEndsWhereAFreshStepEnds) {
+    // start_next_near (the contact step's retakes): from the same q_j with p_j changed by dp, the
+    // step starts from the last one's increments and multipliers moved to first order and
+    // iterates by chord updates on the kept LU. It solves the same equations as a fresh stepper's
+    // step from (q_j, p_j + dp), so it must end there to round-off (1e-13 of |q| = 1; measured
+    // below 1e-15). An unchanged momentum takes no update; a change of 0.1 (against |p| near 1),
+    // far outside the linear start's reach, still ends there. The quartic term (κ = 2) makes
+    // L_qq, and so the saddle-point matrix, change along the step.
+    using stepper_type = general::constrained_stepper<spherical_cartesian, rod<3>>;
+    const lagrangian_system<spherical_cartesian> sys({2.0});
+    auto make = [&] { return stepper_type(sys, {}, 0.05, {scheme_kind::gauss, 2}); };
+    const phase_state<3> x = to_cartesian(vec<2>{1.0, 0.3}, vec<2>{0.4, 1.2});
+    for (const double size : {0.0, 1e-10, 1e-6, 1e-3, 1e-1}) {
+        SCOPED_TRACE("|dp| = " + test::sci(size));
+        stepper_type st = make();
+        phase_state<3> y = x;
+        ASSERT_TRUE(st.step(y).converged);
+        const vec<3> dp = size * vec<3>(0.3, -0.5, 0.2);
+        st.start_next_near(dp);
+        st.set_time(0.0);
+        phase_state<3> a{x.q, x.p + dp}, b{x.q, x.p + dp};
+        const newton_report near = st.step(a);
+        stepper_type fresh = make();
+        ASSERT_TRUE(near.converged);
+        const newton_report plain = fresh.step(b);
+        ASSERT_TRUE(plain.converged);
+        EXPECT_LE((a.q - b.q).lpNorm<Eigen::Infinity>(), 1e-13);
+        EXPECT_LE((a.p - b.p).lpNorm<Eigen::Infinity>(), 1e-13);
+        // Near the last step's answer the chord updates take fewer solves than the fresh step's
+        // Newton (measured 0, 0, 1 and 2 against 3 at |dp| = 0, 1e-10, 1e-6, 1e-3). At 1e-10 the
+        // start, within O(|dp|²) of the answer, is it to round-off: no update. From the last
+        // answer unmoved, or moved with the wrong sign, one update is needed there and two at
+        // 1e-6 with the wrong sign (both measured).
+        if (size <= 1e-10) EXPECT_EQ(near.iterations, 0);
+        if (size == 1e-6) EXPECT_LE(near.iterations, 1);
+        if (size <= 1e-3) EXPECT_LT(near.iterations, plain.iterations);
+    }
+}
+
 TEST(Constrained, StepJacobianMatchesFiniteDifferencesAndIsSymplecticOnTheManifold) {
     // The spherical pendulum, gauss-2, h = 0.05. Central differences of the step map (which is
     // defined off the manifold too) with ε = 1e-5 check the Jacobian to ~1e-9. Symplecticity

@@ -26,7 +26,12 @@
 // the free step's largest point motion and the last step's; a pair found below zero at the end
 // joins them. Warm start: the last step's pressing contacts and impulses are the first iterate,
 // S taken at the step they give (a robot standing converges in two linearisations); should that
-// fail, the cold start from λ = 0 follows.
+// fail, the cold start from λ = 0 follows. Where the inner stepper offers it (the free base's
+// constrained stepper, start_next_near), each step taken with impulses starts from the last one
+// taken from q_j, moved to first order for the change of kick Jᵀλ by the saddle-point matrix
+// last assembled from q_j, and iterates by chord updates on its LU: no predictor and no second
+// derivatives where the start is as close as a retake's (a take that fails from there is taken
+// again from the predictor).
 //
 // The contact's work over a step is the kick's change of the energy at q_j,
 // E(q_j, p_j + Jᵀλ) − E(q_j, p_j); the inner step from the kicked state does the rest (its forces'
@@ -169,6 +174,11 @@ class contact_stepper : public Inner {
     /// kinematics, and the gaps and slips there.
     void rows(bool start, Eigen::MatrixXd& m, Eigen::VectorXd* values);
     bool take(phase_state<dim>& y, const Eigen::VectorXd& lambda, newton_report& rep);
+    /// After a free step (no kick): whether a take may start near it (take()).
+    void free_step_taken(bool converged) {
+        near_ready_ = converged;
+        last_kick_.setZero(from_.q.size());
+    }
     bool solve(bool warm, newton_report& total);
     double onset(int c);
     void finish(phase_state<dim>& x);
@@ -191,6 +201,8 @@ class contact_stepper : public Inner {
     Eigen::VectorXd lambda_, values_, predicted_;
     std::vector<double> start_gap_, end_gap_; // every pair's gap at q_j and the free step's end
     Eigen::VectorXd q_free_, q_onset_;
+    vec<dim> kick_, last_kick_, dkick_; // Jᵀλ of this take and of the last step from from_
+    bool near_ready_ = false;           // that step converged: the next take may start near it
     robot_kinematics onset_kin_;
     compensated_update<dim> saved_sum_;
     Eigen::MatrixXd jac_, g_, s_;

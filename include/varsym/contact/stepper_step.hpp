@@ -86,15 +86,35 @@ double contact_stepper<Inner>::onset(int c) {
 }
 
 /// The step from from_ with impulses λ into y, the inner stepper's running sums as before it.
+/// Where the inner stepper offers it (the free base's), from the last step taken from from_ (the
+/// free step or the last take) moved to first order for the change of kick, by chord updates.
 template <class Inner>
 bool contact_stepper<Inner>::take(phase_state<dim>& y, const Eigen::VectorXd& lambda,
                                   newton_report& rep) {
     restore();
     y = from_;
-    y.p.noalias() += jac_.transpose() * lambda;
-    const newton_report r = Inner::step(y);
+    kick_.noalias() = jac_.transpose() * lambda;
+    bool near = false;
+    if constexpr (requires(Inner & i, const vec<dim>& dp) { i.start_next_near(dp); }) {
+        if (near_ready_) {
+            dkick_ = kick_ - last_kick_;
+            Inner::start_next_near(dkick_);
+            near = true;
+        }
+    }
+    y.p += kick_;
+    newton_report r = Inner::step(y);
     rep.iterations += r.iterations;
+    if (!r.converged && near) { // from the predictor, as without a start near the last
+        restore();
+        y = from_;
+        y.p += kick_;
+        r = Inner::step(y);
+        rep.iterations += r.iterations;
+    }
     rep.residual = r.residual;
+    near_ready_ = r.converged;
+    last_kick_ = kick_;
     return r.converged;
 }
 
@@ -105,6 +125,7 @@ newton_report contact_stepper<Inner>::step(phase_state<dim>& x) {
     save();
     y_ = x;
     newton_report rep = Inner::step(y_);
+    free_step_taken(rep.converged);
     last_ = {};
     if (!rep.converged) return rep;
     // The free step's end: if no gap is negative, λ = 0 solves (K2).
@@ -151,7 +172,9 @@ newton_report contact_stepper<Inner>::step(phase_state<dim>& x) {
         failure_.clear();
         restore();
         y_ = from_;
-        if (!Inner::step(y_).converged) {
+        const bool free = Inner::step(y_).converged;
+        free_step_taken(free);
+        if (!free) {
             restore();
             total.converged = false;
             return total;

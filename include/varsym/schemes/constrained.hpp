@@ -148,9 +148,17 @@ class constrained_stepper : public stepper<L, F> {
     /// saddle-point system and the projection (constrained_sensitivity.hpp). Symplectic on the
     /// tangent space of the constraint manifold's cotangent bundle.
     void step_jacobian(const phase_state<dim>& from, Eigen::MatrixXd& out);
-    /// Its block ∂q_{j+1}/∂p_j (d × d) alone: one solve of the saddle-point system with d
-    /// right-hand sides, without the projection (the contact step's linearisation).
+    /// Its block ∂q_{j+1}/∂p_j (d × d) alone: a factorisation of the same matrix, then one
+    /// solve of the saddle-point system with d right-hand sides, without the projection (the
+    /// contact step's linearisation).
     void position_sensitivity(const phase_state<dim>& from, Eigen::MatrixXd& out);
+    /// The next step(), from the same q_j with the momentum changed by dp, starts from the last
+    /// step's increments and multipliers moved to first order, Z − K⁻¹ (dp, 0), with the last
+    /// K assembled (at an iterate of that step, or by position_sensitivity or step_jacobian),
+    /// factorised if it is not yet, and iterates by chord updates on its LU until one fails to
+    /// contract (the contact step's retakes, contact/stepper_step.hpp). Once; call it only after
+    /// a converged step from that q_j.
+    void start_next_near(const vec<dim>& dp);
 
   private:
     static newton_options newton_only(newton_options opt) {
@@ -172,14 +180,30 @@ class constrained_stepper : public stepper<L, F> {
     Eigen::MatrixXd k_;
     Eigen::VectorXd rk_, dk_;
     small_lu klu_;
+    // start_next_near's start for the next step: increments, multipliers, the start's move.
+    Eigen::Matrix<double, dim, Eigen::Dynamic> near_x_;
+    Eigen::Matrix<double, count, Eigen::Dynamic> near_lam_;
+    double near_move_ = 0.0;
+    bool near_ = false;
+    bool factorised_ = false; // klu_ holds the LU of k_ as last assembled
+    void factorise() {
+        klu_.compute(k_);
+        factorised_ = true;
+    }
 };
 
 template <lagrangian L, holonomic_constraint C, class F>
 newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
     const int s = this->s_, d = this->d_;
     auto& X = this->x_;
-    this->predict(x);
-    lam_.setZero();
+    const bool near = std::exchange(near_, false);
+    if (near) { // start_next_near's start (the predictor would evaluate second derivatives)
+        X = near_x_;
+        lam_ = near_lam_;
+    } else {
+        this->predict(x);
+        lam_.setZero();
+    }
     evaluate_constraint(c_, x.q, g_[0], jc_[0]);
     newton_options opt = this->opt_;
     opt.typical = X.template lpNorm<Eigen::Infinity>();
@@ -189,6 +213,7 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
     // Chord updates as the unconstrained engine's (variational_solve.hpp, chord_policy): a chord
     // iterate keeps the saddle-point matrix and its LU and evaluates first derivatives alone.
     chord_policy chords(opt);
+    if (near) chords.keep(near_move_, X.template lpNorm<Eigen::Infinity>());
     bool linearised = false;
     while (true) {
         const bool chord = chords.chord();
@@ -203,7 +228,7 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
             break;
         }
         if (monitor.exhausted()) return rep;
-        if (!chord) klu_.compute(k_);
+        if (!chord) factorise();
         klu_.solve(rk_, dk_);
         const double update = dk_.head(s * d).template lpNorm<Eigen::Infinity>();
         rep.iterations = monitor.iterations() + 1;
@@ -275,6 +300,7 @@ void constrained_stepper<L, C, F>::assemble_constrained(const phase_state<dim>& 
     if (jacobian) {
         k_.setZero();
         k_.topLeftCorner(sd, sd) = this->jac_;
+        factorised_ = false;
     }
     rk_.head(sd) = this->res_;
     for (int l = 1; l <= s; ++l) { // g(Q_l) = 0, rows sd + (l−1)m, columns of X_l

@@ -39,7 +39,7 @@ void constrained_stepper<L, C, F>::step_jacobian(const phase_state<dim>& from,
     }
     for (int l = 1; l <= s; ++l)
         b.block(sd + (l - 1) * m, 0, m, d) = jc_[static_cast<std::size_t>(l)];
-    klu_.compute(k_);
+    factorise();
     const Eigen::MatrixXd dz = -klu_.solve(b);
     const Eigen::MatrixXd dx = dz.topRows(sd);
     // dq_{j+1} and dp̃
@@ -100,8 +100,25 @@ void constrained_stepper<L, C, F>::position_sensitivity(const phase_state<dim>& 
     assemble_constrained(from, true);
     Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, d);
     b.topRows(d).setIdentity();
-    klu_.compute(k_);
+    factorise();
     out = -klu_.solve(b).middleRows((s - 1) * d, d);
+}
+
+template <lagrangian L, holonomic_constraint C, class F>
+void constrained_stepper<L, C, F>::start_next_near(const vec<dim>& dp) {
+    const int s = this->s_, d = this->d_, sd = s * d;
+    if (!factorised_) factorise(); // a step that stopped at its first iterate's round-off
+    rk_.setZero();
+    rk_.head(d) = dp;
+    klu_.solve(rk_, dk_); // K⁻¹ (dp, 0): the step's dZ is its negative
+    near_x_ = this->x_;
+    near_lam_ = lam_;
+    for (int l = 0; l < s; ++l)
+        near_x_.col(l) -= dk_.segment(l * d, d);
+    for (int i = 0; i < s; ++i)
+        near_lam_.col(i) -= dk_.segment(sd + i * m_, m_);
+    near_move_ = dk_.head(sd).template lpNorm<Eigen::Infinity>();
+    near_ = dk_.allFinite();
 }
 
 } // namespace varsym::general

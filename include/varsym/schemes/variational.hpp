@@ -176,8 +176,9 @@ class stepper {
     /// (2d × M) for the input u_j held over that step.
     void step_jacobian(const phase_state<dim>& from, Eigen::MatrixXd& out,
                        Eigen::MatrixXd* controls = nullptr);
-    /// Its block ∂q_{j+1}/∂p_j (d × d) alone: one solve with d right-hand sides, no q_j
-    /// columns nor p_{j+1} rows (the contact step's linearisation, contact/stepper_step.hpp).
+    /// Its block ∂q_{j+1}/∂p_j (d × d) alone: a factorisation of the same matrix, then one
+    /// solve with d right-hand sides, no q_j columns nor p_{j+1} rows (the contact step's
+    /// linearisation, contact/stepper_step.hpp).
     void position_sensitivity(const phase_state<dim>& from, Eigen::MatrixXd& out);
 
     /// After a step from x that did not converge: its cause where one can be named (NaN or

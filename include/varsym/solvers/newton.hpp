@@ -161,6 +161,13 @@ class chord_policy {
     [[nodiscard]] bool at_noise(double update) const { return update <= noise_; }
     /// No more chord updates in this solve: this iterate and the next are Newton's.
     void drop() { chord_ = enabled_ = false; }
+    /// The first iterate keeps a Jacobian taken before the solve, near a start moved from where
+    /// it was taken by `last` (max-norm), the unknown then of max-norm `size`: as if that move had
+    /// been an update (taken()).
+    void keep(double last, double size) {
+        chord_ = enabled_ && last <= fraction_ * std::max(size, typical_);
+        last_ = last;
+    }
     /// After an update of max-norm `update` was taken and the unknown has max-norm `size`: the
     /// next iterate keeps this Jacobian once an update is below chord_start of the unknown.
     void taken(double update, double size) {
