@@ -271,9 +271,15 @@ TEST(Constrained, AStepStartedNearTheLastEndsWhereAFreshStepEnds) {
         // start, within O(|dp|²) of the answer, is it to round-off: no update. From the last
         // answer unmoved, or moved with the wrong sign, one update is needed there and two at
         // 1e-6 with the wrong sign (both measured).
-        if (size <= 1e-10) EXPECT_EQ(near.iterations, 0);
-        if (size == 1e-6) EXPECT_LE(near.iterations, 1);
-        if (size <= 1e-3) EXPECT_LT(near.iterations, plain.iterations);
+        if (size <= 1e-10) {
+            EXPECT_EQ(near.iterations, 0);
+        }
+        if (size == 1e-6) {
+            EXPECT_LE(near.iterations, 1);
+        }
+        if (size <= 1e-3) {
+            EXPECT_LT(near.iterations, plain.iterations);
+        }
     }
 }
 
