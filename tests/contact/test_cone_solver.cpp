@@ -59,21 +59,27 @@ TEST(ConeSolver, KeepsImpulsesInsideTheCone) {
     p.a = 1e-3 * (m * m.transpose() + 6.0 * Eigen::MatrixXd::Identity(6, 6));
     p.c.resize(6);
     p.c << -4e-6, 2e-5, -1e-5, -3e-6, -1e-5, 3e-5;
-    p.mu = Eigen::Vector2d(0.3, 0.8);
-    const auto r = solve_cone(p);
-    ASSERT_TRUE(r.converged);
-    for (int i = 0; i < 2; ++i) {
-        const double gamma = r.lambda(3 * i), phi = r.values(3 * i);
-        const Eigen::Vector2d b = r.lambda.segment<2>(3 * i + 1),
-                              d = r.values.segment<2>(3 * i + 1);
-        EXPECT_GE(gamma, 0.0);
-        EXPECT_GE(phi, -1e-13);
-        EXPECT_NEAR(gamma * phi, 0.0, 1e-15);
-        EXPECT_LE(b.norm(), p.mu(i) * gamma * (1.0 + 1e-9));
-        // Maximal dissipation: sticking (d = 0) or b opposite to d on the cone's edge.
-        if (d.norm() > 1e-11) {
-            EXPECT_NEAR(b.norm(), p.mu(i) * gamma, 1e-9 * gamma);
-            EXPECT_NEAR(b.dot(d) / (b.norm() * d.norm()), -1.0, 1e-6);
+    // Both with friction, then the first without (its rows in the solver's reduced system are
+    // db = −r alone, coupled to the other contact through the normal rows).
+    for (const Eigen::Vector2d& mu : {Eigen::Vector2d(0.3, 0.8), Eigen::Vector2d(0.0, 0.8)}) {
+        p.mu = mu;
+        const auto r = solve_cone(p);
+        ASSERT_TRUE(r.converged) << mu.transpose();
+        for (int i = 0; i < 2; ++i) {
+            const double gamma = r.lambda(3 * i), phi = r.values(3 * i);
+            const Eigen::Vector2d b = r.lambda.segment<2>(3 * i + 1),
+                                  d = r.values.segment<2>(3 * i + 1);
+            EXPECT_GT(gamma, 1e-4) << i; // both press: the checks below are not vacuous
+            EXPECT_GE(phi, -1e-13);
+            EXPECT_NEAR(gamma * phi, 0.0, 1e-15);
+            EXPECT_LE(b.norm(), p.mu(i) * gamma * (1.0 + 1e-9));
+            // Maximal dissipation: sticking (d = 0) or b opposite to d on the cone's edge.
+            if (d.norm() > 1e-11) {
+                EXPECT_NEAR(b.norm(), p.mu(i) * gamma, 1e-9 * gamma);
+                if (p.mu(i) > 0.0) {
+                    EXPECT_NEAR(b.dot(d) / (b.norm() * d.norm()), -1.0, 1e-6);
+                }
+            }
         }
     }
 }
