@@ -16,17 +16,21 @@
 // reversed), friction sticks inside the cone and slides on its boundary against the slip
 // (maximal dissipation). As Dojo's integrator (Howell et al. 2022) with J taken at q_j.
 //
-// Solution: the step without impulses first; if no gap is negative at its end, λ = 0 solves (K2)
-// and the step is the family member's own (free flight costs one check of the gaps). Otherwise
+// Solution (cold): the step without impulses first; if no gap is negative at its end, λ = 0
+// solves (K2) and the step is the family member's own (free flight costs one check of the
+// gaps). Otherwise
 // Newton's method on λ through the step: with S = ∂q_{j+1}/∂p_j (the step's own Jacobian), the
 // gaps and slips are linearised as (φ, d) ≈ (φ, d)(λ_k) + G S Jᵀ (λ − λ_k), the linear conic
 // complementarity problem is solved by the interior-point method (cone_solver.hpp), the step is
 // taken again with the new impulses, until the gaps and slips at its end agree with their
 // linearisation to `tolerance` [m]. The contacts solved for are the pairs whose gap is below
 // the free step's largest point motion and the last step's; a pair found below zero at the end
-// joins them. Warm start: the last step's pressing contacts and impulses are the first iterate,
-// S taken at the step they give (a robot standing converges in two linearisations); should that
-// fail, the cold start from λ = 0 follows. Where the inner stepper offers it (the free base's
+// joins them. Warm start, where the last step had pressing contacts: no free step; the step
+// with the last step's contacts and impulses is taken first (from the scheme's predictor), S
+// at it, and the free step's end estimated from them to first order, q_{j+1} − S Jᵀλ, chooses
+// the contacts and places the onsets (a robot standing converges in two linearisations);
+// should that fail, or no gap at the estimate be negative, the free step and the cold start
+// from λ = 0 follow. Where the inner stepper offers it (the free base's
 // constrained stepper, start_next_near), each step taken with impulses starts from the last one
 // taken from q_j, moved to first order for the change of kick Jᵀλ by the saddle-point matrix
 // last assembled from q_j, and iterates by chord updates on its LU: no predictor and no second
@@ -179,7 +183,9 @@ class contact_stepper : public Inner {
         near_ready_ = converged;
         last_kick_.setZero(from_.q.size());
     }
-    bool solve(bool warm, newton_report& total);
+    bool select();
+    bool warm(newton_report& total);
+    bool iterate(newton_report& total);
     double onset(int c);
     void finish(phase_state<dim>& x);
 
@@ -199,7 +205,9 @@ class contact_stepper : public Inner {
     double saved_t_ = 0.0, saved_t_step_ = 0.0, saved_last_work_ = 0.0, saved_work_ = 0.0,
            saved_carry_ = 0.0;
     Eigen::VectorXd lambda_, values_, predicted_;
-    std::vector<double> start_gap_, end_gap_; // every pair's gap at q_j and the free step's end
+    // Every pair's gap at q_j and at the free step's end (taken, or estimated by warm()).
+    std::vector<double> start_gap_, end_gap_;
+    std::vector<vec3> ends_; // the contact points at the free step's end
     Eigen::VectorXd q_free_, q_onset_;
     vec<dim> kick_, last_kick_, dkick_; // Jᵀλ of this take and of the last step from from_
     bool near_ready_ = false;           // that step converged: the next take may start near it
@@ -211,4 +219,5 @@ class contact_stepper : public Inner {
 
 } // namespace varsym::contact
 
+#include "varsym/contact/stepper_history.hpp"
 #include "varsym/contact/stepper_step.hpp"

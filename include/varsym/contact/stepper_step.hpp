@@ -1,6 +1,6 @@
 // varsym/contact/stepper_step.hpp: the contact step of contact_stepper (stepper.hpp): the free
-// step, the linearisations with the interior-point solve, the warm start, the report and the
-// checkpoint's history. Included by stepper.hpp.
+// step, the linearisations with the interior-point solve, the warm start and the report.
+// Included by stepper.hpp.
 #pragma once
 
 #include <algorithm>
@@ -123,28 +123,61 @@ newton_report contact_stepper<Inner>::step(phase_state<dim>& x) {
     failure_.clear();
     from_ = x;
     save();
-    y_ = x;
-    newton_report rep = Inner::step(y_);
-    free_step_taken(rep.converged);
     last_ = {};
-    if (!rep.converged) return rep;
+    newton_report total;
+    if (!warm_pairs_.empty()) { // from the last step's contacts and impulses
+        if (warm(total)) {
+            finish(x);
+            return total;
+        }
+        // Cold: the free step, whose Jacobian the linearisation starts from.
+        failure_.clear();
+        last_ = {};
+        restore();
+    }
+    y_ = x;
+    const newton_report rep = Inner::step(y_);
+    free_step_taken(rep.converged);
+    total.iterations += rep.iterations;
+    total.residual = rep.residual;
+    if (!rep.converged) {
+        restore();
+        return total;
+    }
     // The free step's end: if no gap is negative, λ = 0 solves (K2).
-    kin_.at(y_.q);
+    q_free_ = y_.q;
+    if (!select()) {
+        warm_pairs_.clear();
+        impulses_.clear();
+        x = y_;
+        total.converged = true;
+        return total;
+    }
+    rows(true, jac_, nullptr);
+    lambda_.setZero(jac_.rows());
+    Inner::position_sensitivity(from_, s_); // the free step's
+    if (iterate(total)) {
+        finish(x);
+        return total;
+    }
+    restore();
+    return total;
+}
+
+/// Every pair's gap at the free step's end q_free_ (taken, or estimated by warm()) and at q_j;
+/// active_ the pairs closer at that end than the farthest a point moved. False if no gap there
+/// is negative. Leaves the kinematics at q_j where it returns true.
+template <class Inner>
+bool contact_stepper<Inner>::select() {
+    kin_.at(q_free_);
     end_gap_.resize(static_cast<std::size_t>(pairs()));
     double lowest = std::numeric_limits<double>::infinity();
     for (int c = 0; c < pairs(); ++c)
         lowest = std::min(lowest, end_gap_[static_cast<std::size_t>(c)] = gap(c));
-    if (!(lowest < 0.0)) {
-        warm_pairs_.clear();
-        impulses_.clear();
-        x = y_;
-        return rep;
-    }
-    q_free_ = y_.q;
-    // The pairs solved for: those closer at the end than the farthest a point moved.
-    std::vector<vec3> end(points_.size());
+    if (!(lowest < 0.0)) return false;
+    ends_.resize(points_.size());
     for (std::size_t i = 0; i < points_.size(); ++i)
-        end[i] = kin_.pose(points_[i].body).point(points_[i].point);
+        ends_[i] = kin_.pose(points_[i].body).point(points_[i].point);
     kin_.at(from_.q);
     start_gap_.resize(static_cast<std::size_t>(pairs()));
     for (int c = 0; c < pairs(); ++c)
@@ -152,64 +185,60 @@ newton_report contact_stepper<Inner>::step(phase_state<dim>& x) {
     double reach = 0.0;
     for (std::size_t i = 0; i < points_.size(); ++i)
         reach =
-            std::max(reach, (kin_.pose(points_[i].body).point(points_[i].point) - end[i]).norm());
+            std::max(reach, (kin_.pose(points_[i].body).point(points_[i].point) - ends_[i]).norm());
     active_.clear();
     for (int c = 0; c < pairs(); ++c)
         if (end_gap_[static_cast<std::size_t>(c)] < reach) active_.push_back({c});
-    newton_report total = rep;
-    if (!warm_pairs_.empty()) { // from the last step's contacts and impulses
-        const std::vector<pair_state> cold = active_;
-        for (const int pair : warm_pairs_)
-            if (std::none_of(active_.begin(), active_.end(),
-                             [pair](const pair_state& a) { return a.pair == pair; }))
-                active_.push_back({pair});
-        if (solve(true, total)) {
-            finish(x);
-            return total;
-        }
-        // Cold again: the free step, whose Jacobian the linearisation starts from.
-        active_ = cold;
-        failure_.clear();
-        restore();
-        y_ = from_;
-        const bool free = Inner::step(y_).converged;
-        free_step_taken(free);
-        if (!free) {
-            restore();
-            total.converged = false;
-            return total;
-        }
-    }
-    if (solve(false, total)) {
-        finish(x);
-        return total;
-    }
-    restore();
-    total.converged = false;
-    return total;
+    return true;
 }
 
-/// Newton's method on λ (stepper.hpp): with `warm`, from the last step's impulses, S taken at
-/// the step they give; else from λ = 0, S of the free step (the last inner step taken). True
-/// when converged: y_ and lambda_ are then the step's.
+/// The warm start, without a free step: the step with the last step's pressing contacts and
+/// impulses (their contact points at q_j) from the scheme's predictor, S there, and from these
+/// the free step's end to first order, q_{j+1} − S Jᵀλ, which chooses the contacts and places
+/// the onsets as the free step's end does (select()); then Newton's method on λ. False where that
+/// step fails, where no gap at the estimate is negative or no impulse is left (the contacts
+/// open: the free step decides), or where the iteration fails.
 template <class Inner>
-bool contact_stepper<Inner>::solve(bool warm, newton_report& total) {
+bool contact_stepper<Inner>::warm(newton_report& total) {
     kin_.at(from_.q);
+    start_gap_.resize(static_cast<std::size_t>(pairs()));
+    for (int c = 0; c < pairs(); ++c)
+        start_gap_[static_cast<std::size_t>(c)] = gap(c);
+    end_gap_ = start_gap_; // no onset within the step yet (onset())
+    active_.clear();
+    for (const int pair : warm_pairs_)
+        active_.push_back({pair});
+    rows(true, jac_, nullptr);
+    lambda_ = warm_lambda_;
+    near_ready_ = false; // no step taken from q_j yet
+    if (!take(y_, lambda_, total)) return false;
+    phase_state<dim> kicked = from_;
+    kicked.p += kick_;
+    Inner::position_sensitivity(kicked, s_);
+    q_free_ = y_.q;
+    q_free_.noalias() -= s_ * kick_;
+    if (!select()) return false;
+    for (const int pair : warm_pairs_)
+        if (std::none_of(active_.begin(), active_.end(),
+                         [pair](const pair_state& a) { return a.pair == pair; }))
+            active_.push_back({pair});
     rows(true, jac_, nullptr);
     lambda_.setZero(jac_.rows());
-    if (warm) {
-        for (std::size_t i = 0; i < active_.size(); ++i)
-            for (std::size_t j = 0; j < warm_pairs_.size(); ++j)
-                if (active_[i].pair == warm_pairs_[j])
-                    lambda_.segment<3>(3 * static_cast<Eigen::Index>(i)) =
-                        warm_lambda_.segment<3>(3 * static_cast<Eigen::Index>(j));
-        if (!take(y_, lambda_, total)) return false;
-        phase_state<dim> kicked = from_;
-        kicked.p.noalias() += jac_.transpose() * lambda_;
-        Inner::position_sensitivity(kicked, s_);
-    } else {
-        Inner::position_sensitivity(from_, s_);
-    }
+    for (std::size_t i = 0; i < active_.size(); ++i)
+        for (std::size_t j = 0; j < warm_pairs_.size(); ++j)
+            if (active_[i].pair == warm_pairs_[j])
+                lambda_.segment<3>(3 * static_cast<Eigen::Index>(i)) =
+                    warm_lambda_.segment<3>(3 * static_cast<Eigen::Index>(j));
+    // Every contact open after all (the estimate's gap below zero, the step's not): the free
+    // step decides, so that a step without impulses is the scheme's own.
+    return iterate(total) && !lambda_.isZero(0.0);
+}
+
+/// Newton's method on λ (stepper.hpp) from lambda_, with y_ the step taken from it (from warm(),
+/// with J's rows before the onsets were placed) and S taken there. True when converged: y_ and
+/// lambda_ are then the step's.
+template <class Inner>
+bool contact_stepper<Inner>::iterate(newton_report& total) {
     predicted_.resize(0);
     cone_problem prob;
     bool stalled = false;
@@ -226,6 +255,7 @@ bool contact_stepper<Inner>::solve(bool warm, newton_report& total) {
                     active_.push_back({c});
             if (active_.size() == before) {
                 last_.iterations = it;
+                total.converged = true;
                 return true;
             }
             // It joins, with λ = 0: J's rows again, the step (y_) unchanged.
@@ -318,64 +348,6 @@ void contact_stepper<Inner>::finish(phase_state<dim>& x) {
                                                       : (last_.work - sum) + work_;
     work_ = sum;
     x = y_;
-}
-
-template <class Inner>
-void contact_stepper<Inner>::save_history(std::vector<double>& out) const {
-    Inner::save_history(out);
-    for (std::size_t i = 0; i < warm_pairs_.size(); ++i) {
-        out.push_back(warm_pairs_[i]);
-        for (int j = 0; j < 3; ++j)
-            out.push_back(warm_lambda_(3 * static_cast<Eigen::Index>(i) + j));
-    }
-    out.insert(out.end(), {static_cast<double>(warm_pairs_.size()), history_tag, work_, carry_,
-                           static_cast<double>(last_.active), last_.normal, last_.friction,
-                           last_.penetration, last_.work, static_cast<double>(last_.iterations)});
-}
-
-template <class Inner>
-void contact_stepper<Inner>::restore_history(const phase_state<dim>& x,
-                                             const std::vector<double>& in) {
-    last_ = {};
-    impulses_.clear();
-    work_ = carry_ = 0.0;
-    warm_pairs_.clear();
-    if (in.empty()) {
-        Inner::restore_history(x, in);
-        return;
-    }
-    const std::size_t tail = fixed_size + 2; // count, tag, the fixed part
-    const auto bad = [] {
-        return std::invalid_argument("the saved history is not a contact step's (its layout: "
-                                     "the stepper's, 4 numbers a contact, their count, a tag, "
-                                     "8 numbers): was it saved by a run with contact?");
-    };
-    if (in.size() < tail || in[in.size() - fixed_size - 1] != history_tag) throw bad();
-    const double stored = in[in.size() - tail];
-    if (!(stored >= 0.0 && stored == std::floor(stored) &&
-          4.0 * stored <= static_cast<double>(in.size() - tail)))
-        throw bad();
-    const auto n = static_cast<std::size_t>(stored);
-    const auto warm = in.end() - static_cast<std::ptrdiff_t>(tail + 4 * n);
-    warm_lambda_.resize(3 * static_cast<Eigen::Index>(n));
-    for (std::size_t i = 0; i < n; ++i) {
-        const double pair = warm[static_cast<std::ptrdiff_t>(4 * i)];
-        if (!(pair >= 0.0 && pair < pairs() && pair == std::floor(pair))) throw bad();
-        warm_pairs_.push_back(static_cast<int>(pair));
-        for (int j = 0; j < 3; ++j)
-            warm_lambda_(3 * static_cast<Eigen::Index>(i) + j) =
-                warm[static_cast<std::ptrdiff_t>(4 * i) + 1 + j];
-    }
-    Inner::restore_history(x, std::vector<double>(in.begin(), warm));
-    const auto fixed = in.end() - fixed_size;
-    work_ = fixed[0];
-    carry_ = fixed[1];
-    last_.active = static_cast<int>(fixed[2]);
-    last_.normal = fixed[3];
-    last_.friction = fixed[4];
-    last_.penetration = fixed[5];
-    last_.work = fixed[6];
-    last_.iterations = static_cast<int>(fixed[7]);
 }
 
 } // namespace varsym::contact
