@@ -283,6 +283,43 @@ TEST(Constrained, AStepStartedNearTheLastEndsWhereAFreshStepEnds) {
     }
 }
 
+TEST(Constrained, TheKeptSensitivityComesFromTheLastFactorisedMatrix) {
+    // kept_position_sensitivity (the contact step's warm start): ∂q_{j+1}/∂p_j from the
+    // saddle-point matrix of the step's last Newton iterate, without second derivatives at the
+    // converged point. Against position_sensitivity (tested against finite differences below).
+    // The predictor leaves out the rod's tension T (about 1.5 here): its first update is about
+    // h T / (2|q̇|) of the increments. At h = 0.05 and 0.005 that is above chord_start (1e-3),
+    // so Newton iterates again with Λ ≠ 0 and the kept matrix is within the square of that of
+    // the converged one (measured 4.5e-7 and 4.6e-11 of |S|: bound 1e-3 h²). At h = 1e-4 chord
+    // updates follow at once and the kept matrix is the predictor's, Λ = 0: it lacks the
+    // curvature term H = 2Λ I, Λ ≈ h T, which moves S by at most about h² T of itself (measured
+    // 1.5e-9; bound h²).
+    // After position_sensitivity has factorised the converged matrix, the kept block is the
+    // same solve: equal to round-off. The quartic term (κ = 2) makes the matrix change along the
+    // step.
+    using stepper_type = general::constrained_stepper<spherical_cartesian, rod<3>>;
+    const lagrangian_system<spherical_cartesian> sys({2.0});
+    const phase_state<3> x = to_cartesian(vec<2>{1.0, 0.3}, vec<2>{0.4, 1.2});
+    for (const double h : {0.05, 0.005, 1e-4}) {
+        SCOPED_TRACE("h = " + test::sci(h));
+        stepper_type st(sys, {}, h, {scheme_kind::gauss, 2});
+        phase_state<3> y = x;
+        ASSERT_TRUE(st.step(y).converged);
+        Eigen::MatrixXd kept, exact, again;
+        st.kept_position_sensitivity(kept);
+        st.position_sensitivity(x, exact);
+        st.kept_position_sensitivity(again);
+        ASSERT_EQ(kept.rows(), 3);
+        ASSERT_EQ(kept.cols(), 3);
+        const double scale = exact.lpNorm<Eigen::Infinity>(),
+                     off = (kept - exact).lpNorm<Eigen::Infinity>() / scale;
+        RecordProperty("kept_sensitivity_off_h" + test::sci(h), test::sci(off));
+        EXPECT_LE(off, h > 1e-3 ? 1e-3 * h * h : h * h);
+        EXPECT_GT(off, 1e-13); // not the converged matrix
+        EXPECT_LE((again - exact).lpNorm<Eigen::Infinity>(), 1e-14 * scale);
+    }
+}
+
 TEST(Constrained, StepJacobianMatchesFiniteDifferencesAndIsSymplecticOnTheManifold) {
     // The spherical pendulum, gauss-2, h = 0.05. Central differences of the step map (which is
     // defined off the manifold too) with ε = 1e-5 check the Jacobian to ~1e-9. Symplecticity

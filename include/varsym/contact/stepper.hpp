@@ -27,7 +27,9 @@
 // the free step's largest point motion and the last step's; a pair found below zero at the end
 // joins them. Warm start, where the last step had pressing contacts: no free step; the step
 // with the last step's contacts and impulses is taken first (from the scheme's predictor), S
-// at it, and the free step's end estimated from them to first order, q_{j+1} − S Jᵀλ, chooses
+// from the matrix its Newton iteration factorised (where the inner stepper keeps it: no second
+// derivatives; taken at the step instead where a linearisation misses its prediction), and the
+// free step's end estimated from them to first order, q_{j+1} − S Jᵀλ, chooses
 // the contacts and places the onsets (a robot standing converges in two linearisations);
 // should that fail, or no gap at the estimate be negative, the free step and the cold start
 // from λ = 0 follow. Where the inner stepper offers it (the free base's
@@ -118,6 +120,8 @@ class contact_stepper : public Inner {
                                         "(its impulses switch on and off)");
         Inner::step_jacobian(from, out);
     }
+    /// The inner stepper's approximation of that block is the contact step's own (warm start).
+    void kept_position_sensitivity(Eigen::MatrixXd& out) = delete;
     /// Its block ∂q_{j+1}/∂p_j alone, refused across a contact as step_jacobian is.
     void position_sensitivity(const phase_state<dim>& from, Eigen::MatrixXd& out) {
         if (last_.iterations > 0)
@@ -185,6 +189,7 @@ class contact_stepper : public Inner {
     }
     bool select();
     bool warm(newton_report& total);
+    void sensitivity(bool kept);
     bool iterate(newton_report& total);
     double onset(int c);
     void finish(phase_state<dim>& x);
@@ -205,12 +210,14 @@ class contact_stepper : public Inner {
     double saved_t_ = 0.0, saved_t_step_ = 0.0, saved_last_work_ = 0.0, saved_work_ = 0.0,
            saved_carry_ = 0.0;
     Eigen::VectorXd lambda_, values_, predicted_;
-    // Every pair's gap at q_j and at the free step's end (taken, or estimated by warm()).
+    // Every pair's gap at q_j and at the free step's end (taken, or estimated by warm()); zeros
+    // between warm()'s start and its select() (no onset).
     std::vector<double> start_gap_, end_gap_;
     std::vector<vec3> ends_; // the contact points at the free step's end
     Eigen::VectorXd q_free_, q_onset_;
     vec<dim> kick_, last_kick_, dkick_; // Jᵀλ of this take and of the last step from from_
     bool near_ready_ = false;           // that step converged: the next take may start near it
+    bool s_kept_ = false;               // s_ from a kept factorisation (sensitivity())
     robot_kinematics onset_kin_;
     compensated_update<dim> saved_sum_;
     Eigen::MatrixXd jac_, g_, s_;

@@ -156,6 +156,7 @@ newton_report contact_stepper<Inner>::step(phase_state<dim>& x) {
     rows(true, jac_, nullptr);
     lambda_.setZero(jac_.rows());
     Inner::position_sensitivity(from_, s_); // the free step's
+    s_kept_ = false;
     if (iterate(total)) {
         finish(x);
         return total;
@@ -201,10 +202,8 @@ bool contact_stepper<Inner>::select() {
 template <class Inner>
 bool contact_stepper<Inner>::warm(newton_report& total) {
     kin_.at(from_.q);
-    start_gap_.resize(static_cast<std::size_t>(pairs()));
-    for (int c = 0; c < pairs(); ++c)
-        start_gap_[static_cast<std::size_t>(c)] = gap(c);
-    end_gap_ = start_gap_; // no onset within the step yet (onset())
+    start_gap_.assign(static_cast<std::size_t>(pairs()), 0.0);
+    end_gap_ = start_gap_; // no onset within the step yet (onset() is 0 where no gap is > 0)
     active_.clear();
     for (const int pair : warm_pairs_)
         active_.push_back({pair});
@@ -212,9 +211,7 @@ bool contact_stepper<Inner>::warm(newton_report& total) {
     lambda_ = warm_lambda_;
     near_ready_ = false; // no step taken from q_j yet
     if (!take(y_, lambda_, total)) return false;
-    phase_state<dim> kicked = from_;
-    kicked.p += kick_;
-    Inner::position_sensitivity(kicked, s_);
+    sensitivity(true);
     q_free_ = y_.q;
     q_free_.noalias() -= s_ * kick_;
     if (!select()) return false;
@@ -234,6 +231,26 @@ bool contact_stepper<Inner>::warm(newton_report& total) {
     return iterate(total) && !lambda_.isZero(0.0);
 }
 
+/// S = ∂q_{j+1}/∂p_j of the last step taken (from from_, kicked by kick_) into s_. Where
+/// `kept` and the inner stepper offers it (the free base's), from the saddle-point matrix of
+/// that step's last Newton iterate, already factorised: no second derivatives, and an
+/// approximation whose linearisations the iteration on λ checks against the steps it takes
+/// (iterate() takes S exactly where one misses).
+template <class Inner>
+void contact_stepper<Inner>::sensitivity(bool kept) {
+    s_kept_ = false;
+    if constexpr (requires(Inner & i, Eigen::MatrixXd & s) { i.kept_position_sensitivity(s); }) {
+        if (kept) {
+            Inner::kept_position_sensitivity(s_);
+            s_kept_ = true;
+            return;
+        }
+    }
+    phase_state<dim> kicked = from_;
+    kicked.p += kick_;
+    Inner::position_sensitivity(kicked, s_);
+}
+
 /// Newton's method on λ (stepper.hpp) from lambda_, with y_ the step taken from it (from warm(),
 /// with J's rows before the onsets were placed) and S taken there. True when converged: y_ and
 /// lambda_ are then the step's.
@@ -246,7 +263,9 @@ bool contact_stepper<Inner>::iterate(newton_report& total) {
         kin_.at(y_.q);
         rows(false, g_, &values_);
         const bool known = predicted_.size() == values_.size();
-        if (known && (values_ - predicted_).lpNorm<Eigen::Infinity>() <= opt_.tolerance) {
+        const bool agrees =
+            known && (values_ - predicted_).lpNorm<Eigen::Infinity>() <= opt_.tolerance;
+        if (agrees) {
             // Converged for these pairs: does any other sink?
             const std::size_t before = active_.size();
             for (int c = 0; c < pairs(); ++c)
@@ -279,6 +298,10 @@ bool contact_stepper<Inner>::iterate(newton_report& total) {
                 "): try a smaller step";
             return false;
         }
+        // Not converged on the first linearisation with the warm start's kept S (its prediction
+        // missed, or the interior point stalled): S taken at this step instead, once (as on the
+        // cold path, it is then kept for the step).
+        if (it > 1 && s_kept_) sensitivity(false);
         prob.a.noalias() = g_ * s_ * jac_.transpose();
         prob.c = values_ - prob.a * lambda_;
         const int k = static_cast<int>(active_.size());

@@ -152,6 +152,13 @@ class constrained_stepper : public stepper<L, F> {
     /// solve of the saddle-point system with d right-hand sides, without the projection (the
     /// contact step's linearisation).
     void position_sensitivity(const phase_state<dim>& from, Eigen::MatrixXd& out);
+    /// The same block from the saddle-point matrix K last assembled, at the last step's last
+    /// Newton iterate (its first, from the predictor with Λ = 0, where chord updates followed
+    /// at once), factorised if it is not yet: one solve, no second derivatives. An
+    /// approximation, off by K's change from that iterate to the converged one (the contact
+    /// step's warm start, which checks its linearisations against the steps it takes:
+    /// contact/stepper_step.hpp). Only after a converged step.
+    void kept_position_sensitivity(Eigen::MatrixXd& out);
     /// The next step(), from the same q_j with the momentum changed by dp, starts from the last
     /// step's increments and multipliers moved to first order, Z − K⁻¹ (dp, 0), with the last
     /// K assembled (at an iterate of that step, or by position_sensitivity or step_jacobian),

@@ -105,6 +105,15 @@ void constrained_stepper<L, C, F>::position_sensitivity(const phase_state<dim>& 
 }
 
 template <lagrangian L, holonomic_constraint C, class F>
+void constrained_stepper<L, C, F>::kept_position_sensitivity(Eigen::MatrixXd& out) {
+    const int s = this->s_, d = this->d_, n = s * (d + m_);
+    if (!factorised_) factorise(); // a step that stopped at round-off on a fresh K
+    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, d);
+    b.topRows(d).setIdentity();
+    out = -klu_.solve(b).middleRows((s - 1) * d, d);
+}
+
+template <lagrangian L, holonomic_constraint C, class F>
 void constrained_stepper<L, C, F>::start_next_near(const vec<dim>& dp) {
     const int s = this->s_, d = this->d_, sd = s * d;
     if (!factorised_) factorise(); // a step that stopped at its first iterate's round-off
