@@ -40,7 +40,8 @@
 // again from the predictor).
 //
 // The contact's work over a step is the kick's change of the energy at q_j,
-// E(q_j, p_j + Jᵀλ) − E(q_j, p_j); the inner step from the kicked state does the rest (its forces'
+// E(q_j, p_j + Jᵀλ) − E(q_j, p_j) (for L = ½ q̇ᵀM(q)q̇ − V(q), exactly q̇(q_j, p_j + Jᵀλ/2)·Jᵀλ:
+// one velocity); the inner step from the kicked state does the rest (its forces'
 // work and its own error). total_work() includes it, so E − E₀ − W is the scheme's own error in
 // and out of contact.
 #pragma once
@@ -57,6 +58,7 @@
 #include "varsym/contact/geometry.hpp"
 #include "varsym/solvers/compensated.hpp"
 #include "varsym/solvers/newton.hpp"
+#include "varsym/systems/lagrangian_concepts.hpp"
 
 namespace varsym::contact {
 
@@ -192,6 +194,7 @@ class contact_stepper : public Inner {
     void sensitivity(bool kept);
     bool iterate(newton_report& total);
     double onset(int c);
+    double kick_work();
     void finish(phase_state<dim>& x);
 
     robot_kinematics kin_;

@@ -328,6 +328,23 @@ bool contact_stepper<Inner>::iterate(newton_report& total) {
     }
 }
 
+/// E(q_j, p_j + Jᵀλ) − E(q_j, p_j). For L = ½ q̇ᵀM(q)q̇ − V(q) (lagrangian_with_mass_matrix), E =
+/// ½ pᵀM⁻¹p + V and the change is exactly q̇(q_j, p_j + Jᵀλ/2)·Jᵀλ: one velocity, no energy
+/// differenced (nor its round-off, ε E).
+/// kick_ is Jᵀλ: every converged iteration ends on a take with the step's J and λ.
+template <class Inner>
+double contact_stepper<Inner>::kick_work() {
+    const auto& sys = this->system();
+    phase_state<dim> kicked = from_;
+    if constexpr (lagrangian_with_mass_matrix<typename Inner::system_type::lagrangian_type>) {
+        kicked.p.noalias() += 0.5 * kick_;
+        return sys.velocity(kicked.q, kicked.p, this->t_step_).dot(kick_);
+    } else {
+        kicked.p += kick_;
+        return sys.energy(kicked) - sys.energy(from_);
+    }
+}
+
 /// The converged step: its report, the contact's work (the kick's change of the energy at q_j,
 /// E(q_j, p_j + Jᵀλ) − E(q_j, p_j): the inner step from the kicked state accounts for the
 /// rest, its forces' work and its own error), the warm start's pairs (those that pressed).
@@ -363,9 +380,7 @@ void contact_stepper<Inner>::finish(phase_state<dim>& x) {
         impulses_.insert(impulses_.end(),
                          {a.start.x(), a.start.y(), a.start.z(), l.x(), l.y(), l.z()});
     }
-    phase_state<dim> kicked = from_;
-    kicked.p.noalias() += jac_.transpose() * lambda_;
-    last_.work = this->system().energy(kicked) - this->system().energy(from_);
+    last_.work = kick_work();
     const double sum = work_ + last_.work; // Neumaier's compensated sum
     carry_ += std::abs(work_) >= std::abs(last_.work) ? (work_ - sum) + last_.work
                                                       : (last_.work - sum) + work_;
