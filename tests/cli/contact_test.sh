@@ -65,11 +65,12 @@ d=$(awk -v a="$x1" -v b="$x5" 'BEGIN { d = a - b; if (d < 0) d = -d; printf "%.6
 lt "$d" 1e-6 && ok || bad "incline: crept $d m (from $x1 to $x5)"
 
 # --- killed and resumed: byte-identical to a run that never stopped -----------------------------
-# A box thrown spinning onto the ground, 4000 steps (about 1 s in contact at 150-300 us a step),
-# a checkpoint every 200; SIGKILL after 0.2 s (under the sanitizers after a new checkpoint), then
-# resumed (and killed again) until it ends.
+# A box thrown spinning onto the ground, 24000 steps over 12 s (about 0.7 s at 30 us a step: it
+# must outlast the first kill; 4000 steps ended within it), a checkpoint every 200; SIGKILL
+# after 0.2 s (under the sanitizers after a new checkpoint), then resumed (and killed again)
+# until it ends.
 args=(run --urdf "$box" --base free --contact --friction 0.5 --q0 0,0,0.15,1,0,0,0
-      --v0 1,0,0,0,0.3,0.2,0 --time 2 --steps 4000 --every 10 -o box.csv --checkpoint box.ckpt
+      --v0 1,0,0,0,0.3,0.2,0 --time 12 --steps 24000 --every 10 -o box.csv --checkpoint box.ckpt
       --checkpoint-every 200)
 kill_and_resume box box.ckpt box.csv "${args[@]}"
 
@@ -92,13 +93,18 @@ c=$(column stand.csv contacts last)
 [ "$c" = 4 ] && ok || bad "A1 standing on $c feet"
 n=$(column stand.csv normal_impulse last)
 between 0.1347991 "$n" 0.1347993 && ok || bad "A1 standing: normal impulse $n N s, not M g h"
+# While the warm start's S is the kept one, the gaps agree with their linearisation to a tenth
+# of the tolerance (1e-12 m), the interior point's to another tenth: a penetration of up to
+# 2e-13 m. Steps on an exact S agree to the tolerance but converge quadratically, far inside it
+# (measured 1.0e-13 m standing and 6.2e-14 m dropped; 9.99e-13 m with the whole tolerance on the
+# kept S).
 p=$(largest stand.csv penetration)
-lt "$p" 1e-12 && ok || bad "A1 standing: penetration $p m"
+lt "$p" 2e-13 && ok || bad "A1 standing: penetration $p m"
 # Dropped from 0.3 m higher: lands on its feet, never sinks, and settles to its stance height.
 "$VARSYM" run --urdf "$a1" --base free --contact --q0 0,0,0.6135,1,0,0,0,$legs "${pd[@]}" \
   --time 2 --steps 2000 --every 20 -o a1drop.csv 2> a1drop.err && ok || bad "A1 dropped: $(cat a1drop.err)"
 p=$(largest a1drop.csv penetration)
-lt "$p" 1e-12 && ok || bad "A1 dropped: penetration $p m"
+lt "$p" 2e-13 && ok || bad "A1 dropped: penetration $p m"
 z=$(column a1drop.csv q_base_z last)
 between 0.300 "$z" 0.310 && ok || bad "A1 dropped: base at $z m after 2 s"
 c=$(column a1drop.csv contacts last)

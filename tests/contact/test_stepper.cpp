@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.hpp"
 #include "varsym/contact/stepper.hpp"
 #include "varsym/multibody/floating.hpp"
 #include "varsym/schemes/constrained.hpp"
@@ -264,13 +265,14 @@ scene spinning_box() {
 }
 
 TEST(Contact, AResumedStepperTakesTheSameSteps) {
-    // The history (the warm start, the contact's work, the last report) carries a run across a
-    // checkpoint: 300 steps straight, and 150 + a copy restored from the saved history + 150,
-    // while the box slides and spins; and again from 600 steps, where it rests (the step with
-    // the last impulses is then solved by the predictor to round-off, and the retakes start
-    // from what this step's own matrices give, nothing kept from before the checkpoint).
+    // The history (the inner stepper's matrix kept across steps and its multipliers, the warm
+    // start, the contact's work, the last report) carries a run across a checkpoint: 300 steps
+    // straight, and 150 + a copy restored from the saved history + 150, while the box slides
+    // and spins (from 150 and 300 steps) and again from 600 steps, where it rests. The warm
+    // steps iterate with the kept matrix: a copy restored without it ends elsewhere
+    // (mutation-checked).
     std::vector<double> history;
-    for (const double split : {0.15, 0.6}) {
+    for (const double split : {0.15, 0.3, 0.6}) {
         SCOPED_TRACE("resumed at t = " + std::to_string(split));
         scene straight = spinning_box();
         straight.run(split + 0.15);
@@ -296,10 +298,17 @@ TEST(Contact, AResumedStepperTakesTheSameSteps) {
     // A history this stepper did not write is refused, not misread.
     scene other = spinning_box();
     ASSERT_GE(history.size(), 10U);
-    std::vector<double> short_one{1.0, 2.0, 3.0}, counted = history, untagged = history;
+    std::vector<double> short_one{1.0, 2.0, 3.0}, counted = history, untagged = history,
+                                                  older = history, kept = history;
     counted[history.size() - 10] = 1e9; // more contacts than numbers
     untagged[history.size() - 9] = 0.0; // not the tag
-    for (const auto* bad : {&short_one, &counted, &untagged})
+    older[history.size() - 9] = 6.2e7;  // the layout before the kept matrix
+    const auto contacts = static_cast<std::size_t>(history[history.size() - 10]);
+    ASSERT_GT(contacts, 0U);
+    const std::size_t kept_count = history.size() - 10 - 4 * contacts - 1;
+    ASSERT_GT(history[kept_count], 0.0); // the box rests: its matrix is kept
+    kept[kept_count] += 1.0;             // not this stepper's size
+    for (const auto* bad : {&short_one, &counted, &untagged, &older, &kept})
         EXPECT_THROW(other.stepper.restore_history(other.x, *bad), std::invalid_argument);
 }
 
@@ -347,10 +356,39 @@ TEST(Contact, AWarmStartedStepEndsWhereAColdOneEnds) {
         ASSERT_FALSE(warm.starts.empty());
         EXPECT_GT((warm.starts.front() - before.x.p).norm(), 1e-4);
         EXPECT_GE(cold.stepper.last_contact().active, 3);
-        EXPECT_LT((x.q - cold.x.q).lpNorm<Eigen::Infinity>(), 1e-11);
-        EXPECT_LT((x.p - cold.x.p).lpNorm<Eigen::Infinity>(), 1e-8);
+        const double dq = (x.q - cold.x.q).lpNorm<Eigen::Infinity>(),
+                     dp = (x.p - cold.x.p).lpNorm<Eigen::Infinity>();
+        RecordProperty("warm_cold_q_at_" + test::sci(t), test::sci(dq));
+        RecordProperty("warm_cold_p_at_" + test::sci(t), test::sci(dp));
+        EXPECT_LT(dq, 1e-11);
+        EXPECT_LT(dp, 1e-8);
         EXPECT_NEAR(warm.last_contact().normal, cold.stepper.last_contact().normal, 1e-8);
     }
+}
+
+TEST(Contact, AStepThatDoesNotConvergeSaysByHowMuchAndKeepsTheState) {
+    // One linearisation allowed: the box's landing (from λ = 0 at the free step's end) needs
+    // more. The step fails, leaves the state as it was, and names the miss in metres in a form
+    // that shows it (std::to_string printed 1e-10 as 0.000000).
+    scene s = spinning_box();
+    touching one(inner_stepper(s.sys, multibody::unit_quaternion{7}, 1e-3, {scheme_kind::gauss, 2}),
+                 s.tree, scene::with_ground({}, 0.0, 0.5), {1e-12, 1});
+    newton_report r;
+    phase_state<dynamic> before = s.x;
+    for (int j = 0; j < 200; ++j) {
+        before = s.x;
+        if (!(r = one.step(s.x)).converged) break;
+    }
+    ASSERT_FALSE(r.converged) << "200 steps converged in one linearisation each";
+    EXPECT_EQ(s.x.q, before.q);
+    EXPECT_EQ(s.x.p, before.p);
+    const std::string why = one.diagnose(s.x);
+    const std::size_t at = why.find("off their linearisation by ");
+    ASSERT_NE(at, std::string::npos) << why;
+    EXPECT_NE(why.find("did not converge in 1 linearisations"), std::string::npos) << why;
+    const double miss = std::stod(why.substr(at + 27));
+    EXPECT_GT(miss, 1e-12) << why;
+    EXPECT_EQ(why.find("0.000000"), std::string::npos) << why;
 }
 
 TEST(Contact, WithoutFrictionTheBoxDoesNotStop) {

@@ -127,6 +127,31 @@ TEST(ChordPolicy, KeepsTheJacobianOnceSmallAndWhileItContracts) {
     EXPECT_FALSE(never.chord());
 }
 
+TEST(ChordPolicy, AStaleJacobiansFirstUpdateIsGatedAndTheNextMustContract) {
+    // keep_stale: a Jacobian factorised at another point (an earlier step's) before the solve.
+    // The first iterate is a chord update, taken where it is below chord_start (1e-3) of the
+    // unknown (no earlier update to compare it with), and not linearised (how far the Jacobian
+    // is off is not known); the next must shrink 8-fold.
+    newton_options o;
+    o.typical = 1.0;
+    o.reference = 1.0;
+    chord_policy p(o);
+    p.keep_stale(1.0);
+    ASSERT_TRUE(p.chord());
+    EXPECT_TRUE(p.contracts(0.9e-3));
+    EXPECT_FALSE(p.contracts(1.1e-3));        // the caller drops the chord: Newton's from here
+    EXPECT_FALSE(p.linearisable(1e-12, 1.0)); // a fresh Jacobian's rule would pass it (1e-24)
+    p.taken(1e-4, 1.0);
+    EXPECT_TRUE(p.chord());
+    EXPECT_TRUE(p.contracts(1.2e-5));
+    EXPECT_FALSE(p.contracts(1.3e-5));       // 0.13 of the last
+    EXPECT_TRUE(p.linearisable(1e-12, 1.0)); // ρ = 1e-8 once a rate is known: 1e-20
+    o.chord_start = 0.0;                     // chord updates off: nothing is kept
+    chord_policy never(o);
+    never.keep_stale(1.0);
+    EXPECT_FALSE(never.chord());
+}
+
 TEST(ChordPolicy, LinearisesTheMomentumWithTheRateOfTheJacobianUsed) {
     newton_options o;
     o.typical = 1.0;

@@ -23,21 +23,24 @@
 // gaps and slips are linearised as (φ, d) ≈ (φ, d)(λ_k) + G S Jᵀ (λ − λ_k), the linear conic
 // complementarity problem is solved by the interior-point method (cone_solver.hpp), the step is
 // taken again with the new impulses, until the gaps and slips at its end agree with their
-// linearisation to `tolerance` [m]. The contacts solved for are the pairs whose gap is below
-// the free step's largest point motion and the last step's; a pair found below zero at the end
-// joins them. Warm start, where the last step had pressing contacts: no free step; the step
-// with the last step's contacts and impulses is taken first (from the scheme's predictor), S
-// from the matrix its Newton iteration factorised (where the inner stepper keeps it: no second
-// derivatives; taken at the step instead where a linearisation misses its prediction), and the
-// free step's end estimated from them to first order, q_{j+1} − S Jᵀλ, chooses
-// the contacts and places the onsets (a robot standing converges in two linearisations);
-// should that fail, or no gap at the estimate be negative, the free step and the cold start
-// from λ = 0 follow. Where the inner stepper offers it (the free base's
-// constrained stepper, start_next_near), each step taken with impulses starts from the last one
-// taken from q_j, moved to first order for the change of kick Jᵀλ by the saddle-point matrix
-// last assembled from q_j, and iterates by chord updates on its LU: no predictor and no second
-// derivatives where the start is as close as a retake's (a take that fails from there is taken
-// again from the predictor).
+// linearisation to `tolerance` [m] (the gaps to a tenth of it while S is the warm start's kept
+// one, with which the linearisations converge linearly). The contacts solved for are the pairs
+// whose gap is below the free step's largest point motion and the last step's; a pair found
+// below zero at the end joins them. Warm start, where the last step had pressing contacts: no
+// free step; the step with the last step's contacts and impulses is taken first (from the
+// scheme's predictor; where the inner stepper offers it, the free base's, by chord updates on the
+// saddle-point matrix last assembled, in this or an earlier step, Newton's where they do not
+// contract), S from the matrix that take ends with (no second derivatives; taken at the step
+// instead where a linearisation misses its prediction by more than the tolerance, misses the
+// gaps' tenth twice, or the interior point stalls), and the free step's end estimated from them
+// to first order, q_{j+1} − S Jᵀλ, chooses the contacts and places the onsets (a robot standing
+// converges in two linearisations); should that fail, or no gap at the estimate be negative, the
+// free step and the cold start from λ = 0 follow. Where the inner stepper offers it (the free
+// base's constrained stepper, start_next_near), each step taken with impulses starts from the
+// last one taken from q_j, moved to first order for the change of kick Jᵀλ by the saddle-point
+// matrix last assembled (from q_j, or the one the warm take kept), and iterates by chord updates
+// on its LU: no predictor and no second derivatives where the start is as close as a retake's (a
+// take that fails from there is taken again from the predictor).
 //
 // The contact's work over a step is the kick's change of the energy at q_j,
 // E(q_j, p_j + Jᵀλ) − E(q_j, p_j) (for L = ½ q̇ᵀM(q)q̇ − V(q), exactly q̇(q_j, p_j + Jᵀλ/2)·Jᵀλ:
@@ -79,10 +82,15 @@ struct contact_report {
 
 template <class Inner>
 class contact_stepper : public Inner {
-    // The history's layout after the inner stepper's: the warm start's pairs and impulses (4
-    // numbers a pair), their count, a tag, then the fixed part (contact_report, the work).
+    // The inner stepper iterates a warm step with the matrix it last assembled, kept across
+    // steps (the free base's constrained stepper): reuse_next(), save_kept(), restore_kept().
+    static constexpr bool reuses = requires(Inner & i) { i.reuse_next(); };
+    // The history's layout after the inner stepper's: where it reuses, its kept matrix and
+    // multipliers (save_kept(), none without warm pairs) and their count; the warm start's pairs
+    // and impulses (4 numbers a pair), their count, a tag, then the fixed part (contact_report,
+    // the work). Where it reuses, the tag before the kept matrix was 6.2e7 (older_tag).
     static constexpr int fixed_size = 8;
-    static constexpr double history_tag = 6.2e7;
+    static constexpr double older_tag = 6.2e7, history_tag = reuses ? 6.3e7 : older_tag;
 
   public:
     static constexpr int dim = Inner::dim;
@@ -132,9 +140,10 @@ class contact_stepper : public Inner {
         Inner::position_sensitivity(from, out);
     }
 
-    /// The inner stepper's history, then the last step's contacts and impulses (the warm
-    /// start), their count, a tag, the contact's work with its carry and the last step's report:
-    /// a resumed run takes the steps the straight one would have.
+    /// The inner stepper's history (and where it reuses its matrix across steps, that matrix
+    /// and its multipliers while contacts press, and their count), then the last step's contacts
+    /// and impulses (the warm start), their count, a tag, the contact's work with its carry and
+    /// the last step's report: a resumed run takes the steps the straight one would have.
     void save_history(std::vector<double>& out) const;
     /// Puts back what save_history gave (empty: starts afresh); throws std::invalid_argument
     /// for a history that save_history did not write for this robot and world.
@@ -229,5 +238,6 @@ class contact_stepper : public Inner {
 
 } // namespace varsym::contact
 
+#include "varsym/contact/stepper_finish.hpp"
 #include "varsym/contact/stepper_history.hpp"
 #include "varsym/contact/stepper_step.hpp"

@@ -152,20 +152,37 @@ class constrained_stepper : public stepper<L, F> {
     /// solve of the saddle-point system with d right-hand sides, without the projection (the
     /// contact step's linearisation).
     void position_sensitivity(const phase_state<dim>& from, Eigen::MatrixXd& out);
-    /// The same block from the saddle-point matrix K last assembled, at the last step's last
-    /// Newton iterate (its first, from the predictor with Λ = 0, where chord updates followed
-    /// at once), factorised if it is not yet: one solve, no second derivatives. An
-    /// approximation, off by K's change from that iterate to the converged one (the contact
-    /// step's warm start, which checks its linearisations against the steps it takes:
-    /// contact/stepper_step.hpp). Only after a converged step.
+    /// The same block from the saddle-point matrix K last assembled, factorised if it is not
+    /// yet: one solve, no second derivatives. K is the last step's last Newton iterate's (its
+    /// first, from the predictor with Λ = 0, where chord updates followed at once), or an
+    /// earlier step's after reuse_next(). An approximation, off by K's change from there to the
+    /// converged step (the contact step's warm start, which checks its linearisations against
+    /// the steps it takes: contact/stepper_step.hpp). Only after a converged step.
     void kept_position_sensitivity(Eigen::MatrixXd& out);
     /// The next step(), from the same q_j with the momentum changed by dp, starts from the last
     /// step's increments and multipliers moved to first order, Z − K⁻¹ (dp, 0), with the last
-    /// K assembled (at an iterate of that step, or by position_sensitivity or step_jacobian),
-    /// factorised if it is not yet, and iterates by chord updates on its LU until one fails to
-    /// contract (the contact step's retakes, contact/stepper_step.hpp). Once; call it only after
-    /// a converged step from that q_j.
+    /// K assembled (at an iterate of that step or an earlier one, or by position_sensitivity
+    /// or step_jacobian), factorised if it is not yet, and iterates by chord updates on its LU
+    /// until one fails to contract (the contact step's retakes, contact/stepper_step.hpp). Once;
+    /// call it only after a converged step from that q_j.
     void start_next_near(const vec<dim>& dp);
+    /// The next step() starts from the predictor with the last step's multipliers and iterates
+    /// by chord updates on the LU of the saddle-point matrix K last assembled, in an earlier
+    /// step (Jacobian reuse across steps): its first update where it is below chord_start of
+    /// q_j (or of the increments), then while they contract as chord updates must; else
+    /// Newton's from there, as in any step. Its momentum is evaluated at the converged
+    /// increments, not linearised, until second derivatives are evaluated again (by a Newton
+    /// iterate, position_sensitivity or step_jacobian): those kept are an earlier step's. Once;
+    /// ignored before K was ever assembled (or restored).
+    void reuse_next() { reuse_ = assembled_; }
+    /// What such a step depends on beyond (q_j, p_j), appended to out: K and the multipliers
+    /// Λ (the contact step's history, contact/stepper_history.hpp); kept_size() numbers.
+    void save_kept(std::vector<double>& out) const;
+    [[nodiscard]] std::size_t kept_size() const {
+        return static_cast<std::size_t>(k_.size() + lam_.size());
+    }
+    /// Puts back kept_size() numbers that save_kept gave.
+    void restore_kept(const double* in);
 
   private:
     static newton_options newton_only(newton_options opt) {
@@ -192,6 +209,12 @@ class constrained_stepper : public stepper<L, F> {
     Eigen::Matrix<double, count, Eigen::Dynamic> near_lam_;
     double near_move_ = 0.0;
     bool near_ = false;
+    bool reuse_ = false;
+    bool assembled_ = false; // k_ was assembled (or restored) since construction
+    // The second derivatives at the quadrature points are of this step's iterates (or of the
+    // last one's converged point, by position_sensitivity or step_jacobian): the momentum may be
+    // linearised with them. Not after reuse_next() until they are evaluated again.
+    bool second_current_ = false;
     bool factorised_ = false; // klu_ holds the LU of k_ as last assembled
     void factorise() {
         klu_.compute(k_);
@@ -204,12 +227,13 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
     const int s = this->s_, d = this->d_;
     auto& X = this->x_;
     const bool near = std::exchange(near_, false);
+    const bool reuse = std::exchange(reuse_, false) && !near;
     if (near) { // start_next_near's start (the predictor would evaluate second derivatives)
         X = near_x_;
         lam_ = near_lam_;
     } else {
         this->predict(x);
-        lam_.setZero();
+        if (!reuse) lam_.setZero();
     }
     evaluate_constraint(c_, x.q, g_[0], jc_[0]);
     newton_options opt = this->opt_;
@@ -221,10 +245,19 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
     // iterate keeps the saddle-point matrix and its LU and evaluates first derivatives alone.
     chord_policy chords(opt);
     if (near) chords.keep(near_move_, X.template lpNorm<Eigen::Infinity>());
+    if (reuse && opt.chord_start > 0.0) {
+        second_current_ = false;
+        if (!factorised_) factorise();
+        // Its first update below chord_start of q_j (or of the increments): a first-order
+        // move, which K's change since it was assembled leaves accurate to their product; the
+        // next update must then contract as chord updates do, or Newton's iteration takes over.
+        chords.keep_stale(std::max(opt.reference, opt.typical));
+    }
     bool linearised = false;
     while (true) {
         const bool chord = chords.chord();
         this->evaluate_points(x.q, !chord);
+        if (!chord) second_current_ = true;
         this->assemble(x.p, !chord);
         assemble_constrained(x, !chord);
         rep.residual = rk_.template lpNorm<Eigen::Infinity>();
@@ -266,7 +299,7 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
         if (monitor.converged(update, size, chord)) {
             // The momentum from this iterate, corrected to first order for the update, where
             // what that leaves is below ε (chord_policy::linearisable).
-            linearised = chords.linearisable(update, size);
+            linearised = second_current_ && chords.linearisable(update, size);
             if (linearised) this->delta_ = dk_.head(s * d);
             break;
         }
@@ -308,6 +341,7 @@ void constrained_stepper<L, C, F>::assemble_constrained(const phase_state<dim>& 
         k_.setZero();
         k_.topLeftCorner(sd, sd) = this->jac_;
         factorised_ = false;
+        assembled_ = true;
     }
     rk_.head(sd) = this->res_;
     for (int l = 1; l <= s; ++l) { // g(Q_l) = 0, rows sd + (l−1)m, columns of X_l

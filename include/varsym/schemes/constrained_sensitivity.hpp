@@ -25,6 +25,7 @@ void constrained_stepper<L, C, F>::step_jacobian(const phase_state<dim>& from,
     this->t_ = now;
     evaluate_constraint(c_, from.q, g_[0], jc_[0]);
     assemble_constrained(from, true); // K at the converged (X, Λ); G(Q_1 … Q_s)
+    second_current_ = true;
     Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, 2 * d);
     this->add_state_derivative(b);
     b.block(0, d, d, d).diagonal().array() += 1.0;
@@ -89,7 +90,6 @@ void constrained_stepper<L, C, F>::step_jacobian(const phase_state<dim>& from,
 template <lagrangian L, holonomic_constraint C, class F>
 void constrained_stepper<L, C, F>::position_sensitivity(const phase_state<dim>& from,
                                                         Eigen::MatrixXd& out) {
-    const int s = this->s_, d = this->d_, n = s * (d + m_);
     const double work = this->work_, now = this->t_;
     this->t_ = this->t_step_;
     this->evaluate_points(from.q, true);
@@ -98,10 +98,9 @@ void constrained_stepper<L, C, F>::position_sensitivity(const phase_state<dim>& 
     this->t_ = now;
     evaluate_constraint(c_, from.q, g_[0], jc_[0]);
     assemble_constrained(from, true);
-    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, d);
-    b.topRows(d).setIdentity();
+    second_current_ = true;
     factorise();
-    out = -klu_.solve(b).middleRows((s - 1) * d, d);
+    kept_position_sensitivity(out); // the solve with this K
 }
 
 template <lagrangian L, holonomic_constraint C, class F>
@@ -128,6 +127,21 @@ void constrained_stepper<L, C, F>::start_next_near(const vec<dim>& dp) {
         near_lam_.col(i) -= dk_.segment(sd + i * m_, m_);
     near_move_ = dk_.head(sd).template lpNorm<Eigen::Infinity>();
     near_ = dk_.allFinite();
+}
+
+template <lagrangian L, holonomic_constraint C, class F>
+void constrained_stepper<L, C, F>::save_kept(std::vector<double>& out) const {
+    out.insert(out.end(), k_.data(), k_.data() + k_.size());
+    out.insert(out.end(), lam_.data(), lam_.data() + lam_.size());
+}
+
+/// The LU is computed again from K: the same factors as the saved run's, which were K's.
+template <lagrangian L, holonomic_constraint C, class F>
+void constrained_stepper<L, C, F>::restore_kept(const double* in) {
+    std::copy(in, in + k_.size(), k_.data());
+    std::copy(in + k_.size(), in + k_.size() + lam_.size(), lam_.data());
+    factorised_ = false;
+    assembled_ = true;
 }
 
 } // namespace varsym::general

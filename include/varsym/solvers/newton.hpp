@@ -160,7 +160,7 @@ class chord_policy {
     /// Whether `update` is below the equations' noise.
     [[nodiscard]] bool at_noise(double update) const { return update <= noise_; }
     /// No more chord updates in this solve: this iterate and the next are Newton's.
-    void drop() { chord_ = enabled_ = false; }
+    void drop() { chord_ = enabled_ = stale_ = false; }
     /// The first iterate keeps a Jacobian taken before the solve, near a start moved from where
     /// it was taken by `last` (max-norm), the unknown then of max-norm `size`: as if that move had
     /// been an update (taken()).
@@ -168,10 +168,20 @@ class chord_policy {
         chord_ = enabled_ && last <= fraction_ * std::max(size, typical_);
         last_ = last;
     }
+    /// The first iterate keeps a Jacobian factorised before the solve at another point (an
+    /// earlier step's): its update is taken where it is below chord_start of `size` (the
+    /// caller's scale: of the unknown, or of what it is an increment of) or of the unknown's
+    /// typical size, else the caller drops the chord (Newton's from there); it is not
+    /// linearised (how far that Jacobian is off is not known); the next must contract.
+    void keep_stale(double size) {
+        chord_ = stale_ = enabled_;
+        last_ = fraction_ * std::max(size, typical_) / rate_limit_;
+    }
     /// After an update of max-norm `update` was taken and the unknown has max-norm `size`: the
     /// next iterate keeps this Jacobian once an update is below chord_start of the unknown.
     void taken(double update, double size) {
         chord_ = enabled_ && (chord_ || update <= fraction_ * std::max(size, typical_));
+        stale_ = false;
         last_ = update;
     }
     /// Where the solve stops after `update` (the unknown then of size `size`): whether the
@@ -179,6 +189,7 @@ class chord_policy {
     /// leaves being about ρ |δ| ≤ ε of the unknown, ρ the relative error of the second
     /// derivatives used: |δ|/|X| fresh, the chord's rate |δ_k|/|δ_{k−1}| kept.
     [[nodiscard]] bool linearisable(double update, double size) const {
+        if (stale_) return false; // a stale Jacobian's first update
         const double magnitude = std::max(size, typical_);
         const double rho = chord_ ? update / last_ : update / magnitude;
         return rho * update <= std::numeric_limits<double>::epsilon() * magnitude;
@@ -189,7 +200,8 @@ class chord_policy {
     bool enabled_;
     double fraction_;
     bool chord_ = false;
-    double last_ = 0.0; // the last update taken
+    bool stale_ = false; // keep_stale()'s Jacobian, before its first update is taken
+    double last_ = 0.0;  // the last update taken
 };
 
 /// The residual, Jacobian, update and LU factorisation of newton_solve's iterations: held by a
