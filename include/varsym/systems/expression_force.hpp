@@ -69,6 +69,14 @@ class expression_force {
             f(i) = value_.output(static_cast<std::size_t>(i));
         return f;
     }
+    /// The value alone (the value tape: the same operations as derivatives()' f).
+    void value(const vec<dynamic>& q, const vec<dynamic>& v, double t, vec<dynamic>& out) const {
+        vars_.load(q, v, t, input_);
+        value_.run(input_);
+        out.resize(dimension());
+        for (int i = 0; i < dimension(); ++i)
+            out(i) = value_.output(static_cast<std::size_t>(i));
+    }
     void derivatives(const vec<dynamic>& q, const vec<dynamic>& v, double t,
                      force_terms<dynamic>& r) const {
         const int d = dimension();

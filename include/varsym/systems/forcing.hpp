@@ -50,6 +50,15 @@ concept force_with_derivatives = generalized_force<F> &&
     f.derivatives(q, q, t, r);
 };
 
+/// A force that also gives its value alone, `value(q, v, t, out)` (out sized by the caller, no
+/// allocation once sized): the Newton iterates that keep their Jacobian (chord updates) then
+/// evaluate no Jacobian of the force. The value is derivatives()'s f (the same operations).
+template <class F>
+concept force_with_value = generalized_force<F> &&
+    requires(const F& f, const vec<F::dim>& q, double t, vec<F::dim>& out) {
+    f.value(q, q, t, out);
+};
+
 /// The default force of the general engine: none (the conservative scheme, unchanged).
 struct unforced {};
 
@@ -81,11 +90,19 @@ constexpr bool force_for() {
 
 /// Fills r with f(q, v, t) and, if `jacobian`, its Jacobians (by hand when the force gives them,
 /// else by forward-mode automatic differentiation in the 2D variables (q, v)). r's members are
-/// sized by the caller. A force with derivatives by hand always fills all three.
+/// sized by the caller. A force with derivatives by hand fills all three, unless `jacobian` is
+/// false and it gives its value alone (force_with_value): then r.f only, r.fq and r.fv as they
+/// were.
 template <generalized_force F>
 void evaluate_force(const F& f, const vec<F::dim>& q, const vec<F::dim>& v, double t,
                     force_terms<F::dim>& r, bool jacobian) {
     constexpr int D = F::dim;
+    if constexpr (force_with_value<F>) {
+        if (!jacobian) {
+            f.value(q, v, t, r.f);
+            return;
+        }
+    }
     if constexpr (force_with_derivatives<F>) {
         f.derivatives(q, v, t, r);
     } else if (!jacobian) {
@@ -129,9 +146,12 @@ struct rayleigh_damping {
     }
     [[nodiscard]] int dimension() const { return static_cast<int>(c.rows()); }
     vec<D> operator()(const vec<D>&, const vec<D>& v, double) const { return -(c * v); }
-    void derivatives(const vec<D>& q, const vec<D>& v, double, force_terms<D>& r) const {
-        r.f.noalias() = c * v; // then negated: −(C q̇) without a temporary for the product
-        r.f = -r.f;
+    void value(const vec<D>&, const vec<D>& v, double, vec<D>& out) const {
+        out.noalias() = c * v; // then negated: −(C q̇) without a temporary for the product
+        out = -out;
+    }
+    void derivatives(const vec<D>& q, const vec<D>& v, double t, force_terms<D>& r) const {
+        value(q, v, t, r.f);
         r.fq.setZero(q.size(), q.size());
         r.fv = -c;
     }
@@ -218,23 +238,17 @@ struct pd_controller {
         derivatives(q, v, t, r);
         return r.f;
     }
+    void value(const vec<D>& q, const vec<D>& v, double t, vec<D>& out) const {
+        scratch local; // unused at D = dynamic
+        fill(q, v, t, out, D == dynamic ? work() : local);
+    }
     void derivatives(const vec<D>& q, const vec<D>& v, double t, force_terms<D>& r) const {
         scratch local; // unused at D = dynamic
         scratch& w = D == dynamic ? work() : local;
-        w.ref.setZero(q.size());
-        w.rate.setZero(q.size());
-        if (reference) reference(t, w.ref, w.rate);
-        w.error = w.ref - q;
-        r.f.noalias() = kp * w.error;
-        w.error = w.rate - v;
-        r.f.noalias() += kd * w.error;
+        fill(q, v, t, r.f, w);
         r.fq = -kp;
         r.fv = -kd;
-        if (compensation) {
-            compensation(q, w.tau, w.dtau);
-            r.f += w.tau;
-            r.fq += w.dtau;
-        }
+        if (compensation) r.fq += w.dtau;
     }
 
   private:
@@ -247,6 +261,20 @@ struct pd_controller {
     static scratch& work() {
         thread_local scratch w;
         return w;
+    }
+    /// f into out; the compensation's Jacobian into w.dtau.
+    void fill(const vec<D>& q, const vec<D>& v, double t, vec<D>& out, scratch& w) const {
+        w.ref.setZero(q.size());
+        w.rate.setZero(q.size());
+        if (reference) reference(t, w.ref, w.rate);
+        w.error = w.ref - q;
+        out.noalias() = kp * w.error;
+        w.error = w.rate - v;
+        out.noalias() += kd * w.error;
+        if (compensation) {
+            compensation(q, w.tau, w.dtau);
+            out += w.tau;
+        }
     }
 };
 
@@ -300,6 +328,21 @@ struct force_sum {
         vec<dim> f = vec<dim>::Zero(q.size());
         std::apply([&](const auto&... p) { ((f += vec<dim>(p(q, v, t))), ...); }, parts);
         return f;
+    }
+    /// The sum alone: each part's value alone where it gives it (evaluate_force), else its
+    /// derivatives' f, summed in the order derivatives() sums them.
+    void value(const vec<dim>& q, const vec<dim>& v, double t, vec<dim>& out) const {
+        force_terms<dim> local;
+        force_terms<dim>& part = dim == dynamic ? work() : local;
+        part.f.resize(q.size());
+        part.fq.resize(q.size(), q.size());
+        part.fv.resize(q.size(), q.size());
+        out.setZero(q.size());
+        std::apply(
+            [&](const auto&... p) {
+                ((evaluate_force(p, q, v, t, part, false), out += part.f), ...);
+            },
+            parts);
     }
     void derivatives(const vec<dim>& q, const vec<dim>& v, double t, force_terms<dim>& r) const {
         // One part's terms: at a run-time dim kept per thread (no allocation once sized).
