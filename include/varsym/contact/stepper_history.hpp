@@ -42,12 +42,17 @@ void contact_stepper<Inner>::restore_history(const phase_state<dim>& x,
         return;
     }
     const std::size_t tail = fixed_size + 2; // count, tag, the fixed part
+    // Whole literals: GCC 12 -O1 sees a false -Warray-bounds in a string built of a conditional.
     const auto bad = [] {
-        return std::invalid_argument(
-            std::string("the saved history is not a contact step's (its layout: the stepper's, ") +
-            (reuses ? "its kept matrix and its count, " : "") +
-            "4 numbers a contact, their count, a tag, 8 numbers): was it saved by a run with "
-            "contact?");
+        if constexpr (reuses)
+            return std::invalid_argument(
+                "the saved history is not a contact step's (its layout: the stepper's, its kept "
+                "matrix and its count, 4 numbers a contact, their count, a tag, 8 numbers): was it "
+                "saved by a run with contact?");
+        else
+            return std::invalid_argument(
+                "the saved history is not a contact step's (its layout: the stepper's, 4 numbers "
+                "a contact, their count, a tag, 8 numbers): was it saved by a run with contact?");
     };
     if (reuses && in.size() >= tail && in[in.size() - fixed_size - 1] == older_tag)
         throw std::invalid_argument("the saved history is in an older layout (before the contact "
