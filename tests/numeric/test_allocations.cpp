@@ -214,13 +214,16 @@ TEST(Allocations, ArmDerivativesWithoutAllocating) {
     const vec<dynamic> v = vec<dynamic>::LinSpaced(6, 0.3, -0.2);
     lagrangian_terms<dynamic> t;
     force_terms<dynamic> r;
+    vec<dynamic> alone(6);
     l.derivatives(q, v, t); // sizes t, r and the scratch
     f.derivatives(q, v, 0.5, r);
+    f.value(q, v, 0.5, alone); // and the value's (the compensation's gradient)
     Eigen::internal::set_is_malloc_allowed(false);
     try {
         l.derivatives(q, v, t);
         l.gradient(q, v, t);
         f.derivatives(q, v, 0.7, r);
+        f.value(q, v, 0.7, alone);
     } catch (...) {
         Eigen::internal::set_is_malloc_allowed(true);
         throw;

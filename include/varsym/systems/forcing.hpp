@@ -51,8 +51,11 @@ concept force_with_derivatives = generalized_force<F> &&
 };
 
 /// A force that also gives its value alone, `value(q, v, t, out)` (out sized by the caller, no
-/// allocation once sized): the Newton iterates that keep their Jacobian (chord updates) then
-/// evaluate no Jacobian of the force. The value is derivatives()'s f (the same operations).
+/// allocation once sized): the Newton iterates that keep their Jacobian (chord updates), the
+/// predictor and the momentum then evaluate no Jacobian of the force. The value is
+/// derivatives()'s f: the same operations in the built-in forces, except a compensation's
+/// ∂L/∂q, which takes L's path for first derivatives (the same operations as its second ones
+/// for the robots, the arm and automatic derivatives up to dimension 8; round-off apart above).
 template <class F>
 concept force_with_value = generalized_force<F> &&
     requires(const F& f, const vec<F::dim>& q, double t, vec<F::dim>& out) {
@@ -214,38 +217,46 @@ struct pd_controller {
     mat<D> kp, kd;
     /// The reference: fills r(t) and ṙ(t).
     std::function<void(double, vec<D>&, vec<D>&)> reference;
-    /// Gravity compensation: fills τ_g(q) and ∂τ_g/∂q (empty: none).
-    std::function<void(const vec<D>&, vec<D>&, mat<D>&)> compensation;
+    /// Gravity compensation: fills τ_g(q), and ∂τ_g/∂q where the matrix is given (null: the
+    /// value alone). Empty: none.
+    std::function<void(const vec<D>&, vec<D>&, mat<D>*)> compensation;
 
     [[nodiscard]] int dimension() const { return static_cast<int>(kp.rows()); }
 
     /// Adds the compensation −∂L/∂q(q, 0) of the Lagrangian l (by hand or automatic derivatives).
+    /// The value alone takes ∂L/∂q by evaluate_gradient: L's gradient() where it gives one (a
+    /// robot's O(n) pass instead of its O(n²) second derivatives), first-order automatic
+    /// derivatives where L gives none, and L's derivatives() where it gives only those.
     template <lagrangian L>
     pd_controller& compensate(L l) {
-        compensation = [l = std::move(l)](const vec<D>& q, vec<D>& tau, mat<D>& dtau) {
+        compensation = [l = std::move(l)](const vec<D>& q, vec<D>& tau, mat<D>* dtau) {
             thread_local lagrangian_terms<D> t; // kept: no allocation once sized
             thread_local vec<D> rest;
             rest.setZero(q.size());
-            evaluate(l, q, rest, t);
+            if (dtau) {
+                evaluate(l, q, rest, t);
+                *dtau = -t.lqq;
+            } else {
+                evaluate_gradient(l, q, rest, t);
+            }
             tau = -t.lq;
-            dtau = -t.lqq;
         };
         return *this;
     }
 
     vec<D> operator()(const vec<D>& q, const vec<D>& v, double t) const {
-        force_terms<D> r;
-        derivatives(q, v, t, r);
-        return r.f;
+        vec<D> f;
+        value(q, v, t, f);
+        return f;
     }
     void value(const vec<D>& q, const vec<D>& v, double t, vec<D>& out) const {
         scratch local; // unused at D = dynamic
-        fill(q, v, t, out, D == dynamic ? work() : local);
+        fill(q, v, t, out, D == dynamic ? work() : local, false);
     }
     void derivatives(const vec<D>& q, const vec<D>& v, double t, force_terms<D>& r) const {
         scratch local; // unused at D = dynamic
         scratch& w = D == dynamic ? work() : local;
-        fill(q, v, t, r.f, w);
+        fill(q, v, t, r.f, w, true);
         r.fq = -kp;
         r.fv = -kd;
         if (compensation) r.fq += w.dtau;
@@ -262,8 +273,9 @@ struct pd_controller {
         thread_local scratch w;
         return w;
     }
-    /// f into out; the compensation's Jacobian into w.dtau.
-    void fill(const vec<D>& q, const vec<D>& v, double t, vec<D>& out, scratch& w) const {
+    /// f into out; the compensation's Jacobian into w.dtau where `jacobian`.
+    void fill(const vec<D>& q, const vec<D>& v, double t, vec<D>& out, scratch& w,
+              bool jacobian) const {
         w.ref.setZero(q.size());
         w.rate.setZero(q.size());
         if (reference) reference(t, w.ref, w.rate);
@@ -272,7 +284,7 @@ struct pd_controller {
         w.error = w.rate - v;
         out.noalias() += kd * w.error;
         if (compensation) {
-            compensation(q, w.tau, w.dtau);
+            compensation(q, w.tau, jacobian ? &w.dtau : nullptr);
             out += w.tau;
         }
     }
@@ -333,10 +345,7 @@ struct force_sum {
     /// derivatives' f, summed in the order derivatives() sums them.
     void value(const vec<dim>& q, const vec<dim>& v, double t, vec<dim>& out) const {
         force_terms<dim> local;
-        force_terms<dim>& part = dim == dynamic ? work() : local;
-        part.f.resize(q.size());
-        part.fq.resize(q.size(), q.size());
-        part.fv.resize(q.size(), q.size());
+        force_terms<dim>& part = sized_part(local, q.size());
         out.setZero(q.size());
         std::apply(
             [&](const auto&... p) {
@@ -345,12 +354,8 @@ struct force_sum {
             parts);
     }
     void derivatives(const vec<dim>& q, const vec<dim>& v, double t, force_terms<dim>& r) const {
-        // One part's terms: at a run-time dim kept per thread (no allocation once sized).
         force_terms<dim> local;
-        force_terms<dim>& part = dim == dynamic ? work() : local;
-        part.f.resize(q.size());
-        part.fq.resize(q.size(), q.size());
-        part.fv.resize(q.size(), q.size());
+        force_terms<dim>& part = sized_part(local, q.size());
         r.f.setZero(q.size());
         r.fq.setZero(q.size(), q.size());
         r.fv.setZero(q.size(), q.size());
@@ -364,9 +369,18 @@ struct force_sum {
     }
 
   private:
-    static force_terms<dim>& work() {
-        thread_local force_terms<dim> w;
-        return w;
+    /// One part's terms, sized n: at a run-time dim kept per thread (no allocation once sized),
+    /// else `local`.
+    static force_terms<dim>& sized_part(force_terms<dim>& local, Eigen::Index n) {
+        force_terms<dim>* part = &local;
+        if constexpr (dim == dynamic) {
+            thread_local force_terms<dim> kept;
+            part = &kept;
+        }
+        part->f.resize(n);
+        part->fq.resize(n, n);
+        part->fv.resize(n, n);
+        return *part;
     }
 };
 
