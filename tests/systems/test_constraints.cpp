@@ -1,6 +1,6 @@
 // Tests for systems/constraints.hpp's hidden-constraint projection, tangent_momentum: with the
 // mass matrix by hand (lagrangian_with_mass_matrix) it solves the saddle-point system by M's
-// Cholesky factors and the Schur complement; without it, by Newton on the full saddle-point
+// factors (LDLᵀ) and the Schur complement; without it, by Newton on the full saddle-point
 // matrix (a full-pivoting LU), a second implementation of the same equations.
 #include <gtest/gtest.h>
 
@@ -127,5 +127,7 @@ TEST(Constraints, TheTangentMomentumRefusesDependentConstraints) {
     case_data c = make(false);
     c.g.row(1) = 2.0 * c.g.row(0); // dependent rows: S = G M⁻¹Gᵀ is singular
     vec<dynamic> v = vec<dynamic>::Zero(7);
+    with_mass::calls = 0;
     EXPECT_THROW((void)tangent_momentum(c.l, c.q, c.p, c.g, v), std::domain_error);
+    EXPECT_EQ(with_mass::calls, 2); // S refused, then the full matrix's LU
 }

@@ -1,7 +1,8 @@
 // varsym/solvers/small_ldlt.hpp: the factorisation A = L D Lᵀ (L unit lower triangular, D
 // diagonal; Cholesky without square roots) of a symmetric positive definite matrix of run-time
 // size: a robot's mass matrix M(q) in the general engine's predictor (q̇ = M⁻¹p and
-// q̈ = M⁻¹(f − b), two solves with one factorisation each step).
+// q̈ = M⁻¹(f − b), two solves with one factorisation each step) and in the momentum's projection
+// onto the constraints (systems/constraints.hpp).
 //
 // Eigen's LDLT at run-time size pivots on the diagonal, divides by D in every solve and goes
 // through its generic triangular kernels; at a robot's 6–12 joints its cost is the latency of
