@@ -136,3 +136,32 @@ TEST(ContactGeometry, TheGroundsSlopeTiltsItsNormal) {
 }
 
 } // namespace
+
+// at() skips the kinematics where q equals the last at()'s bit for bit: a vector changed in place
+// (the same object, the same address) must move the bodies, and a return to an earlier q must
+// give that q's poses. Against a fresh object at each q.
+TEST(ContactGeometry, TheKinematicsFollowsAVectorChangedInPlace) {
+    const auto t = std::make_shared<const varsym::multibody::tree>(
+        arm_on_a_box().with_base(varsym::multibody::base_kind::free));
+    robot_kinematics kin(t);
+    Eigen::VectorXd q(8);
+    q << 0.3, -0.2, 0.5, 0.9, 0.2, -0.3, 0.4, 0.7;
+    const auto where = [&t](const Eigen::VectorXd& at) {
+        robot_kinematics fresh(t);
+        fresh.at(at);
+        return fresh.pose(0).point(vec3(0.0, 0.02, 0.3));
+    };
+    const vec3 first = where(q);
+    kin.at(q);
+    EXPECT_EQ(kin.pose(0).point(vec3(0.0, 0.02, 0.3)), first);
+    for (const int j : {0, 4, 7}) { // the base's position, its quaternion, the joint
+        q(j) += 0.25;
+        kin.at(q);
+        const vec3 moved = kin.pose(0).point(vec3(0.0, 0.02, 0.3));
+        EXPECT_EQ(moved, where(q)) << "coordinate " << j;
+        EXPECT_GT((moved - first).norm(), 1e-3) << "coordinate " << j;
+    }
+    q << 0.3, -0.2, 0.5, 0.9, 0.2, -0.3, 0.4, 0.7;
+    kin.at(q);
+    EXPECT_EQ(kin.pose(0).point(vec3(0.0, 0.02, 0.3)), first);
+}

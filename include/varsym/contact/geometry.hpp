@@ -170,9 +170,12 @@ class robot_kinematics {
         return t_->dof() + (t_->base == multibody::base_kind::free ? 1 : 0);
     }
 
-    /// Kinematics at the model's coordinates q.
+    /// Kinematics at the model's coordinates q; nothing to do where the last at() was at the
+    /// same q, bit for bit (the contact step returns to its iterates' and onsets' positions).
     template <class = void>
     void at(const Eigen::VectorXd& q) {
+        if (q_.size() == q.size() && (q_.array() == q.array()).all()) return;
+        q_ = q;
         if (t_->base != multibody::base_kind::free) {
             w_.chart.setIdentity();
             multibody::kinematics(*t_, w_, q);
@@ -229,7 +232,7 @@ class robot_kinematics {
   private:
     std::shared_ptr<const multibody::tree> t_;
     multibody::workspace w_;
-    Eigen::VectorXd c_;
+    Eigen::VectorXd c_, q_; // q_: the last at()'s
     vec3 x_ = vec3::Zero();
     Eigen::Matrix<double, 3, 4> a_ = Eigen::Matrix<double, 3, 4>::Zero();
 };
