@@ -54,6 +54,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -61,6 +62,7 @@
 #include "varsym/contact/geometry.hpp"
 #include "varsym/solvers/compensated.hpp"
 #include "varsym/solvers/newton.hpp"
+#include "varsym/solvers/small_ldlt.hpp"
 #include "varsym/systems/lagrangian_concepts.hpp"
 
 namespace varsym::contact {
@@ -231,6 +233,10 @@ class contact_stepper : public Inner {
     bool near_ready_ = false;           // that step converged: the next take may start near it
     bool s_kept_ = false;               // s_ from a kept factorisation (sensitivity())
     robot_kinematics onset_kin_;
+    // kick_work()'s M(q_j), its factors and vectors.
+    mat<dim> work_mass_;
+    std::conditional_t<dim == dynamic, small_ldlt, Eigen::LDLT<mat<dim>>> work_factor_;
+    vec<dim> work_v_, work_r_, work_dv_;
     compensated_update<dim> saved_sum_;
     Eigen::MatrixXd jac_, g_, s_;
     Eigen::Matrix<double, 3, Eigen::Dynamic> dp_;

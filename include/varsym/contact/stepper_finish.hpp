@@ -12,14 +12,24 @@ namespace varsym::contact {
 
 /// E(q_j, p_j + Jᵀλ) − E(q_j, p_j). For L = ½ q̇ᵀM(q)q̇ − V(q) (lagrangian_with_mass_matrix), E =
 /// ½ pᵀM⁻¹p + V and the change is exactly q̇(q_j, p_j + Jᵀλ/2)·Jᵀλ: one velocity, no energy
-/// differenced (nor its round-off, ε E).
-/// kick_ is Jᵀλ: every converged iteration ends on a take with the step's J and λ.
+/// differenced (nor its round-off, ε E), by M(q_j)'s LDLᵀ (small_ldlt at a run-time size) and
+/// one step of iterative refinement; by velocity() where M is not positive definite (which then
+/// says why). kick_ is Jᵀλ: every converged iteration ends on a take with the step's J and λ.
 template <class Inner>
 double contact_stepper<Inner>::kick_work() {
     const auto& sys = this->system();
     phase_state<dim> kicked = from_;
     if constexpr (lagrangian_with_mass_matrix<typename Inner::system_type::lagrangian_type>) {
         kicked.p.noalias() += 0.5 * kick_;
+        sys.lagrangian().mass_matrix(kicked.q, work_mass_);
+        if (work_mass_.allFinite() &&
+            solve_positive_definite<dim>(work_factor_, work_mass_, kicked.p, work_v_)) {
+            work_r_ = kicked.p;
+            work_r_.noalias() -= work_mass_ * work_v_;
+            solve_symmetric_again<dim>(work_factor_, work_mass_, work_r_, work_dv_);
+            work_v_ += work_dv_;
+            return work_v_.dot(kick_);
+        }
         return sys.velocity(kicked.q, kicked.p, this->t_step_).dot(kick_);
     } else {
         kicked.p += kick_;
