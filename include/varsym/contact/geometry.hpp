@@ -170,8 +170,8 @@ class robot_kinematics {
         return t_->dof() + (t_->base == multibody::base_kind::free ? 1 : 0);
     }
 
-    /// Kinematics at the model's coordinates q; nothing to do where the last at() was at the
-    /// same q, bit for bit (the contact step returns to its iterates' and onsets' positions).
+    /// Kinematics at the model's coordinates q; nothing to do where the last at() was at a q equal
+    /// entry for entry (==; the contact step returns to its iterates' and onsets' positions).
     template <class = void>
     void at(const Eigen::VectorXd& q) {
         if (q_.size() == q.size() && (q_.array() == q.array()).all()) return;

@@ -21,6 +21,7 @@ double contact_stepper<Inner>::kick_work() {
     phase_state<dim> kicked = from_;
     if constexpr (lagrangian_with_mass_matrix<typename Inner::system_type::lagrangian_type>) {
         kicked.p.noalias() += 0.5 * kick_;
+        work_mass_.resize(kicked.q.size(), kicked.q.size());
         sys.lagrangian().mass_matrix(kicked.q, work_mass_);
         if (work_mass_.allFinite() &&
             solve_positive_definite<dim>(work_factor_, work_mass_, kicked.p, work_v_)) {
