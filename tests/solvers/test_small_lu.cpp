@@ -125,3 +125,56 @@ TEST(SmallLu, RefactorsAtAnotherSize) {
             << "n = " << n;
     }
 }
+
+// negated_inverse_rows (a step's sensitivity ∂q_{j+1}/∂p_j) skips the forward substitution's
+// leading zeros and the back substitution's rows above `first`: its rows are the full solve's
+// of [I_k; 0], negated, bit for bit, below the limit (above it, Eigen's solve of the same), for
+// row ranges at the top, in the middle (the constrained step's X_s, with multipliers below) and
+// at the bottom. The same where a factor is not finite (a singular matrix, or a NaN in the
+// matrix: the full solve's NaN and infinities).
+TEST(SmallLu, InverseRowsAreTheFullSolvesRows) {
+    std::mt19937 g(11);
+    constexpr Eigen::Index limit = varsym::small_lu::unblocked_limit;
+    varsym::small_lu lu;
+    const auto expect_rows = [&lu](Eigen::Index k, Eigen::Index first, Eigen::Index count,
+                                   const char* what) {
+        const Eigen::Index n = lu.rows();
+        Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, k);
+        b.topRows(k).setIdentity();
+        const Eigen::MatrixXd full = -lu.solve(b).middleRows(first, count);
+        Eigen::MatrixXd rows;
+        lu.negated_inverse_rows(k, first, count, rows);
+        ASSERT_EQ(rows.rows(), count);
+        ASSERT_EQ(rows.cols(), k);
+        for (Eigen::Index j = 0; j < k; ++j)
+            for (Eigen::Index i = 0; i < count; ++i) {
+                const double e = full(i, j), r = rows(i, j);
+                EXPECT_TRUE(e == r || (std::isnan(e) && std::isnan(r)))
+                    << what << ", n = " << n << ", (" << i << ", " << j << "): " << r << " for "
+                    << e;
+            }
+    };
+    for (const Eigen::Index d : {Eigen::Index{1}, Eigen::Index{7}, Eigen::Index{19}}) {
+        const Eigen::Index n = 2 * d + 2; // the constrained gauss-2 step: 2 d + 2 m, m = 1
+        if (n > limit) continue;
+        lu.compute(random_matrix(n, g));
+        expect_rows(d, d, d, "X_s with multipliers below");
+        expect_rows(d, 0, d, "the top rows");
+        expect_rows(d, n - d, d, "the bottom rows");
+        lu.compute(random_matrix(2 * d, g)); // the unconstrained step: X_s the bottom rows
+        expect_rows(d, d, d, "the unconstrained X_s");
+    }
+    lu.compute(random_matrix(limit + 4, g)); // Eigen's factors
+    expect_rows(10, 20, 10, "above the limit");
+    Eigen::MatrixXd singular = random_matrix(12, g);
+    singular.col(3).setZero(); // an exact zero pivot: 1/0 among the reciprocal pivots
+    lu.compute(singular);
+    expect_rows(5, 1, 5, "a singular matrix");
+    Eigen::MatrixXd rows; // rows 1 to 5: row 3's unknown is multiplied by 1/0
+    lu.negated_inverse_rows(5, 1, 5, rows);
+    EXPECT_FALSE(rows.allFinite()); // the negative control of the comparison's NaN branch
+    Eigen::MatrixXd nan = random_matrix(12, g);
+    nan(7, 2) = std::numeric_limits<double>::quiet_NaN(); // a NaN among L's factors
+    lu.compute(nan);
+    expect_rows(5, 5, 5, "a NaN in the matrix");
+}

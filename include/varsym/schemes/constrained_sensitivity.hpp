@@ -105,11 +105,9 @@ void constrained_stepper<L, C, F>::position_sensitivity(const phase_state<dim>& 
 
 template <lagrangian L, holonomic_constraint C, class F>
 void constrained_stepper<L, C, F>::kept_position_sensitivity(Eigen::MatrixXd& out) {
-    const int s = this->s_, d = this->d_, n = s * (d + m_);
+    const int s = this->s_, d = this->d_;
     if (!factorised_) factorise(); // a step that stopped at round-off on a fresh K
-    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, d);
-    b.topRows(d).setIdentity();
-    out = -klu_.solve(b).middleRows((s - 1) * d, d);
+    klu_.negated_inverse_rows(d, (s - 1) * d, d, out); // −K⁻¹ (I; 0)'s rows of X_s
 }
 
 template <lagrangian L, holonomic_constraint C, class F>

@@ -48,10 +48,8 @@ void stepper<L, F>::position_sensitivity(const phase_state<dim>& from, Eigen::Ma
     assemble(from.p, true);
     work_ = work;
     t_ = now;
-    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(sd, d);
-    b.topRows(d).setIdentity(); // ∂R_0/∂p_j
     lu_.compute(jac_);
-    out = -lu_.solve(b).bottomRows(d);
+    lu_.negated_inverse_rows(d, sd - d, d, out); // ∂R_0/∂p_j = (I; 0), X_s's rows
 }
 
 /// ∂(q_{j+1}, p_{j+1})/∂u_j: ∂R_i/∂u = h Σ_k w_k φ_ik B_k (B_k = ∂f/∂u at point k), dX = −J⁻¹

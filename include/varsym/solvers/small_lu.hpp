@@ -112,6 +112,57 @@ class small_lu {
         return x;
     }
 
+    /// out = −(rows first … first + count − 1 of a⁻¹ [I_k; 0]): k columns of the inverse, of
+    /// which only those rows; a step's sensitivity ∂q_{j+1}/∂p_j, k = d. Bit for bit what
+    /// solve() of [I_k; 0] gives in those rows: each column's forward substitution starts at its
+    /// one after the permutation (the entries before it are zero, and so unchanged by the
+    /// updates they would make), and the back substitution stops at row `first` (rows above it
+    /// are not needed, and those below do not depend on them), up to (n − first)²/2 of its
+    /// n²/2 multiply–adds. By solve() where the factors are not finite (a NaN reaches every
+    /// entry there) or above unblocked_limit.
+    void negated_inverse_rows(Eigen::Index k, Eigen::Index first, Eigen::Index count,
+                              Eigen::MatrixXd& out) {
+        assert(k <= n_ && first + count <= n_ && "small_lu: rows outside the matrix");
+        bool finite = n_ <= unblocked_limit && lu_.allFinite();
+        for (const double u : u_inverse_)
+            finite = finite && std::isfinite(u);
+        if (!finite) {
+            Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n_, k);
+            b.topRows(k).setIdentity();
+            out = -solve(b).middleRows(first, count);
+            return;
+        }
+        const Eigen::Index n = n_;
+        const double* m = lu_.data();
+        column_.resize(n);
+        double* x = column_.data();
+        out.resize(count, k);
+        for (Eigen::Index c = 0; c < k; ++c) {
+            column_.setZero();
+            x[c] = 1.0;
+            for (Eigen::Index j = 0; j < n; ++j) {
+                const Eigen::Index p = pivots_[static_cast<std::size_t>(j)];
+                if (p != j) std::swap(x[j], x[p]);
+            }
+            Eigen::Index start = 0;
+            while (x[start] == 0.0)
+                ++start;
+            for (Eigen::Index j = start; j < n; ++j) {
+                const double xj = x[j];
+                const double* cj = m + j * n;
+                for (Eigen::Index i = j + 1; i < n; ++i)
+                    x[i] -= cj[i] * xj;
+            }
+            for (Eigen::Index j = n - 1; j >= first; --j) {
+                const double* cj = m + j * n;
+                const double xj = x[j] *= u_inverse_[static_cast<std::size_t>(j)];
+                for (Eigen::Index i = first; i < j; ++i)
+                    x[i] -= cj[i] * xj;
+            }
+            out.col(c) = -column_.segment(first, count);
+        }
+    }
+
     [[nodiscard]] Eigen::Index rows() const { return n_; }
 
   private:
@@ -139,6 +190,7 @@ class small_lu {
 
     Eigen::Index n_ = 0;
     Eigen::MatrixXd lu_;
+    Eigen::VectorXd column_; // negated_inverse_rows' scratch
     std::vector<Eigen::Index> pivots_;
     std::vector<double> u_inverse_; // 1/u_kk
     Eigen::PartialPivLU<Eigen::MatrixXd> eigen_;
