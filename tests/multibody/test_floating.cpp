@@ -172,6 +172,12 @@ TEST(FloatingBase, DerivativesEqualAutomaticDifferentiationOfASecondImplementati
         mat<dynamic> mass;
         l.mass_matrix(q, mass);
         EXPECT_LT(gap(mass, expected.lvv), chain_tolerance) << "mass_matrix at state " << k;
+        // b = (∂²L/∂q̇∂q) q̇ − ∂L/∂q by a Newton–Euler pass after it (floating_dynamics.hpp,
+        // Q7): the chart's curvature and the radial term's κ|u̇|²u (u·u̇ ≠ 0 here) included.
+        vec<dynamic> bias;
+        l.bias_forces_after_mass_matrix(q, v, bias);
+        const vec<10> want = expected.lqv.transpose() * v - expected.lq;
+        EXPECT_LT(gap(bias, want), chain_tolerance) << "bias forces at state " << k;
     }
     // Negative control: the reference with the root's inertia changed by 1 % differs.
     multibody::tree changed = fixed;
@@ -189,6 +195,10 @@ TEST(FloatingBase, DerivativesEqualAutomaticDifferentiationOfASecondImplementati
     mat<dynamic> mass;
     l.mass_matrix(q, mass);
     EXPECT_GT(gap(mass, expected.lvv), 100 * chain_tolerance);
+    vec<dynamic> bias;
+    l.bias_forces_after_mass_matrix(q, v, bias);
+    EXPECT_GT(gap(bias, vec<10>(expected.lqv.transpose() * v - expected.lq)),
+              100 * chain_tolerance);
 }
 
 using free_stepper =

@@ -155,27 +155,19 @@ class free_robot {
         t.value = value + tail(q, v);
     }
 
-    /// M(q) = ∂²L/∂q̇² (L is quadratic in q̇ without a linear term, p = M(q)q̇): the tree's mass
-    /// matrix in the chart by the composite-rigid-body algorithm (O(n²), no second derivatives),
-    /// through ċ's Jacobian (identity on x and θ, W(u) = ∂ω/∂u̇ on u (Q1)), plus κ u uᵀ (Q2).
-    /// The general engine's predictor and lagrangian_system::velocity solve with it.
+    /// M(q) = ∂²L/∂q̇² (L is quadratic in q̇ without a linear term, p = M(q)q̇), by the
+    /// composite-rigid-body algorithm (floating_dynamics.hpp). The general engine's predictors
+    /// and lagrangian_system::velocity solve with it.
     template <class = void>
-    void mass_matrix(const vec<dynamic>& q, mat<dynamic>& out) const {
-        scratch& s = work();
-        const int n = m_->dof();
-        thread_local vec<dynamic> rest;
-        rest.setZero(n + 1);
-        chart(q, rest, s);
-        s.t.lvv.resize(n, n);
-        multibody::mass_matrix(*m_, s.w, s.c, s.t.lvv);
-        const Eigen::Vector4d u = q.segment<4>(3);
-        const Eigen::Matrix4d* sm = bilinear();
-        for (int i = 0; i < 3; ++i)
-            s.d.row(i) = (2.0 / u.squaredNorm()) * (sm[i].transpose() * u).transpose();
-        out.setZero(n + 1, n + 1);
-        expand(s.t.lvv, s.d, true, s.d, true, out);
-        out.block<4, 4>(3, 3) += kappa_ * u * u.transpose();
-    }
+    void mass_matrix(const vec<dynamic>& q, mat<dynamic>& out) const;
+
+    /// b(q, q̇) = (∂²L/∂q̇∂q) q̇ − ∂L/∂q, so that M(q) q̈ + b = f are the Euler–Lagrange
+    /// equations (floating_dynamics.hpp): a Newton–Euler pass, no second derivatives. Only right
+    /// after mass_matrix(q) at the same q on this thread, with no free_robot evaluated there in
+    /// between (their scratch is the thread's). The constrained stepper's predictor.
+    template <class = void>
+    void bias_forces_after_mass_matrix(const vec<dynamic>& q, const vec<dynamic>& v,
+                                       vec<dynamic>& out) const;
 
     /// The motion at (q, q̇): base pose and velocity, momenta, centre of mass.
     template <class = void>
@@ -410,3 +402,5 @@ class free_robot {
 };
 
 } // namespace varsym::multibody
+
+#include "varsym/multibody/floating_dynamics.hpp"

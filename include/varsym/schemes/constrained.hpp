@@ -184,6 +184,17 @@ class constrained_stepper : public stepper<L, F> {
     /// Puts back kept_size() numbers that save_kept gave.
     void restore_kept(const double* in);
 
+  protected:
+    /// The step's start: for a free base (lagrangian_with_bias_after_mass_matrix) from M(q_j) and
+    /// the bias forces, no second derivatives (predict_dynamics); else the Taylor predictor's
+    /// (predict()). Both leave the constraint's force out (Λ = 0).
+    void predict_start(const phase_state<dim>& x) {
+        if constexpr (lagrangian_with_bias_after_mass_matrix<L>)
+            this->predict_dynamics(x);
+        else
+            this->predict(x);
+    }
+
   private:
     static newton_options newton_only(newton_options opt) {
         opt.iteration = iteration_kind::newton;
@@ -228,11 +239,11 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
     auto& X = this->x_;
     const bool near = std::exchange(near_, false);
     const bool reuse = std::exchange(reuse_, false) && !near;
-    if (near) { // start_next_near's start (the predictor would evaluate second derivatives)
+    if (near) { // start_next_near's start (the predictor would evaluate M, or more)
         X = near_x_;
         lam_ = near_lam_;
     } else {
-        this->predict(x);
+        predict_start(x);
         if (!reuse) lam_.setZero();
     }
     evaluate_constraint(c_, x.q, g_[0], jc_[0]);

@@ -23,8 +23,9 @@
 // once its updates are small it keeps that Jacobian for chord updates within the step
 // (newton_options::chord_start; variational_solve.hpp), and p_{j+1} comes from its last
 // iterate's derivatives, corrected to first order for the last update (no evaluation). For a
-// robot (lagrangian_with_bias_forces) its predictor takes M(q_j) and the bias forces in place of
-// second derivatives at q_j. The linear iterations (simplified, fixed_point;
+// robot (lagrangian_with_bias_forces; a free base's in the constrained stepper,
+// lagrangian_with_bias_after_mass_matrix) its predictor takes M(q_j) and the bias forces in place
+// of second derivatives at q_j. The linear iterations (simplified, fixed_point;
 // variational_solve.hpp) evaluate only first derivatives in their sweeps, against one Jacobian
 // kept across steps (with automatic derivatives O(2d) per operation of L, not O((2d)²):
 // docs/autodiff.md); the articulated one, against M alone, in O(d) (variational_articulated.hpp).

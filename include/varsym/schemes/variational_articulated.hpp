@@ -141,6 +141,8 @@ void stepper<L, F>::dynamics_rhs(const phase_state<dim>& x) {
     const auto& lag = sys_.lagrangian();
     if constexpr (requires { lag.bias_forces_after_mass_matrix(vk_, rhs_); })
         lag.bias_forces_after_mass_matrix(vk_, rhs_);
+    else if constexpr (lagrangian_with_bias_after_mass_matrix<L>) // a free base's
+        lag.bias_forces_after_mass_matrix(x.q, vk_, rhs_);
     else
         lag.bias_forces(x.q, vk_, rhs_);
     rhs_ = -rhs_;

@@ -301,7 +301,9 @@ void stepper<L, F>::predict(const phase_state<dim>& x) {
 /// without a force, or with one continuous in time (force_continuous_in_time: damping, a PD
 /// controller, expressions); a control held over each step jumps between steps, its jump over h is
 /// no jerk, and its steps keep the second-order start. The force is evaluated after the bias
-/// forces, whose pass keeps M's kinematics.
+/// forces, whose pass keeps M's kinematics. The constrained stepper takes it for a free base
+/// (lagrangian_with_bias_after_mass_matrix: its bias forces after M at q_j, no jerk history),
+/// the quaternion's constraint force left out as predict() leaves it (constrained.hpp).
 template <lagrangian L, class F>
 void stepper<L, F>::predict_dynamics(const phase_state<dim>& x) {
     lagrangian_terms<dim>& t = terms_[0];

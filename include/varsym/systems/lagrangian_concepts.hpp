@@ -140,6 +140,17 @@ concept lagrangian_with_bias_forces = lagrangian_with_mass_matrix<L> &&
     l.bias_forces(q, v, b);
 };
 
+/// A lagrangian_with_mass_matrix that gives the bias forces after its mass matrix, at the same q
+/// and on the same thread, in bias_forces_after_mass_matrix(q, v, b) (b as bias_forces' above):
+/// a free base's (multibody/floating_dynamics.hpp). The constrained stepper's predictor then
+/// needs no second derivatives at the step's start. It keeps no jerk history (that is
+/// lagrangian_with_bias_forces').
+template <class L>
+concept lagrangian_with_bias_after_mass_matrix = lagrangian_with_mass_matrix<L> &&
+    requires(const L& l, const vec<L::dim>& q, const vec<L::dim>& v, vec<L::dim>& b) {
+    l.bias_forces_after_mass_matrix(q, v, b);
+};
+
 /// A Lagrangian that solves with its mass matrix by hand (a robot: multibody/articulated.hpp, in
 /// O(n)): factor_mass(q), false where M(q) is not positive definite, then on the same thread
 /// solve_mass(x), x ← M(q)⁻¹x, and mass_diagonal(), M(q)'s diagonal. The general engine's
