@@ -118,8 +118,8 @@ class small_lu {
     /// one after the permutation (the entries before it are zero, and so unchanged by the
     /// updates they would make), and the back substitution stops at row `first` (rows above it
     /// are not needed, and those below do not depend on them), up to (n − first)²/2 of its
-    /// n²/2 multiply–adds. By solve() where the factors are not finite (a NaN reaches every
-    /// entry there) or above unblocked_limit.
+    /// n²/2 multiply–adds. By solve() where a factor or a reciprocal pivot is not finite (a
+    /// skipped update could then be 0 · ∞, NaN, not zero) or above unblocked_limit.
     void negated_inverse_rows(Eigen::Index k, Eigen::Index first, Eigen::Index count,
                               Eigen::MatrixXd& out) {
         assert(k <= n_ && first + count <= n_ && "small_lu: rows outside the matrix");
