@@ -299,16 +299,17 @@ TEST(Contact, AResumedStepperTakesTheSameSteps) {
     scene other = spinning_box();
     ASSERT_GE(history.size(), 10U);
     std::vector<double> short_one{1.0, 2.0, 3.0}, counted = history, untagged = history,
-                                                  older = history, kept = history;
+                                                  older = history, old = history, kept = history;
     counted[history.size() - 10] = 1e9; // more contacts than numbers
     untagged[history.size() - 9] = 0.0; // not the tag
     older[history.size() - 9] = 6.2e7;  // the layout before the kept matrix
+    old[history.size() - 9] = 6.3e7;    // the layout before the kept miss
     const auto contacts = static_cast<std::size_t>(history[history.size() - 10]);
     ASSERT_GT(contacts, 0U);
     const std::size_t kept_count = history.size() - 10 - 4 * contacts - 1;
     ASSERT_GT(history[kept_count], 0.0); // the box rests: its matrix is kept
     kept[kept_count] += 1.0;             // not this stepper's size
-    for (const auto* bad : {&short_one, &counted, &untagged, &older, &kept})
+    for (const auto* bad : {&short_one, &counted, &untagged, &older, &old, &kept})
         EXPECT_THROW(other.stepper.restore_history(other.x, *bad), std::invalid_argument);
 }
 

@@ -54,9 +54,11 @@ void contact_stepper<Inner>::restore_history(const phase_state<dim>& x,
                 "the saved history is not a contact step's (its layout: the stepper's, 4 numbers "
                 "a contact, their count, a tag, 8 numbers): was it saved by a run with contact?");
     };
-    if (reuses && in.size() >= tail && in[in.size() - fixed_size - 1] == older_tag)
+    if (reuses && in.size() >= tail &&
+        (in[in.size() - fixed_size - 1] == older_tag || in[in.size() - fixed_size - 1] == old_tag))
         throw std::invalid_argument("the saved history is in an older layout (before the contact "
-                                    "step kept its matrix across steps): start the run afresh");
+                                    "step kept its matrix and its start's miss across steps): "
+                                    "start the run afresh");
     if (in.size() < tail || in[in.size() - fixed_size - 1] != history_tag) throw bad();
     const double stored = in[in.size() - tail];
     if (!(stored >= 0.0 && stored == std::floor(stored) &&
