@@ -87,11 +87,11 @@ class contact_stepper : public Inner {
     // The inner stepper iterates a warm step with the matrix it last assembled, kept across
     // steps (the free base's constrained stepper): reuse_next(), save_kept(), restore_kept().
     static constexpr bool reuses = requires(Inner & i) { i.reuse_next(); };
-    // The history's layout after the inner stepper's: where it reuses, its kept matrix and
-    // multipliers (save_kept(), none without warm pairs) and their count; the warm start's pairs
-    // and impulses (4 numbers a pair), their count, a tag, then the fixed part (contact_report,
-    // the work). Where it reuses, the tag before the kept matrix was 6.2e7 (older_tag), and
-    // before the kept miss (constrained_stepper::save_kept) 6.3e7 (old_tag).
+    // The history's layout after the inner stepper's: where it reuses, its kept matrix,
+    // multipliers and the warm take's miss (save_kept(), none without warm pairs) and their count;
+    // the warm start's pairs and impulses (4 numbers a pair), their count, a tag, then the fixed
+    // part (contact_report, the work). Where it reuses, the tag before the kept matrix was 6.2e7
+    // (older_tag), and before the kept miss (constrained_stepper::save_kept) 6.3e7 (old_tag).
     static constexpr int fixed_size = 8;
     static constexpr double older_tag = 6.2e7, old_tag = 6.3e7,
                             history_tag = reuses ? 6.4e7 : older_tag;

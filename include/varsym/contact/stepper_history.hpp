@@ -1,7 +1,7 @@
 // varsym/contact/stepper_history.hpp: contact_stepper's history (stepper.hpp) in a checkpoint:
-// the inner stepper's, then (where it reuses its matrix across steps) that matrix and its
-// multipliers (none without warm pairs) and their count, the warm start's contacts and impulses,
-// the contact's work and the last report. Included by stepper.hpp.
+// the inner stepper's, then (where it reuses its matrix across steps) that matrix, its
+// multipliers and its warm take's miss (none without warm pairs) and their count, the warm start's
+// contacts and impulses, the contact's work and the last report. Included by stepper.hpp.
 #pragma once
 
 #include <cmath>

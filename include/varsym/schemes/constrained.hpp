@@ -173,10 +173,12 @@ class constrained_stepper : public stepper<L, F> {
     /// Newton's from there, as in any step. The predictor's increments are moved by what the
     /// last such step's predictor missed (its converged increments less its predictor's): a
     /// contact step's warm take, kicked by the last impulses each step, misses by nearly the
-    /// same each step (the A1 standing: 9.5e-5 of increments 1.1e-4, the same to 1e-8). Its
-    /// momentum is evaluated at the converged increments, not linearised, until second derivatives
-    /// are evaluated again (by a Newton iterate, position_sensitivity or step_jacobian): those kept
-    /// are an earlier step's. Once; ignored before K was ever assembled (or restored).
+    /// same each step (the A1 standing: 9.5e-5 of increments 1.1e-4, the same to 1e-8). A step
+    /// from the predictor that does not reuse clears the miss; one from start_next_near keeps it.
+    /// Its momentum is evaluated at the converged increments, not linearised, until second
+    /// derivatives are evaluated again (by a Newton iterate, position_sensitivity or
+    /// step_jacobian): those kept are an earlier step's. Once; ignored before K was ever
+    /// assembled (or restored).
     void reuse_next() { reuse_ = assembled_; }
     /// What such a step depends on beyond (q_j, p_j), appended to out: K, the multipliers Λ
     /// and the last reused step's miss with a flag (the contact step's history,
@@ -347,9 +349,9 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
     }
     this->dp_.noalias() -= jc_[static_cast<std::size_t>(s)].transpose() * mu_;
     if (!this->dp_.allFinite()) return base::failed(rep);
-    // What the predictor missed, for the next reused step's start. A step that did not reuse (the
-    // contact step's cold path: its free step) leaves none, as a checkpoint there would: the
-    // contact step's history keeps the miss only with its warm contacts.
+    // What the predictor missed, for the next reused step's start. A step from the predictor that
+    // did not reuse (the contact step's cold path: its free step) leaves none, as a checkpoint
+    // there would: the contact step's history keeps the miss only with its warm contacts.
     if (!near) {
         miss_valid_ = reuse;
         if (reuse) miss_ = X - taylor_;
