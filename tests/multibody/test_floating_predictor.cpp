@@ -92,10 +92,11 @@ TEST(FloatingBase, AStepThatReusesTheLastMatrixEvaluatesNoSecondDerivatives) {
     // count too). Counted over five such steps of 1 ms from a slow state on the hidden
     // constraint: none (with predict() in step(), one a step: mutation-checked). Negative
     // control: the fresh first step evaluates them (its Newton iterate). From the second on, a
-    // reused step starts from the predictor plus the last reused step's miss: 2 updates
-    // (measured), where the first, from the predictor alone, took 3 (without the miss, every
-    // one: mutation-checked). The reused steps end where a fresh twin's do, to round-off
-    // (measured 1.1e-16 in q, 8.9e-16 in p; bounds 1e-14, 1e-13).
+    // reused step starts from the predictor plus the last reused step's miss: 2 updates each
+    // (measured with clang 14 and GCC 12; without the miss 3 each with clang: mutation-checked).
+    // The first, from the predictor alone, is not asserted: 3 with clang, 2 with GCC. The reused
+    // steps end where a fresh twin's do, to round-off (measured up to 2.2e-16 in q and 1.8e-15 in
+    // p with either compiler; bounds 1e-14, 1e-13).
     std::mt19937 g(29);
     multibody::tree fixed = test::random_tree(19);
     fixed.root.mass = 2.0;
@@ -121,10 +122,9 @@ TEST(FloatingBase, AStepThatReusesTheLastMatrixEvaluatesNoSecondDerivatives) {
         const newton_report r = reused.step(a);
         ASSERT_TRUE(r.converged) << "step " << j;
         EXPECT_EQ(*l.second, 0) << "step " << j;
-        if (j == 0)
-            EXPECT_GT(r.iterations, 2) << "the first, from the predictor alone";
-        else
-            EXPECT_LE(r.iterations, 2) << "step " << j << ", from the predictor and the miss";
+        if (j > 0) { // from the predictor and the miss
+            EXPECT_LE(r.iterations, 2) << "step " << j;
+        }
         ASSERT_TRUE(fresh.step(b).converged);
     }
     EXPECT_LE((a.q - b.q).lpNorm<Eigen::Infinity>(), 1e-14);
