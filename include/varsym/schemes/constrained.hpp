@@ -229,8 +229,8 @@ class constrained_stepper : public stepper<L, F> {
     bool reuse_ = false;
     // The predictor's increments of this step, and the last reused step's converged increments
     // less its predictor's (reuse_next: the next reused step starts from its predictor plus it).
-    Eigen::Matrix<double, dim, Eigen::Dynamic> taylor_, miss_;
-    bool miss_valid_ = false;
+    Eigen::Matrix<double, dim, Eigen::Dynamic> reuse_taylor_, reuse_miss_;
+    bool reuse_miss_valid_ = false;
     bool assembled_ = false; // k_ was assembled (or restored) since construction
     // The second derivatives at the quadrature points are of this step's iterates (or of the
     // last one's converged point, by position_sensitivity or step_jacobian): the momentum may be
@@ -255,8 +255,10 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
     } else {
         predict_start(x);
         if (!reuse) lam_.setZero();
-        taylor_ = X;
-        if (reuse && miss_valid_) X += miss_; // the last reused step's miss (reuse_next)
+        if (reuse) {
+            reuse_taylor_ = X;
+            if (reuse_miss_valid_) X += reuse_miss_; // the last reused step's miss (reuse_next)
+        }
     }
     evaluate_constraint(c_, x.q, g_[0], jc_[0]);
     newton_options opt = this->opt_;
@@ -353,8 +355,8 @@ newton_report constrained_stepper<L, C, F>::step(phase_state<dim>& x) {
     // did not reuse (the contact step's cold path: its free step) leaves none, as a checkpoint
     // there would: the contact step's history keeps the miss only with its warm contacts.
     if (!near) {
-        miss_valid_ = reuse;
-        if (reuse) miss_ = X - taylor_;
+        reuse_miss_valid_ = reuse;
+        if (reuse) reuse_miss_ = X - reuse_taylor_;
     }
     this->commit(x);
     rep.converged = true;

@@ -132,11 +132,11 @@ void constrained_stepper<L, C, F>::save_kept(std::vector<double>& out) const {
     out.insert(out.end(), k_.data(), k_.data() + k_.size());
     out.insert(out.end(), lam_.data(), lam_.data() + lam_.size());
     const auto n = static_cast<std::size_t>(this->x_.size());
-    if (miss_valid_)
-        out.insert(out.end(), miss_.data(), miss_.data() + n);
+    if (reuse_miss_valid_)
+        out.insert(out.end(), reuse_miss_.data(), reuse_miss_.data() + n);
     else
         out.insert(out.end(), n, 0.0);
-    out.push_back(miss_valid_ ? 1.0 : 0.0);
+    out.push_back(reuse_miss_valid_ ? 1.0 : 0.0);
 }
 
 /// The LU is computed again from K: the same factors as the saved run's, which were K's.
@@ -146,9 +146,9 @@ void constrained_stepper<L, C, F>::restore_kept(const double* in) {
     in += k_.size();
     std::copy(in, in + lam_.size(), lam_.data());
     in += lam_.size();
-    miss_.resize(this->x_.rows(), this->x_.cols());
-    std::copy(in, in + miss_.size(), miss_.data());
-    miss_valid_ = in[miss_.size()] != 0.0;
+    reuse_miss_.resize(this->x_.rows(), this->x_.cols());
+    std::copy(in, in + reuse_miss_.size(), reuse_miss_.data());
+    reuse_miss_valid_ = in[reuse_miss_.size()] != 0.0;
     factorised_ = false;
     assembled_ = true;
 }
