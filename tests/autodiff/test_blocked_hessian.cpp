@@ -28,8 +28,8 @@ struct coupled {
 template <int B>
 double largest_difference(const vec<3>& q, const vec<3>& v) {
     lagrangian_terms<3> once, blocks;
-    detail::differentiate_at_once(coupled{}, q, v, once);
-    detail::differentiate_in_blocks<B>(coupled{}, q, v, blocks);
+    varsym::detail::differentiate_at_once(coupled{}, q, v, once);
+    varsym::detail::differentiate_in_blocks<B>(coupled{}, q, v, blocks);
     double d = std::abs(once.value - blocks.value);
     for (const auto& [a, b] : {std::pair{once.lq, blocks.lq}, std::pair{once.lv, blocks.lv}})
         d = std::max(d, (a - b).template lpNorm<Eigen::Infinity>());
@@ -53,8 +53,10 @@ TEST(BlockedHessian, EqualsTheOnePassHessian) {
 TEST(BlockedHessian, NegativeControlAWrongPointDiffers) {
     // The comparison can fail: derivatives at another velocity are far off.
     lagrangian_terms<3> a, b;
-    detail::differentiate_at_once(coupled{}, vec<3>{0.4, -1.3, 0.8}, vec<3>{1.1, 0.2, -0.6}, a);
-    detail::differentiate_in_blocks<2>(coupled{}, vec<3>{0.4, -1.3, 0.8}, vec<3>{1.1, 0.2, 0.6}, b);
+    varsym::detail::differentiate_at_once(coupled{}, vec<3>{0.4, -1.3, 0.8}, vec<3>{1.1, 0.2, -0.6},
+                                          a);
+    varsym::detail::differentiate_in_blocks<2>(coupled{}, vec<3>{0.4, -1.3, 0.8},
+                                               vec<3>{1.1, 0.2, 0.6}, b);
     EXPECT_GT((a.lq - b.lq).lpNorm<Eigen::Infinity>(), 1e-3);
 }
 

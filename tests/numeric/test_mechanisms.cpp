@@ -38,10 +38,10 @@ phase_state<2> arm_at(double t_end, int n) {
 }
 
 // A fast top (spin ψ̇ = 8 rad/s) tilted 1 rad and released with a slow precession.
-const heavy_top::lagrangian top{1.0, 0.5, 1.0};
+const heavy_top::lagrangian top_body{1.0, 0.5, 1.0};
 phase_state<3> top_start() {
     const vec<3> q{1.0, 0.0, 0.0}, v{0.0, 0.5, 8.0};
-    return {q, lagrangian_system<heavy_top::lagrangian>(top).momentum(q, v)};
+    return {q, lagrangian_system<heavy_top::lagrangian>(top_body).momentum(q, v)};
 }
 
 } // namespace
@@ -88,8 +88,8 @@ TEST(DoublePendulum, SimpsonOrderFourByStepHalving) {
 // asks ≤ 1e-12 relative over 1e5 steps.
 TEST(HeavyTop, CyclicMomentaConservedOver1e5Steps) {
     const auto x0 = top_start();
-    const heavy_top::nutation nut(top, x0);
-    general::stepper s(heavy_top::make_system(top), nut.period() / 100, scheme_kind::simpson);
+    const heavy_top::nutation nut(top_body, x0);
+    general::stepper s(heavy_top::make_system(top_body), nut.period() / 100, scheme_kind::simpson);
     double worst_phi = 0, worst_psi = 0;
     phase_state<3> x = x0;
     integrate(s, x, 0.0, 100000, [&](auto, auto, const phase_state<3>& y) {
@@ -104,13 +104,13 @@ TEST(HeavyTop, CyclicMomentaConservedOver1e5Steps) {
 // period: Simpson's order 4.
 TEST(HeavyTop, NutationOrderFourAgainstClosedForm) {
     const auto x0 = top_start();
-    const heavy_top::nutation nut(top, x0);
+    const heavy_top::nutation nut(top_body, x0);
     ASSERT_GT(nut.theta_max() - nut.theta_min(), 0.05); // a real nutation, not steady precession
     const std::array<double, 3> steps{50, 100, 200};
     std::array<double, 3> err{};
     for (std::size_t i = 0; i < steps.size(); ++i) {
         const double h = nut.period() / steps[i];
-        general::stepper s(heavy_top::make_system(top), h, scheme_kind::simpson);
+        general::stepper s(heavy_top::make_system(top_body), h, scheme_kind::simpson);
         phase_state<3> x = x0;
         double worst = 0;
         integrate(s, x, 0.0, 2 * static_cast<std::size_t>(steps[i]),
@@ -124,7 +124,7 @@ TEST(HeavyTop, NutationOrderFourAgainstClosedForm) {
 
 TEST(HeavyTop, ClosedFormStartsAtInitialTilt) {
     const auto x0 = top_start();
-    const heavy_top::nutation nut(top, x0);
+    const heavy_top::nutation nut(top_body, x0);
     EXPECT_NEAR(nut.theta(0.0), 1.0, 1e-10);
     // Released with θ̇ = 0: θ₀ is a turning point of the nutation.
     EXPECT_TRUE(std::abs(nut.theta_min() - 1.0) < 1e-10 || std::abs(nut.theta_max() - 1.0) < 1e-10);

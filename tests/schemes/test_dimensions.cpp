@@ -29,7 +29,7 @@ using test::planetary_start;
 
 namespace {
 
-constexpr double h = 0.5; // the innermost orbit (r = 10) has period 2π·10^1.5 ≈ 199
+constexpr double orbit_h = 0.5; // the innermost orbit (r = 10) has period 2π·10^1.5 ≈ 199
 
 template <int D>
 struct case_of {
@@ -78,12 +78,12 @@ void every_path(int bodies, std::size_t n) {
     using sys_t = decltype(c.sys);
     const char* names[] = {"simpson", "newmark", "gauss-2", "lobatto-3"};
     const drift drifts[] = {
-        run_and_measure(simpson::stepper<sys_t>(c.sys, h), c.sys, c.x0, n),
-        run_and_measure(newmark::stepper<sys_t>(c.sys, h), c.sys, c.x0, n),
-        run_and_measure(galerkin::stepper<sys_t>(c.sys, h, galerkin::rule_kind::gauss, 2), c.sys,
-                        c.x0, n / 4),
-        run_and_measure(galerkin::stepper<sys_t>(c.sys, h, galerkin::rule_kind::lobatto, 3), c.sys,
-                        c.x0, n / 4)};
+        run_and_measure(simpson::stepper<sys_t>(c.sys, orbit_h), c.sys, c.x0, n),
+        run_and_measure(newmark::stepper<sys_t>(c.sys, orbit_h), c.sys, c.x0, n),
+        run_and_measure(galerkin::stepper<sys_t>(c.sys, orbit_h, galerkin::rule_kind::gauss, 2),
+                        c.sys, c.x0, n / 4),
+        run_and_measure(galerkin::stepper<sys_t>(c.sys, orbit_h, galerkin::rule_kind::lobatto, 3),
+                        c.sys, c.x0, n / 4)};
     for (int i = 0; i < 4; ++i) {
         const drift& d = drifts[i];
         std::printf("d = %d%s, %-9s: energy %.2e, momentum %.2e, angular momentum %.2e\n",
@@ -94,19 +94,19 @@ void every_path(int bodies, std::size_t n) {
         EXPECT_LE(d.angular, angular_tol);
     }
     // Simpson by the reduced d × d solve and as lobatto-2 by the family's 2d × 2d solve.
-    EXPECT_LE(
-        test::max_difference(simpson::stepper<sys_t>(c.sys, h),
-                             galerkin::stepper<sys_t>(c.sys, h, galerkin::rule_kind::lobatto, 2),
-                             c.x0, static_cast<int>(n / 4)),
-        gap_tol);
+    EXPECT_LE(test::max_difference(
+                  simpson::stepper<sys_t>(c.sys, orbit_h),
+                  galerkin::stepper<sys_t>(c.sys, orbit_h, galerkin::rule_kind::lobatto, 2), c.x0,
+                  static_cast<int>(n / 4)),
+              gap_tol);
     // The general engine with the system's derivatives by hand against the family.
     using lag = separable_lagrangian<sys_t>;
-    EXPECT_LE(
-        test::max_difference(
-            general::stepper<lag>(lagrangian_system<lag>({c.sys}), h, {scheme_kind::gauss, 3}),
-            galerkin::stepper<sys_t>(c.sys, h, galerkin::rule_kind::gauss, 3), c.x0,
-            static_cast<int>(n / 10)),
-        gap_tol);
+    EXPECT_LE(test::max_difference(
+                  general::stepper<lag>(lagrangian_system<lag>({c.sys}), orbit_h,
+                                        {scheme_kind::gauss, 3}),
+                  galerkin::stepper<sys_t>(c.sys, orbit_h, galerkin::rule_kind::gauss, 3), c.x0,
+                  static_cast<int>(n / 10)),
+              gap_tol);
 }
 
 /// The general engine with automatic derivatives (fixed d) against the same Lagrangian's
@@ -132,21 +132,23 @@ void automatic_derivatives(int bodies, int n) {
     EXPECT_LE((first.lq - by_hand.lq).template lpNorm<Eigen::Infinity>(), 1e-17);
     EXPECT_LE((first.lv - by_hand.lv).template lpNorm<Eigen::Infinity>(), 1e-18);
     EXPECT_NEAR(first.value, by_hand.value, 1e-15);
-    EXPECT_LE(test::max_difference(
-                  general::stepper<ad_lag>(lagrangian_system<ad_lag>({c.start.masses}), h,
-                                           scheme_kind::simpson),
-                  general::stepper<lag>(lagrangian_system<lag>({c.sys}), h, scheme_kind::simpson),
-                  c.x0, n),
-              gap_tol);
+    EXPECT_LE(
+        test::max_difference(
+            general::stepper<ad_lag>(lagrangian_system<ad_lag>({c.start.masses}), orbit_h,
+                                     scheme_kind::simpson),
+            general::stepper<lag>(lagrangian_system<lag>({c.sys}), orbit_h, scheme_kind::simpson),
+            c.x0, n),
+        gap_tol);
     // The simplified iteration on AD gradients against Newton on the hand derivatives.
     newton_options simplified;
     simplified.iteration = iteration_kind::simplified;
-    EXPECT_LE(test::max_difference(
-                  general::stepper<ad_lag>(lagrangian_system<ad_lag>({c.start.masses}), h,
-                                           scheme_kind::simpson, simplified),
-                  general::stepper<lag>(lagrangian_system<lag>({c.sys}), h, scheme_kind::simpson),
-                  c.x0, 5 * n),
-              gap_tol);
+    EXPECT_LE(
+        test::max_difference(
+            general::stepper<ad_lag>(lagrangian_system<ad_lag>({c.start.masses}), orbit_h,
+                                     scheme_kind::simpson, simplified),
+            general::stepper<lag>(lagrangian_system<lag>({c.sys}), orbit_h, scheme_kind::simpson),
+            c.x0, 5 * n),
+        gap_tol);
 }
 
 } // namespace
@@ -169,10 +171,11 @@ TEST(Dimensions, MomentumCheckCanFail) {
     // Negative control: a uniform external field (force −m_i g on each body) changes the total
     // momentum by −n h (Σ m_i) g, far above momentum_tol.
     const case_of<18> c(6, Eigen::Vector3d(1e-6, 0.0, 0.0));
-    const drift d = run_and_measure(simpson::stepper<decltype(c.sys)>(c.sys, h), c.sys, c.x0, 100);
+    const drift d =
+        run_and_measure(simpson::stepper<decltype(c.sys)>(c.sys, orbit_h), c.sys, c.x0, 100);
     double total_mass = 0;
     for (double m : c.start.masses)
         total_mass += m;
-    EXPECT_NEAR(d.momentum, 100 * h * total_mass * 1e-6, 1e-12);
+    EXPECT_NEAR(d.momentum, 100 * orbit_h * total_mass * 1e-6, 1e-12);
     EXPECT_GT(d.momentum, 1e6 * momentum_tol); // and far above what the test allows
 }

@@ -119,11 +119,11 @@ TEST(Iteration, DefaultIsTheFixedPoint) {
     EXPECT_EQ(na, nf);
     EXPECT_NE(na, nn);
     EXPECT_EQ((xa.q - xf.q).norm() + (xa.p - xf.p).norm(), 0.0);
-    const auto pendulum_sys = pendulum::make_system(1.0, 2 * std::numbers::pi);
+    const auto pendulum_system = pendulum::make_system(1.0, 2 * std::numbers::pi);
     const phase_state<1> p0{vec<1>{std::numbers::pi / 2}, vec<1>{0.0}};
-    const auto [ya, ma] = run(pendulum_sys, p0, 0.02, iteration_kind::automatic);
-    const auto [yn, mn] = run(pendulum_sys, p0, 0.02, iteration_kind::newton);
-    const auto [yf, mf] = run(pendulum_sys, p0, 0.02, iteration_kind::fixed_point);
+    const auto [ya, ma] = run(pendulum_system, p0, 0.02, iteration_kind::automatic);
+    const auto [yn, mn] = run(pendulum_system, p0, 0.02, iteration_kind::newton);
+    const auto [yf, mf] = run(pendulum_system, p0, 0.02, iteration_kind::fixed_point);
     EXPECT_EQ(ma, mf);
     EXPECT_NE(ma, mn);
     EXPECT_EQ(ya.q(0), yf.q(0));
