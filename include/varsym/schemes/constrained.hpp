@@ -227,8 +227,9 @@ class constrained_stepper : public stepper<L, F> {
     double near_move_ = 0.0;
     bool near_ = false;
     bool reuse_ = false;
-    // The predictor's increments of this step, and the last reused step's converged increments
-    // less its predictor's (reuse_next: the next reused step starts from its predictor plus it).
+    // The predictor's increments of this step where it reuses the kept matrix, and the last
+    // reused step's converged increments less its predictor's (reuse_next: the next reused step
+    // starts from its predictor plus it).
     Eigen::Matrix<double, dim, Eigen::Dynamic> reuse_taylor_, reuse_miss_;
     bool reuse_miss_valid_ = false;
     bool assembled_ = false; // k_ was assembled (or restored) since construction
