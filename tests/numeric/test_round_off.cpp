@@ -54,11 +54,11 @@ double energy_trend(Stepper& stepper, phase_state<1> x, int n, const Energy& ene
     return last - first;
 }
 
-const pendulum::system pendulum_sys = pendulum::make_system(1.0, 2 * pi);
+const pendulum::system round_off_pendulum = pendulum::make_system(1.0, 2 * pi);
 
 double pendulum_trend(auto& stepper, double q0, int n) {
     return energy_trend(stepper, phase_state<1>{vec<1>{q0}, vec<1>{0.0}}, n,
-                        [](const phase_state<1>& y) { return pendulum_sys.energy(y); });
+                        [](const phase_state<1>& y) { return round_off_pendulum.energy(y); });
 }
 
 double period(double q0) {
@@ -76,7 +76,8 @@ TEST(RoundOff, NoMemberTiltsThePendulumsEnergy) {
             for (double q0 : s >= 5 ? std::vector<double>{pi / 2, 1.0} : std::vector{pi / 2}) {
                 const int n = steps[s];
                 with_stepper(
-                    scheme_spec{kind, s}, pendulum_sys, period(q0) / n, {}, [&](auto& stepper) {
+                    scheme_spec{kind, s}, round_off_pendulum, period(q0) / n, {},
+                    [&](auto& stepper) {
                         EXPECT_LE(std::abs(pendulum_trend(stepper, q0, n)), bound(periods * n))
                             << scheme_spec(kind, s).label() << ", q0 = " << q0;
                     });
@@ -94,7 +95,7 @@ TEST(RoundOff, LinearIterationsDoNotTiltTheEnergy) {
                 newton_options opt;
                 opt.iteration = iteration;
                 opt.predictor = predictor;
-                galerkin::stepper stepper(pendulum_sys, period(pi / 2) / 20, kind, 6, opt);
+                galerkin::stepper stepper(round_off_pendulum, period(pi / 2) / 20, kind, 6, opt);
                 EXPECT_LE(std::abs(pendulum_trend(stepper, pi / 2, 20)), bound(periods * 20))
                     << (kind == galerkin::rule_kind::gauss ? "gauss-6" : "lobatto-6")
                     << ", iteration " << static_cast<int>(iteration) << ", predictor "
@@ -104,7 +105,7 @@ TEST(RoundOff, LinearIterationsDoNotTiltTheEnergy) {
 
 // The general engine, for the members where the textbook equations drifted most.
 TEST(RoundOff, GeneralEngineDoesNotTiltTheEnergy) {
-    const lagrangian_system sys{separable_lagrangian<pendulum::system>{pendulum_sys}};
+    const lagrangian_system sys{separable_lagrangian<pendulum::system>{round_off_pendulum}};
     for (auto kind : {scheme_kind::lobatto, scheme_kind::gauss}) {
         general::stepper stepper(sys, period(pi / 2) / 20, {kind, 6});
         EXPECT_LE(std::abs(pendulum_trend(stepper, pi / 2, 20)), bound(periods * 20))
@@ -146,7 +147,7 @@ TEST(RoundOff, PlainlyRoundedTablesDrift) {
             w = 0.0;
         newton_options opt;
         opt.iteration = iteration_kind::newton;
-        galerkin::stepper stepper(pendulum_sys, period(pi / 2) / 20, tab, opt);
+        galerkin::stepper stepper(round_off_pendulum, period(pi / 2) / 20, tab, opt);
         EXPECT_GT(std::abs(pendulum_trend(stepper, pi / 2, 20)), 4.0 * bound(periods * 20))
             << (kind == galerkin::rule_kind::gauss ? "gauss-6" : "lobatto-6");
     }

@@ -18,7 +18,7 @@ namespace {
 
 // Richardson-extrapolated central differences with δ = 1e-3: truncation ~δ⁴|∂⁵Φ| ≲ 1e-12 and
 // round-off ~ε|Φ|/δ ≈ 1e-12 for states of size ≤ 10; the bound 1e-10 is two orders above both.
-constexpr double tol = 1e-10;
+constexpr double map_tol = 1e-10;
 
 template <class Stepper>
 double defect(const typename Stepper::system_type& sys, double h,
@@ -42,8 +42,8 @@ TEST(Symplecticity, PendulumBothSchemesSeveralStatesAndSteps) {
                                      {vec<1>{3.0}, vec<1>{9.0}}};
     for (double h : {0.118, 0.0236, 0.0059}) {
         for (const auto& x : states) {
-            EXPECT_LE(defect<newmark::stepper<sys_t>>(sys, h, x), tol) << "newmark h = " << h;
-            EXPECT_LE(defect<simpson::stepper<sys_t>>(sys, h, x), tol) << "simpson h = " << h;
+            EXPECT_LE(defect<newmark::stepper<sys_t>>(sys, h, x), map_tol) << "newmark h = " << h;
+            EXPECT_LE(defect<simpson::stepper<sys_t>>(sys, h, x), map_tol) << "simpson h = " << h;
         }
     }
 }
@@ -53,8 +53,8 @@ TEST(Symplecticity, CoupledPendulumsJtOmegaJ) {
     using sys_t = decltype(sys);
     const phase_state<2> x{vec<2>{1.0, -0.5}, vec<2>{0.3, 1.2}};
     for (double h : {0.2, 0.05}) {
-        EXPECT_LE(defect<newmark::stepper<sys_t>>(sys, h, x), tol) << "h = " << h;
-        EXPECT_LE(defect<simpson::stepper<sys_t>>(sys, h, x), tol) << "h = " << h;
+        EXPECT_LE(defect<newmark::stepper<sys_t>>(sys, h, x), map_tol) << "h = " << h;
+        EXPECT_LE(defect<simpson::stepper<sys_t>>(sys, h, x), map_tol) << "h = " << h;
     }
 }
 
