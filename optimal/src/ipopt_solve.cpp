@@ -338,7 +338,7 @@ nlp_result solve(const nlp& problem, const solver_options& options, const vector
     // MUMPS's ordering and scaling: approximate minimum degree with quasi-dense rows (6), no
     // scaling (0), where IPOPT leaves both to MUMPS (7, 77). Measured on these KKT matrices
     // (small dense blocks a step, the bound rows' slacks): the iiwa at N = 200 in 0.72 of the
-    // time with gauss-2, the chains 0.77-0.97; the pendulum at N = 8000 in 1.2 times
+    // time with gauss-2, the chains 0.72-0.97; the pendulum at N = 8000 in 1.2 times
     // (docs/optimal_control.md, "Ordering and scaling"). An options file may set them back.
     opt.SetIntegerValue("mumps_pivot_order", 6);
     opt.SetIntegerValue("mumps_scaling", 0);
