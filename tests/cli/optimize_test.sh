@@ -228,6 +228,18 @@ printf '# a comment\ntol 1e-10\nprint_level 5\n' > fine.opt
 [ "$(tail -1 fine.csv)" = "$(tail -1 acrobot.csv)" ] && ok || bad "fine.opt changed the solution"
 [ "$(head -1 fine.csv)" = "$(head -1 acrobot.csv)" ] && ok || bad "IPOPT printed on standard output"
 grep -q "This is Ipopt" fine.err && ok || bad "print_level 5 in the file was not read"
+# varsym's MUMPS settings reach IPOPT and a file sets them back (docs/optimal_control.md, "The
+# solver"): IPOPT's print_user_options lists each option set, its value and whether it was used.
+printf 'print_user_options yes\nprint_level 5\n' > listed.opt
+printf 'print_user_options yes\nprint_level 5\nmumps_pivot_order 7\nmumps_scaling 77\n' > own.opt
+for f in listed own; do
+  "$VARSYM" optimize --model pendulum --time 2 --from 0 --to 1 --quiet --ipopt-options $f.opt \
+    -o $f.csv 2> $f.err || bad "$f.opt: $(tail -1 $f.err)"
+done
+grep -Eq "mumps_pivot_order = 6 +yes" listed.err && grep -Eq "mumps_scaling = 0 +yes" listed.err &&
+  ok || bad "varsym's ordering and scaling: $(grep mumps_ listed.err | tr -s ' ')"
+grep -Eq "mumps_pivot_order = 7 +yes" own.err && grep -Eq "mumps_scaling = 77 +yes" own.err &&
+  ok || bad "the file's ordering and scaling: $(grep mumps_ own.err | tr -s ' ')"
 printf 'no_such_option 5\n' > bad.opt
 expect_error 2 "unknown IPOPT option" "bad.opt:1: 'no_such_option' is not an IPOPT option" optimize --model pendulum --time 2 --from 0 --to 1 \
   --ipopt-options bad.opt -o out.csv
