@@ -3,6 +3,7 @@
 // trajectory of a result. See transcription.hpp for the unknowns and equations.
 #include <Eigen/LU>
 
+#include "step_threads.hpp"
 #include "varsym/optimize/transcription.hpp"
 
 namespace varsym::optimal {
@@ -63,9 +64,21 @@ sparsity dmoc_transcription::jacobian_pattern() const {
     return s;
 }
 
+int dmoc_transcription::evaluation_threads() const {
+    // One thread with a free final time (its column sums over neighbouring steps), or a system
+    // that is not concurrent (a typed Lagrangian's tape). Automatic: at most one thread per
+    // 2048 units of r d² a step (a robot's step costs about 0.2 µs a unit: the iiwa's, d = 7, 18
+    // µs with gauss-2), so that each part is worth a thread's start (tens of µs).
+    if (threads_ == 1 || p_.free_time || !sys_->concurrent()) return 1;
+    if (threads_ > 1) return std::min(threads_, n_);
+    const long long work = 1LL * n_ * r_ * d_ * d_;
+    return static_cast<int>(
+        std::max(1LL, std::min({static_cast<long long>(detail::available_cpus()),
+                                static_cast<long long>(n_), work / 2048})));
+}
+
 void dmoc_transcription::jacobian(cvector x, std::vector<double>& values) const {
     const double h = h_of(x);
-    const int w = (s_ + 1) * d_;
     const std::size_t blocks = step_jacobian_size();
     const std::size_t end = blocks + (p_.free_time ? static_cast<std::size_t>(constraints()) : 0);
     values.assign(end + (free_end_ ? static_cast<std::size_t>(2 * d_ * d_) : 0), 0.0);
@@ -78,11 +91,27 @@ void dmoc_transcription::jacobian(cvector x, std::vector<double>& values) const 
                 values[end + static_cast<std::size_t>(row * 2 * d_ + col)] =
                     col < d_ ? -lt.lqv(col, row) : -lt.lvv(row, col - d_);
     }
+    detail::over_steps(n_, evaluation_threads(),
+                       [&](int first, int last) { step_jacobians(x, h, first, last, values); });
+    add_constraint_jacobian(x, nullptr, &values);
+    add_target_jacobian(x, nullptr, &values);
+    add_path_jacobian(x, nullptr, &values);
+    add_node_jacobian(x, nullptr, &values);
+}
+
+/// Steps first … last − 1 of jacobian(): each its own block of values, and with a free final
+/// time (one thread only) the time's column.
+void dmoc_transcription::step_jacobians(cvector x, double h, int first, int last,
+                                        std::vector<double>& values) const {
+    const int w = (s_ + 1) * d_;
+    const std::size_t blocks = step_jacobian_size();
+    std::size_t at = static_cast<std::size_t>(first) *
+                     (static_cast<std::size_t>(w * w) + control_jacobian_.size());
+    lagrangian_terms<dynamic> lt;
     matrix bq(w, w), bu(w, r_ * m_), qq, qv, vq, vv;
     input_terms ft;
     vector q, v, u(m_);
-    std::size_t at = 0;
-    for (int k = 0; k < n_; ++k) {
+    for (int k = first; k < last; ++k) {
         bq.setZero();
         bu.setZero();
         for (int j = 0; j < r_; ++j) {
@@ -122,10 +151,6 @@ void dmoc_transcription::jacobian(cvector x, std::vector<double>& values) const 
         for (const auto& [row, col] : control_jacobian_)
             values[at++] = bu(row, col);
     }
-    add_constraint_jacobian(x, nullptr, &values);
-    add_target_jacobian(x, nullptr, &values);
-    add_path_jacobian(x, nullptr, &values);
-    add_node_jacobian(x, nullptr, &values);
 }
 
 /// Each step's block over its control values and its controls, its lower triangle's
@@ -150,12 +175,36 @@ sparsity dmoc_transcription::hessian_pattern() const {
 void dmoc_transcription::hessian(cvector x, double sigma, cvector lambda,
                                  std::vector<double>& values) const {
     const double h = h_of(x);
-    const int w = (s_ + 1) * d_ + r_ * m_, wq = (s_ + 1) * d_;
     values.assign(static_cast<std::size_t>(n_) * step_hessian_.size(), 0.0);
+    detail::over_steps(n_, evaluation_threads(), [&](int first, int last) {
+        step_hessians(x, sigma, lambda, h, first, last, values);
+    });
+    if (free_end_) {
+        // −λ_Nᵀ ∂L/∂q̇(Q_{Ns}, v_N) and σ times the terminal cost, over (Q_{Ns}, v_N).
+        const vector lambda_end = lambda.segment((points_ - 1) * d_, d_);
+        matrix he;
+        sys_->third(x.segment((points_ - 1) * d_, d_), x.segment(end_velocity_index(), d_), n_ * h,
+                    vector::Zero(d_), -lambda_end, he);
+        vector diag(2 * d_);
+        diag << p_.cost.terminal_position, p_.cost.terminal_velocity;
+        he.diagonal() += sigma * diag;
+        add_target_hessian(x, sigma, lambda, he);
+        for (int row = 0; row < 2 * d_; ++row)
+            for (int col = 0; col <= row; ++col)
+                values.push_back(he(row, col));
+    }
+    add_constraint_hessian(x, lambda, nullptr, &values);
+    add_node_hessian(x, lambda, nullptr, &values);
+}
+
+/// Steps first … last − 1 of hessian(): each its own block of values.
+void dmoc_transcription::step_hessians(cvector x, double sigma, cvector lambda, double h, int first,
+                                       int last, std::vector<double>& values) const {
+    const int w = (s_ + 1) * d_ + r_ * m_, wq = (s_ + 1) * d_;
     matrix hk(w, w), hz, hc, third;
     vector q, v, a, b, u(m_);
-    std::size_t at = 0;
-    for (int k = 0; k < n_; ++k) {
+    std::size_t at = static_cast<std::size_t>(first) * step_hessian_.size();
+    for (int k = first; k < last; ++k) {
         hk.setZero();
         for (int j = 0; j < r_; ++j) {
             point(x, k, j, q, v);
@@ -193,22 +242,6 @@ void dmoc_transcription::hessian(cvector x, double sigma, cvector lambda,
         for (const auto& [row, col] : step_hessian_)
             values[at++] = hk(row, col);
     }
-    if (free_end_) {
-        // −λ_Nᵀ ∂L/∂q̇(Q_{Ns}, v_N) and σ times the terminal cost, over (Q_{Ns}, v_N).
-        const vector lambda_end = lambda.segment((points_ - 1) * d_, d_);
-        matrix he;
-        sys_->third(x.segment((points_ - 1) * d_, d_), x.segment(end_velocity_index(), d_), n_ * h,
-                    vector::Zero(d_), -lambda_end, he);
-        vector diag(2 * d_);
-        diag << p_.cost.terminal_position, p_.cost.terminal_velocity;
-        he.diagonal() += sigma * diag;
-        add_target_hessian(x, sigma, lambda, he);
-        for (int row = 0; row < 2 * d_; ++row)
-            for (int col = 0; col <= row; ++col)
-                values.push_back(he(row, col));
-    }
-    add_constraint_hessian(x, lambda, nullptr, &values);
-    add_node_hessian(x, lambda, nullptr, &values);
 }
 
 namespace {

@@ -1,11 +1,17 @@
 // The one compiled transcription (varsym/optimize/transcription.hpp) over systems of run-time
 // size from the models layer: a URDF robot (recursive derivatives, exact third derivatives by dual
 // numbers) and its derivatives against finite differences, the KKT conditions at a solution, and
-// each system's exact third derivatives against the difference of its second ones.
+// each system's exact third derivatives against the difference of its second ones; the steps'
+// derivatives on several threads against one.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <mutex>
 #include <numbers>
+#include <set>
+#include <stdexcept>
+#include <thread>
 
 #include "../optimal/fixtures.hpp"
 #include "varsym/models/model.hpp"
@@ -228,4 +234,114 @@ TEST(OptimalRobot, StructuralZerosLeaveTheKktPatterns) {
                rd = optimal::solve(*optimal::transcribe(dense, p));
     ASSERT_TRUE(rs.converged() && rd.converged()) << rs.message << " / " << rd.message;
     EXPECT_NEAR(rs.cost, rd.cost, 1e-9 * rd.cost);
+}
+
+namespace {
+
+/// A robot's controlled system that records the threads calling its second and third
+/// derivatives, and throws from them on request (the threads' error path).
+class thread_recorder final : public optimal::controlled_system {
+  public:
+    using matrix = optimal::matrix;
+    using vector = optimal::vector;
+    explicit thread_recorder(std::shared_ptr<const optimal::controlled_system> s)
+        : s_(std::move(s)) {}
+    [[nodiscard]] int dimension() const override { return s_->dimension(); }
+    [[nodiscard]] int inputs() const override { return s_->inputs(); }
+    [[nodiscard]] bool concurrent() const override { return true; }
+    void gradient(const vector& q, const vector& v, double t,
+                  lagrangian_terms<dynamic>& out) const override {
+        s_->gradient(q, v, t, out);
+    }
+    void derivatives(const vector& q, const vector& v, double t,
+                     lagrangian_terms<dynamic>& out) const override {
+        seen();
+        s_->derivatives(q, v, t, out);
+    }
+    void third(const vector& q, const vector& v, double t, const vector& a, const vector& b,
+               matrix& out) const override {
+        seen();
+        s_->third(q, v, t, a, b, out);
+    }
+    void force(const vector& q, const vector& v, double t, const vector& u,
+               optimal::input_terms& out, bool jacobians) const override {
+        s_->force(q, v, t, u, out, jacobians);
+    }
+    [[nodiscard]] const matrix* constant_input_matrix() const override {
+        return s_->constant_input_matrix();
+    }
+    /// The distinct threads seen since the last call.
+    std::size_t threads() const {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        const std::size_t n = ids_.size();
+        ids_.clear();
+        return n;
+    }
+    std::atomic<bool> fail{false};
+
+  private:
+    void seen() const {
+        {
+            const std::lock_guard<std::mutex> lock(mutex_);
+            ids_.insert(std::this_thread::get_id());
+        }
+        if (fail && std::this_thread::get_id() != main_)
+            throw std::runtime_error("a worker's evaluation failed");
+    }
+    std::shared_ptr<const optimal::controlled_system> s_;
+    std::thread::id main_ = std::this_thread::get_id();
+    mutable std::mutex mutex_;
+    mutable std::set<std::thread::id> ids_;
+};
+
+} // namespace
+
+TEST(OptimalRobot, ThreadsGiveTheSameDerivativesToTheBit) {
+    // The steps' Jacobian and Hessian blocks on 1, 2, 3 and 5 threads (13 steps: unequal parts):
+    // each step writes its own block, so the values are equal to the bit. The recorder sees as
+    // many threads as asked for (so the parts did run apart), and a worker's exception reaches
+    // the caller. Automatic: one thread for 13 iiwa steps (1274 units of r d² < 2048); one for
+    // a system that does not declare itself concurrent (the acrobot's C++ Lagrangian).
+    const auto robot =
+        models::robot_model(models::load_urdf(urdf_path("iiwa14_no_collision.urdf")));
+    const auto sys = robot.control(robot.defaults(), {});
+    EXPECT_TRUE(sys->concurrent());
+    const auto rec = std::make_shared<thread_recorder>(sys);
+    auto p = iiwa_problem(13, {scheme_kind::gauss, 2});
+    robot.limits(robot.defaults(), {}, p);
+    const auto tr = optimal::transcribe(rec, p);
+    EXPECT_EQ(tr->evaluation_threads(), 1);
+    const Eigen::VectorXd x =
+        0.5 * Eigen::VectorXd::LinSpaced(tr->variables(), 0.3, 2.9).array().sin();
+    const Eigen::VectorXd lambda = Eigen::VectorXd::LinSpaced(tr->constraints(), -1.0, 2.0);
+    std::vector<double> j1, h1, j, h;
+    tr->set_threads(1);
+    tr->jacobian(x, j1);
+    tr->hessian(x, 0.7, lambda, h1);
+    EXPECT_EQ(rec->threads(), 1U);
+    EXPECT_GT(Eigen::Map<const Eigen::VectorXd>(h1.data(), std::ssize(h1)).cwiseAbs().maxCoeff(),
+              1.0);
+    for (const int threads : {2, 3, 5}) {
+        tr->set_threads(threads);
+        EXPECT_EQ(tr->evaluation_threads(), threads);
+        tr->jacobian(x, j);
+        tr->hessian(x, 0.7, lambda, h);
+        EXPECT_EQ(rec->threads(), static_cast<std::size_t>(threads));
+        EXPECT_TRUE(j == j1) << threads << " threads";
+        EXPECT_TRUE(h == h1) << threads << " threads";
+    }
+    rec->fail = true;
+    EXPECT_THROW(tr->hessian(x, 0.7, lambda, h), std::runtime_error);
+    rec->fail = false;
+    EXPECT_THROW(tr->set_threads(-1), std::invalid_argument);
+    // Not declared concurrent: one thread whatever is asked.
+    const auto& acrobot = models::get("acrobot");
+    auto q = iiwa_problem(13, {scheme_kind::gauss, 2});
+    q.q_start = q.v_start = q.v_end = Eigen::VectorXd::Zero(2);
+    q.q_end = Eigen::Vector2d(1.0, 0.5);
+    const auto typed = optimal::transcribe(acrobot, acrobot.defaults(), {}, q);
+    auto* dmoc = dynamic_cast<optimal::dmoc_transcription*>(typed.get());
+    ASSERT_NE(dmoc, nullptr);
+    dmoc->set_threads(4);
+    EXPECT_EQ(dmoc->evaluation_threads(), 1);
 }

@@ -29,6 +29,8 @@ struct mass_factorisation {
 class robot_lagrangian {
   public:
     static constexpr int dim = dynamic;
+    /// Several threads may call one robot_lagrangian at once (one workspace per thread).
+    static constexpr bool concurrent = true;
 
     explicit robot_lagrangian(std::shared_ptr<const tree> m) : m_(std::move(m)) {
         if (!m_ || m_->dof() < 1)

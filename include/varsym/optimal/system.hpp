@@ -32,7 +32,8 @@ struct input_terms {
 
 /// A controlled mechanical system of run-time size: L(q, q̇, t) with d coordinates, a
 /// generalized force of m inputs, and k holonomic constraints g(q) = 0 (k may be 0).
-/// Implementations are immutable after construction and may be called from several threads.
+/// Implementations are immutable after construction; several threads call one at once only
+/// where concurrent() says it may be (a typed Lagrangian's tape keeps scratch of its own).
 class controlled_system {
   public:
     controlled_system() = default;
@@ -47,6 +48,9 @@ class controlled_system {
     [[nodiscard]] virtual int constraint_count() const { return 0; } ///< k
     /// Whether L depends on t explicitly (then a free final time is refused).
     [[nodiscard]] virtual bool time_dependent() const { return false; }
+    /// Whether several threads may call this system at once (a URDF robot's: its workspaces are
+    /// per thread): the transcription then evaluates its steps' derivatives on several threads.
+    [[nodiscard]] virtual bool concurrent() const { return false; }
 
     /// L, ∂L/∂q and ∂L/∂q̇ at (q, q̇, t) into t.value, t.lq, t.lv (sized here).
     virtual void gradient(const vector& q, const vector& v, double t,

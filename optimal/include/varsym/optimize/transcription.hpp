@@ -74,6 +74,18 @@ class dmoc_transcription final : public transcription {
     void hessian(cvector x, double sigma, cvector lambda,
                  std::vector<double>& values) const override;
     [[nodiscard]] trajectory unpack(const nlp_result& result) const override;
+    /// Threads for the steps' Jacobian and Hessian: 0 (the default) as many as this process may
+    /// run on (its CPU affinity), 1 none. Used only where the system is concurrent(), the final
+    /// time fixed and the steps' work worth a thread's start (evaluation_threads()). The values
+    /// are the same to the bit with any number: each step's block is its own.
+    void set_threads(int threads) {
+        if (threads < 0)
+            throw std::invalid_argument("threads: 0 (automatic), 1 (none) or more, not " +
+                                        std::to_string(threads));
+        threads_ = threads;
+    }
+    /// The threads jacobian() and hessian() use.
+    [[nodiscard]] int evaluation_threads() const;
     [[nodiscard]] Eigen::MatrixXd replay(const trajectory& path) const override {
         return optimal::replay(*sys_, path);
     }
@@ -108,6 +120,7 @@ class dmoc_transcription final : public transcription {
         return static_cast<std::size_t>(n_) * (w * w + control_jacobian_.size());
     }
     bool free_end_ = false;
+    int threads_ = 0;
     double h_ = 1.0;
     vector p_start_, p_end_;
 
@@ -162,6 +175,11 @@ class dmoc_transcription final : public transcription {
     /// The running cost at step k's point j with its gradient (2d + m) and Hessian in z.
     double integrand(cvector x, int k, int j, vector* g, matrix* hz) const;
     void add_step_equations(cvector x, vector& e, bool end_only) const;
+    /// Steps first … last − 1 of jacobian() and hessian() (one thread's part).
+    void step_jacobians(cvector x, double h, int first, int last,
+                        std::vector<double>& values) const;
+    void step_hessians(cvector x, double sigma, cvector lambda, double h, int first, int last,
+                       std::vector<double>& values) const;
     // The constraints' parts (transcription_constraints.cpp; nothing without constraints).
     void check_boundary_constraints() const;
     void add_constraint_residual(cvector x, vector& e) const;

@@ -1,0 +1,142 @@
+// optimal/src/step_threads.hpp: the steps of a transcription's derivatives on several threads
+// (dmoc_transcription::set_threads). Each step writes its own block of the values, so the result
+// is the same to the bit with any number of threads.
+#pragma once
+
+#include <algorithm>
+#include <condition_variable>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+#include <sched.h>
+#include <unistd.h>
+
+namespace varsym::optimal::detail {
+
+/// The CPUs this process may run on (its affinity mask: `taskset`, a container's cpuset), at
+/// least 1.
+inline int available_cpus() {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(0, sizeof set, &set) == 0) return std::max(1, CPU_COUNT(&set));
+    return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
+/// Worker threads kept for the life of the process: a thread started for every evaluation
+/// would also build its per-thread workspaces (the robot's) anew each time. One caller at a
+/// time; another caller meanwhile, or a child forked from this process (it has none of the
+/// workers), runs all its parts itself.
+class step_pool {
+  public:
+    static step_pool& instance() {
+        static step_pool pool;
+        return pool;
+    }
+    step_pool(const step_pool&) = delete;
+    step_pool& operator=(const step_pool&) = delete;
+    step_pool(step_pool&&) = delete;
+    step_pool& operator=(step_pool&&) = delete;
+    ~step_pool() {
+        if (getpid() != pid_) { // a forked child: the workers are its parent's
+            for (auto& w : workers_)
+                w.detach();
+            return;
+        }
+        {
+            const std::lock_guard<std::mutex> lock(m_);
+            stop_ = true;
+        }
+        wake_.notify_all();
+        for (auto& w : workers_)
+            w.join();
+    }
+
+    /// part(0 … parts − 1), which must not throw: part 0 on this thread, the others on the
+    /// workers where they can be started (else here). Returns when every part has ended.
+    void run(int parts, const std::function<void(int)>& part) {
+        std::unique_lock<std::mutex> caller(busy_, std::defer_lock);
+        if (getpid() != pid_ || !caller.try_lock()) {
+            for (int p = 0; p < parts; ++p)
+                part(p);
+            return;
+        }
+        int workers = 0;
+        {
+            const std::lock_guard<std::mutex> lock(m_);
+            while (std::ssize(workers_) < parts - 1)
+                try {
+                    workers_.emplace_back(
+                        [this, i = static_cast<int>(workers_.size())] { loop(i + 1); });
+                } catch (const std::system_error&) {
+                    break;
+                }
+            workers = std::min(parts - 1, static_cast<int>(workers_.size()));
+            job_ = &part;
+            active_ = workers;
+            pending_ = workers;
+            ++generation_;
+        }
+        wake_.notify_all();
+        part(0);
+        for (int p = workers + 1; p < parts; ++p)
+            part(p);
+        std::unique_lock<std::mutex> lock(m_);
+        done_.wait(lock, [this] { return pending_ == 0; });
+        job_ = nullptr;
+    }
+
+  private:
+    step_pool() = default;
+    pid_t pid_ = getpid();
+    void loop(int index) {
+        std::uint64_t seen = 0;
+        std::unique_lock<std::mutex> lock(m_);
+        for (;;) {
+            wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+            if (stop_) return;
+            seen = generation_;
+            if (index > active_) continue;
+            const auto* job = job_;
+            lock.unlock();
+            (*job)(index);
+            lock.lock();
+            if (--pending_ == 0) done_.notify_all();
+        }
+    }
+    std::mutex busy_, m_;
+    std::condition_variable wake_, done_;
+    std::vector<std::thread> workers_;
+    const std::function<void(int)>* job_ = nullptr;
+    std::uint64_t generation_ = 0;
+    int active_ = 0, pending_ = 0;
+    bool stop_ = false;
+};
+
+/// body(first, last) over the steps [0, n) in `threads` contiguous parts. An exception in any
+/// part is rethrown here after every part has ended.
+template <class F>
+void over_steps(int n, int threads, const F& body) {
+    threads = std::clamp(threads, 1, std::max(n, 1));
+    if (threads == 1) {
+        body(0, n);
+        return;
+    }
+    std::vector<std::exception_ptr> errors(static_cast<std::size_t>(threads));
+    const std::function<void(int)> part = [&](int p) {
+        try {
+            body(static_cast<int>(1LL * p * n / threads),
+                 static_cast<int>(1LL * (p + 1) * n / threads));
+        } catch (...) {
+            errors[static_cast<std::size_t>(p)] = std::current_exception();
+        }
+    };
+    step_pool::instance().run(threads, part);
+    for (const auto& e : errors)
+        if (e) std::rethrow_exception(e);
+}
+
+} // namespace varsym::optimal::detail
