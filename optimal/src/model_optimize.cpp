@@ -107,6 +107,15 @@ model_outcome optimize(const models::model& m, std::span<const double> values,
     if (!m.control)
         throw std::invalid_argument("model " + m.name + " has no control input to optimise");
     refuse_simulation_only(m, values, lists);
+    if (request.threads < 0)
+        throw std::invalid_argument("threads: 0 (every CPU), 1 (none) or more, not " +
+                                    std::to_string(request.threads));
+    const auto transcribe_threaded = [&](const control_problem& q) {
+        auto t = transcribe(m, values, lists, q);
+        if (auto* dmoc = dynamic_cast<dmoc_transcription*>(t.get()))
+            dmoc->set_threads(request.threads);
+        return t;
+    };
     model_outcome out;
     control_problem& p = out.problem;
     p = std::move(request.problem);
@@ -119,7 +128,7 @@ model_outcome optimize(const models::model& m, std::span<const double> values,
             p.end_target = models::frame_target(r.robot, r.frame, r.position, r.rotation);
             p.end_target_weight = r.weight;
         }
-        tr = transcribe(m, values, lists, p);
+        tr = transcribe_threaded(p);
     } catch (const std::invalid_argument& e) { // named once: prepare's own messages name it
         const std::string what = e.what();
         throw std::invalid_argument(what.starts_with(m.name + ": ") ? what : m.name + ": " + what);
@@ -138,7 +147,7 @@ model_outcome optimize(const models::model& m, std::span<const double> values,
             [&](int n) {
                 auto q = p;
                 q.steps = n;
-                auto t = transcribe(m, values, lists, q);
+                auto t = transcribe_threaded(q);
                 if (request.level) request.level(n);
                 return t;
             },

@@ -5,10 +5,10 @@
 
 #include <algorithm>
 #include <condition_variable>
+#include <cstdint>
 #include <exception>
 #include <functional>
 #include <mutex>
-#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -27,36 +27,26 @@ inline int available_cpus() {
 }
 
 /// Worker threads kept for the life of the process: a thread started for every evaluation
-/// would also build its per-thread workspaces (the robot's) anew each time. One caller at a
-/// time; another caller meanwhile, or a child forked from this process (it has none of the
-/// workers), runs all its parts itself.
+/// would also build its per-thread workspaces (the robot's) anew each time. The pool is never
+/// destroyed (its idle workers end with the process), so that exit() cannot pull it from under
+/// a caller. One caller at a time; another caller meanwhile, or a child forked from this
+/// process (it has none of the workers), runs all its parts itself. Workers keep the
+/// floating-point environment of the thread that started them (the default one).
 class step_pool {
   public:
     static step_pool& instance() {
-        static step_pool pool;
+        static step_pool& pool = *new step_pool; // NOLINT(cppcoreguidelines-owning-memory)
         return pool;
     }
     step_pool(const step_pool&) = delete;
     step_pool& operator=(const step_pool&) = delete;
     step_pool(step_pool&&) = delete;
     step_pool& operator=(step_pool&&) = delete;
-    ~step_pool() {
-        if (getpid() != pid_) { // a forked child: the workers are its parent's
-            for (auto& w : workers_)
-                w.detach();
-            return;
-        }
-        {
-            const std::lock_guard<std::mutex> lock(m_);
-            stop_ = true;
-        }
-        wake_.notify_all();
-        for (auto& w : workers_)
-            w.join();
-    }
+    ~step_pool() = delete;
 
-    /// part(0 … parts − 1), which must not throw: part 0 on this thread, the others on the
-    /// workers where they can be started (else here). Returns when every part has ended.
+    /// part(0 … parts − 1), which must not throw and must not call run(): part 0 on this
+    /// thread, the others on the workers where they can be started (else here). Returns when
+    /// every part has ended.
     void run(int parts, const std::function<void(int)>& part) {
         std::unique_lock<std::mutex> caller(busy_, std::defer_lock);
         if (getpid() != pid_ || !caller.try_lock()) {
@@ -71,7 +61,7 @@ class step_pool {
                 try {
                     workers_.emplace_back(
                         [this, i = static_cast<int>(workers_.size())] { loop(i + 1); });
-                } catch (const std::system_error&) {
+                } catch (...) { // no thread (system_error) or no room (bad_alloc): fewer
                     break;
                 }
             workers = std::min(parts - 1, static_cast<int>(workers_.size()));
@@ -96,8 +86,7 @@ class step_pool {
         std::uint64_t seen = 0;
         std::unique_lock<std::mutex> lock(m_);
         for (;;) {
-            wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
-            if (stop_) return;
+            wake_.wait(lock, [&] { return generation_ != seen; });
             seen = generation_;
             if (index > active_) continue;
             const auto* job = job_;
@@ -113,7 +102,6 @@ class step_pool {
     const std::function<void(int)>* job_ = nullptr;
     std::uint64_t generation_ = 0;
     int active_ = 0, pending_ = 0;
-    bool stop_ = false;
 };
 
 /// body(first, last) over the steps [0, n) in `threads` contiguous parts. An exception in any

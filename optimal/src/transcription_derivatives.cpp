@@ -1,6 +1,8 @@
 // optimal/src/transcription_derivatives.cpp: the equations of the DMOC transcription
 // (transcription.hpp), their sparse Jacobian and the Hessian of the Lagrangian, and the
 // trajectory of a result. See transcription.hpp for the unknowns and equations.
+#include <cassert>
+
 #include <Eigen/LU>
 
 #include "step_threads.hpp"
@@ -68,7 +70,7 @@ int dmoc_transcription::evaluation_threads() const {
     // One thread with a free final time (its column sums over neighbouring steps), or a system
     // that is not concurrent (a typed Lagrangian's tape). Automatic: at most one thread per
     // 2048 units of r d² a step (a robot's step costs about 0.2 µs a unit: the iiwa's, d = 7, 18
-    // µs with gauss-2), so that each part is worth a thread's start (tens of µs).
+    // µs with gauss-2), so that each part is worth waking a worker for.
     if (threads_ == 1 || p_.free_time || !sys_->concurrent()) return 1;
     if (threads_ > 1) return std::min(threads_, n_);
     const long long work = 1LL * n_ * r_ * d_ * d_;
@@ -103,6 +105,7 @@ void dmoc_transcription::jacobian(cvector x, std::vector<double>& values) const 
 /// time (one thread only) the time's column.
 void dmoc_transcription::step_jacobians(cvector x, double h, int first, int last,
                                         std::vector<double>& values) const {
+    assert(!p_.free_time || (first == 0 && last == n_)); // the column sums across steps
     const int w = (s_ + 1) * d_;
     const std::size_t blocks = step_jacobian_size();
     std::size_t at = static_cast<std::size_t>(first) *

@@ -37,7 +37,7 @@ py::dict optimize(const py::object& source, const std::vector<std::string>& inpu
                   const std::string& ipopt_options, const std::string& reach,
                   const Eigen::Vector3d& reach_position,
                   const std::optional<Eigen::Vector3d>& reach_rpy, double reach_weight,
-                  double max_velocity) {
+                  double max_velocity, int threads) {
     // The model: a registry name, a _Robot's, or a _Lagrangian's with its inputs.
     std::optional<models::model> typed;
     const models::model* found = robot_model_of(source);
@@ -59,6 +59,7 @@ py::dict optimize(const py::object& source, const std::vector<std::string>& inpu
     optimal::model_request request;
     request.limits = limits;
     request.refine = refine;
+    request.threads = threads;
     optimal::control_problem& p = request.problem;
     p.time = time;
     p.steps = steps;

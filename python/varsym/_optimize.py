@@ -6,7 +6,7 @@ import os
 
 import numpy as np
 
-from . import _core
+from . import _checks, _core
 from ._lagrangian import Lagrangian
 from ._robot import Robot
 from ._simulate import Model
@@ -158,7 +158,7 @@ def optimize(model, *, time, q_start, q_end=None, v_start=None, v_end=None, step
              hessian="automatic", max_iterations=3000, refine=0, progress=False,
              ipopt_options=None, inputs=None, constraints=None, limits=True, reach=None,
              reach_position=None, reach_rpy=None, reach_weight=0.0, max_velocity=None,
-             **parameters):
+             threads=0, **parameters):
     """The controls that take ``model`` from (q_start, v_start) at t = 0 to (q_end, v_end) at
     t = ``time`` at the least cost, by discrete mechanics and optimal control with ``steps``
     steps of ``scheme`` (velocities default to rest). ``model``: a name or Model with inputs
@@ -189,7 +189,8 @@ def optimize(model, *, time, q_start, q_end=None, v_start=None, v_end=None, step
     ``ipopt_options``: an IPOPT options file (its ipopt.opt format), read over varsym's
     options; IPOPT reads no other. Whatever it loosens, the answer must pass varsym's own check
     (the equations re-evaluated, the bounds, every boundary value and the replay), or
-    SolverError."""
+    SolverError. ``threads``: the threads for a Robot's step derivatives (0: one per CPU the
+    process may use, fewer on small problems; 1: none); the same answer to the bit with any."""
     if isinstance(model, Lagrangian):
         if parameters:
             raise UsageError("optimize: a Lagrangian's parameters are given when it is made: "
@@ -264,7 +265,8 @@ def optimize(model, *, time, q_start, q_end=None, v_start=None, v_end=None, step
                              _vector(reach_position, 3, "reach_position", 0.0),
                              None if reach_rpy is None else _vector(reach_rpy, 3, "reach_rpy"),
                              float(reach_weight),
-                             math.inf if max_velocity is None else float(max_velocity))
+                             math.inf if max_velocity is None else float(max_velocity),
+                             _checks.count(threads, "threads", 0, 4096))
     finally:
         if bar is not None:
             bar.close()

@@ -78,6 +78,21 @@ fine=$(cost_of iiwa_g160.err)
 rel "$(cost_of free80.err)" "$fine" 1e-4 && rel "$(cost_of iiwa_g80.err)" "$fine" 1e-4 && ok ||
   bad "iiwa: Simpson $(cost_of free80.err), gauss-2 $(cost_of iiwa_g80.err) at N = 80, $fine at 160"
 rel "$(cost_of iiwa40.err)" "$fine" 1e-4 && bad "iiwa: N = 40 as close as N = 80" || ok
+# The steps' derivatives on 1 and on 3 threads (the run above: every CPU) give the same nodes
+# and controls to the byte (docs/optimal_control.md, "Threads in the derivatives"); the
+# negative control, Simpson's nodes at the same N, differ.
+for t in 1 3; do
+  "$VARSYM" optimize --urdf "$iiwa" --no-limits --time 2 --steps 80 --scheme gauss --degree 2 \
+    --from 0,0,0,0,0,0,0 --to $to --threads $t --quiet -o iiwa_t$t.csv --controls iiwa_u$t.csv \
+    2> iiwa_t$t.err && ok || bad "iiwa --threads $t: $(tail -1 iiwa_t$t.err)"
+done
+"$VARSYM" optimize --urdf "$iiwa" --no-limits --time 2 --steps 80 --scheme gauss --degree 2 \
+  --from 0,0,0,0,0,0,0 --to $to --quiet -o iiwa_t0.csv --controls iiwa_u0.csv 2> /dev/null
+cmp -s iiwa_t1.csv iiwa_t3.csv && cmp -s iiwa_t1.csv iiwa_t0.csv &&
+  cmp -s iiwa_u1.csv iiwa_u3.csv && cmp -s iiwa_u1.csv iiwa_u0.csv && ok ||
+  bad "--threads changed the answer"
+[ -s iiwa_t1.csv ] && ! cmp -s iiwa_t1.csv free80.csv && ok || bad "the negative control"
+expect_error 2 "negative --threads" "--threads" optimize --urdf "$iiwa" --time 2 --from 0,0,0,0,0,0,0 --to $to --threads -1 -o out.csv
 "$VARSYM" optimize --urdf "$iiwa" --time 2 --steps 80 --from 0,0,0,0,0,0,0 --to $to --quiet \
   -o iiwa.csv --controls iiwa_u.csv 2> iiwa.err && ok || bad "iiwa: $(tail -1 iiwa.err)"
 le "$(closure_of iiwa.err)" 1e-8 && ok ||

@@ -68,6 +68,24 @@ def test_a_robot_keeps_its_urdf_limits_and_they_bind():
                            max_velocity=1.0)
     assert slow.cost > out.cost
 
+
+def test_threads_give_the_same_answer_to_the_bit():
+    # A robot's step derivatives on one thread, on three and on every CPU (the default): each
+    # step's values are its own (docs/optimal_control.md, "Threads in the derivatives"), so the
+    # nodes and controls are equal, not merely close. Negative control: another N differs.
+    iiwa = varsym.Robot(os.path.join(DATA, "iiwa14_no_collision.urdf"))
+    target = [0.4, 0.3, 0.2, -0.3, 0.2, 0.3, 0.2]
+    runs = [varsym.optimize(iiwa, time=2.0, steps=60, q_start=np.zeros(7), q_end=target,
+                            scheme="gauss", degree=2, threads=t) for t in (1, 3, 0)]
+    for other in runs[1:]:
+        assert np.array_equal(other.q, runs[0].q) and np.array_equal(other.u, runs[0].u)
+    coarser = varsym.optimize(iiwa, time=2.0, steps=50, q_start=np.zeros(7), q_end=target,
+                              scheme="gauss", degree=2, threads=1)
+    assert coarser.cost != runs[0].cost
+    with pytest.raises(varsym.UsageError, match="threads must be from 0 to 4096"):
+        varsym.optimize(iiwa, time=2.0, q_start=np.zeros(7), q_end=target, threads=-1)
+
+
 def test_refusals():
     L = varsym.Lagrangian("0.5*x_dot**2", ["x"])
     with pytest.raises(varsym.UsageError, match="the input 'y' is not a coordinate"):

@@ -353,6 +353,11 @@ void add_optimize_command(CLI::App& app, action& todo) {
     cmd->add_option("--max-iterations", o->max_iterations, "IPOPT's iteration limit")
         ->transform(positive_integer)
         ->capture_default_str();
+    cmd->add_option("--threads", o->threads,
+                    "Threads for a URDF robot's step derivatives, at most 4096 (default 0: one "
+                    "per CPU this process may use, fewer on small problems; the same answer)")
+        ->transform(non_negative_integer)
+        ->check(CLI::Range(0, 4096));
     cmd->add_option("--refine", o->refine,
                     "Mesh refinement: solve with N/2^K steps first, then double N up to --steps, "
                     "each level started from the previous solution")

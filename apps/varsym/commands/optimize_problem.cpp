@@ -218,6 +218,7 @@ optimal::model_request request_of(const optimize_options& o, const models::model
     free_end_of(o.free_end, o.terminal_weight, d, p);
     r.reach = reach_of(o);
     r.solver.max_iterations = o.max_iterations;
+    r.threads = o.threads;
     r.solver.options_file = o.ipopt_options;
     r.solver.hessian = optimal::hessian_of(o.hessian); // CLI11 checked the word
     return r;

@@ -28,7 +28,7 @@ struct optimize_options {
     double max_control = std::numeric_limits<double>::infinity();
     double max_velocity = std::numeric_limits<double>::infinity();
     std::string cost = "effort", hessian = "automatic";
-    int max_iterations = 3000, refine = 0;
+    int max_iterations = 3000, refine = 0, threads = 0;
     std::string output, controls, config, ipopt_options;
     std::vector<std::string> plot;
     std::string animate;                ///< --animate FILE: the robot's motion as an HTML page

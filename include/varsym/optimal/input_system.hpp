@@ -60,7 +60,8 @@ class input_system final : public lagrangian_part<L> {
 
     [[nodiscard]] int inputs() const override { return static_cast<int>(b_.b().cols()); }
     /// Where L says so (L::concurrent: the URDF robot's per-thread workspaces) and there are no
-    /// constraints (a typed constraint's tape keeps scratch of its own); B u − C q̇ is pure.
+    /// constraints (a typed constraint's tape keeps scratch of its own, and the declaration is
+    /// the whole system's); B u − C q̇ is pure.
     [[nodiscard]] bool concurrent() const override {
         if constexpr (requires { L::concurrent; })
             return L::concurrent && !constrained;

@@ -50,6 +50,9 @@ struct model_request {
     std::optional<reach_request> reach;
     /// Mesh refinement levels (solve_refined); 0: one solve at problem.steps.
     int refine = 0;
+    /// Threads for the steps' derivatives (dmoc_transcription::set_threads; only a URDF robot's
+    /// use more than one): 0 automatic (one per CPU this process may run on), 1 none.
+    int threads = 0;
     solver_options solver;
     /// Called before each refinement level is solved, with its number of steps.
     std::function<void(int)> level;
