@@ -4,13 +4,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
-#include <mutex>
 #include <sstream>
 #include <stdexcept>
 
 #include <IpIpoptApplication.hpp>
 #include <IpTNLP.hpp>
 
+#include "solve_detail.hpp"
 #include "varsym/optimize/solve.hpp"
 #include "varsym/run/input_file.hpp"
 #include "varsym/run/memory.hpp"
@@ -300,19 +300,15 @@ std::uint64_t memory_estimate(const transcription& problem) {
     return static_cast<std::uint64_t>(300.0 * per_step * per_step * steps + 32e6);
 }
 
-nlp_result solve(const nlp& problem, const solver_options& options, const vector* start) {
-    if (options.hessian == hessian_kind::exact && !problem.has_hessian())
-        throw std::invalid_argument("this transcription gives no exact Hessian: choose the "
-                                    "limited-memory approximation");
-    const bool exact = options.hessian != hessian_kind::limited_memory && problem.has_hessian();
+namespace detail {
+
+void check_solve_memory(const nlp& problem) {
     if (const auto* t = dynamic_cast<const transcription*>(&problem)) check_memory(*t);
+}
+
+nlp_result run_ipopt(const nlp& problem, const solver_options& options, const vector* start,
+                     bool exact) {
     nlp_result out;
-    // One IPOPT solve at a time in the process: the sequential MUMPS that Debian's IPOPT links
-    // keeps global state (its MPI stub, its load-balancing arrays), and two solves on two
-    // threads at once crash the process ("PB allocation in DMUMPS_LOAD_INIT", SIGSEGV: 8 runs in
-    // 8 from Python threads). Threads that optimise wait here for each other.
-    static std::mutex one_solve;
-    const std::lock_guard<std::mutex> only_this_one(one_solve);
     // IPOPT's console is standard error: anything it prints (its table at a print_level the
     // options file sets, its derivative test, a rejected option) stays out of data that goes
     // to standard output.
@@ -383,23 +379,6 @@ nlp_result solve(const nlp& problem, const solver_options& options, const vector
     return out;
 }
 
-refined solve_refined(const std::function<std::unique_ptr<transcription>(int)>& make, int steps,
-                      int levels, const solver_options& options) {
-    std::vector<int> sizes{steps};
-    while (static_cast<int>(sizes.size()) <= levels && sizes.back() / 2 >= 4)
-        sizes.push_back(sizes.back() / 2);
-    refined out;
-    std::unique_ptr<trajectory> previous;
-    for (auto n = sizes.rbegin(); n != sizes.rend(); ++n) {
-        out.problem = make(*n);
-        const vector x0 = previous ? out.problem->start_from(*previous) : out.problem->start();
-        out.result = solve(*out.problem, options, &x0);
-        out.steps.push_back(*n);
-        out.iterations.push_back(out.result.iterations);
-        if (!out.result.converged()) break;
-        previous = std::make_unique<trajectory>(out.problem->unpack(out.result));
-    }
-    return out;
-}
+} // namespace detail
 
 } // namespace varsym::optimal

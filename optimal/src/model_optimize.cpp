@@ -134,12 +134,8 @@ model_outcome optimize(const models::model& m, std::span<const double> values,
         throw std::invalid_argument(what.starts_with(m.name + ": ") ? what : m.name + ": " + what);
     }
     if (request.solver.hessian == hessian_kind::exact && !tr->has_hessian())
-        throw std::invalid_argument(
-            std::string("the exact Hessian: ") +
-            (p.cost.invariant != 0.0
-                 ? "the invariant cost has none (it would need L's fourth derivatives)"
-                 : "a free final time (the cost time) has none") +
-            "; use automatic or limited-memory");
+        throw std::invalid_argument("the exact Hessian: the invariant cost has none (it would need "
+                                    "L's fourth derivatives); use automatic or limited-memory");
     if (request.ready) request.ready();
     const auto started = std::chrono::steady_clock::now();
     if (request.refine > 0) {

@@ -169,6 +169,7 @@ sparsity dmoc_transcription::hessian_pattern() const {
             s.add(end_index(row), end_index(col));
     add_constraint_hessian(vector(), vector(), &s, nullptr);
     add_node_hessian(vector(), vector(), &s, nullptr);
+    add_time_hessian(vector(), vector(), nullptr, &s, nullptr);
     return s;
 }
 
@@ -179,8 +180,10 @@ void dmoc_transcription::hessian(cvector x, double sigma, cvector lambda,
                                  std::vector<double>& values) const {
     const double h = h_of(x);
     values.assign(static_cast<std::size_t>(n_) * step_hessian_.size(), 0.0);
+    vector time_row; // a free final time's row (one thread: it sums over the steps)
+    if (p_.free_time) time_row.setZero(variables());
     detail::over_steps(n_, evaluation_threads(), [&](int first, int last) {
-        step_hessians(x, sigma, lambda, h, first, last, values);
+        step_hessians(x, sigma, lambda, h, first, last, values, p_.free_time ? &time_row : nullptr);
     });
     if (free_end_) {
         // −λ_Nᵀ ∂L/∂q̇(Q_{Ns}, v_N) and σ times the terminal cost, over (Q_{Ns}, v_N).
@@ -198,11 +201,15 @@ void dmoc_transcription::hessian(cvector x, double sigma, cvector lambda,
     }
     add_constraint_hessian(x, lambda, nullptr, &values);
     add_node_hessian(x, lambda, nullptr, &values);
+    add_time_hessian(x, lambda, &time_row, nullptr, &values);
 }
 
-/// Steps first … last − 1 of hessian(): each its own block of values.
+/// Steps first … last − 1 of hessian(): each its own block of values, and with a free final
+/// time (one thread only) their terms of its row.
 void dmoc_transcription::step_hessians(cvector x, double sigma, cvector lambda, double h, int first,
-                                       int last, std::vector<double>& values) const {
+                                       int last, std::vector<double>& values,
+                                       vector* time_row) const {
+    assert(!time_row || (first == 0 && last == n_));
     const int w = (s_ + 1) * d_ + r_ * m_, wq = (s_ + 1) * d_;
     matrix hk(w, w), hz, hc, third;
     vector q, v, a, b, u(m_);
@@ -225,6 +232,7 @@ void dmoc_transcription::step_hessians(cvector x, double sigma, cvector lambda, 
             sys_->third(q, v, t, a, b, third);
             hz.topLeftCorner(2 * d_, 2 * d_) += third;
             hz *= h * weight(j);
+            if (time_row) add_time_point(x, sigma, k, j, h, a, b, hz, *time_row);
             // Gᵀ hz G block by block: z = (q, v, u) = (Σ ℓ_l Q_l, Σ ℓ_l'/h Q_l, u_kj), so the
             // (l, m) block over (Q_l, Q_m) is Σ of the four (q, v) blocks of hz weighted by
             // ℓ_l or ℓ_l'/h and ℓ_m or ℓ_m'/h; (Q_l, u_kj) likewise; (u_kj, u_kj) is hz's.

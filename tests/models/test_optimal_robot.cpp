@@ -62,6 +62,21 @@ TEST(OptimalRobot, DerivativesMatchFiniteDifferences) {
     EXPECT_GT(e.largest_hessian, 1.0); // not vacuous: L's third derivatives are there
     // The cost's gradient (measured 5.9e-11 of entries up to 0.25); budget 1e-8, 170×.
     EXPECT_LT(e.gradient, 1e-8 * std::max(1.0, e.largest_gradient));
+    // With a free final time (its Hessian row from the damping's ∂f/∂q̇ and the torques' B as
+    // well as L's derivatives) and the URDF's velocity limits (rows V/h that depend on T).
+    auto p = iiwa_problem(2, {scheme_kind::gauss, 2});
+    p.free_time = true;
+    p.cost.time = 1.0;
+    robot.limits(robot.defaults(), {}, p);
+    const auto timed = optimal::transcribe(robot, robot.defaults(), {}, p);
+    ASSERT_TRUE(timed->has_hessian());
+    Eigen::VectorXd y =
+        0.5 * Eigen::VectorXd::LinSpaced(timed->variables(), 0.3, 2.9).array().sin();
+    y(y.size() - 1) = 1.7; // T
+    const auto f = optimal_test::check_derivatives(
+        *timed, y, 0.7, Eigen::VectorXd::LinSpaced(timed->constraints(), -1.0, 2.0));
+    EXPECT_LT(f.jacobian, 1e-6 * f.largest_jacobian);
+    EXPECT_LT(f.hessian, 1e-6 * f.largest_hessian);
 }
 
 TEST(OptimalRobot, KarushKuhnTuckerConditionsHoldAtTheSolution) {

@@ -154,14 +154,9 @@ void optimize(const optimize_options& o) {
     optimal::model_request request = request_of(o, m, values, lists);
     // Options that do not combine (the service refuses them too, without the options' names).
     const optimal::control_problem& p = request.problem;
-    if (request.solver.hessian == optimal::hessian_kind::exact &&
-        (p.cost.invariant != 0.0 || p.free_time))
-        throw usage_error(std::string("--hessian exact: ") +
-                          (p.cost.invariant != 0.0
-                               ? "the invariant cost has no exact Hessian (it would need L's "
-                                 "fourth derivatives)"
-                               : "a free final time (--cost time) has no exact Hessian") +
-                          "; use automatic or limited-memory");
+    if (request.solver.hessian == optimal::hessian_kind::exact && p.cost.invariant != 0.0)
+        throw usage_error("--hessian exact: the invariant cost has no exact Hessian (it would "
+                          "need L's fourth derivatives); use automatic or limited-memory");
     file_roles roles;
     if (!o.config.empty()) roles.add("--config", o.config);
     roles.add("--urdf", o.urdf);
@@ -346,8 +341,8 @@ void add_optimize_command(CLI::App& app, action& todo) {
                     "guess; needs --max-control), e.g. power,effort=0.01 or time,effort=0.001")
         ->capture_default_str();
     cmd->add_option("--hessian", o->hessian,
-                    "automatic (exact where there is one), exact (L's third derivatives by "
-                    "automatic differentiation) or limited-memory")
+                    "automatic (exact where there is one; with --cost time, limited memory again "
+                    "where the exact one fails), exact (L's third derivatives) or limited-memory")
         ->check(CLI::IsMember({"automatic", "exact", "limited-memory"}))
         ->capture_default_str();
     cmd->add_option("--max-iterations", o->max_iterations, "IPOPT's iteration limit")

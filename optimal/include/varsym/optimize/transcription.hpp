@@ -65,11 +65,9 @@ class dmoc_transcription final : public transcription {
     void residual(cvector x, vector& e) const override;
     [[nodiscard]] sparsity jacobian_pattern() const override;
     void jacobian(cvector x, std::vector<double>& values) const override;
-    /// Exact (to the system's third derivatives), except with the invariant cost (whose Hessian
-    /// needs L's fourth derivatives) and with a free final time.
-    [[nodiscard]] bool has_hessian() const override {
-        return p_.cost.invariant == 0.0 && !p_.free_time;
-    }
+    /// Exact (to the system's third derivatives, a free final time's row included), except
+    /// with the invariant cost, whose Hessian needs L's fourth derivatives.
+    [[nodiscard]] bool has_hessian() const override { return p_.cost.invariant == 0.0; }
     [[nodiscard]] sparsity hessian_pattern() const override;
     void hessian(cvector x, double sigma, cvector lambda,
                  std::vector<double>& values) const override;
@@ -179,7 +177,13 @@ class dmoc_transcription final : public transcription {
     void step_jacobians(cvector x, double h, int first, int last,
                         std::vector<double>& values) const;
     void step_hessians(cvector x, double sigma, cvector lambda, double h, int first, int last,
-                       std::vector<double>& values) const;
+                       std::vector<double>& values, vector* time_row) const;
+    // A free final time's Hessian row (transcription_time.cpp): step k's point j's terms, then
+    // the bounds' velocity rows' and the row's pattern or values after every other entry.
+    void add_time_point(cvector x, double sigma, int k, int j, double h, const vector& a,
+                        const vector& b_over_h, const matrix& hz, vector& row) const;
+    void add_time_hessian(cvector x, cvector lambda, vector* row, sparsity* pattern,
+                          std::vector<double>* values) const;
     // The constraints' parts (transcription_constraints.cpp; nothing without constraints).
     void check_boundary_constraints() const;
     void add_constraint_residual(cvector x, vector& e) const;
