@@ -30,7 +30,7 @@ namespace {
 using namespace varsym;
 
 struct outcome {
-    double seconds = 0.0, cost = 0.0;
+    double seconds = 0.0, cost = 0.0, horizon = 0.0;
     int iterations = 0;
     std::string status;
 };
@@ -47,7 +47,8 @@ outcome solve(const models::model& robot, const optimal::control_problem& given,
     const auto r = optimal::solve(*tr, o);
     const double s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return {s, r.cost, r.iterations, optimal::status_name(r.verdict)};
+    return {s, r.cost, p.free_time ? r.x(r.x.size() - 1) : p.time, r.iterations,
+            optimal::status_name(r.verdict)};
 }
 
 /// A planar chain of n links as URDF text: link i of 1 kg with its centre 0.3 m below joint i.
@@ -205,6 +206,30 @@ int main(int argc, char** argv) {
         std::printf("| %d | %s | %.3f | %d | %.1f | %.6f | %s |\n", reaches[i].first,
                     reaches[i].second.label().c_str(), r.seconds, r.iterations,
                     1e3 * r.seconds / r.iterations, r.cost, r.status.c_str());
+    }
+
+    std::printf("\n## KUKA iiwa 14 in minimum time (--cost time,effort=0.001, the first guess "
+                "2 s), Simpson, URDF limits: the exact Hessian (its row of T) against limited "
+                "memory\n\n| N | Hessian | time [s] | iterations | T [s] | cost | status |\n"
+                "|---|---|---|---|---|---|---|\n");
+    std::vector<std::pair<int, optimal::hessian_kind>> timed;
+    for (const int n : {25, 50, 100})
+        for (const auto h : {optimal::hessian_kind::exact, optimal::hessian_kind::limited_memory})
+            timed.emplace_back(n, h);
+    std::vector<std::function<outcome()>> timed_cases;
+    for (const auto& c : timed)
+        timed_cases.emplace_back([&, c] {
+            auto p = rest_to_rest(7, c.first, scheme_kind::simpson, to);
+            p.free_time = true;
+            p.cost = {.effort = 0.001, .time = 1.0};
+            return solve(iiwa, p, c.second);
+        });
+    const auto timed_results = bench::interleaved<outcome>(timed_cases, rounds);
+    for (std::size_t i = 0; i < timed.size(); ++i) {
+        const auto& r = timed_results[i];
+        std::printf("| %d | %s | %.3f | %d | %.6f | %.6f | %s |\n", timed[i].first,
+                    timed[i].second == optimal::hessian_kind::exact ? "exact" : "limited-memory",
+                    r.seconds, r.iterations, r.horizon, r.cost, r.status.c_str());
     }
 
     std::printf("\n## A chain of n links (URDF), rest to rest in 2 s, Simpson, exact Hessian, "

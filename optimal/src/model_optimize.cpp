@@ -107,8 +107,8 @@ model_outcome optimize(const models::model& m, std::span<const double> values,
     if (!m.control)
         throw std::invalid_argument("model " + m.name + " has no control input to optimise");
     refuse_simulation_only(m, values, lists);
-    if (request.threads < 0)
-        throw std::invalid_argument("threads: 0 (every CPU), 1 (none) or more, not " +
+    if (request.threads < 0 || request.threads > 4096)
+        throw std::invalid_argument("threads: 0 (one per CPU), 1 (none) to 4096, not " +
                                     std::to_string(request.threads));
     const auto transcribe_threaded = [&](const control_problem& q) {
         auto t = transcribe(m, values, lists, q);
@@ -156,6 +156,8 @@ model_outcome optimize(const models::model& m, std::span<const double> values,
     if (request.solved) request.solved();
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     out.path = tr->unpack(out.result);
+    if (const auto* dmoc = dynamic_cast<const dmoc_transcription*>(tr.get()))
+        out.threads = dmoc->evaluation_threads();
     // Our own check, whatever the solver says: the equations, bounds and boundary values, and
     // the replay (an IPOPT options file can loosen IPOPT's tolerances under "solved").
     if (out.result.converged()) out.check = check_solution(*tr, out.result, out.path);

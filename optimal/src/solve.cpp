@@ -11,13 +11,14 @@ namespace varsym::optimal {
 namespace {
 
 /// Whether the automatic choice solves again with limited memory: a free final time whose
-/// exact-Hessian solve ended infeasible, at the iteration limit or failed.
+/// exact-Hessian solve ended infeasible or failed, not stopped by the caller (its evaluations
+/// then fail too). Not at the iteration limit: the caller's limit holds for the whole solve.
 bool retry_with_limited_memory(const nlp& problem, const solver_options& options,
                                const nlp_result& out) {
     const auto* t = dynamic_cast<const transcription*>(&problem);
     return options.hessian == hessian_kind::automatic && t != nullptr && t->problem().free_time &&
-           (out.verdict == status::infeasible || out.verdict == status::iteration_limit ||
-            out.verdict == status::failed);
+           (out.verdict == status::infeasible || out.verdict == status::failed) &&
+           !(options.stop && options.stop());
 }
 
 } // namespace
@@ -38,11 +39,12 @@ nlp_result solve(const nlp& problem, const solver_options& options, const vector
     // A free final time: its exact Hessian is 2-6 times faster where it converges (a robot's
     // and the cart-pole's minimum time), but the pendulum's pumping swing-up at N = 20 and 40
     // ended there at a point of local infeasibility (spurious roots of too coarse steps) where
-    // limited memory's positive definite model solved it (docs/optimal_control.md, "Minimum
-    // time"). The automatic choice then solves again with limited memory from the same start.
+    // limited memory's positive definite model solved it (docs/optimal_control.md, "Default by
+    // measurement"). The automatic choice then solves again with limited memory from the same
+    // start, its iterations numbered from 0 again in the progress callback.
     if (exact && retry_with_limited_memory(problem, options, out)) {
         const int first = out.iterations;
-        const std::string why = status_name(out.verdict);
+        const std::string why = std::string(status_name(out.verdict)) + " (" + out.message + ")";
         out = detail::run_ipopt(problem, options, start, false);
         out.iterations += first;
         out.message += "; by the limited-memory Hessian, after the exact one ended " + why +

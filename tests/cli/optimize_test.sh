@@ -205,8 +205,7 @@ done
 cmp -s mt_exact.csv mintime.csv && ok || bad "--hessian exact is not the automatic choice"
 its() { sed -n 's/.* after \([0-9]*\) iterations.*/\1/p' "$1"; }
 te=$(tail -1 mt_exact.csv | cut -d, -f1) tl=$(tail -1 mt_limited-memory.csv | cut -d, -f1)
-awk -v a="$te" -v b="$tl" 'BEGIN { d = a - b; exit !(d < 1e-6 && d > -1e-6) }' &&
-  [ "$(its mt_exact.err)" -lt "$(its mt_limited-memory.err)" ] && ok ||
+rel "$te" "$tl" 1e-6 && lt "$(its mt_exact.err)" "$(its mt_limited-memory.err)" && ok ||
   bad "exact against limited memory: T $te in $(its mt_exact.err), $tl in $(its mt_limited-memory.err)"
 expect_error 2 "exact Hessian of the invariant cost" "--hessian exact: the invariant cost has no exact Hessian" optimize --model cart-pole --time 3 --steps 20 \
   --from 0,$pi --to 1,$pi --cost invariant --hessian exact -o out.csv

@@ -73,10 +73,14 @@ TEST(OptimalRobot, DerivativesMatchFiniteDifferences) {
     Eigen::VectorXd y =
         0.5 * Eigen::VectorXd::LinSpaced(timed->variables(), 0.3, 2.9).array().sin();
     y(y.size() - 1) = 1.7; // T
-    const auto f = optimal_test::check_derivatives(
-        *timed, y, 0.7, Eigen::VectorXd::LinSpaced(timed->constraints(), -1.0, 2.0));
+    const Eigen::VectorXd mu = Eigen::VectorXd::LinSpaced(timed->constraints(), -1.0, 2.0);
+    const auto f = optimal_test::check_derivatives(*timed, y, 0.7, mu);
     EXPECT_LT(f.jacobian, 1e-6 * f.largest_jacobian);
     EXPECT_LT(f.hessian, 1e-6 * f.largest_hessian);
+    std::vector<double> hv; // the row of T is there
+    timed->hessian(y, 0.7, mu, hv);
+    const int nt = timed->variables();
+    EXPECT_GT(timed->hessian_pattern().dense(hv, nt, nt).row(nt - 1).cwiseAbs().maxCoeff(), 1.0);
 }
 
 TEST(OptimalRobot, KarushKuhnTuckerConditionsHoldAtTheSolution) {
@@ -349,6 +353,24 @@ TEST(OptimalRobot, ThreadsGiveTheSameDerivativesToTheBit) {
     EXPECT_THROW(tr->hessian(x, 0.7, lambda, h), std::runtime_error);
     rec->fail = false;
     EXPECT_THROW(tr->set_threads(-1), std::invalid_argument);
+    // Through the service both front ends call: model_request::threads reaches the
+    // transcription (the outcome reports it), the answer is the same to the bit, and a count out
+    // of [0, 4096] is refused.
+    optimal::model_request request;
+    request.problem = iiwa_problem(13, {scheme_kind::gauss, 2});
+    std::vector<optimal::model_outcome> outcomes;
+    for (const int threads : {1, 3}) {
+        request.threads = threads;
+        outcomes.push_back(optimal::optimize(robot, robot.defaults(), {}, request));
+        EXPECT_EQ(outcomes.back().threads, threads);
+    }
+    EXPECT_TRUE(outcomes[0].result.x == outcomes[1].result.x);
+    EXPECT_EQ(outcomes[0].verdict, optimal::verdict::solved);
+    for (const int threads : {-1, 4097}) {
+        request.threads = threads;
+        EXPECT_THROW((void)optimal::optimize(robot, robot.defaults(), {}, request),
+                     std::invalid_argument);
+    }
     // Not declared concurrent: one thread whatever is asked.
     const auto& acrobot = models::get("acrobot");
     auto q = iiwa_problem(13, {scheme_kind::gauss, 2});

@@ -350,7 +350,8 @@ void add_optimize_command(CLI::App& app, action& todo) {
         ->capture_default_str();
     cmd->add_option("--threads", o->threads,
                     "Threads for a URDF robot's step derivatives, at most 4096 (default 0: one "
-                    "per CPU this process may use, fewer on small problems; the same answer)")
+                    "per CPU this process may use, fewer on small problems; 1: none; one with "
+                    "--cost time; the same answer)")
         ->transform(non_negative_integer)
         ->check(CLI::Range(0, 4096));
     cmd->add_option("--refine", o->refine,

@@ -82,6 +82,7 @@ struct model_outcome {
     /// One line for a verdict other than solved: what went wrong and what to do.
     std::string message;
     double seconds = 0.0; ///< wall time of the solve(s)
+    int threads = 1;      ///< the threads the steps' derivatives ran on (model_request::threads)
     /// With a reach request: the link, and how far it ends from its target.
     std::string reach_frame;
     std::optional<models::frame_miss> reach_miss;

@@ -70,6 +70,9 @@ std::vector<ipopt_option> parse_ipopt_options(const std::string& text, const std
 std::uint64_t memory_estimate(const transcription& problem);
 
 /// Solves `problem` from its start(), or from `start` when given (same size as start()).
+/// With hessian_kind::automatic and a free final time, an exact-Hessian solve that ends
+/// infeasible or failed (not stopped) is solved again with limited memory from the same start;
+/// the result's message says so and its iterations are both solves'.
 /// A transcription whose memory_estimate exceeds 80 % of the machine's memory is refused
 /// before anything is sized (std::invalid_argument, saying how many steps fit).
 nlp_result solve(const nlp& problem, const solver_options& options = {},
