@@ -128,6 +128,12 @@ model_outcome optimize(const models::model& m, std::span<const double> values,
             p.end_target = models::frame_target(r.robot, r.frame, r.position, r.rotation);
             p.end_target_weight = r.weight;
         }
+        // Minimum time over unbounded inputs has no minimum (the model's limits, applied above,
+        // may bound them: a robot's URDF efforts).
+        if (p.free_time && (p.control_lower.size() == 0 || p.control_upper.size() == 0 ||
+                            !p.control_lower.allFinite() || !p.control_upper.allFinite()))
+            throw std::invalid_argument("a cost on the time needs bounded inputs: with unbounded "
+                                        "inputs the motion can be made as fast as one likes");
         tr = transcribe_threaded(p);
     } catch (const std::invalid_argument& e) { // named once: prepare's own messages name it
         const std::string what = e.what();

@@ -170,7 +170,7 @@ def optimize(model, *, time, q_start, q_end=None, v_start=None, v_end=None, step
     coordinates and parameters (e.g. ["x**2 + y**2 - l**2"]; q_start and q_end must meet them).
     ``cost``: "effort" (∫ u²/2), "invariant" (∫ τᵀM⁻¹τ/2), "power" (∫ Σ|τ_i
     q̇_i|, smoothed), "time" (minimum time: ``time`` is then the first guess of a free horizon;
-    needs ``max_control``), or a dict of weights such as {"power": 1, "effort": 0.01}.
+    needs ``max_control``, or a Robot's URDF efforts), or a dict of weights such as {"power": 1, "effort": 0.01}.
     ``max_control``: a bound |u| ≤ U on every input (over a robot's efforts); ``max_velocity``:
     |q̇| ≤ V on every coordinate at the nodes and the steps' quadrature points (over a robot's URDF
     velocity limits). ``free_end``:
@@ -239,9 +239,10 @@ def optimize(model, *, time, q_start, q_end=None, v_start=None, v_end=None, step
         if q_end is None:
             q_end = q_start
     weights = _costs(cost)
-    if weights["time"] > 0 and max_control is None:
-        raise UsageError("optimize: a cost on the time needs max_control (with unbounded inputs "
-                         "the motion can be made as fast as one likes)")
+    if weights["time"] > 0 and max_control is None and not (isinstance(model, Robot) and limits):
+        raise UsageError("optimize: a cost on the time needs max_control, or a Robot's URDF "
+                         "efforts with limits=True (with unbounded inputs the motion can be made "
+                         "as fast as one likes)")
     bar, callback = None, progress if callable(progress) else None
     if progress is True:
         from tqdm import tqdm

@@ -93,6 +93,19 @@ cmp -s iiwa_t1.csv iiwa_t3.csv && cmp -s iiwa_t1.csv iiwa_t0.csv &&
   bad "--threads changed the answer"
 [ -s iiwa_t1.csv ] && ! cmp -s iiwa_t1.csv free80.csv && ok || bad "the negative control"
 expect_error 2 "negative --threads" "--threads" optimize --urdf "$iiwa" --time 2 --from 0,0,0,0,0,0,0 --to $to --threads -1 -o out.csv
+# Minimum time within the URDF limits, without --max-control: the efforts bound the torques (an
+# unbounded input is refused), solved, faster than the 2 s guess (0.567 s: the velocity limits
+# bind), the torques within the efforts (320 320 176 176 110 40 40 N m). Negative control:
+# --no-limits leaves the torques unbounded, refused.
+"$VARSYM" optimize --urdf "$iiwa" --time 2 --steps 25 --from 0,0,0,0,0,0,0 --to $to \
+  --cost time,effort=0.001 --quiet -o fast.csv --controls fast_u.csv 2> fast.err && ok ||
+  bad "iiwa in minimum time: $(tail -1 fast.err)"
+lt "$(tail -1 fast.csv | cut -d, -f1)" 1 && ok || bad "iiwa minimum time: T = $(tail -1 fast.csv | cut -d, -f1)"
+awk -F, 'NR > 1 { split("320 320 176 176 110 40 40", e, " ")
+  for (j = 1; j <= 7; ++j) { a = $(j + 1) < 0 ? -$(j + 1) : $(j + 1)
+    if (a > e[j] * (1 + 1e-9)) over = 1 } }
+  END { exit !(NR > 1 && !over) }' fast_u.csv && ok || bad "iiwa minimum time: torques"
+expect_error 2 "minimum time without limits" "--cost time needs --max-control" optimize --urdf "$iiwa" --no-limits --time 2 --from 0,0,0,0,0,0,0 --to $to --cost time -o out.csv
 "$VARSYM" optimize --urdf "$iiwa" --time 2 --steps 80 --from 0,0,0,0,0,0,0 --to $to --quiet \
   -o iiwa.csv --controls iiwa_u.csv 2> iiwa.err && ok || bad "iiwa: $(tail -1 iiwa.err)"
 le "$(closure_of iiwa.err)" 1e-8 && ok ||

@@ -143,7 +143,7 @@ rc=$?
   bad "spurious optimum: exit $rc ($(cat spurious.err))"
 
 # Bad input: one line, exit 2, no file.
-expect_error 2 "minimum time unbounded" "--cost time needs --max-control: with unbounded inputs the" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --cost time --output out.csv
+expect_error 2 "minimum time unbounded" "--cost time needs --max-control (or a robot's URDF efforts" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --cost time --output out.csv
 expect_error 2 "unknown cost term" "--cost: unknown term 'speed'; the terms are effort" optimize --model cart-pole --time 2 --from 0,0 --to 1,0 --cost speed --output out.csv
 expect_error 2 "model without inputs" "model oscillator has no control input to optimise; models" optimize --model oscillator --time 2 --from 0 --to 1 --output out.csv
 expect_error 2 "unknown model" "no model 'acrobat'; did you mean 'acrobot'? The models" optimize --model acrobat --time 2 --from 0,0 --to 1,0 --output out.csv

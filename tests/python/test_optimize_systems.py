@@ -86,6 +86,23 @@ def test_threads_give_the_same_answer_to_the_bit():
         varsym.optimize(iiwa, time=2.0, q_start=np.zeros(7), q_end=target, threads=-1)
 
 
+def test_a_robot_in_minimum_time_within_its_urdf_efforts():
+    # No max_control: the URDF efforts bound the torques (unbounded inputs are refused), and the
+    # fastest motion rides a velocity limit (T = 0.567 s). Negative control: limits=False
+    # leaves the torques unbounded, refused.
+    iiwa = varsym.Robot(os.path.join(DATA, "iiwa14_no_collision.urdf"))
+    target = [0.4, 0.3, 0.2, -0.3, 0.2, 0.3, 0.2]
+    out = varsym.optimize(iiwa, time=2.0, steps=25, q_start=np.zeros(7), q_end=target,
+                          cost={"time": 1.0, "effort": 0.001})
+    effort = np.asarray(iiwa.limits["effort"])
+    assert out.status == "solved" and out.closure < 1e-8 and out.t[-1] < 1.0
+    assert np.all(np.abs(out.u) <= effort * (1 + 1e-9))
+    assert 0.999 < (np.abs(out.v) / iiwa.limits["velocity"]).max() <= 1 + 1e-9
+    with pytest.raises(varsym.UsageError, match="needs max_control, or a Robot's URDF efforts"):
+        varsym.optimize(iiwa, time=2.0, steps=25, q_start=np.zeros(7), q_end=target,
+                        cost="time", limits=False)
+
+
 def test_refusals():
     L = varsym.Lagrangian("0.5*x_dot**2", ["x"])
     with pytest.raises(varsym.UsageError, match="the input 'y' is not a coordinate"):

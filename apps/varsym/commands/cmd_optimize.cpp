@@ -235,8 +235,8 @@ void optimize(const optimize_options& o) {
                      100.0 * out.check.velocity_excess);
     if (out.check.controls_at_bound > 0)
         std::fprintf(stderr,
-                     "varsym optimize: bound active: |u| = --max-control at %d of %lld control "
-                     "values\n",
+                     "varsym optimize: bound active: |u| = %s at %d of %lld control values\n",
+                     std::isfinite(o.max_control) ? "--max-control" : "its URDF effort",
                      out.check.controls_at_bound, static_cast<long long>(path.u.size()));
     if (sig != 0)
         throw interrupted(sig, "varsym optimize: stopped by signal; the files hold the last "
@@ -334,11 +334,13 @@ void add_optimize_command(CLI::App& app, action& todo) {
     cmd->add_option("--max-control", o->max_control,
                     "Bound |u| <= U on every input (default: none)")
         ->transform(positive_number);
-    cmd->add_option("--cost", o->cost,
-                    "The running cost, terms with optional weights: effort (u^2/2), invariant "
-                    "(tau^T M^-1 tau/2, tau the inputs' generalized force), power (sum |tau_i "
-                    "q'_i|, smoothed), time (the horizon itself: minimum time, --time its first "
-                    "guess; needs --max-control), e.g. power,effort=0.01 or time,effort=0.001")
+    cmd->add_option(
+           "--cost", o->cost,
+           "The running cost, terms with optional weights: effort (u^2/2), invariant "
+           "(tau^T M^-1 tau/2, tau the inputs' generalized force), power (sum |tau_i "
+           "q'_i|, smoothed), time (the horizon itself: minimum time, --time its first "
+           "guess; needs --max-control or a robot's URDF efforts), e.g. power,effort=0.01 or "
+           "time,effort=0.001")
         ->capture_default_str();
     cmd->add_option("--hessian", o->hessian,
                     "automatic (exact where there is one; with --cost time, limited memory again "

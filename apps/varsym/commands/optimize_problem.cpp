@@ -205,9 +205,10 @@ optimal::model_request request_of(const optimize_options& o, const models::model
     p.cost = cost_of(o.cost);
     if (p.cost.time > 0.0) { // minimum time: T free, --time its first guess
         p.free_time = true;
-        if (!std::isfinite(o.max_control))
-            throw usage_error("--cost time needs --max-control: with unbounded inputs the "
-                              "motion can be made as fast as one likes");
+        if (!std::isfinite(o.max_control) && (o.no_limits || !m.limits))
+            throw usage_error("--cost time needs --max-control (or a robot's URDF efforts, its "
+                              "limits kept): with unbounded inputs the motion can be made as fast "
+                              "as one likes");
     }
     p.control_lower = Eigen::VectorXd::Constant(1, -o.max_control); // on every input
     p.control_upper = Eigen::VectorXd::Constant(1, o.max_control);
