@@ -212,7 +212,7 @@ void dmoc_transcription::step_hessians(cvector x, double sigma, cvector lambda, 
     assert(!time_row || (first == 0 && last == n_));
     const int w = (s_ + 1) * d_ + r_ * m_, wq = (s_ + 1) * d_;
     matrix hk(w, w), hz, hc, third;
-    vector q, v, a, b, u(m_);
+    vector q, v, a, b, u(m_), gc;
     std::size_t at = static_cast<std::size_t>(first) * step_hessian_.size();
     for (int k = first; k < last; ++k) {
         hk.setZero();
@@ -226,13 +226,14 @@ void dmoc_transcription::step_hessians(cvector x, double sigma, cvector lambda, 
             }
             const double t = point_time(k, j, h);
             u = x.segment(control_index(k * r_ + j), m_);
-            (void)running_cost_at(*sys_, p_.cost, p_.effort, q, v, t, u, nullptr, &hc);
+            (void)running_cost_at(*sys_, p_.cost, p_.effort, q, v, t, u, time_row ? &gc : nullptr,
+                                  &hc);
             sys_->force_hessian(q, v, t, u, a, hz);
             hz += sigma * hc;
             sys_->third(q, v, t, a, b, third);
             hz.topLeftCorner(2 * d_, 2 * d_) += third;
             hz *= h * weight(j);
-            if (time_row) add_time_point(x, sigma, k, j, h, a, b, hz, *time_row);
+            if (time_row) add_time_point({q, v, u, gc, a, b, t}, sigma, k, j, h, hz, *time_row);
             // Gᵀ hz G block by block: z = (q, v, u) = (Σ ℓ_l Q_l, Σ ℓ_l'/h Q_l, u_kj), so the
             // (l, m) block over (Q_l, Q_m) is Σ of the four (q, v) blocks of hz weighted by
             // ℓ_l or ℓ_l'/h and ℓ_m or ℓ_m'/h; (Q_l, u_kj) likewise; (u_kj, u_kj) is hz's.

@@ -13,23 +13,20 @@ namespace varsym::optimal {
 ///   ∂²/∂h²   = 2w ∇Ψ·e + eᵀ H e + w ∇_q̇(hΨ + B)·2q̇/h²,
 ///   ∂²/∂h∂Q_l = w (ℓ_l ∇_qΨ + ℓ_l'/h ∇_q̇Ψ) + (ℓ_l H_q,q̇ + ℓ_l'/h H_q̇,q̇) e − w ℓ_l'/h² ∇_q̇(hΨ + B),
 ///   ∂²/∂h∂u   = w ∇_uΨ + H_u,q̇ e,
-/// where H = w (h ∇²Ψ + ∇²B) is `hz`, the point's Hessian in z; ∂/∂T = ∂/∂h / N.
-void dmoc_transcription::add_time_point(cvector x, double sigma, int k, int j, double h,
-                                        const vector& a, const vector& b_over_h, const matrix& hz,
-                                        vector& row) const {
-    vector q, v, gc;
-    point(x, k, j, q, v);
-    const double t = point_time(k, j, h), w = weight(j);
-    const vector u = control(x, k, j);
+/// where H = w (h ∇²Ψ + ∇²B) is `hz`, the point's Hessian in z; ∂/∂T = ∂/∂h / N. `at` is
+/// the point as step_hessians has it: z, t, c's gradient ∇c in z, a and b = b̃/h.
+void dmoc_transcription::add_time_point(const time_point& at, double sigma, int k, int j, double h,
+                                        const matrix& hz, vector& row) const {
+    const vector &q = at.q, &v = at.v, &u = at.u, &gc = at.cost_gradient, &a = at.a;
+    const double t = at.t, w = weight(j);
     lagrangian_terms<dynamic> lt;
     input_terms ft;
     sys_->derivatives(q, v, t, lt);
     sys_->force(q, v, t, u, ft, true);
-    (void)running_cost_at(*sys_, p_.cost, p_.effort, q, v, t, u, &gc, nullptr);
     const vector gq = (lt.lqq + ft.fq).transpose() * a + sigma * gc.head(d_),
                  gv = (lt.lqv + ft.fv).transpose() * a + sigma * gc.segment(d_, d_),
                  gu = ft.fu.transpose() * a + sigma * gc.tail(m_),
-                 wv = h * gv + lt.lvv * (h * b_over_h), e = -v / h;
+                 wv = h * gv + lt.lvv * (h * at.b), e = -v / h;
     const vector hvv_e = hz.block(d_, d_, d_, d_) * e, hqv_e = hz.block(0, d_, d_, d_) * e;
     const double n = n_;
     row(time_index()) +=

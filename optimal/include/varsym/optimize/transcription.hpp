@@ -180,8 +180,12 @@ class dmoc_transcription final : public transcription {
                        std::vector<double>& values, vector* time_row) const;
     // A free final time's Hessian row (transcription_time.cpp): step k's point j's terms, then
     // the bounds' velocity rows' and the row's pattern or values after every other entry.
-    void add_time_point(cvector x, double sigma, int k, int j, double h, const vector& a,
-                        const vector& b_over_h, const matrix& hz, vector& row) const;
+    struct time_point { // a quadrature point as step_hessians has it
+        const vector &q, &v, &u, &cost_gradient, &a, &b; // b = Σ ℓ_i' λ_i / h
+        double t;
+    };
+    void add_time_point(const time_point& at, double sigma, int k, int j, double h,
+                        const matrix& hz, vector& row) const;
     void add_time_hessian(cvector x, cvector lambda, vector* row, sparsity* pattern,
                           std::vector<double>* values) const;
     // The constraints' parts (transcription_constraints.cpp; nothing without constraints).
