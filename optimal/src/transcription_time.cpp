@@ -57,16 +57,16 @@ void dmoc_transcription::add_time_hessian(cvector x, cvector lambda, vector* row
         return;
     }
     const double h = h_of(x), n = n_;
+    vector g = vector::Zero(constraints()); // the rows' values: V/h for the velocity rows
+    add_path_residual(x, g);
     int r = path_row();
     for (const path_bound& b : path_bounds_)
         for (int k = 0; k < n_; ++k)
             for (Eigen::Index e = 0; e < b.weights.cols(); ++e)
                 for (const int i : b.coordinates) {
-                    const double mu = lambda(r++);
+                    const double mu = lambda(r), speed = g(r);
+                    ++r;
                     if (!b.velocity) continue;
-                    double speed = 0.0; // V/h
-                    for (int l = 0; l <= s_; ++l)
-                        speed += b.weights(l, e) * x((k * s_ + l) * d_ + i) / h;
                     (*row)(last) += 2.0 * mu * speed / (h * h * n * n);
                     for (int l = 0; l <= s_; ++l)
                         (*row)((k * s_ + l) * d_ + i) -= mu * b.weights(l, e) / (h * h * n);
