@@ -31,6 +31,9 @@ class robot_lagrangian {
     static constexpr int dim = dynamic;
     /// Several threads may call one robot_lagrangian at once (one workspace per thread).
     static constexpr bool concurrent = true;
+    /// A multibody model (recursive derivatives): optimal control solves its problems with
+    /// IPOPT's iterative refinement where the residual asks for it only (optimal/solve.hpp).
+    static constexpr bool multibody = true;
 
     explicit robot_lagrangian(std::shared_ptr<const tree> m) : m_(std::move(m)) {
         if (!m_ || m_->dof() < 1)

@@ -180,6 +180,8 @@ class transcription : public nlp {
     [[nodiscard]] virtual vector start_along(const std::function<vector(double)>& q) const = 0;
     /// The general engine's nodes under the trajectory's controls (replay.hpp): 2d × (N + 1).
     [[nodiscard]] virtual Eigen::MatrixXd replay(const trajectory& path) const = 0;
+    /// Whether the system is a multibody model (controlled_system::multibody).
+    [[nodiscard]] virtual bool multibody() const { return false; }
 };
 
 /// The closure check of a solution: the largest difference in q between its nodes and the

@@ -51,6 +51,9 @@ class controlled_system {
     /// Whether several threads may call this system at once (a URDF robot's: its workspaces are
     /// per thread): the transcription then evaluates its steps' derivatives on several threads.
     [[nodiscard]] virtual bool concurrent() const { return false; }
+    /// Whether L is a multibody model (a URDF robot): optimal::solve then refines IPOPT's
+    /// linear solves only where their residual asks for it (measured faster on robots only).
+    [[nodiscard]] virtual bool multibody() const { return false; }
 
     /// L, ∂L/∂q and ∂L/∂q̇ at (q, q̇, t) into t.value, t.lq, t.lv (sized here).
     virtual void gradient(const vector& q, const vector& v, double t,
@@ -187,8 +190,9 @@ concept nested_ad = (L::dim != dynamic) &&
                         });
 
 /// What a controlled system built on a Lagrangian L (held by value) takes from L alone: its
-/// dimension, its dependence on t, and its first and second derivatives by L's own means
-/// (lagrangian_terms_of). input_system.hpp and system_of.hpp build on it.
+/// dimension, its dependence on t, whether it is a multibody model, and its first and second
+/// derivatives by L's own means (lagrangian_terms_of). input_system.hpp and system_of.hpp build
+/// on it.
 template <lagrangian L>
 class lagrangian_part : public controlled_system {
   public:
@@ -202,6 +206,12 @@ class lagrangian_part : public controlled_system {
             return l_.dimension();
         else
             return D;
+    }
+    [[nodiscard]] bool multibody() const override {
+        if constexpr (requires { L::multibody; })
+            return L::multibody;
+        else
+            return false;
     }
     [[nodiscard]] bool time_dependent() const override {
         if constexpr (lagrangian_time_known<L>)

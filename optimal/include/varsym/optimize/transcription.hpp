@@ -87,6 +87,7 @@ class dmoc_transcription final : public transcription {
     [[nodiscard]] Eigen::MatrixXd replay(const trajectory& path) const override {
         return optimal::replay(*sys_, path);
     }
+    [[nodiscard]] bool multibody() const override { return sys_->multibody(); }
 
   private:
     std::shared_ptr<const controlled_system> sys_;
