@@ -104,7 +104,7 @@ class Lagrangian:
     def ensemble(self, q0=None, p0=None, *, parameters=None, force=None, constraints=None,
                  project=False, t_span=10.0, steps=1000, scheme=None, degree=None,
                  indicators=True, threads=0, event=None):
-        """Runs one member per row on every core (``threads``: 0 = all), as Model.ensemble
+        """Runs one member per row on every CPU (``threads``: 0 = all it may use), as Model.ensemble
         does: ``q0`` and ``p0`` are (members × d) arrays of initial states (default: q = 0,
         q̇ = 0), ``parameters`` maps parameter names to one value per member (the others stay
         at this Lagrangian's), ``force`` a generalized force and ``constraints`` holonomic

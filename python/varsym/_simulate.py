@@ -136,8 +136,9 @@ class Model:
 
     def ensemble(self, parameters=None, q0=None, p0=None, *, t_span=None, steps=None,
                  scheme=None, degree=None, indicators=True, threads=0, event=None):
-        """Runs one member per row, on every core (``threads``: 0 = all): ``parameters`` maps
-        parameter names to arrays of one value per member (the others stay at this model's),
+        """Runs one member per row, on every CPU (``threads``: 0 = all it may use):
+        ``parameters`` maps parameter names to arrays of one value per member (the others stay
+        at this model's),
         ``q0`` and ``p0`` are (members × d) arrays of initial states (default: the model's).
         Returns a dict of arrays, one entry per member: status ("completed", "failed",
         "invalid"), t, q and p (the final state), lyapunov (maximal Lyapunov exponent),

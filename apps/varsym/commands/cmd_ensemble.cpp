@@ -264,8 +264,8 @@ void add_ensemble_command(CLI::App& app, action& todo) {
     cmd->add_flag("--no-indicators", o->no_indicators,
                   "Skip the tangent map (lyapunov, mean_megno: nan), about halving the cost");
     cmd->add_option("--threads", o->threads,
-                    "Threads per process, at most 4096 (default 0: every core, shared among the "
-                    "MPI ranks on one machine)")
+                    "Threads per process, at most 4096 (default 0: every CPU this process may use, "
+                    "shared among the MPI ranks on one machine)")
         ->transform(non_negative_integer)
         ->check(CLI::Range(0, 4096));
     cmd->add_option("--output,-o", o->output, "CSV file, one row per member in member order")

@@ -218,7 +218,8 @@ void add_section_command(CLI::App& app, action& todo) {
     cmd->add_option("--crossings", o->crossings, "Most crossings per orbit")
         ->transform(positive_integer)
         ->capture_default_str();
-    cmd->add_option("--threads", o->threads, "Threads, at most 4096 (default 0: every core)")
+    cmd->add_option("--threads", o->threads,
+                    "Threads, at most 4096 (default 0: every CPU this process may use)")
         ->transform(non_negative_integer)
         ->check(CLI::Range(0, 4096));
     cmd->add_option("--output,-o", o->output, "CSV file (default: standard output)");

@@ -4,7 +4,8 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <thread>
+
+#include "varsym/run/cpus.hpp"
 
 #ifdef VARSYM_HAVE_MPI
 #include <mpi.h>
@@ -13,11 +14,14 @@
 namespace varsym::cli {
 
 unsigned process_group::default_threads() const {
-    const unsigned cores = std::max(1U, std::thread::hardware_concurrency());
+    const unsigned cores = available_cpus();
+    // The machine's CPUs (at most the quota) shared among its ranks, and no more than this
+    // rank's own mask: a launcher may already have pinned each rank to its share.
     for (const char* v : {"OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS"})
         if (const char* s = std::getenv(v); s != nullptr && size_ > 1) {
             const long local = std::strtol(s, nullptr, 10);
-            if (local > 0) return std::max(1U, cores / static_cast<unsigned>(local));
+            if (local > 0)
+                return std::max(1U, std::min(cores, machine_cpus() / static_cast<unsigned>(local)));
         }
     return cores;
 }

@@ -1,6 +1,7 @@
-// apps/varsym/ensemble/ensemble_processes.hpp: the processes that share an ensemble. Under mpirun (in a
-// build with MPI, VARSYM_MPI), every rank takes the members m with m mod size = rank and keeps
-// its own journal; rank 0 writes the output once all are done. Otherwise one process does all.
+// apps/varsym/ensemble/ensemble_processes.hpp: the processes that share an ensemble. Under mpirun
+// (in a build with MPI, VARSYM_MPI), every rank takes the members m with m mod size = rank and
+// keeps its own journal; rank 0 writes the output once all are done. Otherwise one process does
+// all.
 #pragma once
 
 #include <string>
@@ -17,8 +18,9 @@ class process_group {
 
     [[nodiscard]] int rank() const { return rank_; }
     [[nodiscard]] int size() const { return size_; }
-    /// The threads each process runs by default: every core, shared among the ranks on one
-    /// machine (Open MPI's OMPI_COMM_WORLD_LOCAL_SIZE, MPICH's MPI_LOCALNRANKS).
+    /// The threads each process runs by default: the CPUs it may use (varsym/run/cpus.hpp), or
+    /// with ranks the machine's CPUs shared among its ranks (Open MPI's
+    /// OMPI_COMM_WORLD_LOCAL_SIZE, MPICH's MPI_LOCALNRANKS), at most the rank's own mask.
     [[nodiscard]] unsigned default_threads() const;
     /// Waits for every process.
     void barrier() const;

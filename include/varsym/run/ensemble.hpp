@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "varsym/diagnostics/chaos.hpp"
+#include "varsym/run/cpus.hpp"
 
 namespace varsym {
 
@@ -189,13 +190,13 @@ member_result run_member(S& s, phase_state<S::dim> x, const member_plan& plan, E
     return r;
 }
 
-/// Calls f(m) once for each member m < count, from `threads` threads (0: all the hardware's),
+/// Calls f(m) once for each member m < count, from `threads` threads (0: available_cpus()),
 /// each taking the next member not yet taken: members of unequal cost balance themselves. f must
 /// be safe to call concurrently for different m. The first exception f throws stops the loop
 /// (members already running finish) and is rethrown here.
 template <class F>
 void for_each_member(std::size_t count, unsigned threads, F&& f) {
-    if (threads == 0) threads = std::max(1U, std::thread::hardware_concurrency());
+    if (threads == 0) threads = available_cpus();
     threads =
         static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(count, 1)));
     std::atomic<std::size_t> next{0};

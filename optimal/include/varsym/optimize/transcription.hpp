@@ -73,9 +73,10 @@ class dmoc_transcription final : public transcription {
                  std::vector<double>& values) const override;
     [[nodiscard]] trajectory unpack(const nlp_result& result) const override;
     /// Threads for the steps' Jacobian and Hessian: 0 (the default) as many as this process may
-    /// run on (its CPU affinity), 1 none. Used only where the system is concurrent(), the final
-    /// time fixed and the steps' work worth a thread's start (evaluation_threads()). The values
-    /// are the same to the bit with any number: each step's block is its own.
+    /// run on (its CPU affinity, at most its cgroup's CPU quota), 1 none. Used only where the
+    /// system is concurrent(), the final time fixed and the steps' work worth a thread's start
+    /// (evaluation_threads()). The values are the same to the bit with any number: each step's
+    /// block is its own.
     void set_threads(int threads) {
         if (threads < 0)
             throw std::invalid_argument("threads: 0 (automatic), 1 (none) or more, not " +
