@@ -23,8 +23,7 @@ namespace varsym::optimal::detail {
 /// once a process (from files: about 45 µs). At least 1.
 inline int available_cpus() {
     static const unsigned quota = cgroup_cpu_limit();
-    const unsigned n = affinity_cpus();
-    return static_cast<int>(std::min(quota == 0 ? n : std::min(n, quota), 1U << 20));
+    return static_cast<int>(std::min(least_limit(affinity_cpus(), quota), 1U << 20));
 }
 
 /// Worker threads kept for the life of the process: a thread started for every evaluation

@@ -78,6 +78,9 @@ TEST(Cpus, CgroupV1QuotaOfTheCpuControllerAlone) {
 }
 
 TEST(Cpus, AvailableCpusIsTheAffinityMaskAtMostTheQuota) {
+    EXPECT_EQ(varsym::least_limit(0, 3), 3U); // 0: no limit
+    EXPECT_EQ(varsym::least_limit(5, 0), 5U);
+    EXPECT_EQ(varsym::least_limit(5, 3), 3U);
     unsigned affinity = std::thread::hardware_concurrency();
 #ifdef __linux__
     cpu_set_t set;

@@ -17,6 +17,11 @@
 
 namespace varsym {
 
+/// The lesser of two CPU limits, 0 standing for none.
+inline unsigned least_limit(unsigned a, unsigned b) {
+    return a == 0 ? b : b == 0 ? a : std::min(a, b);
+}
+
 namespace cpus_detail {
 
 /// The CPUs a quota of `quota` per `period` (both in µs) runs at once, rounded up (at most
@@ -32,8 +37,7 @@ template <class Read>
 unsigned least_quota(const std::string& mount, std::string dir, Read read) {
     unsigned least = 0;
     for (;;) {
-        const unsigned here = read(mount + dir);
-        if (here != 0 && (least == 0 || here < least)) least = here;
+        least = least_limit(least, read(mount + dir));
         if (dir.empty() || dir == "/") return least;
         const auto slash = dir.find_last_of('/');
         dir = slash == std::string::npos ? std::string() : dir.substr(0, slash);
@@ -67,9 +71,6 @@ inline unsigned cgroup_cpu_limit(const std::string& root = "/") {
     std::ifstream groups(root + "proc/self/cgroup");
     const std::string mount = root + "sys/fs/cgroup";
     unsigned least = 0;
-    auto keep = [&least](unsigned q) {
-        if (q != 0 && (least == 0 || q < least)) least = q;
-    };
     std::string line;
     while (std::getline(groups, line)) {
         // "0::/path" (v2), "4:cpu,cpuacct:/path" (v1).
@@ -77,7 +78,8 @@ inline unsigned cgroup_cpu_limit(const std::string& root = "/") {
         if (b == std::string::npos) continue;
         const std::string controllers = line.substr(a + 1, b - a - 1), path = line.substr(b + 1);
         if (line.compare(0, a, "0") == 0 && controllers.empty()) {
-            keep(cpus_detail::least_quota(mount, path, cpus_detail::v2_quota));
+            least =
+                least_limit(least, cpus_detail::least_quota(mount, path, cpus_detail::v2_quota));
             continue;
         }
         std::stringstream list(controllers);
@@ -85,7 +87,8 @@ inline unsigned cgroup_cpu_limit(const std::string& root = "/") {
             if (c != "cpu") continue;
             for (const std::string& name :
                  {controllers, std::string("cpu,cpuacct"), std::string("cpu")})
-                keep(cpus_detail::least_quota(mount + "/" + name, path, cpus_detail::v1_quota));
+                least = least_limit(least, cpus_detail::least_quota(mount + "/" + name, path,
+                                                                    cpus_detail::v1_quota));
         }
     }
     return least;
@@ -106,17 +109,13 @@ inline unsigned affinity_cpus() {
 /// The machine's online CPUs, at most this process's cgroup CPU quota, at least 1: what the
 /// processes of one machine (MPI ranks) share.
 inline unsigned machine_cpus() {
-    unsigned n = std::max(1U, std::thread::hardware_concurrency());
-    if (const unsigned quota = cgroup_cpu_limit(); quota != 0) n = std::min(n, quota);
-    return n;
+    return least_limit(std::max(1U, std::thread::hardware_concurrency()), cgroup_cpu_limit());
 }
 
 /// The CPUs this process may use: its affinity mask's, at most its cgroup's CPU quota
 /// (cgroup_cpu_limit), at least 1.
 inline unsigned available_cpus() {
-    unsigned n = affinity_cpus();
-    if (const unsigned quota = cgroup_cpu_limit(); quota != 0) n = std::min(n, quota);
-    return n;
+    return least_limit(affinity_cpus(), cgroup_cpu_limit());
 }
 
 } // namespace varsym
