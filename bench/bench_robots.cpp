@@ -388,7 +388,10 @@ void scaling(int rounds) {
         named("simpson-simpl"),
         named("gauss-2-simpl"),
         named("simpson-art"),
-        named("gauss-2-art")};
+        named("gauss-2-art"),
+        // The default: Newton or the articulated iteration, step by step, from 16 links.
+        {"simpson-auto", false, 0, scheme_spec(scheme_kind::simpson)},
+        {"gauss-2-auto", false, 0, scheme_spec(scheme_kind::gauss, 2)}};
     for (const method& m : chosen)
         std::printf(" %24s", m.label.c_str());
     std::printf("\n");

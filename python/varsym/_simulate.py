@@ -197,12 +197,13 @@ class Stepper:
     steps it (Newton on the saddle-point system), the rows adding constraint_residual,
     hidden_residual and the multipliers lambda_1..m; the start must lie on the constraints with
     a tangent velocity, or ``project=True`` moves it there (for a constrained model, ``project``
-    is its parameter of that name). ``iteration``: "automatic", "newton", "simplified",
-    "fixed-point" or "articulated" (URDF robots: O(n) per iterate), optionally followed by
-    "+forces" (start each step from the previous step's forces, as Hairer's gni_irk2: fewer
-    iterations, round-off adding up as √t) or "+previous" (the previous step's polynomial); the
-    starts are the separable models' (docs/library.md). Raises StepFailure when a step does not
-    converge, leaving the state at the last good step.
+    is its parameter of that name). ``iteration``: "automatic" (the default; on URDF robots of
+    about 16 joints and more, Newton or "articulated" step by step, whichever is cheaper),
+    "newton", "simplified", "fixed-point" or "articulated" (URDF robots: O(n) per iterate),
+    optionally followed by "+forces" (start each step from the previous step's forces, as
+    Hairer's gni_irk2: fewer iterations, round-off adding up as √t) or "+previous" (the
+    previous step's polynomial); the starts are the separable models' (docs/library.md).
+    Raises StepFailure when a step does not converge, leaving the state at the last good step.
 
     The energy watch, as the tool's: a run stops with EnergyError (its ``partial`` holding the
     rows) once the relative error of E (E − W under forces) passes ``max_energy_error``;

@@ -109,6 +109,9 @@ class contact_stepper : public Inner {
             if (!(w.friction >= 0.0 && std::isfinite(w.friction)))
                 throw std::invalid_argument("the friction coefficient of " + w.name +
                                             " must be finite and >= 0");
+        // A contact step takes the inner step several times from one state: Newton each time,
+        // not an automatic choice that would count every take as a step.
+        if constexpr (requires(Inner & i) { i.keep_newton(); }) Inner::keep_newton();
     }
 
     [[nodiscard]] const contact_report& last_contact() const { return last_; }

@@ -45,6 +45,7 @@
 #pragma once
 
 #include <cmath>
+#include <span>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -53,6 +54,7 @@
 #include "varsym/schemes/galerkin.hpp"
 #include "varsym/schemes/scheme_kind.hpp"
 #include "varsym/solvers/compensated.hpp"
+#include "varsym/solvers/iteration_choice.hpp"
 #include "varsym/solvers/newton.hpp"
 #include "varsym/solvers/small_ldlt.hpp"
 #include "varsym/solvers/small_lu.hpp"
@@ -95,7 +97,8 @@ class stepper {
             const newton_options& opt = {})
         : sys_(std::move(sys)), force_(std::move(force)), h_(h), opt_(opt), spec_(spec),
           tab_(galerkin::tableau::make(family_member(spec).first, family_member(spec).second)) {
-        if (opt_.iteration == iteration_kind::automatic)
+        const bool automatic = opt_.iteration == iteration_kind::automatic;
+        if (automatic)
             opt_.iteration = lagrangian_with_derivatives<at_time_t<L>> ? iteration_kind::newton
                                                                        : iteration_kind::simplified;
         s_ = tab_.degree;
@@ -131,6 +134,7 @@ class stepper {
         lqvt_.setZero(d_, d_);
         lu_.reserve(s_ * d_);
         if (linear()) jinv_.setZero(s_ * d_, s_ * d_);
+        if (automatic) choose_iteration(); // a robot's: Newton or articulated, step by step
         if (opt_.iteration == iteration_kind::articulated) articulated_setup();
     }
 
@@ -195,25 +199,54 @@ class stepper {
     }
     /// The same stepper with another step size, starting afresh (for a step to a section).
     [[nodiscard]] stepper with_step_size(double h) const {
-        return stepper(sys_, force_, h, spec_, opt_);
+        newton_options o = opt_;
+        if (choice_.on()) o.iteration = iteration_kind::automatic; // chosen again at h
+        return stepper(sys_, force_, h, spec_, o);
+    }
+
+    /// The automatic choice between Newton and the articulated iteration (off where the
+    /// iteration was named, or for a robot whose Newton step costs less than
+    /// choice_threshold articulated updates; variational_articulated.hpp).
+    [[nodiscard]] const iteration_choice& choice() const { return choice_; }
+    /// Settles an automatic choice on Newton (the contact step takes a step several times over).
+    void keep_newton() {
+        if (!choice_.on()) return;
+        choice_.off();
+        opt_.iteration = iteration_kind::newton;
     }
 
     newton_report step(phase_state<dim>& x) {
         if constexpr (jerk_history) a0_taken_ = false; // not a failed step's
         newton_report rep;
-        if (opt_.iteration == iteration_kind::newton) {
+        int spent = 0; // the linear or articulated updates of a step handed to Newton
+        bool handed = false;
+        if (opt_.iteration == iteration_kind::newton || (choice_.on() && !choice_.articulated())) {
             rep = solve_newton(x);
         } else { // a step that diverged or was too slow goes to Newton
             rep = linear() ? solve_linear(x) : solve_articulated(x);
-            if (!rep.converged) {
-                const int spent = rep.iterations;
+            spent = rep.iterations;
+            handed = !rep.converged;
+            if (handed) {
                 rep = solve_newton(x);
                 rep.iterations += spent;
+            }
+        }
+        if constexpr (jerk_history) {
+            // In a violent motion the jerk's start can be out of Newton's reach where the
+            // second-order start is not (a 50-link chain whipping at 130 rad/s): Newton again
+            // from there. A step that still fails leaves the history as it was.
+            if (!rep.converged && continues_) {
+                const int tried = rep.iterations;
+                continues_ = false;
+                rep = solve_newton(x);
+                rep.iterations += tried;
+                continues_ = !rep.converged;
             }
         }
         if (!rep.converged) return rep;
         if (!(linearised_ ? momentum_change_linearised(x) : momentum_change(x))) return failed(rep);
         commit(x);
+        choice_.record(spent, handed); // a step that fails leaves the choice as it was
         return rep;
     }
 
@@ -290,73 +323,26 @@ class stepper {
     void articulated_setup();
     newton_report solve_articulated(const phase_state<dim>& x);
     bool predict_articulated(const phase_state<dim>& x);
+    void choose_iteration();
+    void restore_steps(const phase_state<dim>& x, std::span<const double> in);
 
     /// The Taylor predictor from (q_j, p_j), second derivatives left in terms_[0].
     void predict(const phase_state<dim>& x);
 
+    // The step's equations at its quadrature points (variational_points.hpp).
     /// L and its first (and, if `second`, second) derivatives at every quadrature point
     /// (q_k, v_k) for the current increments.
-    void evaluate_points(const vec<dim>& q, bool second) {
-        work_ = 0.0;
-        for (int k = 0; k < r_; ++k) {
-            set_point(q, k);
-            const double tk = point_time(k);
-            if (second)
-                evaluate(sys_.lagrangian(), qk_, vk_, tk, terms_[k]);
-            else
-                evaluate_gradient(sys_.lagrangian(), qk_, vk_, tk, terms_[k]);
-            if constexpr (forced) {
-                add_force(k, qk_, vk_, tk, second);
-                work_ += tab_.quad.weights[static_cast<std::size_t>(k)] *
-                         fterms_[static_cast<std::size_t>(k)].f.dot(vk_);
-            }
-        }
-    }
-
+    void evaluate_points(const vec<dim>& q, bool second);
     /// (q_k, v_k) of quadrature point k for the current increments from q_j = q.
-    void set_point(const vec<dim>& q, int k) {
-        qk_ = q;
-        vk_.setZero();
-        for (int l = 0; l < s_; ++l) {
-            qk_ += tab_.phi(l + 1, k) * x_.col(l);
-            vk_ += tab_.dphi(l + 1, k) * x_.col(l);
-        }
-        for (int l = 0; l < s_; ++l)
-            vk_ += tab_.dphi_lo(l + 1, k) * x_.col(l);
-        vk_ /= h_;
-    }
+    void set_point(const vec<dim>& q, int k);
     [[nodiscard]] double point_time(int k) const {
         return t_ + tab_.quad.nodes[static_cast<std::size_t>(k)] * h_;
     }
-
     /// f at point k joins L_q there (and its Jacobians are evaluated if `jacobian`).
-    void add_force(int k, const vec<dim>& q, const vec<dim>& v, double t, bool jacobian) {
-        auto& f = fterms_[static_cast<std::size_t>(k)];
-        evaluate_force(force_, q, v, t, f, jacobian);
-        terms_[static_cast<std::size_t>(k)].lq += f.f;
-    }
-
+    void add_force(int k, const vec<dim>& q, const vec<dim>& v, double t, bool jacobian);
     void add_jacobian_block(int k, int i, int l); // variational_solve.hpp
     /// The residual F (rows i = 0 … s−1) and, if `jacobian`, its Jacobian in the increments.
-    void assemble(const vec<dim>& p, bool jacobian) {
-        const double h = h_;
-        const auto &u = tab_.wphi, &g = tab_.wdphi;
-        res_.setZero();
-        if (jacobian) jac_.setZero();
-        for (int k = 0; k < r_; ++k) {
-            const lagrangian_terms<dim>& t = terms_[k];
-            for (int i = 0; i < s_; ++i) {
-                auto row = block_of<dim>(res_, i, d_);
-                row += (h * u.hi(i, k)) * t.lq + g.hi(i, k) * t.lv;
-                row += (h * u.lo(i, k)) * t.lq + g.lo(i, k) * t.lv;
-                if (!jacobian) continue;
-                if (i == 0) lqvt_ = t.lqv.transpose(); // read contiguously below
-                for (int l = 0; l < s_; ++l)
-                    add_jacobian_block(k, i, l);
-            }
-        }
-        block_of<dim>(res_, 0, d_) += p;
-    }
+    void assemble(const vec<dim>& p, bool jacobian);
 
     system_type sys_;
     [[no_unique_address]] F force_;
@@ -378,6 +364,7 @@ class stepper {
     Eigen::MatrixXd jac_, jinv_; // jinv_: the kept Jacobian's inverse (linear iterations)
     mat<dim> lqvt_;              // assemble(): a point's (∂²L/∂q∂q̇)ᵀ
     Eigen::MatrixXd ainv_;       // h A⁻¹ (s × s) of the articulated iteration
+    iteration_choice choice_;    // the automatic choice of it (off: none)
     small_lu lu_;
     vec<dim> q_bar_, v_bar_;     // where the kept Jacobian was taken
     Eigen::LDLT<mat<dim>> mbar_; // ∂²L/∂q̇² there, factorised: the kept predictor's mass matrix
@@ -406,5 +393,6 @@ class stepper {
 #include "varsym/schemes/variational_articulated.hpp"
 #include "varsym/schemes/variational_failure.hpp"
 #include "varsym/schemes/variational_history.hpp"
+#include "varsym/schemes/variational_points.hpp"
 #include "varsym/schemes/variational_sensitivity.hpp"
 #include "varsym/schemes/variational_solve.hpp"

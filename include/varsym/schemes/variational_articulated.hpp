@@ -17,8 +17,8 @@
 // terms (at_round_off, scaled by the factorisation's diagonal of M); a step whose updates shrink
 // by less than half twice in a row, or that runs out of iterations, goes to Newton (step()). The
 // momentum is evaluated at the converged increments (momentum_change). A step depends on nothing
-// that Newton's does not: the checkpoint history is Newton's. docs/design.md, "The general
-// engine".
+// that Newton's does not: the checkpoint history is Newton's (followed, under the automatic
+// choice between the two, by the choice's state). docs/design.md, "The general engine".
 #pragma once
 
 #include <algorithm>
@@ -29,6 +29,12 @@
 #include "varsym/schemes/variational.hpp"
 
 namespace varsym::general {
+
+/// The automatic iteration of a robot chooses, step by step, between Newton and the articulated
+/// iteration where Newton's step costs at least this many articulated updates (the model in
+/// choose_iteration): with gauss-2 from 16 links of a chain on (Simpson 17, more for branched
+/// trees); arms of 6 to 9 joints keep Newton.
+inline constexpr double choice_threshold = 4.5;
 
 /// h A⁻¹ into ainv_; throws std::invalid_argument for an L without mass solves.
 template <lagrangian L, class F>
@@ -44,6 +50,37 @@ void stepper<L, F>::articulated_setup() {
                 for (int l = 0; l < s_; ++l)
                     a(i, l) += tab_.wdphi.hi(i, k) * tab_.dphi(l + 1, k);
         ainv_ = h_ * a.partialPivLu().inverse();
+    }
+}
+
+/// The automatic iteration of a robot without mimic joints (mass solves in O(n)): Newton and
+/// the articulated iteration chosen step by step (iteration_choice) where a model of their costs
+/// puts Newton's step above choice_threshold articulated updates, Newton otherwise. The model, of
+/// n coordinates, P ancestor pairs (Σ over the bodies of their ancestors: n(n − 1)/2 for a chain),
+/// r quadrature points and s increments, in ns measured on this project's machine (clang 14 -O3;
+/// only their ratios matter): first derivatives T1 = 95 n a point, second T2 = 140 n + 8.3 P, a
+/// mass solve T_s = 25 n, the Newton matrix's LU 0.05 N³ + 1.4 N² (N = s n); an articulated
+/// update C_u = r T1 + s T_s; Newton's step 1.05 (r T2 + LU) + 4.4 C_u (its chord update,
+/// predictor and momentum), fitted to chains of 7 to 100 links within 15 %; the articulated step
+/// F + u C_u with F ≈ 2.5 C_u (its predictor, midpoint factorisation and momentum). They cost the
+/// same at u = 1.05 (r T2 + LU) / C_u + 1.9: with gauss-2 about 3.6 on the iiwa, 3.8 on the
+/// Panda, 5.0 at 20 links, 10.5 at 50 and 26.7 at 100 (docs/robots.md).
+template <lagrangian L, class F>
+void stepper<L, F>::choose_iteration() {
+    if constexpr (lagrangian_with_mass_solves<L> && requires(const L& l) { l.robot().mimics; }) {
+        const auto& t = sys_.lagrangian().robot();
+        if (!t.mimics.empty()) return;
+        double pairs = 0.0;
+        for (const auto& b : t.bodies)
+            for (int p = b.parent; p >= 0; p = t.bodies[static_cast<std::size_t>(p)].parent)
+                pairs += 1.0;
+        const double n = d_, N = s_ * d_;
+        const double update = r_ * 95.0 * n + s_ * 25.0 * n;
+        const double newton = r_ * (140.0 * n + 8.3 * pairs) + 0.05 * N * N * N + 1.4 * N * N;
+        const double break_even = 1.05 * newton / update + 1.9;
+        if (break_even < choice_threshold) return;
+        choice_ = iteration_choice(break_even);
+        opt_.iteration = iteration_kind::articulated;
     }
 }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -59,10 +60,31 @@ void stepper<L, F>::save_history(std::vector<double>& out) const {
             if (miss_valid_) out.insert(out.end(), x_miss_.data(), x_miss_.data() + x_miss_.size());
         }
     }
+    if (choice_.on()) choice_.save(out); // last: a history written without it is read too
+}
+
+/// restore_steps, with an automatic choice's state taken from the last numbers where they are
+/// one: a history written without it starts the choice afresh, and a stepper without the choice
+/// (Newton, or the articulated iteration, named) reads an automatic run's history and ignores it.
+template <lagrangian L, class F>
+void stepper<L, F>::restore_history(const phase_state<dim>& x, const std::vector<double>& in) {
+    const std::span<const double> all(in);
+    constexpr auto n = static_cast<std::size_t>(iteration_choice::saved);
+    iteration_choice saved(choice_.on() ? choice_.break_even() : 1.0);
+    choice_.restart();
+    if (in.size() >= n && saved.restore(in.data() + in.size() - n)) {
+        try {
+            restore_steps(x, all.first(in.size() - n));
+            if (choice_.on()) choice_ = saved;
+            return;
+        } catch (const std::invalid_argument&) { // not a choice's state: the whole history
+        }
+    }
+    restore_steps(x, all);
 }
 
 template <lagrangian L, class F>
-void stepper<L, F>::restore_history(const phase_state<dim>&, const std::vector<double>& in) {
+void stepper<L, F>::restore_steps(const phase_state<dim>&, std::span<const double> in) {
     kept_ = false;
     total_work_ = work_carry_ = 0.0;
     continues_ = a0_taken_ = miss_valid_ = false;
@@ -94,7 +116,9 @@ void stepper<L, F>::restore_history(const phase_state<dim>&, const std::vector<d
     }
     if (!fits)
         throw std::invalid_argument("the saved history has " + std::to_string(in.size()) +
-                                    " numbers where this stepper's options keep " + sizes);
+                                    " numbers where this stepper's options keep " + sizes +
+                                    " (or " + std::to_string(iteration_choice::saved) +
+                                    " more: an automatic choice of iteration)");
     if constexpr (timed) {
         t_bar_ = in[want - 3];
         total_work_ = in[want - 2];
