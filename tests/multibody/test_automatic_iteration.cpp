@@ -24,7 +24,7 @@ using robot_system = lagrangian_system<multibody::robot_lagrangian>;
 
 /// The chain of bench/bench_robots.cpp: n links of 1 kg and 0.3 m along alternating y and x
 /// axes, hanging from the ground.
-robot_system hanging_chain(int n) {
+multibody::tree chain_tree(int n) {
     multibody::tree m;
     for (int i = 0; i < n; ++i) {
         multibody::body b;
@@ -37,7 +37,28 @@ robot_system hanging_chain(int n) {
         b.inertia = multibody::vec3(0.008, 0.008, 0.001).asDiagonal();
         m.add_body(i - 1, b);
     }
+    return m;
+}
+
+robot_system system_of_tree(const multibody::tree& m) {
     return robot_system(multibody::robot_lagrangian(std::make_shared<const multibody::tree>(m)));
+}
+
+robot_system hanging_chain(int n) {
+    return system_of_tree(chain_tree(n));
+}
+
+/// The 30-link chain with a 31st body at its end on a mimic joint following q_0 / 2: its mass
+/// solves are dense, so the automatic iteration keeps Newton where the chain alone chooses.
+multibody::tree chain_with_mimic() {
+    multibody::tree m = chain_tree(30);
+    multibody::body b = m.bodies.back();
+    b.name = "mimic";
+    b.link = "lm";
+    b.parent = 29;
+    m.bodies.push_back(b);
+    m.mimics = {{0, 0.5, 0.0}};
+    return m;
 }
 
 /// At rest at q_i = 0.4 + 0.3 sin(1.7 i), as the benchmark starts.
@@ -111,13 +132,12 @@ TEST(AutomaticIteration, GoesBackToNewtonWhereTheArticulatedIterationIsSlow) {
     EXPECT_EQ(automatic.choice().articulated_steps(), 48);
 }
 
-// Arms and small trees (7 bodies here) keep Newton: their Newton step costs less than
-// choice_threshold articulated updates. So does a tree with mimic joints, whose mass solves are
-// dense. The steps are Newton's to the bit.
+// Arms and small trees (7 bodies here) keep Newton: their break-even is below choice_threshold.
+// So does the 30-link chain with a mimic joint, whose mass solves are dense (the chain alone
+// chooses: the test above). The steps are Newton's to the bit.
 TEST(AutomaticIteration, KeepsNewtonOnSmallRobotsAndMimicJoints) {
-    for (const multibody::tree& t : {test::random_tree(21), test::mimic_tree(true)}) {
-        const robot_system sys(
-            multibody::robot_lagrangian(std::make_shared<const multibody::tree>(t)));
+    for (const multibody::tree& t : {test::random_tree(21), chain_with_mimic()}) {
+        const robot_system sys = system_of_tree(t);
         const scheme_spec spec(scheme_kind::gauss, 2);
         general::stepper<multibody::robot_lagrangian> automatic(sys, 1e-3, spec);
         general::stepper<multibody::robot_lagrangian> newton(sys, 1e-3, spec,
@@ -149,8 +169,8 @@ TEST(AutomaticIteration, AResumedRunRepeatsTheStraightOne) {
         automatic_stepper straight(sys, f, h, spec), first(sys, f, h, spec);
         phase_state<dynamic> x = bench_start(30), y = x;
         for (int j = 0; j < 100; ++j) { // damped: the hold of 128 from step 96
-            straight.step(x);
-            first.step(y);
+            ASSERT_TRUE(straight.step(x).converged);
+            ASSERT_TRUE(first.step(y).converged);
         }
         EXPECT_EQ(first.choice().articulated(), d == 0.0);
         std::vector<double> history;
@@ -162,8 +182,8 @@ TEST(AutomaticIteration, AResumedRunRepeatsTheStraightOne) {
         const long before = straight.choice().articulated_steps();
         for (int j = 0; j < 150; ++j) {
             EXPECT_EQ(resumed.choice().articulated(), straight.choice().articulated()) << j;
-            resumed.step(y);
-            straight.step(x);
+            ASSERT_TRUE(resumed.step(y).converged);
+            ASSERT_TRUE(straight.step(x).converged);
         }
         EXPECT_EQ(x.q, y.q);
         EXPECT_EQ(x.p, y.p);
@@ -212,6 +232,19 @@ TEST(JerkStart, AStepNewtonCannotTakeFromTheJerkIsTakenFromTheSecondOrderStart) 
     EXPECT_GT(a.iterations, b.iterations + 20); // the failed solve's iterations, then the retake's
     EXPECT_EQ(y.q, z.q);
     EXPECT_EQ(y.p, z.p);
+    // A step that fails from both starts (a step of 0.5 s, one iteration allowed) leaves the
+    // history as it was.
+    newton_options one = o;
+    one.max_iterations = 1;
+    general::stepper<multibody::robot_lagrangian> failing(sys, 0.5, spec, one);
+    failing.restore_history(x, history);
+    std::vector<double> before, after;
+    failing.save_history(before);
+    phase_state<dynamic> w = x;
+    ASSERT_FALSE(failing.step(w).converged);
+    failing.save_history(after);
+    EXPECT_EQ(after, before);
+    EXPECT_EQ(before[0], 1.0); // the jerk's history, kept
 }
 
 // The contact step takes a step several times from one state: its inner stepper keeps Newton.

@@ -104,9 +104,10 @@ TEST(IterationChoice, RefusesAStateItCouldNotHaveSaved) {
     for (const auto& b : bad)
         EXPECT_FALSE(c.restore(b)) << b[0] << " " << b[1] << " " << b[2] << " " << b[3];
     // States save() never writes: updates without steps, a hold within a window, a hold that
-    // is not 64 · 2^k, a hold after no failed window, more steps left than the hold.
+    // is not 64 · 2^k, a hold after no failed window, more steps left than the hold before
+    // the next (half of it, below the largest).
     const double never[][4] = {{0, 5, 0, 64},  {3, 17, 10, 128}, {0, 0, 0, 96},
-                               {0, 0, 10, 64}, {0, 0, 300, 256}};
+                               {0, 0, 10, 64}, {0, 0, 300, 256}, {0, 0, 128, 128}};
     for (const auto& b : never)
         EXPECT_FALSE(c.restore(b)) << b[0] << " " << b[1] << " " << b[2] << " " << b[3];
     const double holding[4] = {0, 0, 10, 128}, window[4] = {3, 17.0, 0, 64};

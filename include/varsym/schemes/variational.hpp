@@ -205,8 +205,9 @@ class stepper {
     }
 
     /// The automatic choice between Newton and the articulated iteration (off where the
-    /// iteration was named, or for a robot whose Newton step costs less than
-    /// choice_threshold articulated updates; variational_articulated.hpp).
+    /// iteration was named, or for a robot whose break-even, the articulated updates a step
+    /// that cost as much as Newton's step, is below choice_threshold;
+    /// variational_articulated.hpp).
     [[nodiscard]] const iteration_choice& choice() const { return choice_; }
     /// Settles an automatic choice on Newton (the contact step takes a step several times over).
     void keep_newton() {
@@ -234,13 +235,18 @@ class stepper {
         if constexpr (jerk_history) {
             // In a violent motion the jerk's start can be out of Newton's reach where the
             // second-order start is not (a 50-link chain whipping at 130 rad/s): Newton again
-            // from there. A step that still fails leaves the history as it was.
-            if (!rep.converged && continues_) {
+            // from there. The history is only read here; a step that still fails leaves it.
+            if (!rep.converged && jerk_taken_) {
                 const int tried = rep.iterations;
-                continues_ = false;
+                struct second_order_start {
+                    bool& on;
+                    explicit second_order_start(bool& b) : on(b) { on = true; }
+                    ~second_order_start() { on = false; }
+                    second_order_start(const second_order_start&) = delete;
+                    second_order_start& operator=(const second_order_start&) = delete;
+                } start(second_order_);
                 rep = solve_newton(x);
                 rep.iterations += tried;
-                continues_ = !rep.converged;
             }
         }
         if (!rep.converged) return rep;
@@ -386,6 +392,7 @@ class stepper {
     // miss, where miss_valid_: that step took the jerk), which the next prediction adds.
     Eigen::Matrix<double, dim, Eigen::Dynamic> x_taylor_, x_miss_;
     bool jerk_taken_ = false, miss_valid_ = false;
+    bool second_order_ = false; // this step's retake from the second-order start (step())
 };
 
 } // namespace varsym::general

@@ -31,9 +31,9 @@
 namespace varsym::general {
 
 /// The automatic iteration of a robot chooses, step by step, between Newton and the articulated
-/// iteration where Newton's step costs at least this many articulated updates (the model in
-/// choose_iteration): with gauss-2 from 16 links of a chain on (Simpson 17, more for branched
-/// trees); arms of 6 to 9 joints keep Newton.
+/// iteration where the break-even (the articulated updates a step at which the two cost the
+/// same; the model in choose_iteration) is at least this: with gauss-2 from 16 links of a chain on
+/// (Simpson 17, more for branched trees); arms of 6 to 9 joints keep Newton.
 inline constexpr double choice_threshold = 4.5;
 
 /// h A⁻¹ into ainv_; throws std::invalid_argument for an L without mass solves.
@@ -55,15 +55,15 @@ void stepper<L, F>::articulated_setup() {
 
 /// The automatic iteration of a robot without mimic joints (mass solves in O(n)): Newton and
 /// the articulated iteration chosen step by step (iteration_choice) where a model of their costs
-/// puts Newton's step above choice_threshold articulated updates, Newton otherwise. The model, of
-/// n coordinates, P ancestor pairs (Σ over the bodies of their ancestors: n(n − 1)/2 for a chain),
-/// r quadrature points and s increments, in ns measured on this project's machine (clang 14 -O3;
-/// only their ratios matter): first derivatives T1 = 95 n a point, second T2 = 140 n + 8.3 P, a
-/// mass solve T_s = 25 n, the Newton matrix's LU 0.05 N³ + 1.4 N² (N = s n); an articulated
-/// update C_u = r T1 + s T_s; Newton's step 1.05 (r T2 + LU) + 4.4 C_u (its chord update,
-/// predictor and momentum), fitted to chains of 7 to 100 links within 15 %; the articulated step
-/// F + u C_u with F ≈ 2.5 C_u (its predictor, midpoint factorisation and momentum). They cost the
-/// same at u = 1.05 (r T2 + LU) / C_u + 1.9: with gauss-2 about 3.6 on the iiwa, 3.8 on the
+/// puts the break-even at choice_threshold articulated updates a step or more, Newton otherwise.
+/// The model, of n coordinates, P ancestor pairs (Σ over the bodies of their ancestors: n(n − 1)/2
+/// for a chain), r quadrature points and s increments, in ns measured on this project's machine
+/// (clang 14 -O3; only their ratios matter): first derivatives T1 = 95 n a point, second
+/// T2 = 140 n + 8.3 P, a mass solve T_s = 25 n, the Newton matrix's LU 0.05 N³ + 1.4 N² (N = s n);
+/// an articulated update C_u = r T1 + s T_s; Newton's step 1.05 (r T2 + LU) + 4.4 C_u (its chord
+/// update, predictor and momentum), fitted to chains of 7 to 100 links within 15 %; the articulated
+/// step F + u C_u with F ≈ 2.5 C_u (its predictor, midpoint factorisation and momentum). They cost
+/// the same at u = 1.05 (r T2 + LU) / C_u + 1.9: with gauss-2 about 3.6 on the iiwa, 3.8 on the
 /// Panda, 5.0 at 20 links, 10.5 at 50 and 26.7 at 100 (docs/robots.md).
 template <lagrangian L, class F>
 void stepper<L, F>::choose_iteration() {
@@ -200,7 +200,7 @@ void stepper<L, F>::dynamics_rhs(const phase_state<dim>& x) {
 template <lagrangian L, class F>
 void stepper<L, F>::taylor_from_dynamics(const phase_state<dim>& x) {
     if constexpr (jerk_history) {
-        const bool continues = continues_ && x.q == q_end_ && x.p == p_end_;
+        const bool continues = continues_ && !second_order_ && x.q == q_end_ && x.p == p_end_;
         if (continues) dq_ = (acc_ - a0_) / h_; // the jerk, to O(h)
         a_next_ = acc_; // a0_ at commit(): a step predicted again (by Newton) takes the same jerk
         a0_taken_ = true;

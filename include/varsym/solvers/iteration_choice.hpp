@@ -86,8 +86,9 @@ class iteration_choice {
         for (int h = first_hold; h <= max_hold; h *= 2)
             doubled = doubled || in[3] == h;
         const bool holding = in[2] > 0.0;
+        const double most_left = in[3] == max_hold ? max_hold : in[3] / 2; // the hold before
         if (!doubled || (in[0] == 0.0 && in[1] != 0.0) ||
-            (holding && (in[0] != 0.0 || in[3] == first_hold || in[2] > in[3])))
+            (holding && (in[0] != 0.0 || in[3] == first_hold || in[2] > most_left)))
             return false;
         in_window_ = static_cast<int>(in[0]);
         sum_ = in[1];
