@@ -23,19 +23,25 @@
 // the coordinates (c_i, c_j) that move them: Aᵀ (·) A, and Aᵀ (·) for the first derivatives.
 #pragma once
 
+#include <cassert>
+
 #include <Eigen/Core>
 
 #include "varsym/multibody/tree.hpp"
 
 namespace varsym::multibody {
 
-/// Body poses, joint motion subspaces S_i, world spatial inertias I_i and gravity wrenches
-/// f_i = I_i (0; g) at q. Over the workspace's scalar S (the algorithms down to
+/// Body poses, joint motion subspaces S_i, centres of mass, gravity wrenches f_i = I_i (0; g)
+/// and, where `inertias`, the world spatial inertias I_i at q (the mass matrix, its factorisation,
+/// the second derivatives and the bias forces take them; the first derivatives do not: left out,
+/// they are a third of this pass). Over the workspace's scalar S (the algorithms down to
 /// lagrangian_derivatives take any; the model's data are double and enter as S).
 template <class S, class Q>
-void kinematics(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>& q) {
+void kinematics(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>& q,
+                bool inertias = true) {
     const int n = m.body_count();
     w.resize(n);
+    w.has_inertias = inertias;
     const vec3_of<S> g = m.gravity.template cast<S>();
     for (int i = 0; i < n; ++i) {
         const auto k = static_cast<std::size_t>(i);
@@ -60,15 +66,18 @@ void kinematics(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>
         }
         const mat3_of<S>& r = w.x[k].rotation;
         const vec3_of<S> c = w.x[k].point(b.com);
-        set_spatial_inertia<S>(w.inertia[k], b.mass, c,
-                               r * b.inertia.template cast<S>() * r.transpose());
+        w.com[k] = c;
+        if (inertias)
+            set_spatial_inertia<S>(w.inertia[k], b.mass, c,
+                                   r * b.inertia.template cast<S>() * r.transpose());
         const S mass(b.mass);
         w.gravity[k].template head<3>() = mass * c.cross(g);
         w.gravity[k].template tail<3>() = mass * g;
     }
 }
 
-/// Body velocities v_i = v_λ(i) + S_i q̇_i and momenta h_i = I_i v_i (after kinematics).
+/// Body velocities v_i = v_λ(i) + S_i q̇_i and momenta h_i = I_i v_i (after kinematics, with or
+/// without the inertias: h_i from the body's mass, centre of mass and rotated inertia).
 template <class S, class V>
 void velocities(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<V>& qd) {
     for (int i = 0; i < m.body_count(); ++i) {
@@ -76,7 +85,15 @@ void velocities(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<V>
         const int p = m.bodies[k].parent;
         w.v[k] = w.s[k] * S(m.joint_rate(qd, i));
         if (p >= 0) w.v[k] += w.v[static_cast<std::size_t>(p)];
-        w.h[k].noalias() = w.inertia[k] * w.v[k];
+        // h = I v without I: f = m (v_o + ω × c), n = I_c ω + c × f, I_c ω = R I_b Rᵀ ω.
+        const body& b = m.bodies[k];
+        const mat3_of<S>& r = w.x[k].rotation;
+        const vec3_of<S> om = w.v[k].template head<3>();
+        const vec3_of<S> f = S(b.mass) * (w.v[k].template tail<3>() + om.cross(w.com[k]));
+        const vec3_of<S> body_om = r.transpose() * om;
+        const vec3_of<S> ib = b.inertia.template cast<S>() * body_om;
+        w.h[k].template head<3>() = r * ib + w.com[k].cross(f);
+        w.h[k].template tail<3>() = f;
     }
 }
 
@@ -88,8 +105,7 @@ S lagrangian_value(const tree& m, const basic_workspace<S>& w) {
     const vec3_of<S> g = m.gravity.template cast<S>();
     for (std::size_t k = 0; k < m.bodies.size(); ++k) {
         t += w.v[k].dot(w.h[k]);
-        // m g·c from the wrench (m c × g; m g): c = x.point(com) again is cheaper to keep.
-        minus_v += S(m.bodies[k].mass) * g.dot(w.x[k].point(m.bodies[k].com));
+        minus_v += S(m.bodies[k].mass) * g.dot(w.com[k]); // m g·c
     }
     return S(0.5) * t + minus_v;
 }
@@ -98,7 +114,7 @@ S lagrangian_value(const tree& m, const basic_workspace<S>& w) {
 template <class Q, class V>
 double energy(const tree& m, workspace& w, const Eigen::MatrixBase<Q>& q,
               const Eigen::MatrixBase<V>& qd) {
-    kinematics(m, w, q);
+    kinematics(m, w, q, false);
     velocities(m, w, qd);
     double t = 0.0;
     for (std::size_t k = 0; k < m.bodies.size(); ++k)
@@ -110,6 +126,7 @@ double energy(const tree& m, workspace& w, const Eigen::MatrixBase<Q>& q,
 /// inertias), leaves first: h^c_i, F^c_i (I^c_i). The per-body fields are left as they are.
 template <class S>
 void subtree_sums(const tree& m, basic_workspace<S>& w, bool inertias) {
+    assert(!inertias || w.has_inertias);
     const auto n = static_cast<std::size_t>(m.body_count());
     for (std::size_t k = 0; k < n; ++k) {
         w.h_c[k] = w.h[k];
@@ -131,7 +148,7 @@ template <class S, class Q, class V, class Out>
 S lagrangian_gradient(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>& q,
                       const Eigen::MatrixBase<V>& qd, Eigen::MatrixBase<Out>& lq,
                       Eigen::MatrixBase<Out>& lv, bool keep_inertias = false) {
-    kinematics(m, w, q);
+    kinematics(m, w, q, keep_inertias);
     velocities(m, w, qd);
     const S value = lagrangian_value(m, w);
     subtree_sums(m, w, keep_inertias);
@@ -257,6 +274,7 @@ void mass_matrix(const tree& m, workspace& w, const Eigen::MatrixBase<Q>& q,
 template <class V, class Out>
 void bias_forces_after_kinematics(const tree& m, workspace& w, const Eigen::MatrixBase<V>& qd,
                                   Eigen::MatrixBase<Out>& out) {
+    assert(w.has_inertias);
     velocities(m, w, qd);
     const vec6 base = (vec6() << vec3::Zero(), -m.gravity).finished();
     for (int i = 0; i < m.body_count(); ++i) {

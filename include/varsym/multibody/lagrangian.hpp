@@ -49,7 +49,7 @@ class robot_lagrangian {
     template <class = void>
     double operator()(const vec<dynamic>& q, const vec<dynamic>& v) const {
         workspace& w = work();
-        kinematics(*m_, w, q);
+        kinematics(*m_, w, q, false);
         velocities(*m_, w, v);
         return lagrangian_value(*m_, w);
     }

@@ -309,13 +309,17 @@ struct tree {
 /// number for robot_lagrangian::third). Each field has one meaning, set by the pass named:
 /// per-body quantities by kinematics and velocities, subtree sums (superscript c) by
 /// subtree_sums, the Newton–Euler pass's by bias_forces, the second derivatives' rows by
-/// lagrangian_derivatives. A field is valid from its pass until the next kinematics.
+/// lagrangian_derivatives. A field is valid from its pass until the next kinematics; the
+/// spatial inertias (and what is built from them) only after a kinematics that asked for them
+/// (`has_inertias`, which the readers assert).
 template <class S>
 struct basic_workspace {
     std::vector<basic_pose<S>> x;    ///< body frames in the world (kinematics)
     std::vector<vec6_of<S>> s;       ///< joint motion subspaces S_i (kinematics)
-    std::vector<mat6_of<S>> inertia; ///< body spatial inertias I_i (kinematics)
+    std::vector<mat6_of<S>> inertia; ///< body spatial inertias I_i (kinematics, if asked)
     std::vector<vec6_of<S>> gravity; ///< body gravity wrenches I_i a_g (kinematics)
+    std::vector<vec3_of<S>> com;     ///< body centres of mass in the world (kinematics)
+    bool has_inertias = false;       ///< `inertia` is the last kinematics' own
     std::vector<vec6_of<S>> v;       ///< body velocities v_i (velocities)
     std::vector<vec6_of<S>> h;       ///< body momenta I_i v_i (velocities)
     /// Subtree sums over body i and its descendants (subtree_sums): the composite inertia
@@ -337,6 +341,7 @@ struct basic_workspace {
         if (x.size() == k) return;
         for (auto* f : {&s, &gravity, &v, &h, &h_c, &gravity_c, &a, &force, &u, &alpha, &dh, &df})
             f->resize(k);
+        com.resize(k);
         x.resize(k);
         inertia.resize(k);
         inertia_c.resize(k);
