@@ -10,8 +10,9 @@
 // This is forward dynamics (ABA) at q̇ = 0 and zero gravity, where M q̈ = τ; in world coordinates
 // no transform is applied between bodies. The general engine's articulated iteration
 // (schemes/variational_articulated.hpp) solves with M so, at the step's start (its predictor)
-// and midpoint (its updates): O(n) where Cholesky of the dense M is O(n³). Mimic joints couple coordinates that the recursion does not see: a tree with them is
-// factorised densely (the composite-rigid-body M and Cholesky, O(n³)) by robot_lagrangian.
+// and midpoint (its updates): O(n) where Cholesky of the dense M is O(n³). Mimic joints couple
+// coordinates that the recursion does not see: a tree with them is factorised densely (the
+// composite-rigid-body M and Cholesky, O(n³)) by robot_lagrangian.
 #pragma once
 
 #include <cmath>
@@ -32,12 +33,11 @@ struct articulated_factor {
 
     void resize(int n) {
         const auto k = static_cast<std::size_t>(n);
-        for (auto* f : {&s, &u, &p, &a})
-            f->resize(k);
+        s.resize(k);
+        u.resize(k);
         inertia.resize(k);
         composite.resize(k);
         inverse_d.resize(k);
-        rhs.resize(k);
         diagonal.resize(n);
     }
 };
@@ -72,29 +72,46 @@ bool factor_mass(const tree& m, workspace& w, const Eigen::MatrixBase<Q>& q,
     return true;
 }
 
-/// x ← M(q)⁻¹x with f from factor_mass at q (O(n); f's scratch, no workspace).
+/// x ← M(q)⁻¹x with f from factor_mass at q, for each column of x (O(n) a column; the columns'
+/// passes interleaved, body by body, so that their chains of dependent operations overlap; each
+/// column's operations are those of a solve of it alone). f's scratch, no workspace.
 template <class X>
 void solve_mass(const tree& m, articulated_factor& f, Eigen::MatrixBase<X>& x) {
     const int n = m.body_count();
-    for (auto& p : f.p)
-        p.setZero();
+    const auto c = static_cast<std::size_t>(x.cols());
+    const std::size_t size = static_cast<std::size_t>(n) * c;
+    if (f.p.size() < size) {
+        f.p.resize(size);
+        f.a.resize(size);
+        f.rhs.resize(size);
+    }
+    for (std::size_t k = 0; k < size; ++k)
+        f.p[k].setZero();
     for (int i = n - 1; i >= 0; --i) {
         const auto k = static_cast<std::size_t>(i);
-        f.rhs[k] = x(i) - f.s[k].dot(f.p[k]);
         const int parent = m.bodies[k].parent;
-        if (parent >= 0)
-            f.p[static_cast<std::size_t>(parent)] += f.p[k] + (f.rhs[k] * f.inverse_d[k]) * f.u[k];
+        for (std::size_t j = 0; j < c; ++j) {
+            const std::size_t kj = k * c + j;
+            f.rhs[kj] = x(i, static_cast<Eigen::Index>(j)) - f.s[k].dot(f.p[kj]);
+            if (parent >= 0)
+                f.p[static_cast<std::size_t>(parent) * c + j] +=
+                    f.p[kj] + (f.rhs[kj] * f.inverse_d[k]) * f.u[k];
+        }
     }
     for (int i = 0; i < n; ++i) {
         const auto k = static_cast<std::size_t>(i);
         const int parent = m.bodies[k].parent;
-        if (parent < 0) {
-            x(i) = f.rhs[k] * f.inverse_d[k];
-            f.a[k] = f.s[k] * x(i);
-        } else {
-            const vec6& above = f.a[static_cast<std::size_t>(parent)];
-            x(i) = (f.rhs[k] - f.u[k].dot(above)) * f.inverse_d[k];
-            f.a[k] = above + f.s[k] * x(i);
+        for (std::size_t j = 0; j < c; ++j) {
+            const std::size_t kj = k * c + j;
+            const auto col = static_cast<Eigen::Index>(j);
+            if (parent < 0) {
+                x(i, col) = f.rhs[kj] * f.inverse_d[k];
+                f.a[kj] = f.s[k] * x(i, col);
+            } else {
+                const vec6& above = f.a[static_cast<std::size_t>(parent) * c + j];
+                x(i, col) = (f.rhs[kj] - f.u[k].dot(above)) * f.inverse_d[k];
+                f.a[kj] = above + f.s[k] * x(i, col);
+            }
         }
     }
 }

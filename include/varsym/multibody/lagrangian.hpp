@@ -91,9 +91,10 @@ class robot_lagrangian {
         f.llt.compute(f.dense);
         return f.llt.info() == Eigen::Success;
     }
-    /// x ← M(q)⁻¹x at the q of this thread's last factor_mass (O(n) without mimic joints).
-    template <class = void>
-    void solve_mass(vec<dynamic>& x) const {
+    /// x ← M(q)⁻¹x at the q of this thread's last factor_mass, for each column of x (O(n) a
+    /// column without mimic joints).
+    template <class X = vec<dynamic>>
+    void solve_mass(Eigen::MatrixBase<X>& x) const {
         auto& f = factor<>();
         if (m_->mimics.empty())
             multibody::solve_mass(*m_, f.aba, x);
