@@ -80,16 +80,21 @@ void kinematics(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<Q>
 /// without the inertias: h_i from the body's mass, centre of mass and rotated inertia).
 template <class S, class V>
 void velocities(const tree& m, basic_workspace<S>& w, const Eigen::MatrixBase<V>& qd) {
+    // The last body's velocity, kept in registers for a child just after its parent (a chain's
+    // next body): no store and reload on the way down (the same additions).
+    vec6_of<S> last = vec6_of<S>::Zero();
     for (int i = 0; i < m.body_count(); ++i) {
         const auto k = static_cast<std::size_t>(i);
         const int p = m.bodies[k].parent;
-        w.v[k] = w.s[k] * S(m.joint_rate(qd, i));
-        if (p >= 0) w.v[k] += w.v[static_cast<std::size_t>(p)];
+        vec6_of<S> v = w.s[k] * S(m.joint_rate(qd, i));
+        if (p >= 0) v += p == i - 1 ? last : w.v[static_cast<std::size_t>(p)];
+        w.v[k] = v;
+        last = v;
         // h = I v without I: f = m (v_o + ω × c), n = I_c ω + c × f, I_c ω = R I_b Rᵀ ω.
         const body& b = m.bodies[k];
         const mat3_of<S>& r = w.x[k].rotation;
-        const vec3_of<S> om = w.v[k].template head<3>();
-        const vec3_of<S> f = S(b.mass) * (w.v[k].template tail<3>() + om.cross(w.com[k]));
+        const vec3_of<S> om = v.template head<3>();
+        const vec3_of<S> f = S(b.mass) * (v.template tail<3>() + om.cross(w.com[k]));
         const vec3_of<S> body_om = r.transpose() * om;
         const vec3_of<S> ib = b.inertia.template cast<S>() * body_om;
         w.h[k].template head<3>() = r * ib + w.com[k].cross(f);
@@ -133,13 +138,29 @@ void subtree_sums(const tree& m, basic_workspace<S>& w, bool inertias) {
         w.gravity_c[k] = w.gravity[k];
         if (inertias) w.inertia_c[k] = w.inertia[k];
     }
+    // Leaves first. A body whose parent comes just before it hands its sums on in registers
+    // (carry), the others through the parent's entry: the same additions in the same order (the
+    // body just after a parent is its last child), without a store and reload per body.
+    vec6_of<S> carry_h = vec6_of<S>::Zero(), carry_g = vec6_of<S>::Zero();
+    bool carried = false;
     for (int i = m.body_count() - 1; i >= 0; --i) {
-        const int p = m.bodies[static_cast<std::size_t>(i)].parent;
-        if (p < 0) continue;
-        const auto k = static_cast<std::size_t>(i), pk = static_cast<std::size_t>(p);
-        w.h_c[pk] += w.h_c[k];
-        w.gravity_c[pk] += w.gravity_c[k];
-        if (inertias) w.inertia_c[pk] += w.inertia_c[k];
+        const auto k = static_cast<std::size_t>(i);
+        if (carried) {
+            w.h_c[k] += carry_h;
+            w.gravity_c[k] += carry_g;
+            if (inertias) w.inertia_c[k] += w.inertia_c[k + 1];
+        }
+        const int p = m.bodies[k].parent;
+        carried = p >= 0 && p == i - 1;
+        if (carried) {
+            carry_h = w.h_c[k];
+            carry_g = w.gravity_c[k];
+        } else if (p >= 0) {
+            const auto pk = static_cast<std::size_t>(p);
+            w.h_c[pk] += w.h_c[k];
+            w.gravity_c[pk] += w.gravity_c[k];
+            if (inertias) w.inertia_c[pk] += w.inertia_c[k];
+        }
     }
 }
 
