@@ -64,9 +64,8 @@ void stepper<L, F>::articulated_setup() {
 /// (N = s n); an articulated update C_u = r T1 + s T_s; Newton's step 1.05 (r T2 + LU) + 4.4 C_u
 /// (its chord update, predictor and momentum), fitted to chains of 7 to 100 links within 15 %; the
 /// articulated step F + u C_u with F ≈ 2.5 C_u (its predictor, midpoint factorisation and
-/// momentum). They cost
-/// the same at u = 1.05 (r T2 + LU) / C_u + 1.9: with gauss-2 about 3.6 on the iiwa, 3.8 on the
-/// Panda, 5.0 at 20 links, 10.5 at 50 and 26.7 at 100 (docs/robots.md).
+/// momentum). They cost the same at u = 1.05 (r T2 + LU) / C_u + 1.9: with gauss-2 about 3.6 on
+/// the iiwa, 3.8 on the Panda, 5.0 at 20 links, 10.5 at 50 and 26.7 at 100 (docs/robots.md).
 template <lagrangian L, class F>
 void stepper<L, F>::choose_iteration() {
     if constexpr (lagrangian_with_mass_solves<L> && requires(const L& l) { l.robot().mimics; }) {
