@@ -6,6 +6,7 @@
 // recursive Newton–Euler bias forces and the composite-rigid-body M(q) against the Euler–Lagrange
 // equations they must satisfy; mimic joints against the same tree with the coupling substituted.
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -108,6 +109,51 @@ TEST(MultibodyDerivatives, ThirdDerivativesEqualAutomaticDifferentiationOfASecon
         mat<dynamic> other;
         l.third(q, v, b, a, other);
         EXPECT_GT(relative_gap(other, expected), 1e-3);
+    }
+}
+
+// velocities and subtree_sums hand a chain's values from a body to the next in registers where
+// the parent is the body just before (algorithms.hpp), through memory otherwise: they must add
+// exactly what the plain loops add, in the same order, on trees that mix both (random_tree: 0 ← 1
+// ← 2 carried, 1 ← 3 and 0 ← 5 through memory), so the sums are equal to the bit, not to a
+// tolerance. (Checked: adding a carried child's sums before its siblings' fails.)
+TEST(MultibodyPasses, CarriedVelocitiesAndSubtreeSumsAreThePlainLoopsToTheBit) {
+    std::mt19937 g(17);
+    std::uniform_real_distribution<double> u(-2.0, 2.0);
+    for (const multibody::tree& m : {random_tree(3), random_tree(8), mimic_tree(true)}) {
+        const int n = m.body_count();
+        vec<dynamic> q(m.dof()), v(m.dof());
+        for (int i = 0; i < m.dof(); ++i) {
+            q(i) = u(g);
+            v(i) = u(g);
+        }
+        multibody::workspace w;
+        multibody::kinematics(m, w, q);
+        multibody::velocities(m, w, v);
+        multibody::subtree_sums(m, w, true);
+        std::vector<multibody::vec6> vel(static_cast<std::size_t>(n)), hc = w.h, fc = w.gravity;
+        std::vector<multibody::mat6> ic = w.inertia;
+        for (int i = 0; i < n; ++i) {
+            const auto k = static_cast<std::size_t>(i);
+            const int p = m.bodies[k].parent;
+            vel[k] = w.s[k] * m.joint_rate(v, i);
+            if (p >= 0) vel[k] += vel[static_cast<std::size_t>(p)];
+        }
+        for (int i = n - 1; i >= 0; --i) {
+            const auto k = static_cast<std::size_t>(i);
+            const int p = m.bodies[k].parent;
+            if (p < 0) continue;
+            const auto pk = static_cast<std::size_t>(p);
+            hc[pk] += hc[k];
+            fc[pk] += fc[k];
+            ic[pk] += ic[k];
+        }
+        for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) {
+            EXPECT_EQ(w.v[k], vel[k]) << "body " << k;
+            EXPECT_EQ(w.h_c[k], hc[k]) << "body " << k;
+            EXPECT_EQ(w.gravity_c[k], fc[k]) << "body " << k;
+            EXPECT_EQ(w.inertia_c[k], ic[k]) << "body " << k;
+        }
     }
 }
 
