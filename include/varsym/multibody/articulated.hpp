@@ -24,7 +24,8 @@ namespace varsym::multibody {
 
 /// M(q) factorised by the articulated-body algorithm: per body its subspace S_i, U_i, 1/D_i; M's
 /// diagonal M_ii = S_iᵀ I^c_i S_i (I^c the composite inertia); and the solves' scratch. One per
-/// thread (robot_lagrangian keeps it beside the workspace); no allocation once sized.
+/// thread (robot_lagrangian keeps it beside the workspace); no allocation once sized (the solves'
+/// scratch by the first solve of as many columns).
 struct articulated_factor {
     std::vector<vec6> s, u, p, a;
     std::vector<mat6> inertia, composite; // I^A_i and I^c_i (the factorisation's scratch)

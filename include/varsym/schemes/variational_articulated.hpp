@@ -58,14 +58,15 @@ void stepper<L, F>::articulated_setup() {
 /// puts the break-even at choice_threshold articulated updates a step or more, Newton otherwise.
 /// The model, of n coordinates, P ancestor pairs (Σ over the bodies of their ancestors: n(n − 1)/2
 /// for a chain), r quadrature points and s increments, in ns measured on this project's machine
-/// (clang 14 -O3; only their ratios matter; T1 and T_s are now about 75 n and 12 n, so the model
-/// errs towards Newton near its break-even, docs/design.md): first derivatives T1 = 95 n a point,
-/// second T2 = 140 n + 8.3 P, a mass solve T_s = 25 n, the Newton matrix's LU 0.05 N³ + 1.4 N²
-/// (N = s n); an articulated update C_u = r T1 + s T_s; Newton's step 1.05 (r T2 + LU) + 4.4 C_u
-/// (its chord update, predictor and momentum), fitted to chains of 7 to 100 links within 15 %; the
-/// articulated step F + u C_u with F ≈ 2.5 C_u (its predictor, midpoint factorisation and
-/// momentum). They cost the same at u = 1.05 (r T2 + LU) / C_u + 1.9: with gauss-2 about 3.6 on
-/// the iiwa, 3.8 on the Panda, 5.0 at 20 links, 10.5 at 50 and 26.7 at 100 (docs/robots.md).
+/// (clang 14 -O3; only their ratios matter; T1 and T_s measure about 75 n and 12 n on the chains,
+/// so the model errs towards Newton near its break-even, docs/design.md): first derivatives
+/// T1 = 95 n a point, second T2 = 140 n + 8.3 P, a mass solve T_s = 25 n, the Newton matrix's LU
+/// 0.05 N³ + 1.4 N² (N = s n); an articulated update C_u = r T1 + s T_s; Newton's step
+/// 1.05 (r T2 + LU) + 4.4 C_u (its chord update, predictor and momentum), fitted to chains of 7 to
+/// 100 links within 15 %; the articulated step F + u C_u with F ≈ 2.5 C_u (its predictor,
+/// midpoint factorisation and momentum). They cost the same at u = 1.05 (r T2 + LU) / C_u + 1.9:
+/// with gauss-2 about 3.6 on the iiwa, 3.8 on the Panda, 5.0 at 20 links, 10.5 at 50 and 26.7 at
+/// 100 (docs/robots.md).
 template <lagrangian L, class F>
 void stepper<L, F>::choose_iteration() {
     if constexpr (lagrangian_with_mass_solves<L> && requires(const L& l) { l.robot().mimics; }) {

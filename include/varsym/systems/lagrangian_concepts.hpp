@@ -153,9 +153,9 @@ concept lagrangian_with_bias_after_mass_matrix = lagrangian_with_mass_matrix<L> 
 
 /// A Lagrangian that solves with its mass matrix by hand (a robot: multibody/articulated.hpp, in
 /// O(n)): factor_mass(q), false where M(q) is not positive definite, then on the same thread
-/// solve_mass(x), x ← M(q)⁻¹x (columns at once where it takes a matrix), and mass_diagonal(),
-/// M(q)'s diagonal. The general engine's articulated iteration takes them
-/// (schemes/variational_articulated.hpp).
+/// solve_mass(x), x ← M(q)⁻¹x, and mass_diagonal(), M(q)'s diagonal. The general engine's
+/// articulated iteration takes them (schemes/variational_articulated.hpp); a solve_mass that
+/// accepts an Eigen::Map of a d × s matrix is handed the s blocks at once, as its columns.
 template <class L>
 concept lagrangian_with_mass_solves = lagrangian_with_bias_forces<L> &&
     requires(const L& l, const vec<L::dim>& q, vec<L::dim>& x) {
