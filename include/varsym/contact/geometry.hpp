@@ -178,7 +178,7 @@ class robot_kinematics {
         q_ = q;
         if (t_->base != multibody::base_kind::free) {
             w_.chart.setIdentity();
-            multibody::kinematics(*t_, w_, q);
+            multibody::kinematics(*t_, w_, q, false); // poses and subspaces only
             x_.setZero();
             return;
         }
@@ -190,7 +190,7 @@ class robot_kinematics {
         w_.chart = uh.toRotationMatrix();
         c_.setZero(n);
         c_.tail(n - 6) = q.tail(n - 6);
-        multibody::kinematics(*t_, w_, c_);
+        multibody::kinematics(*t_, w_, c_, false);
         // A = ∂φ/∂u = (2/|u|) P(û), P δ = Im(conj(û) ⊗ δ) = w δ_v − δ_0 v − v × δ_v.
         const vec3 v(uh.x(), uh.y(), uh.z());
         a_.col(0) = -v;

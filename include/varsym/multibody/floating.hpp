@@ -72,7 +72,7 @@ void add_momenta(const tree& m, const workspace& w, base_motion& out) {
     for (std::size_t i = 0; i < m.bodies.size(); ++i) {
         out.angular_momentum += w.h[i].head<3>();
         out.momentum += w.h[i].tail<3>();
-        out.centre_of_mass += m.bodies[i].mass * w.x[i].point(m.bodies[i].com);
+        out.centre_of_mass += m.bodies[i].mass * w.com[i];
         mass += m.bodies[i].mass;
     }
     if (mass > 0.0) out.centre_of_mass /= mass;
@@ -83,7 +83,7 @@ template <class = void>
 base_motion tree_motion(const tree& m, const vec<dynamic>& q, const vec<dynamic>& qd) {
     thread_local workspace w;
     w.chart.setIdentity();
-    kinematics(m, w, q);
+    kinematics(m, w, q, false);
     velocities(m, w, qd);
     base_motion out;
     if (m.base_coordinates() > 0) {
@@ -122,7 +122,7 @@ class free_robot {
         scratch& s = work();
         chart(q, v, s);
         workspace& w = s.w;
-        kinematics(*m_, w, s.c);
+        kinematics(*m_, w, s.c, false);
         velocities(*m_, w, s.cd);
         return lagrangian_value(*m_, w) + tail(q, v);
     }
@@ -175,7 +175,7 @@ class free_robot {
         scratch& s = work();
         chart(q, v, s);
         workspace& w = s.w;
-        kinematics(*m_, w, s.c);
+        kinematics(*m_, w, s.c, false);
         velocities(*m_, w, s.cd);
         base_motion out;
         out.orientation = s.u0;
