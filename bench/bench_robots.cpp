@@ -389,7 +389,7 @@ void scaling(int rounds) {
         named("gauss-2-simpl"),
         named("simpson-art"),
         named("gauss-2-art"),
-        // The default: Newton or the articulated iteration, step by step, from 16 links.
+        // The default: Newton or the articulated iteration, step by step, from 10 links.
         {"simpson-auto", false, 0, scheme_spec(scheme_kind::simpson)},
         {"gauss-2-auto", false, 0, scheme_spec(scheme_kind::gauss, 2)}};
     for (const method& m : chosen)

@@ -80,7 +80,7 @@ double state_gap(const phase_state<dynamic>& a, const phase_state<dynamic>& b) {
            (a.q.lpNorm<Eigen::Infinity>() + a.p.lpNorm<Eigen::Infinity>());
 }
 
-// 30 links: the model puts Newton's gauss-2 step at 6.5 articulated updates, Simpson's at 6.0
+// 30 links: the model puts Newton's gauss-2 step at 7.3 articulated updates, Simpson's at 6.4
 // (measured: 3.2 and 4.1 updates a step here), so every step is the articulated iteration's.
 // Both runs stop at the step equations' round-off each step, and the chain falls for 0.3 s:
 // measured 3e-16 apart after 300 steps; 1e-12 leaves room for round-off's growth on another
@@ -130,6 +130,21 @@ TEST(AutomaticIteration, GoesBackToNewtonWhereTheArticulatedIterationIsSlow) {
     EXPECT_EQ(x.p, y.p);
     // Windows at steps 0, 80 and 224 (16 + 64, then 16 + 128), the next at 496.
     EXPECT_EQ(automatic.choice().articulated_steps(), 48);
+}
+
+// The choice is on from 10 links of the chain (break-even 3.1 with gauss-2, 3.0 with Simpson),
+// off at 9 (2.9 with both): the threshold of choice_threshold, where the articulated iteration
+// from rest takes 2.4-2.7 updates a step and is 6-15 % faster than Newton's (docs/robots.md).
+TEST(AutomaticIteration, ChoosesFromTenLinksOfAChain) {
+    for (const scheme_spec& spec :
+         {scheme_spec(scheme_kind::gauss, 2), scheme_spec(scheme_kind::simpson)}) {
+        const general::stepper<multibody::robot_lagrangian> nine(hanging_chain(9), 1e-3, spec);
+        const general::stepper<multibody::robot_lagrangian> ten(hanging_chain(10), 1e-3, spec);
+        EXPECT_FALSE(nine.choice().on());
+        EXPECT_TRUE(ten.choice().on());
+        EXPECT_GE(ten.choice().break_even(), general::choice_threshold);
+        EXPECT_LT(ten.choice().break_even(), 3.2);
+    }
 }
 
 // Arms and small trees (7 bodies here) keep Newton: their break-even is below choice_threshold.

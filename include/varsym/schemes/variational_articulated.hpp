@@ -32,9 +32,9 @@ namespace varsym::general {
 
 /// The automatic iteration of a robot chooses, step by step, between Newton and the articulated
 /// iteration where the break-even (the articulated updates a step at which the two cost the
-/// same; the model in choose_iteration) is at least this: with gauss-2 from 16 links of a chain on
-/// (Simpson 17, more for branched trees); arms of 6 to 9 joints keep Newton.
-inline constexpr double choice_threshold = 4.5;
+/// same; the model in choose_iteration) is at least this: from 10 links of a chain on (gauss-2
+/// and Simpson); arms of 6 to 9 joints keep Newton.
+inline constexpr double choice_threshold = 3.0;
 
 /// h A⁻¹ into ainv_; throws std::invalid_argument for an L without mass solves.
 template <lagrangian L, class F>
@@ -58,14 +58,13 @@ void stepper<L, F>::articulated_setup() {
 /// puts the break-even at choice_threshold articulated updates a step or more, Newton otherwise.
 /// The model, of n coordinates, P ancestor pairs (Σ over the bodies of their ancestors: n(n − 1)/2
 /// for a chain), r quadrature points and s increments, in ns measured on this project's machine
-/// (clang 14 -O3; only their ratios matter; T1 and T_s measure about 75 n and 12 n on the chains,
-/// so the model errs towards Newton near its break-even, docs/design.md): first derivatives
-/// T1 = 95 n a point, second T2 = 140 n + 8.3 P, a mass solve T_s = 25 n, the Newton matrix's LU
-/// 0.05 N³ + 1.4 N² (N = s n); an articulated update C_u = r T1 + s T_s; Newton's step
-/// 1.05 (r T2 + LU) + 4.4 C_u (its chord update, predictor and momentum), fitted to chains of 7 to
-/// 100 links within 15 %; the articulated step F + u C_u with F ≈ 2.5 C_u (its predictor,
-/// midpoint factorisation and momentum). They cost the same at u = 1.05 (r T2 + LU) / C_u + 1.9:
-/// with gauss-2 about 3.6 on the iiwa, 3.8 on the Panda, 5.0 at 20 links, 10.5 at 50 and 26.7 at
+/// (clang 14 -O3; only their ratios matter): first derivatives T1 = 75 n a point, second
+/// T2 = 140 n + 8.3 P, a mass solve T_s = 12 n, the Newton matrix's LU 0.05 N³ + 1.4 N²
+/// (N = s n); an articulated update C_u = r T1 + s T_s; Newton's step 1.23 (r T2 + LU) + 2.4 C_u,
+/// the articulated step (2.5 + u) C_u (its predictor, midpoint factorisation and momentum, then
+/// u updates), both fitted to the steps of chains of 7 to 100 links and of the UR5, iiwa and
+/// Panda within 10 %. They cost the same at u = 1.23 (r T2 + LU) / C_u − 0.1: with gauss-2 2.5 on
+/// the UR5, 2.7 on the iiwa, 2.9 on the Panda, 3.1 at 10 links, 4.9 at 20, 13.8 at 50 and 40 at
 /// 100 (docs/robots.md).
 template <lagrangian L, class F>
 void stepper<L, F>::choose_iteration() {
@@ -77,9 +76,10 @@ void stepper<L, F>::choose_iteration() {
             for (int p = b.parent; p >= 0; p = t.bodies[static_cast<std::size_t>(p)].parent)
                 pairs += 1.0;
         const double n = d_, N = s_ * d_;
-        const double update = r_ * 95.0 * n + s_ * 25.0 * n;
+        const double update = r_ * 75.0 * n + s_ * 12.0 * n;
         const double newton = r_ * (140.0 * n + 8.3 * pairs) + 0.05 * N * N * N + 1.4 * N * N;
-        const double break_even = 1.05 * newton / update + 1.9;
+        // Newton's step 1.23 newton + 2.4 update against the articulated (2.5 + u) update.
+        const double break_even = (1.23 * newton + 2.4 * update) / update - 2.5;
         if (break_even < choice_threshold) return;
         choice_ = iteration_choice(break_even);
         opt_.iteration = iteration_kind::articulated;
