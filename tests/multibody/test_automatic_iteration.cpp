@@ -132,9 +132,11 @@ TEST(AutomaticIteration, GoesBackToNewtonWhereTheArticulatedIterationIsSlow) {
     EXPECT_EQ(automatic.choice().articulated_steps(), 48);
 }
 
-// The choice is on from 10 links of the chain (break-even 3.1 with gauss-2, 3.0 with Simpson),
-// off at 9 (2.9 with both): the threshold of choice_threshold, where the articulated iteration
-// from rest takes 2.4-2.7 updates a step and is 6-15 % faster than Newton's (docs/robots.md).
+// The choice is on from 10 links of the chain (break-even 3.09 with gauss-2, 3.002 with
+// Simpson), off at 9 (2.93 and 2.88): the threshold of choice_threshold, where the articulated
+// iteration from rest takes 2.4-2.7 updates a step and is 6-11 % faster than Newton's
+// (docs/robots.md). With one increment a step, gauss-1, from 36 links (5.56; 5.43 at 35): its
+// updates shrink more slowly, and the threshold is choice_threshold_one_increment.
 TEST(AutomaticIteration, ChoosesFromTenLinksOfAChain) {
     for (const scheme_spec& spec :
          {scheme_spec(scheme_kind::gauss, 2), scheme_spec(scheme_kind::simpson)}) {
@@ -145,6 +147,14 @@ TEST(AutomaticIteration, ChoosesFromTenLinksOfAChain) {
         EXPECT_GE(ten.choice().break_even(), general::choice_threshold);
         EXPECT_LT(ten.choice().break_even(), 3.2);
     }
+    const scheme_spec midpoint(scheme_kind::gauss, 1);
+    EXPECT_FALSE(general::stepper<multibody::robot_lagrangian>(hanging_chain(35), 1e-3, midpoint)
+                     .choice()
+                     .on());
+    const general::stepper<multibody::robot_lagrangian> long_midpoint(hanging_chain(36), 1e-3,
+                                                                      midpoint);
+    EXPECT_TRUE(long_midpoint.choice().on());
+    EXPECT_GE(long_midpoint.choice().break_even(), general::choice_threshold_one_increment);
 }
 
 // Arms and small trees (7 bodies here) keep Newton: their break-even is below choice_threshold.

@@ -32,9 +32,17 @@ namespace varsym::general {
 
 /// The automatic iteration of a robot chooses, step by step, between Newton and the articulated
 /// iteration where the break-even (the articulated updates a step at which the two cost the
-/// same; the model in choose_iteration) is at least this: from 10 links of a chain on (gauss-2
-/// and Simpson); arms of 6 to 9 joints keep Newton.
+/// same; the model in choose_iteration) is at least this: from 10 links of a chain on with
+/// gauss-2 and Simpson (arms of 6 to 9 joints keep Newton), from 8 and 6 links with gauss-3 and
+/// gauss-4 (and the UR5, iiwa and Panda with gauss-4, the Panda with gauss-3: 0.72–0.96 times
+/// Newton's step, measured).
 inline constexpr double choice_threshold = 3.0;
+/// The same for one increment a step (gauss-1, lobatto-1), whose articulated updates shrink
+/// more slowly (3.7–5.3 a step from rest on chains of 10 to 30 links): from 36 links of a chain
+/// with gauss-1 and 40 with lobatto-1 (measured: the articulated iteration alone 0.97 and 0.85
+/// times Newton's step at 40 and 50 links with gauss-1, the choice 0.99 and 0.94 with
+/// lobatto-1; at 15 to 30 links its windows cost 2–5 %).
+inline constexpr double choice_threshold_one_increment = 5.5;
 
 /// h A⁻¹ into ainv_; throws std::invalid_argument for an L without mass solves.
 template <lagrangian L, class F>
@@ -64,7 +72,7 @@ void stepper<L, F>::articulated_setup() {
 /// the articulated step (2.5 + u) C_u (its predictor, midpoint factorisation and momentum, then
 /// u updates), both fitted to the steps of chains of 7 to 100 links and of the UR5, iiwa and
 /// Panda within 10 %. They cost the same at u = 1.23 (r T2 + LU) / C_u − 0.1: with gauss-2 2.5 on
-/// the UR5, 2.7 on the iiwa, 2.9 on the Panda, 3.1 at 10 links, 4.9 at 20, 13.8 at 50 and 40 at
+/// the UR5, 2.6 on the iiwa, 2.9 on the Panda, 3.1 at 10 links, 4.9 at 20, 13.8 at 50 and 40 at
 /// 100 (docs/robots.md).
 template <lagrangian L, class F>
 void stepper<L, F>::choose_iteration() {
@@ -80,7 +88,7 @@ void stepper<L, F>::choose_iteration() {
         const double newton = r_ * (140.0 * n + 8.3 * pairs) + 0.05 * N * N * N + 1.4 * N * N;
         // Newton's step 1.23 newton + 2.4 update against the articulated (2.5 + u) update.
         const double break_even = (1.23 * newton + 2.4 * update) / update - 2.5;
-        if (break_even < choice_threshold) return;
+        if (break_even < (s_ == 1 ? choice_threshold_one_increment : choice_threshold)) return;
         choice_ = iteration_choice(break_even);
         opt_.iteration = iteration_kind::articulated;
     }
