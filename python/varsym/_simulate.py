@@ -198,7 +198,8 @@ class Stepper:
     hidden_residual and the multipliers lambda_1..m; the start must lie on the constraints with
     a tangent velocity, or ``project=True`` moves it there (for a constrained model, ``project``
     is its parameter of that name). ``iteration``: "automatic" (the default; on URDF robots of
-    about 10 joints and more, Newton or "articulated" step by step, whichever is cheaper),
+    about 10 joints and more with gauss-2 and Simpson, fewer at higher degrees, Newton or
+    "articulated" step by step, whichever is cheaper),
     "newton", "simplified", "fixed-point" or "articulated" (URDF robots: O(n) per iterate),
     optionally followed by "+forces" (start each step from the previous step's forces, as
     Hairer's gni_irk2: fewer iterations, round-off adding up as √t) or "+previous" (the

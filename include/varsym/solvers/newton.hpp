@@ -18,8 +18,9 @@ enum class iteration_kind {
     automatic,   ///< the default: in the family stepper fixed_point; in the general engine
                  ///< newton, except simplified when L's
                  ///< derivatives are automatic (its Hessians cost (2d + 1)² per operation of L),
-                 ///< and for a robot of about 10 joints and more newton or articulated chosen
-                 ///< step by step (schemes/variational_articulated.hpp)
+                 ///< and for a robot of about 10 joints and more (gauss-2, Simpson; the
+                 ///< threshold depends on the degree) newton or articulated chosen step by
+                 ///< step (schemes/variational_articulated.hpp)
     newton,      ///< exact Jacobian, evaluated and factorised at every iterate (in the general
                  ///< engine kept for chord updates once the updates are small: chord_start)
     simplified,  ///< Jacobian at one point, factorised once and kept across steps while the
