@@ -63,7 +63,8 @@ void stepper<L, F>::articulated_setup() {
 
 /// The automatic iteration of a robot without mimic joints (mass solves in O(n)): Newton and
 /// the articulated iteration chosen step by step (iteration_choice) where a model of their costs
-/// puts the break-even at choice_threshold articulated updates a step or more, Newton otherwise.
+/// puts the break-even at choice_threshold articulated updates a step or more
+/// (choice_threshold_one_increment with one increment a step), Newton otherwise.
 /// The model, of n coordinates, P ancestor pairs (Σ over the bodies of their ancestors: n(n − 1)/2
 /// for a chain), r quadrature points and s increments, in ns measured on this project's machine
 /// (clang 14 -O3; only their ratios matter): first derivatives T1 = 75 n a point, second
