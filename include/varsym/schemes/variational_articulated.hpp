@@ -87,8 +87,10 @@ void stepper<L, F>::choose_iteration() {
         const double n = d_, N = s_ * d_;
         const double update = r_ * 75.0 * n + s_ * 12.0 * n;
         const double newton = r_ * (140.0 * n + 8.3 * pairs) + 0.05 * N * N * N + 1.4 * N * N;
-        // Newton's step 1.23 newton + 2.4 update against the articulated (2.5 + u) update.
-        const double break_even = (1.23 * newton + 2.4 * update) / update - 2.5;
+        // Newton's step 1.23 newton + 2.4 update against the articulated (F + u) update, the
+        // step's fixed part F = 2.5 updates being the choice's `handed`.
+        const double break_even =
+            (1.23 * newton + 2.4 * update) / update - iteration_choice::handed;
         if (break_even < (s_ == 1 ? choice_threshold_one_increment : choice_threshold)) return;
         choice_ = iteration_choice(break_even);
         opt_.iteration = iteration_kind::articulated;
